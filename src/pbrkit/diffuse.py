@@ -1,0 +1,45 @@
+"""Diffuse lobes and the weights that combine them with specular lobes.
+
+Diffuse BRDFs return the factor that multiplies the diffuse colour, so
+f_diffuse = diffuse_color * factor (the factor is 1 / pi for Lambert).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._jit import select, term
+from .fresnel import f_schlick, f_schlick_roughness
+
+__all__ = ["lambert", "burley", "kd_ibl"]
+
+_INV_PI = 1.0 / np.pi
+
+
+@term
+def lambert(nol):
+    """Lambert's diffuse factor: 1 / pi for n.l > 0, else 0 (Lambert 1760)."""
+    return select(nol > 0.0, _INV_PI, 0.0)
+
+
+@term
+def burley(nol, nov, loh, roughness):
+    """Disney / Burley diffuse factor (Burley 2012, sec. 5.3, eq. 3).
+
+    f = (1 / pi) (1 + (F_D90 - 1)(1 - n.l)^5)(1 + (F_D90 - 1)(1 - n.v)^5) with
+    F_D90 = 0.5 + 2 r cos^2 theta_d, theta_d the angle between l and h
+    (cos theta_d = l.h), r perceptual roughness.  The (1 - cos)^5 terms are
+    Schlick's (:func:`pbrkit.fresnel.f_schlick` with f0 = 1, f90 = F_D90).
+    """
+    fd90 = 0.5 + 2.0 * roughness * loh * loh
+    return _INV_PI * f_schlick(nol, 1.0, fd90) * f_schlick(nov, 1.0, fd90)
+
+
+@term
+def kd_ibl(nov, f0, roughness, metallic):
+    """Diffuse weight for image-based lighting k_d = (1 - F*)(1 - metallic).
+
+    F* is the roughness-aware Fresnel of :func:`pbrkit.fresnel.f_schlick_roughness`
+    (seed 000; Lagarde 2011).  r is perceptual roughness.
+    """
+    return (1.0 - f_schlick_roughness(nov, f0, roughness)) * (1.0 - metallic)
