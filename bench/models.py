@@ -1,0 +1,66 @@
+"""Benchmark: evaluate the UE4 model on N random (l, v) pairs with per-pair materials.
+
+    python bench/models.py [--pairs 10000000] [--repeat 3]
+
+Prints the best-of-``repeat`` wall time of the compiled kernel (after JIT
+warm-up) and of the plain NumPy composition of the same terms, measured in the
+same run, and their ratio.  The target (issue 2) is <= 1 s for 10^7 pairs on
+the 2-core development machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from pbrkit import Material
+from pbrkit.models import ue4
+
+
+def random_hemisphere(rng, n):
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    d[:, 2] = np.abs(d[:, 2])
+    return d
+
+
+def best_of(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--pairs", type=int, default=10_000_000)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    n = args.pairs
+    l = random_hemisphere(rng, n)
+    v = random_hemisphere(rng, n)
+    normal = np.broadcast_to(np.array([0.0, 0.0, 1.0]), (n, 3))
+    material = Material(base_color=rng.random((n, 3)), metallic=rng.random(n), roughness=rng.random(n))
+
+    ue4(l[:16], v[:16], normal[:16], Material(base_color=rng.random((16, 3))))  # JIT warm-up (cached)
+    t_numba = best_of(lambda: ue4(l, v, normal, material), args.repeat)
+    t_numpy = best_of(lambda: ue4(l, v, normal, material, backend="numpy"), max(1, args.repeat - 2))
+    a = ue4(l[:100_000], v[:100_000], normal[:100_000], Material(
+        base_color=material.base_color[:100_000], metallic=material.metallic[:100_000],
+        roughness=material.roughness[:100_000]))
+    b = ue4(l[:100_000], v[:100_000], normal[:100_000], Material(
+        base_color=material.base_color[:100_000], metallic=material.metallic[:100_000],
+        roughness=material.roughness[:100_000]), backend="numpy")
+    print(f"ue4 model, {n:,} (l, v) pairs with per-pair materials")
+    print(f"  numba kernel : {t_numba:8.3f} s  ({n / t_numba / 1e6:7.1f} M pairs/s)")
+    print(f"  numpy        : {t_numpy:8.3f} s  ({n / t_numpy / 1e6:7.1f} M pairs/s)")
+    print(f"  speed-up     : {t_numpy / t_numba:8.1f} x   (max |numba - numpy| = {np.abs(a - b).max():.1e})")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,151 @@
+"""The ``pbrkit`` command line (Typer + Rich)."""
+
+from __future__ import annotations
+
+import functools
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+from . import __version__
+
+app = typer.Typer(
+    help="pbrkit: physically based shading for real-time rendering.",
+    no_args_is_help=True,
+    add_completion=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+_err = Console(stderr=True)
+
+
+def _version_callback(value: bool):
+    if value:
+        print(f"pbrkit {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: bool = typer.Option(False, "--version", callback=_version_callback, is_eager=True,
+                                 help="Print the version and exit."),
+):
+    """pbrkit: physically based shading for real-time rendering."""
+
+
+def user_errors(fn):
+    """Turn expected failures (bad input, bad options, I/O) into one-line errors and exit status 1."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except (ValueError, OSError) as exc:
+            _err.print(f"[bold red]pbrkit: error:[/] {exc}", highlight=False, soft_wrap=True)
+            raise typer.Exit(1) from None
+
+    return wrapper
+
+
+def progress_bar(quiet: bool, total: int, description: str):
+    """A Rich progress bar on a terminal; silent with ``quiet`` or when stderr is not a terminal."""
+    return Progress(
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        console=_err,
+        disable=quiet or not sys.stderr.isatty(),
+        transient=False,
+    )
+
+
+@app.command()
+@user_errors
+def furnace(
+    out: Path = typer.Option(..., "-o", "--out", help="Output folder."),
+    mu_count: int = typer.Option(32, "--mu", help="Number of mu = n.v values (texel centres)."),
+    roughness_count: int = typer.Option(11, "--roughness", help="Number of roughness values in [0, 1]."),
+    samples: int = typer.Option(256, "--samples", help="Monte Carlo samples per (mu, roughness) cell."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the Monte Carlo generator."),
+    lobe: Optional[list[str]] = typer.Option(None, "--lobe", help="Only these lobes (repeatable)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or summary."),
+):
+    """White-furnace albedo E(mu) of every D x G combination and model (F = 1).
+
+    Writes furnace.csv, furnace.npy, furnace.json and furnace.png to OUT.
+    """
+    import numpy as np
+
+    from .furnace import furnace_lobes
+    from .report import furnace_report
+
+    if roughness_count < 2 or roughness_count > 1024:
+        raise ValueError(f"--roughness must be in [2, 1024]; got {roughness_count}")
+    names = lobe or list(furnace_lobes())
+    with progress_bar(quiet, len(names), "furnace") as bar:
+        task = bar.add_task("furnace", total=len(names))
+        summary = furnace_report(out, n_mu=mu_count, roughness=np.linspace(0.0, 1.0, roughness_count),
+                                 samples=samples, seed=seed, lobes=names,
+                                 progress=lambda name: bar.advance(task))
+    if not quiet:
+        from rich.table import Table
+
+        table = Table(title="Single-scattering albedo with F = 1 (quadrature)")
+        for col in ("lobe", "min E", "max E", "max |MC - quad|", "max z"):
+            table.add_column(col, justify="right" if col != "lobe" else "left")
+        for name, s in summary["per_lobe"].items():
+            table.add_row(name, f"{s['min_albedo']:.4f}", f"{s['max_albedo']:.4f}",
+                          f"{s['max_abs_mc_minus_quadrature']:.2e}", f"{s['max_z_score']:.1f}")
+        Console().print(table)
+        print(f"wrote {out}/furnace.csv, furnace.npy, furnace.json, furnace.png")
+
+
+@app.command()
+@user_errors
+def lut(
+    out: Path = typer.Option(..., "-o", "--out",
+                             help="Output file: .npy, .exr, .png (16-bit), .h (C header, float16) or .ktx2."),
+    kind: str = typer.Option("dfg", "--kind", help="splitsum (UE4: A, B) or dfg (Filament: DFG1, DFG2)."),
+    size: int = typer.Option(128, "--size", help="Table size N (N x N texels)."),
+    cloth: bool = typer.Option(False, "--cloth", help="Add the Charlie / Neubelt sheen albedo channel."),
+    visibility: Optional[str] = typer.Option(
+        None, "--visibility",
+        help="schlick-ggx (splitsum default), separable or height-correlated (dfg default)."),
+    samples: Optional[int] = typer.Option(
+        None, "--samples",
+        help="Quadrature nodes per texel (theta x phi); default: the converged rule (144 nodes, 288 at grazing)."),
+    ktx2_format: str = typer.Option("float16", "--ktx2-format", help="float16 or float32 texels in .ktx2."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing on success."),
+):
+    """Split-sum (A, B) or DFG (DFG1, DFG2[, cloth]) lookup table with its JSON description."""
+    import warnings
+
+    from .lutfiles import LUT_SUFFIXES, QuantisationWarning, write_lut
+    from .tables import DEFAULT_NODES, lookup_table
+
+    if out.suffix.lower() not in LUT_SUFFIXES:
+        raise ValueError(f"{out}: unsupported table format {out.suffix!r}; use one of {', '.join(LUT_SUFFIXES)}")
+    nodes = DEFAULT_NODES
+    if samples is not None:
+        if samples < 8 or samples > 1 << 20:
+            raise ValueError(f"--samples must be in [8, 1048576]; got {samples}")
+        # Split the budget as the default rule does: 2 theta segments x n_theta x n_phi, n_phi = n_theta / 2.
+        n_theta = max(2, int(round(samples ** 0.5)))
+        nodes = (n_theta, 2 * n_theta, max(2, n_theta // 2))
+    table, spec = lookup_table(kind, size, visibility, cloth, nodes)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", QuantisationWarning)
+        written = write_lut(out, table, spec, ktx2_format)
+    for w in caught:
+        _err.print(f"[yellow]pbrkit: warning:[/] {w.message}", highlight=False, soft_wrap=True)
+    if not quiet:
+        print(f"wrote {written[0]} ({kind}, {size} x {size}, {table.shape[2]} channels, "
+              f"visibility {spec.visibility}) and {written[1].name}")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    app()
