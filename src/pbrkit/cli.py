@@ -88,18 +88,19 @@ def furnace(
     names = lobe or list(furnace_lobes())
     with progress_bar(quiet, len(names), "furnace") as bar:
         task = bar.add_task("furnace", total=len(names))
-        summary = furnace_report(out, n_mu=mu_count, roughness=np.linspace(0.0, 1.0, roughness_count),
+        summary, timings = furnace_report(out, n_mu=mu_count, roughness=np.linspace(0.0, 1.0, roughness_count),
                                  samples=samples, seed=seed, lobes=names,
                                  progress=lambda name: bar.advance(task))
     if not quiet:
         from rich.table import Table
 
         table = Table(title="Single-scattering albedo with F = 1 (quadrature)")
-        for col in ("lobe", "min E", "max E", "max |MC - quad|", "max z"):
+        for col in ("lobe", "min E", "max E", "max |MC - quad|", "max z", "quadrature s", "MC s"):
             table.add_column(col, justify="right" if col != "lobe" else "left")
         for name, s in summary["per_lobe"].items():
             table.add_row(name, f"{s['min_albedo']:.4f}", f"{s['max_albedo']:.4f}",
-                          f"{s['max_abs_mc_minus_quadrature']:.2e}", f"{s['max_z_score']:.1f}")
+                          f"{s['max_abs_mc_minus_quadrature']:.2e}", f"{s['max_z_score']:.1f}",
+                          f"{timings[name]['quadrature_s']:.2f}", f"{timings[name]['monte_carlo_s']:.2f}")
         Console().print(table)
         print(f"wrote {out}/furnace.csv, furnace.npy, furnace.json, furnace.png")
 

@@ -88,7 +88,9 @@ def d_ggx(noh, alpha):
     """
     a2 = alpha * alpha
     c = np.minimum(noh, 1.0)
-    d = c * c * (a2 - 1.0) + 1.0
+    # (n.h)^2 (alpha^2 - 1) + 1 written as alpha^2 c^2 + (1 - c)(1 + c): no cancellation
+    # near the peak for small alpha.
+    d = a2 * c * c + (1.0 - c) * (1.0 + c)
     return select(noh > 0.0, a2 / (np.pi * d * d), 0.0)
 
 
@@ -166,8 +168,7 @@ def d_gtr(noh, alpha, gamma):
     Berry's distribution, used by the Disney clear coat (GTR1).
     """
     c = np.minimum(noh, 1.0)
-    c2 = c * c
-    base = alpha * alpha * c2 + (1.0 - c2)
+    base = alpha * alpha * c * c + (1.0 - c) * (1.0 + c)
     return select(noh > 0.0, gtr_normalization(alpha, gamma) / base**gamma, 0.0)
 
 

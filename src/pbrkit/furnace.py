@@ -11,7 +11,7 @@ seed 002).  Two independent estimators:
   (tan^2 theta_h = alpha^2 u / (1 - u), Walter et al. 2007 eq. 35), and the
   azimuth phi, restricted analytically to the directions whose reflection
   l = 2 (v.h) h - v lies above the horizon.  With dl = 4 (v.h) dh and
-  dh = du dphi / (2 pi D_GGX(h) cos theta_h) the integrand is smooth, and a
+  dh = du dphi / (2 pi D(h) cos theta_h) the integrand is smooth, and a
   Gauss-Legendre rule converges to better than 1e-5 at the defaults.
 - :func:`albedo_monte_carlo`, importance sampling of visible normals
   (Heitz 2018) with a seeded generator, returning the estimate and its
@@ -33,20 +33,15 @@ def view_direction(mu):
     return np.stack([np.sqrt(np.maximum(0.0, 1.0 - mu * mu)), np.zeros_like(mu), mu], axis=-1)
 
 
-def _u_of_cos_theta(cos_theta, alpha):
-    # Inverse of cos^2 theta_h = (1 - u) / (1 + (alpha^2 - 1) u): the GGX NDF CDF.
+def _s_of_cos(cos_theta, alpha):
+    # Node variable s = log(1 + tan^2 theta_h / alpha^2) = -log(1 - u) for u the GGX NDF's
+    # CDF in theta_h (Walter et al. 2007, eq. 35): uniform s spreads the nodes over the
+    # lobe's core and its heavy tail alike, which also suits lighter-tailed lobes.
     c2 = cos_theta * cos_theta
-    t2 = (1.0 - c2) / np.maximum(c2, 1e-300)
-    a2 = alpha * alpha
-    return t2 / (a2 + t2)
+    return np.log1p((1.0 - c2) / np.maximum(c2, 1e-300) / (alpha * alpha))
 
 
-def _cos_theta_of_u(u, alpha):
-    a2 = alpha * alpha
-    return np.sqrt((1.0 - u) / (1.0 + (a2 - 1.0) * u))
-
-
-def half_vector_domain(mu, alpha, n_theta=64, n_phi=48):
+def half_vector_domain(mu, alpha, n_theta=48, n_phi=24):
     """Gauss-Legendre nodes over the half vectors that reflect v into the upper hemisphere.
 
     Returns ``(h, weight)`` with h of shape (..., 2 n_theta, n_phi, 3) and
@@ -58,8 +53,10 @@ def half_vector_domain(mu, alpha, n_theta=64, n_phi=48):
     cos(2 theta_h + theta_v) > 0 (every phi) or, beyond, iff
     cos phi > mu (1 - 2 cos^2 theta_h) / (2 cos theta_h sin theta_v sin theta_h),
     up to theta_h = (theta_v + pi / 2) / 2 where no phi remains.  The theta_h
-    range is split at theta_a = (pi / 2 - theta_v) / 2; on the second part the
-    cosine substitution u = u_a + (u_b - u_a)(1 - cos(pi tau)) / 2 removes the
+    range is split at theta_a = (pi / 2 - theta_v) / 2.  The theta nodes are
+    uniform in s = -log(1 - u), u the GGX NDF's CDF of ``alpha``, which covers
+    the lobe's core and its heavy tail alike; on the second part the cosine
+    substitution s = s_a + (s_b - s_a)(1 - cos(pi tau)) / 2 removes the
     square-root behaviour of phi_max at both ends, so the rule converges fast.
     """
     mu = np.minimum(np.asarray(mu, dtype=float), 1.0)[..., None, None]
@@ -69,16 +66,17 @@ def half_vector_domain(mu, alpha, n_theta=64, n_phi=48):
     x_t = 0.5 * (x_t[:, None] + 1.0)
     w_t = 0.5 * w_t[:, None]
     theta_v = np.arccos(mu)
-    u_a = _u_of_cos_theta(np.cos(0.25 * np.pi - 0.5 * theta_v), alpha)
-    u_b = _u_of_cos_theta(np.cos(0.25 * np.pi + 0.5 * theta_v), alpha)
-    # Segment 1: u in [0, u_a], every phi.  Segment 2: cosine substitution.
-    u1 = u_a * x_t
-    du1 = u_a * w_t
-    u2 = u_a + (u_b - u_a) * 0.5 * (1.0 - np.cos(np.pi * x_t))
-    du2 = (u_b - u_a) * 0.5 * np.pi * np.sin(np.pi * x_t) * w_t
-    u = np.concatenate(np.broadcast_arrays(u1, u2), axis=-2)
-    du = np.concatenate(np.broadcast_arrays(du1, du2), axis=-2)
-    cos_h = _cos_theta_of_u(u, alpha)
+    s_a = _s_of_cos(np.cos(0.25 * np.pi - 0.5 * theta_v), alpha)
+    s_b = _s_of_cos(np.cos(0.25 * np.pi + 0.5 * theta_v), alpha)
+    # Segment 1: every phi.  Segment 2: cosine substitution.
+    s1 = s_a * x_t
+    ds1 = s_a * w_t
+    s2 = s_a + (s_b - s_a) * 0.5 * (1.0 - np.cos(np.pi * x_t))
+    ds2 = (s_b - s_a) * 0.5 * np.pi * np.sin(np.pi * x_t) * w_t
+    s = np.concatenate(np.broadcast_arrays(s1, s2), axis=-2)
+    ds = np.concatenate(np.broadcast_arrays(ds1, ds2), axis=-2)
+    x = np.expm1(s)  # tan^2 theta_h / alpha^2
+    cos_h = 1.0 / np.sqrt(1.0 + alpha * alpha * x)
     sin_h = np.sqrt(np.maximum(0.0, 1.0 - cos_h * cos_h))
     sin_v = np.sin(theta_v)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -87,16 +85,15 @@ def half_vector_domain(mu, alpha, n_theta=64, n_phi=48):
     phi_max = np.arccos(np.clip(bound, -1.0, 1.0))
     phi = 0.5 * phi_max * (x_p[None, :] + 1.0)
     h = np.stack([sin_h * np.cos(phi), sin_h * np.sin(phi), np.broadcast_to(cos_h, phi.shape)], axis=-1)
-    # dh = du dphi / (2 pi D_GGX(h) cos theta_h), D of the alpha whose CDF defines u;
-    # doubled for the mirrored half of the phi range.
-    a2 = alpha * alpha
-    d_cos = cos_h * cos_h * (a2 - 1.0) + 1.0
-    d_ggx_cos = a2 / (np.pi * d_cos * d_cos) * cos_h
-    weight = 2.0 * du * (0.5 * phi_max * w_p[None, :]) / (2.0 * np.pi * d_ggx_cos)
+    # dh = sin theta (d theta / dx)(dx / ds) ds dphi with sin theta d theta / dx =
+    # alpha^2 cos^3 theta / 2 (x = tan^2 theta / alpha^2) and dx / ds = e^s = 1 + x;
+    # doubled for the mirrored phi half.
+    dh_ds = 0.5 * alpha * alpha * cos_h ** 3 * (1.0 + x)
+    weight = 2.0 * ds * (0.5 * phi_max * w_p[None, :]) * dh_ds
     return h, weight
 
 
-def albedo_quadrature(brdf, mu, roughness, n_theta=64, n_phi=48):
+def albedo_quadrature(brdf, mu, roughness, n_theta=None, n_phi=None):
     """Directional albedo E(mu, r) = integral of f(l, v) (n.l) dl by deterministic quadrature.
 
     ``brdf(l, v, n, roughness)`` returns f with shape (...) or (..., C) for
@@ -106,13 +103,16 @@ def albedo_quadrature(brdf, mu, roughness, n_theta=64, n_phi=48):
     lobes that vanish where the reflected direction is below the horizon,
     which is every microfacet specular lobe.  Diffuse lobes are integrated
     correctly but converge slowly for small r: use F = 1 specular lobes.
+    The node counts default to ``brdf.nodes`` when the lobe sets it (lobes
+    with kinks, such as URP's max(0.1, (l.h)^2), need more), else (48, 24).
     """
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     roughness = np.atleast_1d(np.asarray(roughness, dtype=float))
     if np.any((mu <= 0.0) | (mu > 1.0)):
         raise ValueError("mu must be in (0, 1]")
     alpha = alpha_from_roughness(roughness)
-    h, weight = half_vector_domain(mu[:, None], alpha[None, :], n_theta, n_phi)
+    default_theta, default_phi = getattr(brdf, "nodes", (48, 24))
+    h, weight = half_vector_domain(mu[:, None], alpha[None, :], n_theta or default_theta, n_phi or default_phi)
     v = view_direction(mu)[:, None, None, None, :]
     voh = np.sum(v * h, axis=-1)
     l = 2.0 * voh[..., None] * h - v
@@ -133,7 +133,7 @@ def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
     ``numpy.random.default_rng(seed)``; estimator f (n.l) / p(l) with
     p(l) = D_v(h) / (4 v.h).
     """
-    from .sampling import pdf_ggx_vndf, sample_ggx_vndf
+    from .sampling import pdf_ggx_vndf, pdf_light_from_half, sample_ggx_vndf
 
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     roughness = np.atleast_1d(np.asarray(roughness, dtype=float))
@@ -143,10 +143,10 @@ def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
     u = rng.random(shape + (2,))
     v = np.broadcast_to(view_direction(mu)[:, None, None, :], shape + (3,))
     a = np.broadcast_to(alpha[None, :, None], shape)
-    h = sample_ggx_vndf(u, v, a, a)
+    h = sample_ggx_vndf(u, v, a)
     voh = np.sum(v * h, axis=-1)
     l = 2.0 * voh[..., None] * h - v
-    pdf_l = pdf_ggx_vndf(h, v, a, a) / np.maximum(4.0 * voh, 1e-300)
+    pdf_l = pdf_light_from_half(pdf_ggx_vndf(v[..., 2], h[..., 2], voh, a), voh)
     n = np.array([0.0, 0.0, 1.0])
     r = np.broadcast_to(roughness[None, :, None], shape)
     f = np.asarray(brdf(l, v, n, r))
@@ -178,12 +178,22 @@ def furnace_lobes():
     def white(roughness):
         return Material(base_color=np.ones(3), metallic=1.0, roughness=roughness)
 
+    def cook_torrance_lobe(d, g):
+        def brdf(l, v, n, r):
+            return cook_torrance(l, v, n, white(r), distribution=d, masking=g, fresnel="none",
+                                 diffuse="none")[..., 0]
+
+        return brdf
+
     lobes = {}
     for d in DISTRIBUTIONS:
         for g in MASKINGS:
-            lobes[f"{d}/{g}"] = (lambda d, g: lambda l, v, n, r: cook_torrance(
-                l, v, n, white(r), distribution=d, masking=g, fresnel="none", diffuse="none")[..., 0])(d, g)
+            lobes[f"{d}/{g}"] = cook_torrance_lobe(d, g)
     lobes["ue4"] = lambda l, v, n, r: ue4(l, v, n, white(r), backend="numpy")[..., 0]
     lobes["filament"] = lambda l, v, n, r: filament(l, v, n, white(r))[..., 0]
-    lobes["urp_mobile"] = lambda l, v, n, r: urp_mobile(l, v, n, white(r))[..., 0]
+    def urp(l, v, n, r):
+        return urp_mobile(l, v, n, white(r))[..., 0]
+
+    urp.nodes = (128, 48)  # the max(0.1, (l.h)^2) kink converges slowly
+    lobes["urp_mobile"] = urp
     return lobes

@@ -21,6 +21,7 @@ import numpy as np
 from ._jit import select, term
 
 __all__ = [
+    "COS_MIN",
     "erf",
     "lambda_ggx",
     "lambda_ggx_anisotropic",
@@ -44,7 +45,8 @@ __all__ = [
     "v_neubelt",
 ]
 
-_COS_MIN = 1e-8
+#: Cosines are clamped to at least this value inside the masking terms.
+COS_MIN = 1e-8
 
 
 @numba.vectorize(["float64(float64)"], cache=True)
@@ -55,7 +57,7 @@ def erf(x):
 
 @term
 def _tan2(cos_theta):
-    c = np.minimum(np.maximum(cos_theta, _COS_MIN), 1.0)
+    c = np.minimum(np.maximum(cos_theta, COS_MIN), 1.0)
     c2 = c * c
     return (1.0 - c2) / c2
 
@@ -72,7 +74,7 @@ def lambda_ggx_anisotropic(nov, tov, bov, alpha_t, alpha_b):
 
     alpha_0^2 tan^2 theta = ((t.v a_t)^2 + (b.v a_b)^2) / (n.v)^2.
     """
-    c = np.minimum(np.maximum(nov, _COS_MIN), 1.0)
+    c = np.minimum(np.maximum(nov, COS_MIN), 1.0)
     x = tov * alpha_t
     y = bov * alpha_b
     return 0.5 * (np.sqrt(1.0 + (x * x + y * y) / (c * c)) - 1.0)
@@ -95,7 +97,7 @@ def lambda_beckmann(nov, alpha):
 @term
 def lambda_beckmann_anisotropic(nov, tov, bov, alpha_t, alpha_b):
     """Anisotropic Beckmann Lambda (Heitz 2014, eqs. 83 and 86)."""
-    c = np.minimum(np.maximum(nov, _COS_MIN), 1.0)
+    c = np.minimum(np.maximum(nov, COS_MIN), 1.0)
     x = tov * alpha_t
     y = bov * alpha_b
     a = c / np.maximum(np.sqrt(x * x + y * y), 1e-300)
@@ -135,7 +137,7 @@ def g2_height_correlated(lambda_l, lambda_v):
 @term
 def visibility(g2, nol, nov):
     """V = G2 / (4 n.l n.v), the form real-time models use (Karis 2013; Filament sec. 4.4.2)."""
-    denominator = 4.0 * np.maximum(nol, _COS_MIN) * np.maximum(nov, _COS_MIN)
+    denominator = 4.0 * np.maximum(nol, COS_MIN) * np.maximum(nov, COS_MIN)
     return select((nol > 0.0) & (nov > 0.0), g2 / denominator, 0.0)
 
 
@@ -187,7 +189,8 @@ def k_ue4_ibl(roughness):
 def g1_schlick_ggx(nov, k):
     """Schlick-GGX G1 = n.v / (n.v (1 - k) + k) (Schlick 1994; Karis 2013, eq. 4)."""
     c = np.maximum(nov, 0.0)
-    return select(nov > 0.0, c / (c * (1.0 - k) + k), 0.0)
+    denominator = c * (1.0 - k) + k
+    return select(nov > 0.0, c / np.maximum(denominator, 1e-300), 0.0)
 
 
 @term
@@ -201,14 +204,14 @@ def g2_kelemen(nol, nov, voh):
     """Kelemen & Szirmay-Kalos 2001 ("A Microfacet Based Coupled Specular-Matte BRDF
     Model with Importance Sampling", Eurographics short paper): G2 = n.l n.v / (v.h)^2,
     i.e. V = 1 / (4 (v.h)^2).  Not bounded by 1; cheap."""
-    h = np.maximum(voh, _COS_MIN)
+    h = np.maximum(voh, COS_MIN)
     return select((nol > 0.0) & (nov > 0.0), np.maximum(nol, 0.0) * np.maximum(nov, 0.0) / (h * h), 0.0)
 
 
 @term
 def v_kelemen(voh):
     """Kelemen visibility V = 1 / (4 (v.h)^2) (Kelemen & Szirmay-Kalos 2001)."""
-    h = np.maximum(voh, _COS_MIN)
+    h = np.maximum(voh, COS_MIN)
     return 0.25 / (h * h)
 
 
@@ -218,4 +221,4 @@ def v_neubelt(nol, nov):
     "Crafting a Next-Gen Material Pipeline for The Order: 1886"; Filament sec. 4.12.2)."""
     cl = np.maximum(nol, 0.0)
     cv = np.maximum(nov, 0.0)
-    return select((nol > 0.0) & (nov > 0.0), 0.25 / np.maximum(cl + cv - cl * cv, _COS_MIN), 0.0)
+    return select((nol > 0.0) & (nov > 0.0), 0.25 / np.maximum(cl + cv - cl * cv, COS_MIN), 0.0)

@@ -161,8 +161,11 @@ def _ue4_kernel(l, v, n, base_color, metallic, roughness, dielectric_f0, out):
 
 
 def _flat(x, shape, channels=None):
+    # Always a writable C-contiguous float64 array, so the kernel is compiled for one
+    # signature only (broadcast views are read-only, which Numba types separately).
     full = shape + ((channels,) if channels else ())
-    return np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=np.float64), full).reshape((-1,) + full[len(shape):]))
+    flat = np.broadcast_to(np.asarray(x, dtype=np.float64), full).reshape((-1,) + full[len(shape):])
+    return np.require(flat, dtype=np.float64, requirements=["C", "W"])
 
 
 def ue4(l, v, n, material: Material, backend: str = "numba"):
@@ -253,7 +256,7 @@ def urp_specular(noh, loh, alpha):
     BRDF value is this term divided by pi (see :func:`urp_mobile`)."""
     a2 = alpha * alpha
     c = np.minimum(np.maximum(noh, 0.0), 1.0)
-    d = c * c * (a2 - 1.0) + 1.0
+    d = a2 * c * c + (1.0 - c) * (1.0 + c)  # = c^2 (alpha^2 - 1) + 1 without cancellation
     return select(noh > 0.0, a2 / (d * d * np.maximum(0.1, loh * loh) * (4.0 * alpha + 2.0)), 0.0)
 
 

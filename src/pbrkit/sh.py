@@ -1,0 +1,231 @@
+"""Real spherical harmonics of bands l = 0..2 and irradiance environment maps.
+
+Basis, order and normalisation follow ``CONVENTIONS.md`` ("Spherical
+harmonics"): the real, orthonormal SH on world (x, y, z), in the order
+(0,0), (1,-1), (1,0), (1,1), (2,-2), (2,-1), (2,0), (2,1), (2,2)::
+
+    Y00  = 1/2 sqrt(1/pi)                   Y2-2 = 1/2 sqrt(15/pi) x y
+    Y1-1 = sqrt(3/(4 pi)) y                 Y2-1 = 1/2 sqrt(15/pi) y z
+    Y10  = sqrt(3/(4 pi)) z                 Y20  = 1/4 sqrt(5/pi) (3 z^2 - 1)
+    Y11  = sqrt(3/(4 pi)) x                 Y21  = 1/2 sqrt(15/pi) x z
+                                            Y22  = 1/4 sqrt(15/pi) (x^2 - y^2)
+
+(1/2 sqrt(15/pi) = sqrt(15/(4 pi)) = 1.092548..., 1/4 sqrt(5/pi) =
+sqrt(5/(16 pi)) = 0.315392..., 1/4 sqrt(15/pi) = sqrt(15/(16 pi)) =
+0.546274...).  These are Ramamoorthi & Hanrahan, "An Efficient
+Representation for Irradiance Environment Maps", SIGGRAPH 2001, eq. 3
+(no Condon-Shortley phase: Y11 = +0.488603 x; z is the polar axis of the
+basis, although world "up" is +Y).
+
+Coefficients are the *radiance* projection L_lm = integral of L(w) Y_lm(w)
+dw, estimated as sum_i L(w_i) Y_lm(w_i) dOmega_i over texels with their
+solid angles.  Irradiance E(n) = integral of L(w) max(0, n.w) dw is, by the
+Funk-Hecke theorem, E(n) = sum_lm A_l L_lm Y_lm(n) with the clamped-cosine
+coefficients A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4 (Ramamoorthi & Hanrahan
+2001, eqs. 7-9), exact for radiance band-limited to l <= 2.
+
+Truncation error.  For any non-negative radiance the 9-coefficient
+irradiance E_2 differs from the exact E by at most (3/32) times the total
+radiance integral of L dw:  E - E_2 = integral of L(w) [max(0, t) - k_2(t)] dw
+with t = n.w and the truncated kernel k_2(t) = sum_{l<=2} A_l (2l + 1) /
+(4 pi) P_l(t) = 1/4 + t/2 + (5/32) (3 t^2 - 1), whose largest deviation from
+max(0, t) on [-1, 1] is 3/32 at t = 0 (see :data:`TRUNCATION_ERROR_BOUND`).
+For a single directional light this is 9.4% of the peak irradiance, the
+worst case; smooth environments do far better.
+
+No roughness remap is involved (the cosine lobe is Lambertian).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._jit import term
+from .cubemap import cube_texel_directions, cube_texel_solid_angles
+from .envmap import equirect_directions, equirect_solid_angles
+from .errors import InputError
+
+__all__ = [
+    "SH_COUNT",
+    "SH_BANDS",
+    "COSINE_LOBE_COEFFICIENTS",
+    "TRUNCATION_ERROR_BOUND",
+    "sh9",
+    "sh_basis",
+    "sh_window",
+    "apply_window",
+    "project",
+    "project_equirect",
+    "project_cube",
+    "eval_sh",
+    "irradiance_from_sh",
+]
+
+SH_COUNT = 9
+#: Band l of each of the 9 coefficients.
+SH_BANDS = np.array([0, 1, 1, 1, 2, 2, 2, 2, 2])
+#: A_l of the clamped cosine max(0, cos theta) for l = 0, 1, 2
+#: (Ramamoorthi & Hanrahan 2001, eqs. 8-9).
+COSINE_LOBE_COEFFICIENTS = (math.pi, 2.0 * math.pi / 3.0, math.pi / 4.0)
+#: max over t in [-1, 1] of |max(0, t) - k_2(t)|: bound of the irradiance
+#: truncation error per unit of integral of L dw (module docstring).
+TRUNCATION_ERROR_BOUND = 3.0 / 32.0
+
+_Y00 = 0.5 * math.sqrt(1.0 / math.pi)
+_Y1 = math.sqrt(3.0 / (4.0 * math.pi))
+_Y2_XY = math.sqrt(15.0 / (4.0 * math.pi))
+_Y20 = math.sqrt(5.0 / (16.0 * math.pi))
+_Y22 = math.sqrt(15.0 / (16.0 * math.pi))
+
+
+@term
+def sh9(x, y, z):
+    """The 9 real SH basis functions at unit direction (x, y, z), as a tuple
+    in CONVENTIONS.md order (Ramamoorthi & Hanrahan 2001, eq. 3)."""
+    return (
+        _Y00 + 0.0 * x,
+        _Y1 * y,
+        _Y1 * z,
+        _Y1 * x,
+        _Y2_XY * x * y,
+        _Y2_XY * y * z,
+        _Y20 * (3.0 * z * z - 1.0),
+        _Y2_XY * x * z,
+        _Y22 * (x * x - y * y),
+    )
+
+
+def sh_basis(d):
+    """Y_lm(d) for unit directions ``d`` (..., 3) -> (..., 9)."""
+    d = np.asarray(d, dtype=float)
+    if d.ndim < 1 or d.shape[-1] != 3:
+        raise InputError(f"directions must have shape (..., 3), got {d.shape}")
+    return np.stack(sh9(d[..., 0], d[..., 1], d[..., 2]), axis=-1)
+
+
+def sh_window(window=None, width=3.0):
+    """Per-coefficient (9,) window factors for ringing suppression.
+
+    Sloan 2008, "Stupid Spherical Harmonics (SH) Tricks" (GDC), on
+    windowing to reduce ringing: band l is scaled by w_l, with window width
+    w (> 0):
+
+    - ``None``: w_l = 1 (no windowing, the default everywhere);
+    - ``'hanning'``: w_l = (1 + cos(pi l / w)) / 2 for l <= w, else 0;
+    - ``'lanczos'``: w_l = sin(pi l / w) / (pi l / w) (w_0 = 1) for l <= w,
+      else 0.
+
+    The default width, 3, is the SH order (number of bands) of l = 0..2;
+    larger widths window less.
+    """
+    if window is None:
+        return np.ones(SH_COUNT)
+    width = float(width)
+    if not width > 0.0:
+        raise InputError(f"SH window width must be positive, got {width}")
+    bands = SH_BANDS.astype(float)
+    x = np.pi * bands / width
+    if window == "hanning":
+        w = 0.5 * (1.0 + np.cos(x))
+    elif window == "lanczos":
+        w = np.where(bands == 0, 1.0, np.sin(x) / np.where(bands == 0, 1.0, x))
+    else:
+        raise InputError(f"unknown SH window {window!r}; use None, 'hanning' or 'lanczos'")
+    return np.where(bands <= width, w, 0.0)
+
+
+def _check_coeffs(coeffs):
+    c = np.asarray(coeffs, dtype=float)
+    if c.ndim < 1 or c.shape[0] != SH_COUNT:
+        raise InputError(f"SH coefficients must have shape (9,) or (9, C), got {c.shape}")
+    return c
+
+
+def apply_window(coeffs, window=None, width=3.0):
+    """Coefficients (9, ...) multiplied band-wise by :func:`sh_window`."""
+    c = _check_coeffs(coeffs)
+    w = sh_window(window, width)
+    return c * w.reshape((SH_COUNT,) + (1,) * (c.ndim - 1))
+
+
+def project(directions, solid_angles, radiance, chunk=1 << 16):
+    """Radiance SH coefficients L_lm = sum_i L_i Y_lm(w_i) dOmega_i.
+
+    ``directions`` (..., 3) unit vectors, ``solid_angles`` (...) in
+    steradians and ``radiance`` (...) or (..., C).  Returns (9,) or (9, C)
+    float64.  Works in chunks of ``chunk`` samples to bound memory.
+    """
+    d = np.asarray(directions, dtype=float)
+    w = np.asarray(solid_angles, dtype=float)
+    L = np.asarray(radiance, dtype=float)
+    if d.ndim < 1 or d.shape[-1] != 3:
+        raise InputError(f"directions must have shape (..., 3), got {d.shape}")
+    lead = d.shape[:-1]
+    if w.shape != lead:
+        raise InputError(f"solid_angles shape {w.shape} does not match directions {d.shape}")
+    scalar = L.shape == lead
+    if not scalar and L.shape[:-1] != lead:
+        raise InputError(f"radiance shape {L.shape} does not match directions {d.shape}")
+    d = d.reshape(-1, 3)
+    w = w.reshape(-1)
+    L = L.reshape(d.shape[0], -1)
+    out = np.zeros((SH_COUNT, L.shape[1]))
+    for start in range(0, d.shape[0], chunk):
+        sl = slice(start, start + chunk)
+        out += sh_basis(d[sl]).T @ (L[sl] * w[sl, None])
+    return out[:, 0] if scalar else out
+
+
+def project_equirect(image):
+    """Radiance SH coefficients (9, C) of an equirectangular image (H, W, C)
+    with W = 2 H (or (9,) for (H, W)), by the solid-angle-weighted sum over
+    pixels of CONVENTIONS.md (row 0 = +Y)."""
+    img = np.asarray(image, dtype=float)
+    if img.ndim not in (2, 3) or img.shape[1] != 2 * img.shape[0] or img.shape[0] < 1:
+        raise InputError(f"equirectangular image must have shape (H, 2H) or (H, 2H, C), got {img.shape}")
+    H, W = img.shape[:2]
+    rows_per_chunk = max(1, (1 << 16) // W)
+    total = None
+    for r0 in range(0, H, rows_per_chunk):
+        rows = np.arange(r0, min(H, r0 + rows_per_chunk))
+        d = equirect_directions(H, W, rows)
+        omega = equirect_solid_angles(H, W, rows=rows)
+        part = project(d, omega, img[rows])
+        total = part if total is None else total + part
+    return total
+
+
+def project_cube(cube):
+    """Radiance SH coefficients (9, C) of a cube map (6, N, N, C), faces
+    +X, -X, +Y, -Y, +Z, -Z (CONVENTIONS.md "Cube maps"), each texel weighted
+    by its exact solid angle.  Texel directions and solid angles come from
+    :mod:`pbrkit.cubemap` (``cube_texel_directions``,
+    ``cube_texel_solid_angles``)."""
+    c = np.asarray(cube, dtype=float)
+    if c.ndim not in (3, 4) or c.shape[0] != 6 or c.shape[1] != c.shape[2]:
+        raise InputError(f"cube map must have shape (6, N, N) or (6, N, N, C), got {c.shape}")
+    n = c.shape[1]
+    return project(cube_texel_directions(n), cube_texel_solid_angles(n), c)
+
+
+def eval_sh(coeffs, d):
+    """sum_lm c_lm Y_lm(d): coefficients (9,) or (9, C) at unit directions
+    (..., 3) -> (...) or (..., C)."""
+    c = _check_coeffs(coeffs)
+    return np.tensordot(sh_basis(d), c, axes=([-1], [0]))
+
+
+def irradiance_from_sh(coeffs, normals, window=None, width=3.0):
+    """Irradiance E(n) = sum_lm A_l w_l L_lm Y_lm(n) from radiance SH.
+
+    Ramamoorthi & Hanrahan 2001, eq. 7 with A_0 = pi, A_1 = 2 pi / 3,
+    A_2 = pi / 4 (:data:`COSINE_LOBE_COEFFICIENTS`); w_l is the optional
+    window of :func:`sh_window` (none by default).  A constant radiance 1
+    gives E = pi.  ``coeffs`` (9,) or (9, C), ``normals`` (..., 3) unit
+    vectors; returns (...) or (..., C).
+    """
+    c = apply_window(coeffs, window, width)
+    a = np.array(COSINE_LOBE_COEFFICIENTS)[SH_BANDS]
+    return eval_sh(c * a.reshape((SH_COUNT,) + (1,) * (c.ndim - 1)), normals)

@@ -1,0 +1,94 @@
+"""White-furnace albedo: analytic anchor, independent Monte Carlo, convergence and the CLI."""
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from pbrkit.cli import app
+from pbrkit.furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
+from pbrkit.report import texel_centres
+
+LOBES = furnace_lobes()
+
+
+def test_ggx_alpha_one_normal_incidence_is_one_minus_ln2():
+    e = albedo_quadrature(LOBES["ggx/height-correlated"], [1.0], [1.0])
+    assert abs(e[0, 0] - (1.0 - np.log(2.0))) < 1e-5
+
+
+def _uniform_hemisphere_mc(brdf, mu, r, n, rng):
+    # Independent estimator: uniform sampling of l over the hemisphere, pdf 1 / (2 pi).
+    u = rng.random((n, 2))
+    z = u[:, 0]
+    phi = 2.0 * np.pi * u[:, 1]
+    s = np.sqrt(1.0 - z * z)
+    l = np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=-1)
+    v = np.broadcast_to(np.array([np.sqrt(1.0 - mu * mu), 0.0, mu]), l.shape)
+    f = brdf(l, v, np.array([0.0, 0.0, 1.0]), np.full(n, r)) * z * 2.0 * np.pi
+    return f.mean(), f.std(ddof=1) / np.sqrt(n)
+
+
+@pytest.mark.parametrize("name", ["ggx/height-correlated", "beckmann/separable", "blinn-phong/schlick-ggx",
+                                  "ue4", "filament", "urp_mobile"])
+def test_quadrature_agrees_with_uniform_sampling(name):
+    rng = np.random.default_rng(7)
+    for mu, r in ((0.9, 0.8), (0.4, 0.6), (0.1, 1.0)):
+        q = albedo_quadrature(LOBES[name], [mu], [r])[0, 0]
+        m, se = _uniform_hemisphere_mc(LOBES[name], mu, r, 400_000, rng)
+        assert abs(q - m) < 4.5 * se + 1e-4, (name, mu, r, q, m, se)
+
+
+def test_default_rule_is_converged_to_1e4():
+    mu = texel_centres(32)
+    r = np.linspace(0.0, 1.0, 11)
+    for name in ("ggx/height-correlated", "ggx/separable", "beckmann/height-correlated", "ue4"):
+        e = albedo_quadrature(LOBES[name], mu, r)
+        ref = albedo_quadrature(LOBES[name], mu, r, n_theta=96, n_phi=48)
+        assert np.abs(e - ref).max() < 1e-4, name
+
+
+def test_monte_carlo_estimator_matches_quadrature():
+    mu = [0.1, 0.5, 1.0]
+    r = [0.2, 0.5, 0.9]
+    for name in ("ggx/height-correlated", "ggx/separable", "filament"):
+        q = albedo_quadrature(LOBES[name], mu, r)
+        m, se = albedo_monte_carlo(LOBES[name], mu, r, n_samples=20_000, seed=3)
+        assert np.all(np.abs(q - m) < 4.5 * se + 2e-4), name
+
+
+def test_white_furnace_single_scattering_loses_energy():
+    # Kulla & Conty 2017: with F = 1 a single-scattering GGX lobe never reflects more
+    # than it receives and loses the most at high roughness.
+    mu = texel_centres(16)
+    r = np.linspace(0.0, 1.0, 6)
+    e = albedo_quadrature(LOBES["ggx/height-correlated"], mu, r)
+    assert e.max() <= 1.0 + 1e-9
+    assert np.all(np.diff(e[mu > 0.3][:, :], axis=1) <= 1e-9)  # rougher -> darker away from grazing
+
+
+def test_cli_furnace_writes_every_output(tmp_path):
+    out = tmp_path / "f"
+    args = ["furnace", "-o", str(out), "--mu", "6", "--roughness", "3", "--samples", "64",
+            "--lobe", "ggx/height-correlated", "--lobe", "ue4", "--quiet"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    data = np.load(out / "furnace.npy")
+    assert data.shape == (2, 6, 3, 3)
+    summary = json.loads((out / "furnace.json").read_text())
+    assert summary["lobes"] == ["ggx/height-correlated", "ue4"]
+    lines = (out / "furnace.csv").read_text().splitlines()
+    assert lines[0].startswith("lobe,mu,roughness") and len(lines) == 1 + 2 * 6 * 3
+    assert (out / "furnace.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    first = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert CliRunner().invoke(app, args).exit_code == 0
+    assert first == {p.name: p.read_bytes() for p in out.iterdir()}  # deterministic bytes
+
+
+@pytest.mark.parametrize("args", [["--mu", "1"], ["--samples", "0"], ["--roughness", "1"], ["--lobe", "nope"]])
+def test_cli_furnace_rejects_bad_options(tmp_path, args):
+    out = tmp_path / "f"
+    result = CliRunner().invoke(app, ["furnace", "-o", str(out), "--quiet", *args])
+    assert result.exit_code == 1 and "error" in result.output
+    assert not out.exists() or list(out.iterdir()) == []
