@@ -165,5 +165,32 @@ def lut(
               f"visibility {spec.visibility}) and {written[1].name}")
 
 
+@app.command()
+@user_errors
+def approximations(
+    out: Path = typer.Option(..., "-o", "--out", help="Output folder."),
+    size: int = typer.Option(32, "--size", help="Grid size N over (n.v, roughness)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing on success."),
+):
+    """Error heat maps of real-time approximations (Karis' fit, Fresnel and masking
+    shortcuts, URP mobile, compensation) as directional-albedo differences."""
+    from .approximations import approximations_report
+
+    if size < 4 or size > 256:
+        raise ValueError(f"--size must be in [4, 256]; got {size}")
+    summary = approximations_report(out, size)
+    if not quiet:
+        from rich.table import Table
+
+        table = Table(title="Albedo error of real-time approximations")
+        for col in ("comparison", "max |error|", "mean |error|", "at n.v", "at r"):
+            table.add_column(col, justify="left" if col == "comparison" else "right")
+        for name, s in summary["comparisons"].items():
+            table.add_row(name, f"{s['max_abs_error']:.2e}", f"{s['mean_abs_error']:.2e}",
+                          f"{s['at']['nv']:.3f}", f"{s['at']['roughness']:.3f}")
+        Console(width=max(100, _err.width)).print(table)
+        print(f"wrote {out}/approximations.png and approximations.json")
+
+
 if __name__ == "__main__":  # pragma: no cover
     app()
