@@ -20,10 +20,10 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 
 import numba
 import numpy as np
+from _timing import best_and_median
 
 from pbrkit._jit import parallel_kernel
 from pbrkit.distributions import alpha_from_roughness
@@ -63,15 +63,6 @@ def hammersley_table(size, samples=1024):
     return out.astype(np.float32)
 
 
-def best_of(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times), float(np.median(times))
-
-
 def first_call_in_new_process(size, cache_dir=None):
     code = ("import time; t = time.perf_counter(); from pbrkit.tables import lookup_table; "
             f"lookup_table('dfg', {size}); print(time.perf_counter() - t)")
@@ -91,9 +82,9 @@ def main():
 
     lookup_table("dfg", 8)
     hammersley_table(8)
-    t_ours, t_ours_med = best_of(lambda: lookup_table("dfg", n), args.repeat)
-    t_split, _ = best_of(lambda: lookup_table("splitsum", n), args.repeat)
-    t_mc, t_mc_med = best_of(lambda: hammersley_table(n), args.repeat)
+    t_ours, t_ours_med = best_and_median(lambda: lookup_table("dfg", n), args.repeat)
+    t_split, _ = best_and_median(lambda: lookup_table("splitsum", n), args.repeat)
+    t_mc, t_mc_med = best_and_median(lambda: hammersley_table(n), args.repeat)
 
     ours = lookup_table("dfg", n)[0]
     mc = hammersley_table(n)

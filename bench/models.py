@@ -11,9 +11,9 @@ the 2-core development machine.
 from __future__ import annotations
 
 import argparse
-import time
-
 import numpy as np
+
+from _timing import best_and_median
 
 from pbrkit import Material
 from pbrkit.models import ue4
@@ -24,15 +24,6 @@ def random_hemisphere(rng, n):
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
     d[:, 2] = np.abs(d[:, 2])
     return d
-
-
-def best_of(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main():
@@ -48,8 +39,8 @@ def main():
     material = Material(base_color=rng.random((n, 3)), metallic=rng.random(n), roughness=rng.random(n))
 
     ue4(l[:16], v[:16], normal[:16], Material(base_color=rng.random((16, 3))))  # JIT warm-up (cached)
-    t_numba = best_of(lambda: ue4(l, v, normal, material), args.repeat)
-    t_numpy = best_of(lambda: ue4(l, v, normal, material, backend="numpy"), max(1, args.repeat - 2))
+    t_numba = best_and_median(lambda: ue4(l, v, normal, material), args.repeat)[0]
+    t_numpy = best_and_median(lambda: ue4(l, v, normal, material, backend="numpy"), args.repeat - 2)[0]
     a = ue4(l[:100_000], v[:100_000], normal[:100_000], Material(
         base_color=material.base_color[:100_000], metallic=material.metallic[:100_000],
         roughness=material.roughness[:100_000]))

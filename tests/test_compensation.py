@@ -15,6 +15,7 @@ from pbrkit.tables import (
     f_avg_numeric,
     f_avg_schlick,
     kulla_conty_ms,
+    kulla_conty_tables,
     specular_integrals,
     texel_centres,
 )
@@ -94,3 +95,14 @@ def test_cli_compensation(tmp_path):
     assert (tmp_path / "compensation.png").exists() and np.load(tmp_path / "compensation.npy").shape == (2, 128, 128)
     bad = CliRunner().invoke(app, ["furnace", "-o", str(tmp_path / "x"), "--compensation", "magic"])
     assert bad.exit_code == 1 and not (tmp_path / "x").exists()
+
+
+def test_kulla_conty_tables_against_direct_integration():
+    e, e_avg = kulla_conty_tables(8)
+    assert e.shape == (8, 8) and e_avg.shape == (8,)
+    # E_avg = 2 integral E(mu) mu dmu, here by a composite midpoint rule on 2000 points
+    mu = (np.arange(2000) + 0.5) / 2000
+    for j, r in enumerate(texel_centres(8)):
+        direct = 2.0 * np.mean(specular_integrals(mu, [r]).sum(-1)[0] * mu)
+        assert e_avg[j] == pytest.approx(direct, abs=2e-5)
+    np.testing.assert_allclose(e, specular_integrals(texel_centres(8), texel_centres(8)).sum(-1), atol=1e-6)

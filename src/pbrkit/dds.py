@@ -43,7 +43,7 @@ import numpy as np
 
 from ._atomic import write_bytes
 from .errors import InputError
-from .halfpack import decode_texels, encode_texels, texel_size
+from .halfpack import decode_texels, encode_texels, format_code, texel_size, validate_levels
 
 __all__ = ["DXGI_FORMATS", "dxgi_format_code", "dds_bytes", "write_dds", "parse_dds", "read_dds"]
 
@@ -84,50 +84,15 @@ _HEADER_SIZE = 4 + 124 + 20
 def dxgi_format_code(dxgi_format):
     """DXGI_FORMAT code of ``dxgi_format``: an int, or a name with or without
     the ``DXGI_FORMAT_`` prefix.  Raises :class:`~pbrkit.errors.InputError` (a ``ValueError``) for unsupported ones."""
-    if isinstance(dxgi_format, str):
-        name = dxgi_format.upper()
-        if name.startswith("DXGI_FORMAT_"):
-            name = name[len("DXGI_FORMAT_"):]
-        if name not in DXGI_FORMATS:
-            raise InputError(f"unsupported DXGI format {dxgi_format!r}; supported: {', '.join(DXGI_FORMATS)}")
-        return DXGI_FORMATS[name][0]
-    code = int(dxgi_format)
-    if code not in _BY_CODE:
-        raise InputError(f"unsupported DXGI format {dxgi_format!r}; supported codes: {sorted(_BY_CODE)}")
-    return code
+    return format_code(dxgi_format, DXGI_FORMATS, _BY_CODE, "DXGI_FORMAT_", "DXGI format")
 
-
-def _validate_levels(levels, cube):
-    if isinstance(levels, np.ndarray) or not len(levels):
-        raise InputError("levels must be a non-empty list of arrays, level 0 (largest) first")
-    arrays = [np.asarray(level) for level in levels]
-    first = arrays[0]
-    if cube:
-        if first.ndim != 4 or first.shape[0] != 6 or first.shape[1] != first.shape[2]:
-            raise InputError(f"cube map level 0 must have shape (6, N, N, C), got {first.shape}")
-        width = height = first.shape[1]
-    else:
-        if first.ndim not in (2, 3):
-            raise InputError(f"2D level 0 must have shape (H, W, C) or (H, W), got {first.shape}")
-        height, width = first.shape[:2]
-    if width < 1 or height < 1:
-        raise InputError(f"level 0 must not be empty, got shape {first.shape}")
-    max_levels = int(math.floor(math.log2(max(width, height)))) + 1
-    if len(arrays) > max_levels:
-        raise InputError(f"{len(arrays)} levels given but a {width}x{height} image has at most {max_levels}")
-    for p, a in enumerate(arrays):
-        w, h = max(1, width >> p), max(1, height >> p)
-        expected = (6, h, w) if cube else (h, w)
-        if a.shape[: len(expected)] != expected or a.ndim - len(expected) > 1:
-            raise InputError(f"level {p} has shape {a.shape}, expected {expected} + (channels,)")
-    return arrays, width, height
 
 
 def dds_bytes(levels, dxgi_format, cube=False):
     """The bytes of a DDS file; see :func:`write_dds`."""
     code = dxgi_format_code(dxgi_format)
     name, encoding, channels = _BY_CODE[code]
-    arrays, width, height = _validate_levels(levels, cube)
+    arrays, width, height = validate_levels(levels, cube)
     n_levels = len(arrays)
     texel = texel_size(encoding, channels)
 

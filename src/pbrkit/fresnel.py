@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._jit import select, term
+from ._jit import term
 
 __all__ = [
     "f_schlick",

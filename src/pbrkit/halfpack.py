@@ -33,6 +33,7 @@ The relative rounding error of normal numbers is at most 2^-(m+1):
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -225,3 +226,49 @@ def decode_texels(buffer, encoding, channels, shape):
     else:
         raise InputError(f"unknown texel encoding {encoding!r}")
     return v.reshape(tuple(shape) + (channels,))
+
+
+def validate_levels(levels, cube):
+    """Check a full or partial mip chain for a texture container (KTX2, DDS):
+    returns (arrays, width, height) of level 0."""
+    if isinstance(levels, np.ndarray) or not len(levels):
+        raise InputError("levels must be a non-empty list of arrays, level 0 (largest) first")
+    arrays = [np.asarray(level) for level in levels]
+    first = arrays[0]
+    if cube:
+        if first.ndim != 4 or first.shape[0] != 6 or first.shape[1] != first.shape[2]:
+            raise InputError(f"cube map level 0 must have shape (6, N, N, C), got {first.shape}")
+        width = height = first.shape[1]
+    else:
+        if first.ndim not in (2, 3):
+            raise InputError(f"2D level 0 must have shape (H, W, C) or (H, W), got {first.shape}")
+        height, width = first.shape[:2]
+    if width < 1 or height < 1:
+        raise InputError(f"level 0 must not be empty, got shape {first.shape}")
+    max_levels = int(math.floor(math.log2(max(width, height)))) + 1
+    if len(arrays) > max_levels:
+        raise InputError(f"{len(arrays)} levels given but a {width}x{height} image has at most {max_levels}")
+    for p, a in enumerate(arrays):
+        w, h = max(1, width >> p), max(1, height >> p)
+        expected = (6, h, w) if cube else (h, w)
+        if a.shape[: len(expected)] != expected or a.ndim - len(expected) > 1:
+            raise InputError(f"level {p} has shape {a.shape}, expected {expected} + (channels,)")
+        if a.ndim > len(expected) and a.shape[-1] != first.shape[-1]:
+            raise InputError(f"level {p} has {a.shape[-1]} channels but level 0 has {first.shape[-1]}")
+    return arrays, width, height
+
+
+def format_code(value, formats, by_code, prefix, label):
+    """Code of a texture format given as an int or a name with or without ``prefix``
+    (``VK_FORMAT_`` / ``DXGI_FORMAT_``); ``formats`` maps names to (code, ...)."""
+    if isinstance(value, str):
+        name = value.upper()
+        if name.startswith(prefix):
+            name = name[len(prefix):]
+        if name not in formats:
+            raise InputError(f"unsupported {label} {value!r}; supported: {', '.join(formats)}")
+        return formats[name][0]
+    code = int(value)
+    if code not in by_code:
+        raise InputError(f"unsupported {label} {value!r}; supported codes: {sorted(by_code)}")
+    return code

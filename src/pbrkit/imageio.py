@@ -127,15 +127,8 @@ def _check_size(path, height, width):
 
 
 def _read_bytes(path):
-    path = Path(path)
-    try:
-        return path.read_bytes()
-    except FileNotFoundError:
-        raise InputError("file not found", path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, not an image file", path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read file ({exc.strerror or exc})", path) from None
+    with open_or_fail(path) as f:
+        return f.read()
 
 
 def image_format(path):
@@ -143,15 +136,8 @@ def image_format(path):
     ``'jpeg'``, from its first bytes (its suffix only breaks no ties: content
     wins).  Raises :class:`InputError` for anything else."""
     path = Path(path)
-    try:
-        with path.open("rb") as f:
-            head = f.read(8)
-    except FileNotFoundError:
-        raise InputError("file not found", path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, not an image file", path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read file ({exc.strerror or exc})", path) from None
+    with open_or_fail(path) as f:
+        head = f.read(8)
     if not head:
         raise InputError("file is empty", path)
     for magic, fmt in _MAGIC.items():

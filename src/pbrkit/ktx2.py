@@ -43,11 +43,9 @@ import math
 import os
 import struct
 
-import numpy as np
-
 from ._atomic import write_bytes
 from .errors import InputError
-from .halfpack import decode_texels, encode_texels, texel_size
+from .halfpack import decode_texels, encode_texels, format_code, texel_size, validate_levels
 
 __all__ = [
     "KTX2_IDENTIFIER",
@@ -100,17 +98,7 @@ _ORIENTATION = "KTXorientation"
 def vk_format_code(vk_format):
     """VkFormat code of ``vk_format``: an int, or a name with or without the
     ``VK_FORMAT_`` prefix.  Raises :class:`~pbrkit.errors.InputError` (a ``ValueError``) for unsupported formats."""
-    if isinstance(vk_format, str):
-        name = vk_format.upper()
-        if name.startswith("VK_FORMAT_"):
-            name = name[len("VK_FORMAT_"):]
-        if name not in VK_FORMATS:
-            raise InputError(f"unsupported vkFormat {vk_format!r}; supported: {', '.join(VK_FORMATS)}")
-        return VK_FORMATS[name][0]
-    code = int(vk_format)
-    if code not in _BY_CODE:
-        raise InputError(f"unsupported vkFormat {vk_format!r}; supported codes: {sorted(_BY_CODE)}")
-    return code
+    return format_code(vk_format, VK_FORMATS, _BY_CODE, "VK_FORMAT_", "vkFormat")
 
 
 def _align(offset, alignment):
@@ -189,41 +177,13 @@ def _key_value_entries(key_values, version):
     return entries
 
 
-def _validate_levels(levels, cube):
-    """Shapes (faces, width, height, channels) of a full or partial mip chain."""
-    if isinstance(levels, np.ndarray) or not len(levels):
-        raise InputError("levels must be a non-empty list of arrays, level 0 (largest) first")
-    arrays = [np.asarray(level) for level in levels]
-    first = arrays[0]
-    if cube:
-        if first.ndim != 4 or first.shape[0] != 6 or first.shape[1] != first.shape[2]:
-            raise InputError(f"cube map level 0 must have shape (6, N, N, C), got {first.shape}")
-        width = height = first.shape[1]
-    else:
-        if first.ndim not in (2, 3):
-            raise InputError(f"2D level 0 must have shape (H, W, C) or (H, W), got {first.shape}")
-        height, width = first.shape[:2]
-    if width < 1 or height < 1:
-        raise InputError(f"level 0 must not be empty, got shape {first.shape}")
-    max_levels = int(math.floor(math.log2(max(width, height)))) + 1
-    if len(arrays) > max_levels:
-        raise InputError(f"{len(arrays)} levels given but a {width}x{height} image has at most {max_levels}")
-    for p, a in enumerate(arrays):
-        w, h = max(1, width >> p), max(1, height >> p)
-        expected = (6, h, w) if cube else (h, w)
-        if a.shape[: len(expected)] != expected or a.ndim - len(expected) > 1:
-            raise InputError(f"level {p} has shape {a.shape}, expected {expected} + (channels,)")
-        if a.ndim > len(expected) and a.shape[-1] != first.shape[-1]:
-            raise InputError(f"level {p} has {a.shape[-1]} channels but level 0 has {first.shape[-1]}")
-    return arrays, width, height
-
 
 def ktx2_bytes(levels, vk_format, cube=False, key_values=None, writer_version=None):
     """The bytes of a KTX 2.0 file; see :func:`write_ktx2`.  ``writer_version``
     overrides the version in ``KTXwriter`` (default: the installed pbrkit's)."""
     code = vk_format_code(vk_format)
     name, encoding, channels, type_size, _ = _BY_CODE[code]
-    arrays, width, height = _validate_levels(levels, cube)
+    arrays, width, height = validate_levels(levels, cube)
     faces = 6 if cube else 1
     texel = texel_size(encoding, channels)
     alignment = math.lcm(texel, 4)  # mipPadding alignment, supercompressionScheme 0

@@ -49,6 +49,7 @@ __all__ = [
     "sample_table",
     "env_brdf_approx",
     "average_albedo",
+    "kulla_conty_tables",
     "f_avg_schlick",
     "f_avg_numeric",
     "f_avg_conductor",
@@ -372,6 +373,15 @@ def average_albedo(roughness, visibility="height-correlated", n_mu=64, nodes=DEF
     ab = specular_integrals(x, roughness, visibility, nodes)
     e = ab[..., 0] + ab[..., 1]
     return 2.0 * np.sum(e * x * w, axis=-1)
+
+
+def kulla_conty_tables(size=32, visibility="height-correlated", nodes=DEFAULT_NODES):
+    """Kulla & Conty's tables for a size x size texel grid: E(mu, r) of shape
+    (size, size) indexed [j (roughness), i (mu)] like the lookup tables, and
+    E_avg(r) of shape (size,) (Kulla & Conty 2017, eqs. 4 and 6; seed 002)."""
+    axis = texel_centres(size)
+    ab = specular_integrals(axis, axis, visibility, nodes)
+    return (ab[..., 0] + ab[..., 1]).astype(np.float32), average_albedo(axis, visibility, nodes=nodes)
 
 
 def f_avg_schlick(f0):
