@@ -26,7 +26,17 @@ from pbrkit import diffuse as df
 from pbrkit import distributions as dist
 from pbrkit import fresnel as fr
 from pbrkit import masking as mk
-from pbrkit.models import DISTRIBUTIONS, FRESNELS, MASKINGS, cook_torrance, filament, frame_cosines, ue4, urp_mobile
+from pbrkit.models import (
+    DISTRIBUTIONS,
+    FRESNELS,
+    MASKINGS,
+    cook_torrance,
+    disney,
+    filament,
+    frame_cosines,
+    ue4,
+    urp_mobile,
+)
 
 PROPERTY = settings(max_examples=150, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow])
@@ -80,6 +90,11 @@ def test_engine_models_are_finite_and_non_negative(l, v, material):
                 filament(l, v, N, material, t=T), filament(l, v, N, material, diffuse="burley", t=T),
                 filament(l, v, N, iso)):
         _check_model_output(out, l, v)
+    principled = Material(base_color=material.base_color, metallic=material.metallic,
+                          roughness=material.roughness, reflectance=material.reflectance,
+                          anisotropy=np.abs(material.anisotropy), subsurface=0.5, sheen=1.0, clearcoat=1.0,
+                          specular_tint=0.5, clearcoat_gloss=material.reflectance)
+    _check_model_output(disney(l, v, N, principled, t=T), l, v)
 
 
 @PROPERTY

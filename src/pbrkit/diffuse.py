@@ -11,7 +11,7 @@ import numpy as np
 from ._jit import select, term
 from .fresnel import f_schlick, f_schlick_roughness
 
-__all__ = ["lambert", "burley", "kd_ibl"]
+__all__ = ["lambert", "burley", "burley_subsurface", "kd_ibl"]
 
 _INV_PI = 1.0 / np.pi
 
@@ -33,6 +33,22 @@ def burley(nol, nov, loh, roughness):
     """
     fd90 = 0.5 + 2.0 * roughness * loh * loh
     return _INV_PI * f_schlick(nol, 1.0, fd90) * f_schlick(nov, 1.0, fd90)
+
+
+@term
+def burley_subsurface(nol, nov, loh, roughness):
+    """Disney's subsurface approximation factor (Burley 2012, sec. 5.3 and the BRDF
+    Explorer's ``disney.brdf``), after Hanrahan & Krueger 1993:
+    f = (1.25 / pi) (F_ss (1 / (n.l + n.v) - 0.5) + 0.5) with
+    F_ss = (1 + (F_ss90 - 1)(1 - n.l)^5)(1 + (F_ss90 - 1)(1 - n.v)^5),
+    F_ss90 = r (l.h)^2, r perceptual roughness.  Zero below the horizon.
+    """
+    fss90 = roughness * loh * loh
+    fss = f_schlick(nol, 1.0, fss90) * f_schlick(nov, 1.0, fss90)
+    cl = np.maximum(nol, 0.0)
+    cv = np.maximum(nov, 0.0)
+    value = 1.25 * _INV_PI * (fss * (1.0 / np.maximum(cl + cv, 1e-8) - 0.5) + 0.5)
+    return select((nol > 0.0) & (nov > 0.0), value, 0.0)
 
 
 @term

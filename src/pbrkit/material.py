@@ -15,6 +15,9 @@ parameterisation):
   (Kulla & Conty 2017; Filament).  Needs a tangent where used.
 - ``eta``, ``k``: optional complex index of refraction (RGB) for the exact
   conductor Fresnel of :func:`pbrkit.models.cook_torrance`.
+- Disney principled extras (Burley 2012), used by :func:`pbrkit.models.disney`
+  only, all in [0, 1]: ``subsurface``, ``specular_tint``, ``sheen``,
+  ``sheen_tint`` (default 0.5), ``clearcoat``, ``clearcoat_gloss`` (default 1).
 
 Values outside their ranges, non-finite values or a base colour without three
 channels raise ``ValueError`` naming the parameter; nothing is clamped
@@ -60,6 +63,12 @@ class Material:
     anisotropy: np.ndarray = 0.0
     eta: np.ndarray | None = None
     k: np.ndarray | None = None
+    subsurface: np.ndarray = 0.0
+    specular_tint: np.ndarray = 0.0
+    sheen: np.ndarray = 0.0
+    sheen_tint: np.ndarray = 0.5
+    clearcoat: np.ndarray = 0.0
+    clearcoat_gloss: np.ndarray = 1.0
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -68,6 +77,8 @@ class Material:
         set_(self, "roughness", _checked("roughness", self.roughness, 0.0, 1.0))
         set_(self, "reflectance", _checked("reflectance", self.reflectance, 0.0, 1.0))
         set_(self, "anisotropy", _checked("anisotropy", self.anisotropy, -1.0, 1.0))
+        for name in ("subsurface", "specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss"):
+            set_(self, name, _checked(name, getattr(self, name), 0.0, 1.0))
         if (self.eta is None) != (self.k is None):
             raise ValueError("Material.eta and Material.k must be given together")
         if self.eta is not None:

@@ -18,15 +18,17 @@ import numba
 import numpy as np
 
 from ._jit import parallel_kernel, select, term
-from .diffuse import burley, lambert
+from .diffuse import burley, burley_subsurface, lambert
 from .distributions import (
     alpha_from_roughness,
     anisotropic_alphas,
+    anisotropic_alphas_burley,
     d_beckmann,
     d_beckmann_anisotropic,
     d_blinn_phong,
     d_ggx,
     d_ggx_anisotropic,
+    d_gtr1,
     phong_exponent_from_beckmann_alpha,
 )
 from .fresnel import (
@@ -65,6 +67,7 @@ __all__ = [
     "urp_mobile",
     "urp_specular",
     "cook_torrance",
+    "disney",
     "MODELS",
     "DISTRIBUTIONS",
     "MASKINGS",
@@ -379,9 +382,71 @@ def cook_torrance(l, v, n, material: Material, distribution="ggx", masking="heig
                          _channel(diffuse_factor), _channel(specular), fr)
 
 
+# ------------------------------------------------------------- Disney principled
+
+
+def disney(l, v, n, material: Material, t=None):
+    """Disney's principled BRDF (Burley 2012, "Physically-Based Shading at Disney",
+    sec. 5 and Appendix B; the BRDF Explorer's ``disney.brdf``).
+
+    f = (1 - metallic) [base (mix(Burley, subsurface, s)) + sheen] + D_s F_s V_s + clearcoat:
+
+    - diffuse: :func:`pbrkit.diffuse.burley` mixed with
+      :func:`pbrkit.diffuse.burley_subsurface` by ``material.subsurface``;
+    - sheen: (1 - l.h)^5 sheen mix(1, C_tint, sheen_tint), with
+      C_tint = base / luminance(base) (luminance 0.3 R + 0.6 G + 0.1 B);
+    - specular: anisotropic GGX with alpha = r^2 and Burley's aspect
+      (:func:`pbrkit.distributions.anisotropic_alphas_burley`, anisotropy in
+      [0, 1]), separable exact Smith G (the BRDF Explorer's version, without the
+      2012 notes' alpha_g "hotness" remap), Schlick Fresnel from
+      C_spec0 = mix(0.08 specular mix(1, C_tint, specular_tint), base, metallic)
+      where 0.08 specular = 0.16 reflectance^2 (``material.dielectric_f0``);
+    - clear coat: 0.25 clearcoat D_GTR1(alpha = mix(0.1, 0.001, gloss)) times
+      Schlick F with f0 = 0.04 times separable Smith V with alpha = 0.25.
+    """
+    anisotropy = np.asarray(material.anisotropy)
+    if np.any(anisotropy < 0.0):
+        raise ValueError("disney: Material.anisotropy must be in [0, 1] (Burley's aspect parameterisation)")
+    anisotropic = bool(np.any(anisotropy != 0.0))
+    c = frame_cosines(l, v, n, t=t, tangent_frame=anisotropic)
+    alpha = material.alpha
+    if anisotropic:
+        ax, ay = anisotropic_alphas_burley(alpha, anisotropy)
+        d = d_ggx_anisotropic(c.noh, c.toh, c.boh, ax, ay)
+        lambda_l = lambda_ggx_anisotropic(c.nol, c.tol, c.bol, ax, ay)
+        lambda_v = lambda_ggx_anisotropic(c.nov, c.tov, c.bov, ax, ay)
+    else:
+        d = d_ggx(c.noh, alpha)
+        lambda_l = lambda_ggx(c.nol, alpha)
+        lambda_v = lambda_ggx(c.nov, alpha)
+    specular = d * visibility(g2_separable(lambda_l, lambda_v), c.nol, c.nov)
+
+    base = material.base_color
+    luminance = np.sum(base * np.array([0.3, 0.6, 0.1]), axis=-1, keepdims=True)
+    tint = np.where(luminance > 0.0, base / np.where(luminance > 0.0, luminance, 1.0), 1.0)
+    metallic = _channel(material.metallic)
+    spec_tint = _channel(material.specular_tint)
+    f0 = f0_metallic(base, metallic, _channel(material.dielectric_f0) * (1.0 + (tint - 1.0) * spec_tint))
+    loh = _channel(c.voh)
+    roughness = material.roughness
+    subsurface = material.subsurface
+    diffuse_factor = (burley(c.nol, c.nov, c.voh, roughness) * (1.0 - subsurface)
+                      + burley_subsurface(c.nol, c.nov, c.voh, roughness) * subsurface)
+    lobes = combine_lobes(_channel(c.nol), _channel(c.nov), base * (1.0 - metallic), _channel(diffuse_factor),
+                          _channel(specular), f_schlick(loh, f0))
+    sheen_color = _channel(material.sheen) * (1.0 + (tint - 1.0) * _channel(material.sheen_tint))
+    sheen = f_schlick(loh, 0.0, 1.0) * sheen_color * (1.0 - metallic)
+    coat_alpha = 0.1 + (0.001 - 0.1) * material.clearcoat_gloss
+    coat_v = visibility(g2_separable(lambda_ggx(c.nol, 0.25), lambda_ggx(c.nov, 0.25)), c.nol, c.nov)
+    coat = _channel(0.25 * material.clearcoat * d_gtr1(c.noh, coat_alpha) * coat_v) * f_schlick(loh, 0.04)
+    valid = _channel((c.nol > 0.0) & (c.nov > 0.0))
+    return lobes + np.where(valid, sheen + coat, 0.0)
+
+
 MODELS = {
     "ue4": ue4,
     "filament": filament,
     "urp_mobile": urp_mobile,
     "cook_torrance": cook_torrance,
+    "disney": disney,
 }
