@@ -192,5 +192,139 @@ def approximations(
         print(f"wrote {out}/approximations.png and approximations.json")
 
 
+@app.command()
+@user_errors
+def render(
+    scene: str = typer.Argument(..., help="Scene file (.toml or .json) or a built-in scene: spheres, sphere."),
+    out: Path = typer.Option(..., "-o", "--out",
+                             help="Output image: .exr (linear float32) or .png (tone-mapped, sRGB)."),
+    mode: str = typer.Option("realtime", "--mode", help="realtime, reference (Monte Carlo) or compare (both)."),
+    spp: int = typer.Option(64, "--spp", help="Ground-truth samples per pixel."),
+    bounces: int = typer.Option(0, "--bounces", help="Ground-truth bounces after the first hit (0: direct light)."),
+    tonemap_name: str = typer.Option("aces", "--tonemap", help="aces, khronos-neutral, agx, reinhard or none."),
+    exposure: float = typer.Option(0.0, "--exposure", help="Exposure in EV applied before tone mapping (PNG)."),
+    width: Optional[int] = typer.Option(None, "--width", help="Image width (overrides the scene's camera)."),
+    height: Optional[int] = typer.Option(None, "--height", help="Image height (overrides the scene's camera)."),
+    env: Optional[Path] = typer.Option(None, "--env", help="Environment map replacing the scene's."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the ground truth's random numbers."),
+    diffuse: str = typer.Option("sh", "--diffuse", help="Real-time diffuse IBL: sh or cube (irradiance cube)."),
+    energy_compensation: bool = typer.Option(False, "--energy-compensation/--no-energy-compensation",
+                                             help="Real time: Filament's multiple-scattering compensation."),
+    bake_size: int = typer.Option(256, "--bake-size", help="Real time: size of the bake's specular cube."),
+    no_occlusion: bool = typer.Option(False, "--no-occlusion",
+                                      help="Ground truth: objects do not occlude one another (as real-time IBL)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing on success."),
+):
+    """Render a scene in real time (split-sum IBL + punctual lights), as Monte Carlo
+    ground truth, or both side by side with an error heat map (compare)."""
+    from .render import output_suffix_ok, render_scene
+    from .scene import EnvironmentSpec, resolve_scene
+
+    output_suffix_ok(out)
+    environment = None
+    if env is not None:
+        if not env.exists():
+            raise ValueError(f"{env}: environment file not found")
+        environment = EnvironmentSpec(file=str(env))
+    scene_obj = resolve_scene(scene, width, height, environment)
+    summary = render_scene(scene_obj, out, mode=mode, spp=spp, bounces=bounces, seed=seed, tonemap_name=tonemap_name,
+                           exposure=exposure, diffuse=diffuse, energy_compensation=energy_compensation,
+                           bake_size=bake_size, occlusion=not no_occlusion)
+    if quiet:
+        return
+    for note in summary["notes"]:
+        _err.print(f"[yellow]pbrkit: note:[/] {note}", highlight=False, soft_wrap=True)
+    if "realtime" in summary:
+        print(f"real time: {summary['realtime']['timings']['total']:.3f} s")
+    if "reference" in summary:
+        r = summary["reference"]
+        print(f"ground truth: {r['spp']} spp, {r['surface_paths']} paths on surfaces in "
+              f"{r['timings']['sampling']:.3f} s ({r['paths_per_second'] / 1e6:.2f} M paths/s)")
+    if "errors" in summary:
+        e = summary["errors"]
+        print(f"real time vs ground truth: mean relative error {e['mean_relative_error']:.4f}, "
+              f"max relative error {e['max_relative_error']:.4f}, FLIP {e['flip']:.4f} "
+              f"(ground-truth noise {e.get('mean_relative_stderr', 0.0):.4f})")
+    print("wrote " + ", ".join(summary["outputs"]))
+
+
+@app.command()
+@user_errors
+def demo(
+    out: Path = typer.Option(..., "-o", "--out", help="Output folder (index.html and its images)."),
+    size: int = typer.Option(384, "--size", help="Side of the sphere-grid images in pixels."),
+    spp: int = typer.Option(192, "--spp", help="Ground-truth samples per pixel."),
+    bake_size: int = typer.Option(128, "--bake-size", help="Size of the bake's specular cube (power of two)."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the random numbers."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or summary."),
+):
+    """Bake the bundled environment, render the sphere grid in real time and as ground
+    truth, plot the furnace test and the lookup table, and write OUT/index.html."""
+    from .demo import run_demo
+
+    steps = ("bake", "realtime", "reference", "images", "furnace", "lut", "page")
+    with progress_bar(quiet, len(steps), "demo") as bar:
+        task = bar.add_task("demo", total=len(steps))
+        summary = run_demo(out, size=size, spp=spp, bake_size=bake_size, seed=seed,
+                           progress=lambda name: bar.advance(task))
+    if not quiet:
+        e = summary["errors"]
+        print(f"mean relative error {e['mean_relative_error']:.4f}, FLIP {e.get('flip', float('nan')):.4f}; "
+              f"total {summary['timings_s']['total']:.1f} s")
+        print(f"wrote {out / 'index.html'}")
+
+
+@app.command()
+@user_errors
+def bake(
+    env: list[Path] = typer.Argument(..., help="Environment: one equirect (.hdr, .exr, .pfm, .png, .jpg) or cube-cross "
+                                           "image, or six face files in the order +X -X +Y -Y +Z -Z."),
+    out: Path = typer.Option(..., "-o", "--out", help="Output folder (must be absent or empty unless --force)."),
+    size: int = typer.Option(256, "--size", help="Specular cube size (power of two, <= 4096)."),
+    min_size: int = typer.Option(16, "--min-size", help="Size of the last (roughest) specular level."),
+    irradiance_size: int = typer.Option(32, "--irradiance-size", help="Irradiance cube size."),
+    lut_size: int = typer.Option(128, "--lut-size", help="DFG lookup-table size."),
+    fmt: str = typer.Option("rgba16f", "--format", help="KTX2/DDS texel format: rgba16f or b10g11r11."),
+    method: str = typer.Option("spectral", "--method",
+                               help="spectral (exact SH-domain convolution) or fis (filtered importance sampling)."),
+    sh_window: Optional[str] = typer.Option(None, "--sh-window", help="Window the stored SH: hanning or lanczos."),
+    layout: Optional[str] = typer.Option(None, "--layout", help="Force equirect, hcross or vcross for one file."),
+    fix_nonfinite: bool = typer.Option(False, "--fix-nonfinite",
+                                       help="Replace NaN/Inf pixels by the mean of their finite neighbours."),
+    force: bool = typer.Option(False, "--force", help="Replace a non-empty output folder."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or summary."),
+):
+    """Bake an HDR environment for split-sum IBL: prefiltered specular chain, irradiance
+    cube, SH9, DFG table, faces, preview and manifest.json in OUT."""
+    import warnings
+
+    from .bake import bake as bake_environment, check_output_dir, write_bake
+
+    if len(env) not in (1, 6):
+        raise ValueError(f"give one environment file or six face files, got {len(env)}")
+    check_output_dir(out, force)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with progress_bar(quiet, 1, "bake") as bar:
+            task = bar.add_task("bake", total=None)
+
+            def step(name, done, total):
+                bar.update(task, description=name, completed=done, total=total)
+
+            result = bake_environment(env[0] if len(env) == 1 else env, size=size, min_size=min_size,
+                                      irradiance_size=irradiance_size, lut_size=lut_size, specular_format=fmt,
+                                      method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
+                                      layout=layout, progress=step)
+            write_bake(result, out, force=force, progress=step)
+    for w in caught:
+        _err.print(f"[yellow]pbrkit: warning:[/] {w.message}", highlight=False, soft_wrap=True)
+    if not quiet:
+        levels = ", ".join(f"{r:g}" for r in result.roughness)
+        print(f"wrote {out}: specular {size}^2, {result.levels} levels (roughness {levels}), "
+              f"irradiance {irradiance_size}^2, SH9, DFG table {lut_size}^2")
+        print("times (s): " + ", ".join(f"{k} {v:.3f}" for k, v in result.timings.items())
+              + f"; total {sum(result.timings.values()):.3f} + writing")
+
+
 if __name__ == "__main__":  # pragma: no cover
     app()

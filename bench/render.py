@@ -1,0 +1,116 @@
+"""Benchmark: ``pbrkit render`` on the built-in sphere grid (49 spheres).
+
+    python bench/render.py [--size 1024] [--gt-size 512] [--spp 32] [--repeat 5] [--env PATH]
+
+Prints, measured in one run (Numba compilation excluded by a warm-up call):
+
+- real time: the 1024 x 1024 grid with 4 punctual lights (directional, point,
+  two spots, shadow rays) and split-sum IBL from a 256^2 bake of the
+  environment; the bake itself is timed separately (issue 5 target: <= 1 s
+  for the render on the 2-core machine);
+- ground truth under ``rooitou_park_1k.hdr`` (a clear sky with an unclipped
+  sun): paths per second of the direct-lighting estimator (environment +
+  BRDF sampling with MIS, two shadow/continuation rays per path), and the
+  noise per sample -- the mean over surface pixels of the per-path variance of
+  the luminance relative to the squared mean luminance -- for MIS and for BRDF
+  sampling alone (issue 5 aim: >= 15 M paths/s on 2 cores, noise per sample no
+  worse than BRDF-only sampling).  The spheres do not occlude one another in
+  this measurement (``occlusion=False``) unless ``--occlusion`` is given.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from _timing import best_and_median
+
+from pbrkit.geometry import Geometry
+from pbrkit.lights import Light
+from pbrkit.render import EnvironmentLight, luminance, render_realtime, render_reference
+from pbrkit.scene import EnvironmentSpec, builtin_scene
+
+DEFAULT_ENV = Path(__file__).resolve().parents[2] / "shared" / "data" / "env" / "rooitou_park_1k.hdr"
+
+LIGHTS = (
+    Light(type="directional", direction=(-0.3, -1.0, -0.5), intensity=2.0),
+    Light(type="point", position=(0.0, 0.0, 6.0), intensity=30.0, range=40.0),
+    Light(type="spot", position=(-6.0, 8.0, 6.0), direction=(0.5, -0.7, -0.5), intensity=80.0,
+          inner_cone_angle=0.3, outer_cone_angle=0.6),
+    Light(type="spot", position=(6.0, -8.0, 6.0), direction=(-0.5, 0.7, -0.5), intensity=80.0, color=(0.6, 0.8, 1.0),
+          inner_cone_angle=0.2, outer_cone_angle=0.5, falloff="ue4"),
+)
+
+
+def relative_noise_per_sample(result):
+    """Mean over surface pixels of spp * stderr(Y)^2 / mean(Y)^2 (the luminance variance of
+    one path relative to the pixel's value; stderr of Y from the channel stderrs, an upper
+    bound when the channels are positively correlated)."""
+    spp = result.stats["spp"]
+    y = luminance(result.image)
+    se = luminance(result.stderr)
+    sel = result.mask & (y > 0)
+    return float(np.mean(spp * se[sel] ** 2 / y[sel] ** 2))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--size", type=int, default=1024, help="real-time image side")
+    parser.add_argument("--gt-size", type=int, default=512, help="ground-truth image side")
+    parser.add_argument("--spp", type=int, default=32, help="ground-truth samples per pixel")
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--bake-size", type=int, default=256)
+    parser.add_argument("--env", type=Path, default=DEFAULT_ENV)
+    parser.add_argument("--occlusion", action="store_true", help="let the spheres occlude one another")
+    args = parser.parse_args()
+    if not args.env.exists():
+        sys.exit(f"environment {args.env} not found (needs ../shared/data/env)")
+    try:
+        load = os.getloadavg()[0]
+    except OSError:
+        load = float("nan")
+    print(f"cores: {os.cpu_count()}, load average {load:.2f}; environment {args.env.name}")
+
+    env_spec = EnvironmentSpec(file=str(args.env))
+    scene = builtin_scene("spheres", args.size, args.size, env_spec)
+    scene = type(scene)(camera=scene.camera, environment=scene.environment, materials=scene.materials,
+                        objects=scene.objects, lights=LIGHTS, source="spheres + 4 lights")
+    env = EnvironmentLight(env_spec)
+    t0 = time.perf_counter()
+    baked = env.bake(size=args.bake_size)
+    print(f"bake {args.bake_size}^2 ({len(baked.specular)} levels): {time.perf_counter() - t0:.2f} s "
+          "(first call, Numba compilation included)")
+    geometry = Geometry(scene)
+    render_realtime(scene, geometry, env, bake=baked)  # warm-up (compilation)
+    results = []
+
+    def realtime():
+        results.append(render_realtime(scene, geometry, env, bake=baked))
+
+    best, median = best_and_median(realtime, args.repeat)
+    stages = results[-1].stats["timings"]
+    print(f"real time {args.size}x{args.size}, 4 lights + IBL: best {best:.3f} s, median {median:.3f} s "
+          "(target <= 1 s)")
+    print("  stages of the last run: " + ", ".join(f"{k} {v:.3f}" for k, v in stages.items() if k != "bake"))
+
+    gt_scene = builtin_scene("spheres", args.gt_size, args.gt_size, env_spec)
+    gt_geometry = Geometry(gt_scene)
+    occlusion = bool(args.occlusion)
+    render_reference(gt_scene, spp=2, geometry=gt_geometry, env=env, occlusion=occlusion)  # warm-up
+    for strategy in ("mis", "brdf"):
+        res = render_reference(gt_scene, spp=args.spp, geometry=gt_geometry, env=env, strategy=strategy,
+                               occlusion=occlusion)
+        s = res.stats
+        noise = relative_noise_per_sample(res)
+        print(f"ground truth {args.gt_size}x{args.gt_size}, {args.spp} spp, {strategy:4s}: "
+              f"{s['surface_paths'] / 1e6:.2f} M paths in {s['timings']['sampling']:.2f} s = "
+              f"{s['paths_per_second'] / 1e6:.2f} M paths/s; noise per sample (relative variance) {noise:.4g}; "
+              f"efficiency 1 / (noise x time per path) {s['paths_per_second'] / noise / 1e6:.3g} M")
+
+
+if __name__ == "__main__":
+    main()

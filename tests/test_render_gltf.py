@@ -1,0 +1,341 @@
+"""glTF 2.0 meshes, materials, textures and tangents, cast with Embree.
+
+Synthetic files built here check the specification's rules exactly; the Khronos
+sample models in ../shared/data/models check real files (skipped without them)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pbrkit.errors import InputError
+from pbrkit.geometry import Geometry, Texture, load_gltf, mikktspace_tangents
+from pbrkit.imageio import srgb_to_linear
+from pbrkit.scene import Camera, EnvironmentSpec, GltfObject, MaterialSpec, Plane, Scene
+
+MODELS = Path(__file__).resolve().parents[2] / "shared" / "data" / "models"
+needs_models = pytest.mark.skipif(not (MODELS / "NormalTangentTest.glb").exists(),
+                                  reason="../shared/data/models (Khronos sample models) is not available")
+
+
+# --------------------------------------------------------------- synthetic files
+
+
+def _png(pixels):
+    import imageio.v3 as iio
+
+    return iio.imwrite("<bytes>", np.asarray(pixels, dtype=np.uint8), extension=".png")
+
+
+def write_quad_glb(path, *, texture=None, mr_texture=None, normal_texture=None, sampler=None, node_matrix=None,
+                   extensions_required=(), uv=None, material_extras=None, light=None):
+    """A unit quad in the XY plane (z = 0, facing +Z) with glTF UVs (v down: image top at +Y),
+    placed by a parent node (translation (0, 0, -1)) and a child node (matrix or scale 2)."""
+    import pygltflib as g
+
+    positions = np.array([[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]], dtype=np.float32)
+    normals = np.tile(np.array([0, 0, 1], dtype=np.float32), (4, 1))
+    uvs = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], dtype=np.float32) if uv is None else np.asarray(uv, np.float32)
+    indices = np.array([0, 1, 2, 0, 2, 3], dtype=np.uint16)
+    chunks = [positions.tobytes(), normals.tobytes(), uvs.tobytes(), indices.tobytes()]
+    images = []
+    for tex in (texture, mr_texture, normal_texture):
+        if tex is not None:
+            images.append(_png(tex))
+    blob = b""
+    views = []
+    for data in chunks + images:
+        while len(blob) % 4:
+            blob += b"\0"
+        views.append(g.BufferView(buffer=0, byteOffset=len(blob), byteLength=len(data)))
+        blob += data
+    accessors = [
+        g.Accessor(bufferView=0, componentType=g.FLOAT, count=4, type=g.VEC3, min=[-0.5, -0.5, 0], max=[0.5, 0.5, 0]),
+        g.Accessor(bufferView=1, componentType=g.FLOAT, count=4, type=g.VEC3),
+        g.Accessor(bufferView=2, componentType=g.FLOAT, count=4, type=g.VEC2),
+        g.Accessor(bufferView=3, componentType=g.UNSIGNED_SHORT, count=6, type=g.SCALAR),
+    ]
+    pbr = g.PbrMetallicRoughness(baseColorFactor=[1.0, 0.5, 1.0, 1.0], metallicFactor=0.5, roughnessFactor=0.8)
+    gl_images, textures = [], []
+    if texture is not None:
+        gl_images.append(g.Image(bufferView=4, mimeType="image/png"))
+        textures.append(g.Texture(source=0, sampler=0 if sampler else None))
+        pbr.baseColorTexture = g.TextureInfo(index=0)
+    if mr_texture is not None:
+        gl_images.append(g.Image(bufferView=4 + len(gl_images), mimeType="image/png"))
+        textures.append(g.Texture(source=len(gl_images) - 1))
+        pbr.metallicRoughnessTexture = g.TextureInfo(index=len(textures) - 1)
+    normal_info = None
+    if normal_texture is not None:
+        gl_images.append(g.Image(bufferView=4 + len(gl_images), mimeType="image/png"))
+        textures.append(g.Texture(source=len(gl_images) - 1))
+        normal_info = g.NormalMaterialTexture(index=len(textures) - 1, scale=1.0)
+    material = g.Material(pbrMetallicRoughness=pbr, emissiveFactor=[0.2, 0.1, 0.0], doubleSided=True,
+                          extensions=material_extras or {}, normalTexture=normal_info)
+    child = g.Node(mesh=0)
+    if node_matrix is not None:
+        child.matrix = list(np.asarray(node_matrix, dtype=float).T.ravel())  # column-major
+    else:
+        child.scale = [2.0, 2.0, 2.0]
+    nodes = [g.Node(children=[1], translation=[0.0, 0.0, -1.0]), child]
+    extensions = {}
+    if light is not None:
+        nodes.append(g.Node(translation=[0.0, 3.0, 0.0], rotation=[-math.sin(math.pi / 4), 0.0, 0.0,
+                                                                   math.cos(math.pi / 4)],
+                            extensions={"KHR_lights_punctual": {"light": 0}}))
+        extensions["KHR_lights_punctual"] = {"lights": [light]}
+    gltf = g.GLTF2(
+        asset=g.Asset(version="2.0"), scene=0, scenes=[g.Scene(nodes=[0] + ([2] if light else []))], nodes=nodes,
+        meshes=[g.Mesh(primitives=[g.Primitive(attributes=g.Attributes(POSITION=0, NORMAL=1, TEXCOORD_0=2),
+                                               indices=3, material=0)])],
+        materials=[material], accessors=accessors, bufferViews=views, buffers=[g.Buffer(byteLength=len(blob))],
+        images=gl_images, textures=textures,
+        samplers=[g.Sampler(**sampler)] if sampler else [],
+        extensionsRequired=list(extensions_required), extensionsUsed=list(extensions_required) + list(
+            (material_extras or {}).keys()) + (["KHR_lights_punctual"] if light else []),
+        extensions=extensions,
+    )
+    gltf.set_binary_blob(blob)
+    gltf.save_binary(str(path))
+    return path
+
+
+def quad_scene(path, width=4, height=4, fov=20.0):
+    cam = Camera(position=(0.0, 0.0, 5.0), look_at=(0.0, 0.0, -1.0), fov=fov, width=width, height=height)
+    return Scene(camera=cam, environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)), objects=(GltfObject(str(path)),))
+
+
+# ------------------------------------------------------------------ loading
+
+
+def test_node_hierarchy_transforms_and_lights(tmp_path):
+    light = {"type": "spot", "intensity": 7.0, "color": [1.0, 0.5, 0.5], "range": 9.0,
+             "spot": {"innerConeAngle": 0.1, "outerConeAngle": 0.4}}
+    path = write_quad_glb(tmp_path / "q.glb", light=light)
+    asset = load_gltf(path)
+    (mesh,) = asset.meshes
+    # parent translation (0, 0, -1) times child scale 2: corners at (+-1, +-1, -1)
+    np.testing.assert_allclose(mesh.positions, [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1]], atol=1e-6)
+    np.testing.assert_allclose(mesh.normals, np.tile([0, 0, 1], (4, 1)), atol=1e-7)
+    (lt,) = asset.lights
+    # a node rotated by -90 degrees about X: its -Z axis points down (-Y)
+    assert lt.type == "spot" and lt.intensity == 7.0 and lt.range == 9.0 and lt.outer_cone_angle == 0.4
+    np.testing.assert_allclose(lt.position, [0, 3, 0], atol=1e-7)
+    np.testing.assert_allclose(lt.direction, [0, -1, 0], atol=1e-7)
+    # an extra object transform composes on top (T R S of the scene file)
+    moved = load_gltf(path, GltfObject(str(path), translation=(5, 0, 0)).matrix())
+    np.testing.assert_allclose(moved.meshes[0].positions[:, 0], mesh.positions[:, 0] + 5.0, atol=1e-6)
+
+
+def _mapped_normal_at_centre(path):
+    scene = quad_scene(path)
+    geometry = Geometry(scene)
+    origin = np.array([[0.0, 0.0, 5.0]])
+    d = np.array([[0.0, 0.0, -1.0]])
+    return geometry.surface(geometry.intersect(origin, d), origin, d).n[0], geometry
+
+
+@pytest.mark.parametrize("mirror", [False, True])
+def test_normal_maps_stay_attached_to_the_surface_under_mirroring(tmp_path, mirror):
+    """A normal texel tilted toward tangent-space +X (increasing u) and +Y (image up).
+    The quad's texture runs left to right and top to bottom; mirroring the node in x
+    (negative determinant: clockwise winding, glTF 2.0 sec. 3.7.2.1) mirrors the
+    texture with it, so the mapped normal must tilt toward -x but still up."""
+    texel = np.array([[[200, 200, 200]]], dtype=np.uint8)
+    tangent_space = texel[0, 0] / 255.0 * 2.0 - 1.0
+    path = write_quad_glb(tmp_path / "n.glb", normal_texture=texel,
+                          node_matrix=np.diag([-2.0 if mirror else 2.0, 2.0, 2.0, 1.0]))
+    n, geometry = _mapped_normal_at_centre(path)
+    (mesh,) = geometry.meshes
+    if mirror:
+        np.testing.assert_allclose(mesh.positions[:, 0], [1, -1, -1, 1], atol=1e-6)
+    expected = tangent_space * [-1.0 if mirror else 1.0, 1.0, 1.0]
+    np.testing.assert_allclose(n, expected / np.linalg.norm(expected), atol=3e-3)
+    assert np.all(mesh.tangents[:, 3] == (-1.0 if mirror else 1.0))
+
+
+def test_textures_are_sampled_at_texel_centres_with_the_glTF_colour_spaces(tmp_path):
+    colour = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [128, 128, 128]]], dtype=np.uint8)
+    mr = np.array([[[0, 64, 255], [0, 128, 0]], [[0, 192, 128], [0, 255, 64]]], dtype=np.uint8)
+    path = write_quad_glb(tmp_path / "t.glb", texture=colour, mr_texture=mr,
+                          sampler={"magFilter": 9728, "wrapS": 33071, "wrapT": 33071},
+                          material_extras={"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}})
+    scene = quad_scene(path)
+    geometry = Geometry(scene)
+    # rays through the centres of the four quadrants of the quad (world x, y = +-0.5 at z = -1)
+    targets = np.array([[-0.5, 0.5, -1], [0.5, 0.5, -1], [-0.5, -0.5, -1], [0.5, -0.5, -1]], dtype=float)
+    origins = np.tile(scene.camera.position, (4, 1))
+    dirs = targets - origins
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    hits = geometry.intersect(origins, dirs)
+    assert np.all(hits.hit)
+    surface = geometry.surface(hits, origins, dirs)
+    np.testing.assert_allclose(surface.p, targets, atol=1e-5)
+    # image row 0 is v = 0, the top of the quad (+Y): texels (0,0), (0,1), (1,0), (1,1)
+    texels = colour.reshape(4, 3) / 255.0
+    expected = srgb_to_linear(texels) * np.array([1.0, 0.5, 1.0])  # baseColorTexture is sRGB, times the factor
+    np.testing.assert_allclose(surface.base_color, expected, atol=1e-6)
+    m = mr.reshape(4, 3) / 255.0  # linear: G = roughness, B = metallic, times the factors
+    np.testing.assert_allclose(surface.roughness, m[:, 1] * 0.8, atol=1e-6)
+    np.testing.assert_allclose(surface.metallic, m[:, 2] * 0.5, atol=1e-6)
+    np.testing.assert_allclose(surface.emissive, np.tile([0.8, 0.4, 0.0], (4, 1)), atol=1e-12)
+    np.testing.assert_allclose(surface.n, np.tile([0, 0, 1], (4, 1)), atol=1e-9)
+
+
+def test_texture_wrap_modes_and_bilinear_filtering():
+    texels = np.zeros((1, 4, 4), dtype=np.float32)
+    texels[0, :, 0] = [0.0, 1.0, 2.0, 3.0]
+    uv = np.array([[1.125, 0.5], [-0.125, 0.5], [0.25, 0.5], [1.375, 0.5]])
+    repeat = Texture(texels, 10497, 10497, 9728).sample(uv)[:, 0]
+    clamp = Texture(texels, 33071, 33071, 9728).sample(uv)[:, 0]
+    mirror = Texture(texels, 33648, 33648, 9728).sample(uv)[:, 0]
+    np.testing.assert_allclose(repeat, [0, 3, 1, 1])
+    np.testing.assert_allclose(clamp, [3, 0, 1, 3])
+    np.testing.assert_allclose(mirror, [3, 0, 1, 2])
+    # bilinear between texel centres: u = 0.25 is halfway between texel 0 (0.125) and 1 (0.375)
+    np.testing.assert_allclose(Texture(texels, 33071, 33071).sample(np.array([[0.25, 0.5], [0.0, 0.5]]))[:, 0],
+                               [0.5, 0.0])
+    np.testing.assert_allclose(Texture(texels).sample(np.array([[0.0, 0.5]]))[:, 0], [1.5])  # repeat: 3 and 0
+
+
+def test_mikktspace_tangents_follow_the_glTF_image_up_convention():
+    positions = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    normals = np.tile([0.0, 0.0, 1.0], (4, 1))
+    tri = np.array([[0, 1, 2], [0, 2, 3]])
+    # glTF UVs: v grows downward in the image, so the image's "up" (+Y of a normal map) is world +Y here
+    uv = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], dtype=float)
+    t = mikktspace_tangents(positions, normals, uv, tri)
+    np.testing.assert_allclose(t[:, :3], np.tile([1, 0, 0], (4, 1)), atol=1e-12)
+    assert np.all(t[:, 3] == 1.0)  # B = w (N x T) = +Y = image up
+    # mirrored in u: T = -X, and B = w (N x T) must still be +Y, so w = -1
+    t2 = mikktspace_tangents(positions, normals, uv * [-1.0, 1.0] + [1.0, 0.0], tri)
+    np.testing.assert_allclose(t2[:, :3], np.tile([-1, 0, 0], (4, 1)), atol=1e-12)
+    assert np.all(t2[:, 3] == -1.0)
+    np.testing.assert_allclose(np.cross(normals, t2[:, :3]) * t2[:, 3:], np.tile([0, 1, 0], (4, 1)), atol=1e-12)
+
+
+def test_mikktspace_on_a_uv_sphere_matches_the_longitude_direction():
+    # latitude-longitude sphere: u = phi / (2 pi) grows eastward, so T = d p / d phi (normalised)
+    n_lat, n_lon = 12, 24
+    theta = np.linspace(0.2, np.pi - 0.2, n_lat)
+    phi = np.linspace(0.0, 2 * np.pi, n_lon + 1)
+    th, ph = np.meshgrid(theta, phi, indexing="ij")
+    p = np.stack([np.sin(th) * np.cos(ph), np.cos(th), -np.sin(th) * np.sin(ph)], axis=-1).reshape(-1, 3)
+    uv = np.stack([ph / (2 * np.pi), th / np.pi], axis=-1).reshape(-1, 2)
+    idx = np.arange(n_lat * (n_lon + 1)).reshape(n_lat, n_lon + 1)
+    a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, 1:], idx[1:, :-1]
+    tri = np.concatenate([np.stack([a, d, c], -1).reshape(-1, 3), np.stack([a, c, b], -1).reshape(-1, 3)])
+    t = mikktspace_tangents(p, p, uv, tri)
+    east = np.stack([-np.sin(ph), np.zeros_like(ph), -np.cos(ph)], axis=-1).reshape(-1, 3)
+    np.testing.assert_allclose(np.sum(t[:, :3] * east, axis=1), 1.0, atol=2e-2)
+    np.testing.assert_allclose(np.sum(t[:, :3] * p, axis=1), 0.0, atol=1e-12)
+    assert np.all(t[:, 3] == 1.0)
+
+
+def test_embree_hits_agree_with_the_analytic_plane(tmp_path):
+    path = write_quad_glb(tmp_path / "p.glb")
+    mesh_scene = quad_scene(path)
+    plane_scene = Scene(camera=mesh_scene.camera, environment=mesh_scene.environment,
+                        materials={"default": MaterialSpec()},
+                        objects=(Plane(point=(0, 0, -1), normal=(0, 0, 1)),))
+    rng = np.random.default_rng(1)
+    targets = np.concatenate([rng.uniform(-0.95, 0.95, size=(500, 2)), -np.ones((500, 1))], axis=1)
+    origins = rng.normal(size=(500, 3)) * 0.5 + [0, 0, 4]
+    dirs = targets - origins
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    a = Geometry(mesh_scene).intersect(origins, dirs)
+    b = Geometry(plane_scene).intersect(origins, dirs)
+    assert np.all(a.hit) and np.all(b.hit)
+    np.testing.assert_allclose(a.t, b.t, rtol=1e-5)
+    assert np.all(Geometry(mesh_scene).occluded(origins, dirs))
+    assert not np.any(Geometry(mesh_scene).occluded(origins, dirs, tmax=a.t * 0.99))
+
+
+@pytest.mark.parametrize("change, fragment", [
+    (dict(extensions_required=("KHR_draco_mesh_compression",)), "unsupported glTF extension"),
+])
+def test_gltf_errors_name_the_file(tmp_path, change, fragment):
+    path = write_quad_glb(tmp_path / "bad.glb", **change)
+    with pytest.raises(InputError) as info:
+        load_gltf(path)
+    assert str(info.value).startswith(str(path)) and fragment in str(info.value)
+    (tmp_path / "junk.glb").write_bytes(b"glTF\x02\x00\x00\x00garbage")
+    with pytest.raises(InputError, match="junk.glb"):
+        load_gltf(tmp_path / "junk.glb")
+
+
+# ------------------------------------------------------------ sample models
+
+
+@needs_models
+def test_normal_tangent_test_bumps_tilt_outward():
+    """Khronos NormalTangentTest: the normal-mapped tiles show bumps, so the mapped
+    normals tilt away from each bump's centre: dn_x/dx > 0 and dn_y/dy > 0 on
+    average.  A flipped green channel or handedness would give dn_y/dy < 0."""
+    scene = Scene(camera=Camera(position=(0.0, 0.0, 3.0), look_at=(0.0, 0.0, 0.0), fov=45.0, width=160,
+                                height=160),
+                  environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)),
+                  objects=(GltfObject(str(MODELS / "NormalTangentTest.glb")),))
+    geometry = Geometry(scene)
+    cam = scene.camera
+    dirs = cam.ray_directions()[:, :, 0].reshape(-1, 3)
+    origins = np.tile(cam.position, (dirs.shape[0], 1))
+    hits = geometry.intersect(origins, dirs)
+    rows = np.flatnonzero(hits.hit)
+    s = geometry.surface(hits, origins, dirs, rows)
+    n = np.zeros((160 * 160, 3))
+    flat = np.zeros(160 * 160, dtype=bool)
+    n[rows] = s.n
+    flat[rows] = (np.abs(s.ng[:, 2]) > 0.999) & (np.linalg.norm(s.n - s.ng, axis=1) > 0.05)
+    n = n.reshape(160, 160, 3)
+    flat = flat.reshape(160, 160)
+    both_x = flat[:, 1:] & flat[:, :-1]
+    both_y = flat[1:, :] & flat[:-1, :]
+    dnx_dx = (n[:, 1:, 0] - n[:, :-1, 0])[both_x]
+    dny_dy = -(n[1:, :, 1] - n[:-1, :, 1])[both_y]  # image rows go down, world +Y up
+    assert both_x.sum() > 500 and both_y.sum() > 500
+    assert dnx_dx.mean() > 0.01 and dny_dy.mean() > 0.01
+
+
+@needs_models
+def test_metal_rough_spheres_materials_and_both_render_modes():
+    from pbrkit import render
+
+    asset = load_gltf(MODELS / "MetalRoughSpheresNoTextures.glb")
+    metallic = sorted({round(m.spec.metallic, 3) for m in asset.materials})
+    roughness = sorted({round(m.spec.roughness, 3) for m in asset.materials})
+    assert len(metallic) >= 7 and len(roughness) >= 7 and metallic[0] == 0.0 and roughness[-1] == 1.0
+    # the file is in millimetre-sized units (about 7.4e-3 across): scale it up 1000 times and centre it
+    lo = np.min([m.positions.min(axis=0) for m in asset.meshes], axis=0)
+    hi = np.max([m.positions.max(axis=0) for m in asset.meshes], axis=0)
+    centre = tuple(-500.0 * (lo + hi))
+    scene = Scene(camera=Camera(position=(0.0, 0.0, 15.0), look_at=(0.0, 0.0, 0.0), fov=40.0, width=40, height=40),
+                  environment=EnvironmentSpec(),
+                  objects=(GltfObject(str(MODELS / "MetalRoughSpheresNoTextures.glb"), translation=centre,
+                                      scale=1000.0),))
+    rt = render.render_realtime(scene, bake_size=32)
+    ref = render.render_reference(scene, spp=4, occlusion=False)
+    assert rt.mask.mean() > 0.2 and np.all(np.isfinite(rt.image)) and np.all(np.isfinite(ref.image))
+    assert ref.stats["engine"].startswith("wavefront")
+
+
+@needs_models
+def test_damaged_helmet_textures_emission_and_bounces():
+    from pbrkit import render
+
+    helmet = MODELS / "DamagedHelmet.glb"
+    scene = Scene(camera=Camera(position=(0.0, 0.0, 3.0), look_at=(0.0, 0.0, 0.0), fov=45.0, width=24, height=24),
+                  environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)), objects=(GltfObject(str(helmet)),))
+    rt = render.render_realtime(scene, bake_size=16)
+    ref = render.render_reference(scene, spp=2, bounces=1)
+    # black environment, no lights: only the emissive texture shines, identically in both modes at the hits
+    sel = rt.mask & ref.mask
+    assert rt.image[sel].max() > 0.05
+    direct = ref.image[sel]
+    np.testing.assert_array_less(rt.image[sel] - 1e-9, direct + 1e-9)  # bounces only add light
+    geometry = Geometry(scene)
+    assert any(m.emissive_texture is not None and m.normal_texture is not None for m in geometry.materials)
+    assert all(m.tangents is not None for m in geometry.meshes)  # generated: the file has no TANGENT
