@@ -103,7 +103,7 @@ def test_kernel_brdf_matches_the_numpy_models(model, dist, mask, fres, diff):
 
 
 def test_table_lookup_kernel_matches_sample_table():
-    from pbrkit.tables import lookup_table, sample_table
+    from pbrkit.tables import lookup_table, sample_table, table_bilinear
 
     table = lookup_table("dfg", 16)[0].astype(np.float64)
     tables = np.ascontiguousarray(table[None])
@@ -115,7 +115,7 @@ def test_table_lookup_kernel_matches_sample_table():
     def lookup(tables, x, y, out):
         for i in range(x.size):
             for c in range(2):
-                out[i, c] = render._table_bilinear(tables, 0, x[i], y[i], c)
+                out[i, c] = table_bilinear(tables, 0, x[i], y[i], c)
 
     out = np.empty((x.size, 2))
     lookup(tables, x, y, out)

@@ -86,12 +86,31 @@ def test_constant_radiance_gives_sqrt_4pi_and_irradiance_pi():
     assert np.abs(coeffs[1:]).max() < 1e-13
     normals = _random_directions(50, 2)
     assert np.allclose(sh.irradiance_from_sh(coeffs, normals), np.pi, rtol=1e-13)
-    # Equirect: the midpoint solid angles of CONVENTIONS.md sum to
-    # 4 pi (1 + (pi / 2H)^2 / 6 + ...), 6e-6 high at H = 256.
-    c = sh.project_equirect(np.ones((256, 512)))
-    assert c[0] == pytest.approx(np.sqrt(4 * np.pi), rel=1e-5)
-    # Y20 and Y22 average to 0 only up to the same O(1/H^2) midpoint error.
-    assert np.abs(c[1:]).max() < 1e-4
+    # Equirect: exact integrals over the pixels' cells, so exact at any size.
+    for h in (1, 2, 3, 256):
+        c = sh.project_equirect(np.ones((h, 2 * h)))
+        assert c[0] == pytest.approx(np.sqrt(4 * np.pi), rel=1e-12)
+        assert np.abs(c[1:]).max() < 1e-12
+
+
+def test_equirect_projection_is_exact_per_cell():
+    # A piecewise-constant image: reference by a 12 x 12 Gauss-Legendre product rule in
+    # (theta, phi) inside every cell (the integrand Y_lm sin(theta) is a smooth, low-degree
+    # trigonometric polynomial, so the rule is exact to rounding), directions from CONVENTIONS.md.
+    H, W = 3, 6
+    image = np.random.default_rng(8).random((H, W, 2))
+    x, w = np.polynomial.legendre.leggauss(12)
+    reference = np.zeros((9, 2))
+    for i in range(H):
+        theta = np.pi * (i + 0.5 + 0.5 * x) / H
+        for j in range(W):
+            phi = 2 * np.pi * (j + 0.5 + 0.5 * x) / W - np.pi
+            t, p = np.meshgrid(theta, phi, indexing="ij")
+            d = np.stack([np.sin(t) * np.cos(p), np.cos(t), np.sin(t) * np.sin(p)], axis=-1)
+            weight = np.outer(w, w) * (0.5 * np.pi / H) * (np.pi / W) * np.sin(t)
+            reference += np.einsum("abk,ab->k", sh.sh_basis(d), weight)[:, None] * image[i, j]
+    np.testing.assert_allclose(sh.project_equirect(image), reference, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(sh.project_equirect(image[..., 1]), reference[:, 1], rtol=0, atol=1e-14)
 
 
 def test_projection_recovers_band_limited_coefficients():

@@ -161,6 +161,46 @@ def test_sample_table_hits_texel_centres_and_interpolates(dfg64):
     np.testing.assert_allclose(mid, 0.5 * (dfg64[9, 5] + dfg64[9, 6]), rtol=1e-6)
 
 
+def test_sample_table_matches_scipy_linear_interpolation_with_clamp():
+    # Independent route: scipy's linear interpolation on the texel-centre grid, at coordinates
+    # clamped to the outermost centres (clamp to edge).
+    from scipy.interpolate import RegularGridInterpolator
+
+    rng = np.random.default_rng(11)
+    table = rng.random((7, 5, 3))
+    rows, cols = texel_centres(7), texel_centres(5)
+    nov = np.concatenate([rng.random(300), [0.0, 1.0, 0.05, 0.97]])
+    r = np.concatenate([rng.random(300), [1.0, 0.0, 0.99, 0.03]])
+    ref = RegularGridInterpolator((rows, cols), table)(
+        np.stack([np.clip(r, rows[0], rows[-1]), np.clip(nov, cols[0], cols[-1])], axis=-1))
+    np.testing.assert_allclose(sample_table(table, nov, r), ref, rtol=1e-12, atol=1e-14)
+
+
+@pytest.mark.parametrize("shape", [(1, 6), (6, 1), (1, 1)])
+def test_sample_table_single_row_or_column(shape):
+    # A single row (or column) is constant along that axis: the lookup is 1-D linear
+    # interpolation between texel centres along the other axis, clamped at the ends.
+    rng = np.random.default_rng(12)
+    table = rng.random(shape + (2,))
+    nov = np.linspace(0.0, 1.0, 41)
+    r = np.linspace(1.0, 0.0, 41)
+    got = sample_table(table, nov, r)
+    for c in range(2):
+        if shape[0] == 1:
+            ref = np.interp(nov, texel_centres(shape[1]), table[0, :, c])
+        else:
+            ref = np.interp(r, texel_centres(shape[0]), table[:, 0, c])
+        np.testing.assert_allclose(got[:, c], ref, rtol=1e-12, atol=1e-15)
+    assert sample_table(table[..., 0], 0.3, 0.7) == pytest.approx(sample_table(table, 0.3, 0.7)[0], rel=1e-15)
+
+
+def test_sample_table_rejects_bad_input():
+    with pytest.raises(ValueError, match="finite"):
+        sample_table(np.ones((4, 4, 2)), np.nan, 0.5)
+    with pytest.raises(ValueError, match="shape"):
+        sample_table(np.ones(4), 0.5, 0.5)
+
+
 @pytest.mark.parametrize("bad", [dict(kind="foo"), dict(size=1), dict(size=10**6), dict(visibility="nope")])
 def test_bad_options(bad):
     with pytest.raises(ValueError):

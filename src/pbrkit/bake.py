@@ -12,10 +12,10 @@ faces):
   lod = r (M - 1), :func:`level_of_roughness`) and size ``size`` / 2^m down
   to ``min_size``;
 - the irradiance cube map E(n) (:mod:`pbrkit.irradiance`);
-- the 9 radiance SH coefficients (:func:`pbrkit.sh.project` over the input
-  pixels' cells, :func:`_project_equirect_cells`, or :func:`pbrkit.sh.project_cube`
-  for cube input: solid-angle-weighted projection; windowing optional, off
-  by default);
+- the 9 radiance SH coefficients (:func:`pbrkit.sh.project_equirect`: the
+  exact integrals of the basis over the input pixels' cells, or
+  :func:`pbrkit.sh.project_cube` for cube input: solid-angle-weighted
+  projection; windowing optional, off by default);
 - the split-sum DFG table (:func:`pbrkit.tables.lookup_table` kind ``dfg``:
   Filament's (DFG1, DFG2) with the height-correlated Smith visibility).
 
@@ -207,7 +207,7 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     total)`` is called after each stage.  Bad input raises ValueError
     (:class:`pbrkit.errors.InputError` for files) with a one-line message.
     """
-    from .sh import apply_window, project_cube
+    from .sh import apply_window, project_cube, project_equirect
     from .spectral import analyse_equirect
     from .tables import lookup_table
 
@@ -242,7 +242,7 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     done("cube")
 
     if env.equirect is not None:
-        sh = _project_equirect_cells(_reduce_rows(env.equirect, 1024))
+        sh = project_equirect(_reduce_rows(env.equirect, 1024))
     else:
         sh = project_cube(env.cube)
     if sh_window is not None:
@@ -342,36 +342,6 @@ def _analysis_grid(image, lmax, clip=None):
     return image
 
 
-def _project_equirect_cells(image):
-    """Radiance SH (9, C) of an equirect image taken as piecewise constant
-    over its cells (the model of :func:`pbrkit.envmap.equirect_to_cube`):
-    :func:`pbrkit.sh.project` at two Gauss-Legendre nodes in theta per row
-    (weights (2 pi / W) (half row height) sin theta) and the pixel-centre
-    phi of every column.  The nodes integrate the degree-2 basis exactly in
-    theta (Y_lm(theta) sin theta is a trigonometric polynomial of degree
-    3), and the uniform phi sum is exact for a constant row, so a constant
-    radiance c gives L_00 = c sqrt(4 pi) and zero elsewhere to rounding; the
-    phi integral of a varying row has the relative error (m 2 pi / W)^2 /
-    24 of the midpoint rule (6e-6 at W = 1024)."""
-    from .sh import project
-
-    h, w = image.shape[:2]
-    half = 0.5 * math.pi / h
-    phi = 2.0 * math.pi * (np.arange(w) + 0.5) / w - math.pi
-    rows = max(1, (1 << 15) // w)
-    total = 0.0
-    for r0 in range(0, h, rows):
-        idx = np.arange(r0, min(h, r0 + rows))
-        for node in (-1.0, 1.0):
-            theta = math.pi * (idx + 0.5) / h + node * half / math.sqrt(3.0)
-            st = np.sin(theta)[:, None]
-            # CONVENTIONS.md: d = (sin theta cos phi, cos theta, sin theta sin phi)
-            d = np.stack(np.broadcast_arrays(st * np.cos(phi), np.cos(theta)[:, None], st * np.sin(phi)), axis=-1)
-            weight = np.broadcast_to((2.0 * math.pi / w) * half * st, (idx.size, w))
-            total = total + project(d, weight, image[idx])
-    return total
-
-
 def _plain(value):
     if isinstance(value, (np.integer,)):
         return int(value)
@@ -407,8 +377,10 @@ def _conventions(levels, sh_window, sh_window_width):
             "order": ["(0,0)", "(1,-1)", "(1,0)", "(1,1)", "(2,-2)", "(2,-1)", "(2,0)", "(2,1)", "(2,2)"],
             "functions": ["0.282095", "0.488603 y", "0.488603 z", "0.488603 x", "1.092548 x y", "1.092548 y z",
                           "0.315392 (3 z^2 - 1)", "1.092548 x z", "0.546274 (x^2 - y^2)"],
-            "coefficients": "radiance L_lm = integral of L(w) Y_lm(w) dw (solid-angle-weighted sum over the input "
-                            "pixels); rows of 'sh' are the 9 coefficients, columns R, G, B",
+            "coefficients": "radiance L_lm = integral of L(w) Y_lm(w) dw (equirect input: exact integrals over "
+                            "the pixels' cells, the image piecewise constant; cube input: sum over the texels "
+                            "weighted by their exact solid angles); rows of 'sh' are the 9 coefficients, "
+                            "columns R, G, B",
             "irradiance": "E(n) = sum_lm A_l L_lm Y_lm(n) with A_l = (%r, %r, %r)" % COSINE_LOBE_COEFFICIENTS,
             "window": None if sh_window is None else {
                 "kind": sh_window, "width": float(sh_window_width),

@@ -53,7 +53,7 @@ import math
 import numba
 import numpy as np
 
-from ._jit import kernel, parallel_kernel, select, term
+from ._jit import parallel_kernel, select, term
 
 __all__ = [
     "FACE_NAMES",
@@ -300,10 +300,13 @@ def _bordered(cube):
     return out
 
 
-@kernel
+@numba.njit(inline="always", cache=True)
 def _bilinear_add(data, offset, n, face, sc, tc, weight, out):
     """out += weight * bilinear sample of the bordered level (6, n+2, n+2, C)
-    stored flat at data[offset:] at face coordinates (sc, tc)."""
+    stored flat at data[offset:] at face coordinates (sc, tc).  Inlined (at
+    Numba IR level) into every kernel that calls it (here and in
+    :mod:`pbrkit.prefilter`): a call to a separately compiled function in an
+    inner loop costs about as much as the lookup itself."""
     nb = n + 2
     channels = out.shape[0]
     u = 0.5 * (sc + 1.0) * n + 0.5  # bordered texel coordinates (centre of texel k at k + 0.5 - 1 + 1)
@@ -331,22 +334,32 @@ def _bilinear_add(data, offset, n, face, sc, tc, weight, out):
                    + w10 * data[base + row + c] + w11 * data[base + row + channels + c])
 
 
+@numba.njit(inline="always", cache=True)
+def _trilinear_add(data, offsets, sizes, face, sc, tc, lod, weight, out):
+    """out += weight * trilinear sample of the bordered pyramid (levels stored
+    flat in ``data`` at ``offsets``, sizes ``sizes``) at face coordinates
+    (sc, tc) and level of detail ``lod``, clamped to [0, levels - 1]: the
+    bilinear samples of levels floor(lod) and floor(lod) + 1 blended linearly.
+    Inlined like :func:`_bilinear_add` (used here and in :mod:`pbrkit.prefilter`)."""
+    levels = sizes.shape[0]
+    lod = min(max(lod, 0.0), levels - 1.0)
+    l0 = int(math.floor(lod))
+    frac = lod - l0
+    if l0 >= levels - 1:
+        l0 = levels - 1
+        frac = 0.0
+    _bilinear_add(data, offsets[l0], sizes[l0], face, sc, tc, weight * (1.0 - frac), out)
+    if frac > 0.0:
+        _bilinear_add(data, offsets[l0 + 1], sizes[l0 + 1], face, sc, tc, weight * frac, out)
+
+
 @parallel_kernel
 def _sample_kernel(dirs, lods, data, offsets, sizes, out):
-    levels = sizes.shape[0]
     for m in numba.prange(dirs.shape[0]):
         face, sc, tc = cube_face_coords(dirs[m, 0], dirs[m, 1], dirs[m, 2])
-        lod = min(max(lods[m], 0.0), levels - 1.0)
-        l0 = int(math.floor(lod))
-        frac = lod - l0
-        if l0 >= levels - 1:
-            l0 = levels - 1
-            frac = 0.0
         for c in range(out.shape[1]):
             out[m, c] = 0.0
-        _bilinear_add(data, offsets[l0], sizes[l0], face, sc, tc, 1.0 - frac, out[m])
-        if frac > 0.0:
-            _bilinear_add(data, offsets[l0 + 1], sizes[l0 + 1], face, sc, tc, frac, out[m])
+        _trilinear_add(data, offsets, sizes, face, sc, tc, lods[m], 1.0, out[m])
 
 
 class CubeSampler:

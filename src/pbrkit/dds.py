@@ -35,8 +35,6 @@ All data are little-endian; float formats hold linear values.
 
 from __future__ import annotations
 
-import math
-import os
 import struct
 
 import numpy as np
@@ -44,6 +42,7 @@ import numpy as np
 from ._atomic import write_bytes
 from .errors import InputError
 from .halfpack import decode_texels, encode_texels, format_code, texel_size, validate_levels
+from .halfpack import max_mip_levels, read_container
 
 __all__ = ["DXGI_FORMATS", "dxgi_format_code", "dds_bytes", "write_dds", "parse_dds", "read_dds"]
 
@@ -218,7 +217,7 @@ def parse_dds(data, name=None):
     if width == 0 or height == 0:
         _fail(name, f"empty image {width} x {height}")
     n_levels = mips if flags & _DDSD_MIPMAPCOUNT and mips > 0 else 1
-    max_levels = int(math.floor(math.log2(max(width, height)))) + 1
+    max_levels = max_mip_levels(width, height)
     if n_levels > max_levels:
         _fail(name, f"dwMipMapCount {n_levels} exceeds the maximum {max_levels} for {width} x {height}")
     if n_levels > 1 and caps & (_DDSCAPS_MIPMAP | _DDSCAPS_COMPLEX) != _DDSCAPS_MIPMAP | _DDSCAPS_COMPLEX:
@@ -252,9 +251,4 @@ def read_dds(path):
     checked; a violation raises :class:`~pbrkit.errors.InputError` (a
     ``ValueError``) naming the file.
     """
-    try:
-        with open(path, "rb") as f:
-            data = f.read()
-    except OSError as exc:
-        raise InputError(f"cannot read the file ({exc.strerror or exc})", os.fspath(path)) from None
-    return parse_dds(data, name=os.fspath(path))
+    return read_container(path, parse_dds)

@@ -154,28 +154,22 @@ def _ray_sphere(ox, oy, oz, dx, dy, dz, cx, cy, cz, r, tmin):
 
 
 @register_jitable
+def _slab(o, i, lo, hi, t0, t1):
+    """The ray parameter interval [t0, t1] narrowed to the slab lo <= o + t d <= hi
+    of one axis (i = 1 / d)."""
+    a = (lo - o) * i
+    b = (hi - o) * i
+    if a > b:
+        a, b = b, a
+    return max(t0, a), min(t1, b)
+
+
+@register_jitable
 def _ray_box(ox, oy, oz, ix, iy, iz, lo, hi, node, tmax):
-    """Slab test: does the ray (inverse direction i) enter the box before tmax?"""
-    t0 = 0.0
-    t1 = tmax
-    a = (lo[node, 0] - ox) * ix
-    b = (hi[node, 0] - ox) * ix
-    if a > b:
-        a, b = b, a
-    t0 = max(t0, a)
-    t1 = min(t1, b)
-    a = (lo[node, 1] - oy) * iy
-    b = (hi[node, 1] - oy) * iy
-    if a > b:
-        a, b = b, a
-    t0 = max(t0, a)
-    t1 = min(t1, b)
-    a = (lo[node, 2] - oz) * iz
-    b = (hi[node, 2] - oz) * iz
-    if a > b:
-        a, b = b, a
-    t0 = max(t0, a)
-    t1 = min(t1, b)
+    """Slab test (Kay & Kajiya 1986): does the ray (inverse direction i) enter the box before tmax?"""
+    t0, t1 = _slab(ox, ix, lo[node, 0], hi[node, 0], 0.0, tmax)
+    t0, t1 = _slab(oy, iy, lo[node, 1], hi[node, 1], t0, t1)
+    t0, t1 = _slab(oz, iz, lo[node, 2], hi[node, 2], t0, t1)
     return t0 <= t1
 
 
@@ -867,8 +861,9 @@ class Geometry:
 
     # ---------------------------------------------------------------- casting
 
-    def intersect(self, origins, dirs, tmax=None):
-        """Closest hits of rays (N, 3) with unit directions, t in (0, tmax)."""
+    def _trace_analytic(self, origins, dirs, tmax, any_hit):
+        """Rays against the spheres (BVH) and planes: (origins, dirs, tmax, t, kind, index)
+        as contiguous float64 / int64 arrays, tmax infinite where None."""
         origins = np.ascontiguousarray(origins, dtype=np.float64)
         dirs = np.ascontiguousarray(dirs, dtype=np.float64)
         n = origins.shape[0]
@@ -877,7 +872,13 @@ class Geometry:
         t = np.empty(n)
         kind = np.empty(n, dtype=np.int64)
         index = np.empty(n, dtype=np.int64)
-        _trace_batch(origins, dirs, 0.0, tmax, False, self.spheres, *self.bvh, self.planes, t, kind, index)
+        _trace_batch(origins, dirs, 0.0, tmax, any_hit, self.spheres, *self.bvh, self.planes, t, kind, index)
+        return origins, dirs, tmax, t, kind, index
+
+    def intersect(self, origins, dirs, tmax=None):
+        """Closest hits of rays (N, 3) with unit directions, t in (0, tmax)."""
+        origins, dirs, tmax, t, kind, index = self._trace_analytic(origins, dirs, tmax, False)
+        n = origins.shape[0]
         prim = np.full(n, -1, dtype=np.int64)
         b1 = np.zeros(n)
         b2 = np.zeros(n)
@@ -898,15 +899,7 @@ class Geometry:
 
     def occluded(self, origins, dirs, tmax=None):
         """True where something lies on the ray before tmax (default: infinity)."""
-        origins = np.ascontiguousarray(origins, dtype=np.float64)
-        dirs = np.ascontiguousarray(dirs, dtype=np.float64)
-        n = origins.shape[0]
-        tmax = np.full(n, np.inf) if tmax is None else np.ascontiguousarray(np.broadcast_to(tmax, (n,)),
-                                                                            dtype=np.float64)
-        t = np.empty(n)
-        kind = np.empty(n, dtype=np.int64)
-        index = np.empty(n, dtype=np.int64)
-        _trace_batch(origins, dirs, 0.0, tmax, True, self.spheres, *self.bvh, self.planes, t, kind, index)
+        origins, dirs, tmax, t, kind, index = self._trace_analytic(origins, dirs, tmax, True)
         blocked = kind != KIND_NONE
         if self._embree is not None:
             rest = np.flatnonzero(~blocked)

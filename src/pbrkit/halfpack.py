@@ -34,6 +34,7 @@ The relative rounding error of normal numbers is at most 2^-(m+1):
 from __future__ import annotations
 
 import math
+import os
 import warnings
 
 import numpy as np
@@ -228,6 +229,24 @@ def decode_texels(buffer, encoding, channels, shape):
     return v.reshape(tuple(shape) + (channels,))
 
 
+def max_mip_levels(width, height):
+    """Length of a full mip chain of a width x height image,
+    floor(log2(max(width, height))) + 1 (each level halves, rounding down, to 1 x 1)."""
+    return int(math.floor(math.log2(max(width, height)))) + 1
+
+
+def read_container(path, parse):
+    """``parse(data, name=path)`` of the bytes of the texture container file
+    ``path`` (KTX2, DDS); a file that cannot be read raises :class:`InputError`
+    naming it."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        raise InputError(f"cannot read the file ({exc.strerror or exc})", os.fspath(path)) from None
+    return parse(data, name=os.fspath(path))
+
+
 def validate_levels(levels, cube):
     """Check a full or partial mip chain for a texture container (KTX2, DDS):
     returns (arrays, width, height) of level 0."""
@@ -245,7 +264,7 @@ def validate_levels(levels, cube):
         height, width = first.shape[:2]
     if width < 1 or height < 1:
         raise InputError(f"level 0 must not be empty, got shape {first.shape}")
-    max_levels = int(math.floor(math.log2(max(width, height)))) + 1
+    max_levels = max_mip_levels(width, height)
     if len(arrays) > max_levels:
         raise InputError(f"{len(arrays)} levels given but a {width}x{height} image has at most {max_levels}")
     for p, a in enumerate(arrays):

@@ -40,12 +40,12 @@ KTX-Software ``lib/dfdutils/createdfd.c``).
 from __future__ import annotations
 
 import math
-import os
 import struct
 
 from ._atomic import write_bytes
 from .errors import InputError
 from .halfpack import decode_texels, encode_texels, format_code, texel_size, validate_levels
+from .halfpack import max_mip_levels, read_container
 
 __all__ = [
     "KTX2_IDENTIFIER",
@@ -411,7 +411,7 @@ def parse_ktx2(data, name=None):
     if faces == 6 and width != height:
         _fail(name, f"cube map faces must be square, got {width} x {height}")
     n_levels = max(1, header["levelCount"])
-    max_levels = int(math.floor(math.log2(max(width, height)))) + 1
+    max_levels = max_mip_levels(width, height)
     if n_levels > max_levels:
         _fail(name, f"levelCount {n_levels} exceeds the maximum {max_levels} for {width} x {height}")
     if header["sgdByteOffset"] != 0 or header["sgdByteLength"] != 0:
@@ -493,9 +493,4 @@ def read_ktx2(path):
     any violation raises :class:`~pbrkit.errors.InputError` (a
     ``ValueError``) naming the file.
     """
-    try:
-        with open(path, "rb") as f:
-            data = f.read()
-    except OSError as exc:
-        raise InputError(f"cannot read the file ({exc.strerror or exc})", os.fspath(path)) from None
-    return parse_ktx2(data, name=os.fspath(path))
+    return read_container(path, parse_ktx2)

@@ -80,7 +80,7 @@ from ._jit import parallel_kernel, select, term
 from .cubemap import (
     CubeSampler,
     _as_cube,
-    _bilinear_add,
+    _trilinear_add,
     build_mip_pyramid,
     cube_face_coords,
     cube_texel_directions,
@@ -90,7 +90,7 @@ from .cubemap import (
 from .distributions import alpha_from_roughness, d_ggx
 from .sampling import hammersley, pdf_ggx_ndf, pdf_light_from_half, reflect_xyz, warp_ggx_ndf
 from .spectral import convolve, sample_equirect, synthesise_equirect, zonal_coefficients
-from .vec import orthonormal_basis
+from .vec import orthonormal_basis_xyz
 
 __all__ = [
     "HIGHLIGHT_RATIO",
@@ -126,12 +126,6 @@ HIGHLIGHT_RATIO = 16.0
 MAX_HIGHLIGHT_POINTS = 1024
 #: The spherical-harmonic series is cut where |lambda_l| < this.
 BAND_LIMIT_TOLERANCE = 1e-6
-
-#: :func:`pbrkit.cubemap._bilinear_add` (seam-aware bilinear lookup of a
-#: bordered pyramid level) compiled for inlining into the sampling kernel:
-#: the same Python function, but calling the separately compiled kernel in
-#: the inner loop costs about as much as the lookup itself.
-_bilinear = numba.njit(inline="always", cache=True)(_bilinear_add.py_func)
 
 
 # ------------------------------------------------------------ level mapping
@@ -469,14 +463,13 @@ def default_sample_counts(levels, first=64):
 
 
 @parallel_kernel
-def _fis_kernel(dirs, tangents, bitangents, l, weight, lod_offset, lod_base, data, offsets, sizes, out):
+def _fis_kernel(dirs, l, weight, lod_offset, lod_base, data, offsets, sizes, out):
     """out[k] = sum_s w_s L(R_k l_s, lod_s) / sum_s w_s for each texel k with
-    frame R_k = (t, b, n); L is the trilinear lookup of the bordered pyramid
-    (``data``, ``offsets``, ``sizes`` of :class:`pbrkit.cubemap.CubeSampler`)
+    frame R_k = (t, b, n) (:func:`pbrkit.vec.orthonormal_basis_xyz`); L is the
+    trilinear lookup of the bordered pyramid (``data``, ``offsets``, ``sizes``
+    of :class:`pbrkit.cubemap.CubeSampler`, :func:`pbrkit.cubemap._trilinear_add`)
     and lod_s = lod_offset_s - 0.5 (lod_base + log2 density), i.e.
     0.5 log2(Omega_s / Omega_p) + bias."""
-    levels = sizes.shape[0]
-    top = levels - 1.0
     channels = out.shape[1]
     total = 0.0
     for s in range(l.shape[0]):
@@ -484,24 +477,14 @@ def _fis_kernel(dirs, tangents, bitangents, l, weight, lod_offset, lod_base, dat
     inv_total = 1.0 / total if total > 0.0 else 0.0
     for k in numba.prange(dirs.shape[0]):
         nx, ny, nz = dirs[k, 0], dirs[k, 1], dirs[k, 2]
-        tx, ty, tz = tangents[k, 0], tangents[k, 1], tangents[k, 2]
-        bx, by, bz = bitangents[k, 0], bitangents[k, 1], bitangents[k, 2]
+        (tx, ty, tz), (bx, by, bz) = orthonormal_basis_xyz(nx, ny, nz)
         acc = np.zeros(channels)
         for s in range(l.shape[0]):
             a, b, c = l[s, 0], l[s, 1], l[s, 2]
             face, sc, tc = cube_face_coords(a * tx + b * bx + c * nx, a * ty + b * by + c * ny,
                                             a * tz + b * bz + c * nz)
             lod = lod_offset[s] - 0.5 * (lod_base + math.log2(cube_texel_density(sc, tc)))
-            lod = min(max(lod, 0.0), top)
-            l0 = int(math.floor(lod))
-            frac = lod - l0
-            if l0 >= levels - 1:
-                l0 = levels - 1
-                frac = 0.0
-            w = weight[s] * inv_total
-            _bilinear(data, offsets[l0], sizes[l0], face, sc, tc, w * (1.0 - frac), acc)
-            if frac > 0.0:
-                _bilinear(data, offsets[l0 + 1], sizes[l0 + 1], face, sc, tc, w * frac, acc)
+            _trilinear_add(data, offsets, sizes, face, sc, tc, lod, weight[s] * inv_total, acc)
         for ch in range(channels):
             out[k, ch] = acc[ch]
 
@@ -522,11 +505,9 @@ def prefilter_level(sampler, directions, samples):
     :class:`pbrkit.cubemap.CubeSampler` of a mip pyramid whose levels halve
     from N; ``samples`` a :class:`SampleSet`."""
     dirs, shape = _flat_dirs(directions)
-    t, b = orthonormal_basis(dirs)
     out = np.empty((dirs.shape[0], sampler.channels))
-    _fis_kernel(dirs, np.ascontiguousarray(t), np.ascontiguousarray(b), samples.l, samples.weight,
-                samples.lod_offset, 2.0 * math.log2(2.0 / int(sampler.sizes[0])), sampler.data, sampler.offsets,
-                sampler.sizes, out)
+    _fis_kernel(dirs, samples.l, samples.weight, samples.lod_offset, 2.0 * math.log2(2.0 / int(sampler.sizes[0])),
+                sampler.data, sampler.offsets, sampler.sizes, out)
     return out.reshape(shape + (sampler.channels,))
 
 

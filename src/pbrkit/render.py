@@ -123,6 +123,8 @@ from .sampling import (
     warp_ggx_vndf,
 )
 from .scene import SHADING_MODELS, bundled_environment
+from .tables import table_bilinear
+from .vec import orthonormal_basis_xyz
 
 __all__ = [
     "MODES",
@@ -701,22 +703,6 @@ def _lut_for(spec, bake_lut):
     return np.asarray(bake_lut), "height-correlated"
 
 
-@_inline
-def _table_bilinear(table, t, x, y, c):
-    """Texel-centre bilinear sample of table t (T, N, N, C) at (n.v, r) with clamp to edge,
-    channel c: the lookup of :func:`pbrkit.tables.sample_table` (tested equal)."""
-    n_rows = table.shape[1]
-    n_cols = table.shape[2]
-    fx = min(max(x * n_cols - 0.5, 0.0), n_cols - 1.0)
-    fy = min(max(y * n_rows - 0.5, 0.0), n_rows - 1.0)
-    x0 = min(int(math.floor(fx)), n_cols - 2)
-    y0 = min(int(math.floor(fy)), n_rows - 2)
-    ax = fx - x0
-    ay = fy - y0
-    return ((table[t, y0, x0, c] * (1.0 - ax) + table[t, y0, x0 + 1, c] * ax) * (1.0 - ay)
-            + (table[t, y0 + 1, x0, c] * (1.0 - ax) + table[t, y0 + 1, x0 + 1, c] * ax) * ay)
-
-
 @parallel_kernel
 def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
                 energy_compensation, out, ec_out):
@@ -727,8 +713,8 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
         nov = max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 1e-4)
         r = rough[i]
         t = lut_index[m]
-        dfg1 = _table_bilinear(tables, t, nov, r, 0)
-        dfg2 = _table_bilinear(tables, t, nov, r, 1)
+        dfg1 = table_bilinear(tables, t, nov, r, 0)
+        dfg2 = table_bilinear(tables, t, nov, r, 1)
         model = mi[m, _MI_MODEL]
         fres = mi[m, _MI_FRES]
         diffuse_on = model == 2 or model == 3 or mi[m, _MI_DIFF] != 2
@@ -875,16 +861,6 @@ def _uniform(key, dim):
 
 
 @_inline
-def _basis(nx, ny, nz):
-    """Tangent and bitangent of a right-handed frame around unit n (Duff et al.,
-    "Building an Orthonormal Basis, Revisited", JCGT 6(1), 2017, listing 3)."""
-    sign = 1.0 if nz >= 0.0 else -1.0
-    a = -1.0 / (sign + nz)
-    b = nx * ny * a
-    return (1.0 + sign * nx * nx * a, sign * b, -sign * nx), (b, sign + ny * ny * a, -ny)
-
-
-@_inline
 def _lobe_probability(mi, mf, m, nov, metallic, b0, b1, b2):
     """Probability of sampling the specular lobe: its albedo estimate (the Fresnel
     at n.v) against the diffuse colour's, by luminance."""
@@ -954,7 +930,7 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
                 w = _power_heuristic(pdf_e, pdf_b) * nol / pdf_e
                 light_val = (f[0] * env[ei, ej, 0] * w, f[1] * env[ei, ej, 1] * w, f[2] * env[ei, ej, 2] * w)
     # --- BRDF sample
-    (tx, ty, tz), (bx, by, bz) = _basis(nx, ny, nz)
+    (tx, ty, tz), (bx, by, bz) = orthonormal_basis_xyz(nx, ny, nz)
     u1 = _uniform(key, 2)
     u2 = _uniform(key, 3)
     if _uniform(key, 4) < p_spec:

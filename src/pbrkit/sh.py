@@ -18,8 +18,12 @@ Representation for Irradiance Environment Maps", SIGGRAPH 2001, eq. 3
 basis, although world "up" is +Y).
 
 Coefficients are the *radiance* projection L_lm = integral of L(w) Y_lm(w)
-dw, estimated as sum_i L(w_i) Y_lm(w_i) dOmega_i over texels with their
-solid angles.  Irradiance E(n) = integral of L(w) max(0, n.w) dw is, by the
+dw.  An equirect image is taken as piecewise constant over its pixels' cells
+and each cell's integral of Y_lm is computed in closed form
+(:func:`project_equirect`: exact, L_00 of a constant map is sqrt(4 pi) to
+rounding at any size); cube maps and direction samples use the sum
+sum_i L(w_i) Y_lm(w_i) dOmega_i over texels with their exact solid angles
+(:func:`project_cube`, :func:`project`).  Irradiance E(n) = integral of L(w) max(0, n.w) dw is, by the
 Funk-Hecke theorem, E(n) = sum_lm A_l L_lm Y_lm(n) with the clamped-cosine
 coefficients A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4 (Ramamoorthi & Hanrahan
 2001, eqs. 7-9), exact for radiance band-limited to l <= 2.
@@ -44,7 +48,6 @@ import numpy as np
 
 from ._jit import term
 from .cubemap import cube_texel_directions, cube_texel_solid_angles
-from .envmap import equirect_directions, equirect_solid_angles
 from .errors import InputError
 
 __all__ = [
@@ -178,23 +181,85 @@ def project(directions, solid_angles, radiance, chunk=1 << 16):
     return out[:, 0] if scalar else out
 
 
+def _equirect_cell_integrals_theta(rows, h):
+    """Integrals over the row bands [theta_i0, theta_i1] (theta_i0 = pi i / H) of
+    sin, cos sin, sin^2, sin^2 cos, sin^3 and cos^2 sin of theta, in closed form
+    (product forms around the band centre theta_i, half width a = pi / 2H, to
+    avoid cancellation); each (rows,)."""
+    a = 0.5 * math.pi / h
+    t = math.pi * (np.asarray(rows, dtype=np.float64) + 0.5) / h
+    c0, c1 = np.cos(t - a), np.cos(t + a)
+    s0, s1 = np.sin(t - a), np.sin(t + a)
+    s_1 = 2.0 * np.sin(t) * math.sin(a)                        # int sin = cos0 - cos1
+    s_cs = 0.5 * np.sin(2.0 * t) * math.sin(2.0 * a)           # int cos sin = (cos 2t0 - cos 2t1) / 4
+    s_ss = a - 0.5 * np.cos(2.0 * t) * math.sin(2.0 * a)       # int sin^2 = a - (sin 2t1 - sin 2t0) / 4
+    s_ssc = (s1 ** 3 - s0 ** 3) / 3.0                          # int sin^2 cos
+    s_ccs = (c0 ** 3 - c1 ** 3) / 3.0                          # int cos^2 sin
+    s_sss = s_1 - s_ccs                                        # int sin^3 = int (1 - cos^2) sin
+    return s_1, s_cs, s_ss, s_ssc, s_sss, s_ccs
+
+
+def _equirect_cell_integrals_phi(w):
+    """Integrals over the column bands [phi_j0, phi_j1] (phi_j0 = 2 pi j / W - pi)
+    of 1, cos, sin, cos^2, sin^2 and sin cos of phi, in closed form (product
+    forms around the column centre phi_j, half width b = pi / W); (W, 6)."""
+    b = math.pi / w
+    p = 2.0 * math.pi * (np.arange(w) + 0.5) / w - math.pi
+    half = 0.5 * math.sin(2.0 * b)
+    return np.stack([
+        np.full(w, 2.0 * b),                  # int 1
+        2.0 * np.cos(p) * math.sin(b),        # int cos = sin1 - sin0
+        2.0 * np.sin(p) * math.sin(b),        # int sin = cos0 - cos1
+        b + half * np.cos(2.0 * p),           # int cos^2 = b + (sin 2p1 - sin 2p0) / 4
+        b - half * np.cos(2.0 * p),           # int sin^2
+        half * np.sin(2.0 * p),               # int sin cos = (cos 2p0 - cos 2p1) / 4
+    ], axis=-1)
+
+
 def project_equirect(image):
     """Radiance SH coefficients (9, C) of an equirectangular image (H, W, C)
-    with W = 2 H (or (9,) for (H, W)), by the solid-angle-weighted sum over
-    pixels of CONVENTIONS.md (row 0 = +Y)."""
-    img = np.asarray(image, dtype=float)
+    with W = 2 H (or (9,) for (H, W)), the image taken as piecewise constant
+    over its pixels' cells (CONVENTIONS.md: row 0 = +Y, cell (i, j) spans
+    theta in pi [i, i + 1] / H and phi in 2 pi [j, j + 1] / W - pi; the model
+    of :func:`pbrkit.envmap.equirect_to_cube`).
+
+    L_lm = sum over cells of L_ij times the exact integral of Y_lm over the
+    cell.  With d = (sin theta cos phi, cos theta, sin theta sin phi) every
+    basis function times the area element sin theta is a sum of products
+    f(theta) g(phi) of powers of sines and cosines, so each cell integral is
+    a closed form (:func:`_equirect_cell_integrals_theta`,
+    :func:`_equirect_cell_integrals_phi`) and the projection has no
+    quadrature error at any size: a constant radiance c gives
+    L_00 = c sqrt(4 pi) and zero elsewhere to rounding, even for H = 1.
+    Work is by bands of rows (memory bounded, no per-pixel loop)."""
+    img = np.asarray(image)
     if img.ndim not in (2, 3) or img.shape[1] != 2 * img.shape[0] or img.shape[0] < 1:
         raise InputError(f"equirectangular image must have shape (H, 2H) or (H, 2H, C), got {img.shape}")
-    H, W = img.shape[:2]
-    rows_per_chunk = max(1, (1 << 16) // W)
-    total = None
-    for r0 in range(0, H, rows_per_chunk):
-        rows = np.arange(r0, min(H, r0 + rows_per_chunk))
-        d = equirect_directions(H, W, rows)
-        omega = equirect_solid_angles(H, W, rows=rows)
-        part = project(d, omega, img[rows])
-        total = part if total is None else total + part
-    return total
+    scalar = img.ndim == 2
+    if scalar:
+        img = img[..., None]
+    h, w = img.shape[:2]
+    phi = _equirect_cell_integrals_phi(w)
+    # r[i, k, c] = sum_j phi_k(j) L[i, j, c] for the six phi factors k
+    r = np.empty((h, 6, img.shape[2]))
+    rows_per_chunk = max(1, (1 << 16) // w)
+    for r0 in range(0, h, rows_per_chunk):
+        band = np.asarray(img[r0:r0 + rows_per_chunk], dtype=np.float64)
+        r[r0:r0 + band.shape[0]] = np.matmul(phi.T, band)
+    s_1, s_cs, s_ss, s_ssc, s_sss, s_ccs = _equirect_cell_integrals_theta(np.arange(h), h)
+    one, cos, sin, cos2, sin2, sincos = (r[:, k] for k in range(6))
+    out = np.stack([
+        _Y00 * (s_1 @ one),                              # 1
+        _Y1 * (s_cs @ one),                              # y = cos theta
+        _Y1 * (s_ss @ sin),                              # z = sin theta sin phi
+        _Y1 * (s_ss @ cos),                              # x = sin theta cos phi
+        _Y2_XY * (s_ssc @ cos),                          # x y
+        _Y2_XY * (s_ssc @ sin),                          # y z
+        _Y20 * (3.0 * (s_sss @ sin2) - s_1 @ one),       # 3 z^2 - 1
+        _Y2_XY * (s_sss @ sincos),                       # x z
+        _Y22 * (s_sss @ cos2 - s_ccs @ one),             # x^2 - y^2
+    ])
+    return out[:, 0] if scalar else out
 
 
 def project_cube(cube):

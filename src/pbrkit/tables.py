@@ -24,7 +24,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._jit import parallel_kernel, term
+from numba.extending import register_jitable
+
+from ._jit import kernel, parallel_kernel, term
 from .distributions import ALPHA_MIN, alpha_from_roughness
 from .fresnel import f_conductor, f_schlick
 from .masking import (
@@ -47,6 +49,7 @@ __all__ = [
     "dfg_table",
     "lookup_table",
     "sample_table",
+    "table_bilinear",
     "env_brdf_approx",
     "average_albedo",
     "kulla_conty_tables",
@@ -327,21 +330,52 @@ def dfg_table(size=128, cloth=False, nodes=DEFAULT_NODES):
     return lookup_table("dfg", size, "height-correlated", cloth, nodes)[0]
 
 
+@register_jitable
+def table_bilinear(tables, t, nov, roughness, c):
+    """Channel ``c`` of table ``t`` of a stack (T, rows, columns, C) sampled as a
+    GPU samples a texture: bilinear between texel centres (column i at
+    n.v = (i + 0.5) / columns, row j at r = (j + 0.5) / rows, CONVENTIONS.md)
+    with clamp to edge; a single row or column is constant along its axis.
+    A scalar helper compiled into Numba kernels (``pbrkit.render``) and into
+    :func:`sample_table`'s kernel; arguments must be finite."""
+    n_rows = tables.shape[1]
+    n_cols = tables.shape[2]
+    fx = min(max(nov * n_cols - 0.5, 0.0), n_cols - 1.0)
+    fy = min(max(roughness * n_rows - 0.5, 0.0), n_rows - 1.0)
+    x0 = min(int(math.floor(fx)), max(n_cols - 2, 0))
+    y0 = min(int(math.floor(fy)), max(n_rows - 2, 0))
+    x1 = min(x0 + 1, n_cols - 1)
+    y1 = min(y0 + 1, n_rows - 1)
+    ax = fx - x0
+    ay = fy - y0
+    return ((tables[t, y0, x0, c] * (1.0 - ax) + tables[t, y0, x1, c] * ax) * (1.0 - ay)
+            + (tables[t, y1, x0, c] * (1.0 - ax) + tables[t, y1, x1, c] * ax) * ay)
+
+
+@kernel
+def _sample_table_kernel(tables, nov, roughness, out):
+    for k in range(nov.shape[0]):
+        for c in range(out.shape[1]):
+            out[k, c] = table_bilinear(tables, 0, nov[k], roughness[k], c)
+
+
 def sample_table(table, nov, roughness):
-    """Bilinear lookup of a table at (n.v, r) with texel centres and clamp-to-edge, as a GPU samples it."""
+    """Bilinear lookup of a table (rows, columns, C) (or (rows, columns)) at
+    (n.v, r) with texel centres and clamp-to-edge, as a GPU samples it
+    (:func:`table_bilinear`); ``nov`` and ``roughness`` broadcast.  Returns
+    (..., C) (or (...) for a 2-D table) float64."""
     table = np.asarray(table)
-    n_rows, n_cols = table.shape[:2]
-    x = np.clip(np.asarray(nov, dtype=float) * n_cols - 0.5, 0.0, n_cols - 1.0)
-    y = np.clip(np.asarray(roughness, dtype=float) * n_rows - 0.5, 0.0, n_rows - 1.0)
-    x0 = np.minimum(np.floor(x).astype(int), n_cols - 2) if n_cols > 1 else np.zeros_like(x, dtype=int)
-    y0 = np.minimum(np.floor(y).astype(int), n_rows - 2) if n_rows > 1 else np.zeros_like(y, dtype=int)
-    fx = (x - x0)[..., None]
-    fy = (y - y0)[..., None]
-    t00 = table[y0, x0]
-    t01 = table[y0, x0 + 1]
-    t10 = table[y0 + 1, x0]
-    t11 = table[y0 + 1, x0 + 1]
-    return (t00 * (1 - fx) + t01 * fx) * (1 - fy) + (t10 * (1 - fx) + t11 * fx) * fy
+    if table.ndim not in (2, 3) or table.shape[0] < 1 or table.shape[1] < 1:
+        raise ValueError(f"table must have shape (rows, columns) or (rows, columns, C), got {table.shape}")
+    channelless = table.ndim == 2
+    stack = np.ascontiguousarray(table.reshape((1,) + table.shape[:2] + (-1,)), dtype=np.float64)
+    x, y = np.broadcast_arrays(np.asarray(nov, dtype=np.float64), np.asarray(roughness, dtype=np.float64))
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise ValueError("table lookup coordinates (n.v, roughness) must be finite")
+    out = np.empty((x.size, stack.shape[3]))
+    _sample_table_kernel(stack, np.ascontiguousarray(x.reshape(-1)), np.ascontiguousarray(y.reshape(-1)), out)
+    out = out.reshape(x.shape + (stack.shape[3],))
+    return out[..., 0] if channelless else out
 
 
 @term

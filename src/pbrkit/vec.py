@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._jit import select, term
+
 __all__ = [
     "dot",
     "normalize",
     "half_vector",
+    "orthonormal_basis_xyz",
     "orthonormal_basis",
     "shading_frame",
     "to_local",
@@ -49,21 +52,28 @@ def half_vector(l, v):
     return np.where(safe, s / np.where(safe, length, 1.0), fallback)
 
 
-def orthonormal_basis(n):
-    """Tangent and bitangent ``(t, b)`` with ``(t, b, n)`` right-handed.
+@term
+def orthonormal_basis_xyz(x, y, z):
+    """Tangent and bitangent ``((tx, ty, tz), (bx, by, bz))`` of unit normal
+    (x, y, z), with (t, b, n) right-handed, as component tuples (a dual-use
+    term: NumPy arrays from Python, scalars in Numba kernels).
 
     Duff, Burgess, Christensen, Hery, Kensler, Liani, Villemin, "Building an
     Orthonormal Basis, Revisited", JCGT 6(1), 2017, Listing 3 (branchless,
     continuous except at the -z pole's sign flip).
     """
-    n = np.asarray(n, dtype=float)
-    x, y, z = n[..., 0], n[..., 1], n[..., 2]
-    sign = np.where(z >= 0.0, 1.0, -1.0)
+    sign = select(z >= 0.0, 1.0, -1.0)
     a = -1.0 / (sign + z)
     b = x * y * a
-    t = np.stack([1.0 + sign * x * x * a, sign * b, -sign * x], axis=-1)
-    bt = np.stack([b, sign + y * y * a, -y], axis=-1)
-    return t, bt
+    return (1.0 + sign * x * x * a, sign * b, -sign * x), (b, sign + y * y * a, -y)
+
+
+def orthonormal_basis(n):
+    """Tangent and bitangent ``(t, b)``, each (..., 3), with ``(t, b, n)``
+    right-handed: :func:`orthonormal_basis_xyz` (Duff et al. 2017, Listing 3) stacked."""
+    n = np.asarray(n, dtype=float)
+    t, bt = orthonormal_basis_xyz(n[..., 0], n[..., 1], n[..., 2])
+    return np.stack(np.broadcast_arrays(*t), axis=-1), np.stack(np.broadcast_arrays(*bt), axis=-1)
 
 
 def shading_frame(n, t=None):
