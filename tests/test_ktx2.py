@@ -24,14 +24,9 @@ from pbrkit.halfpack import (
     unpack_b10g11r11,
 )
 from pbrkit.ktx2 import VK_FORMATS, ktx2_bytes, parse_ktx2, read_ktx2, write_ktx2
+from texels import assert_levels_decoded, b10g11r11_tolerance
 
 IDENT = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
-
-
-def _b10g11r11_tol(x):
-    """Half a step of the 11/11/10-bit unsigned floats: 2^-7 / 2^-7 / 2^-6
-    relative for normal numbers, 2^-21 / 2^-21 / 2^-20 absolute for denormals."""
-    return np.maximum(np.asarray(x) * [2.0**-7, 2.0**-7, 2.0**-6], [2.0**-21, 2.0**-21, 2.0**-20])
 
 
 # ----------------------------------------------------------------------------
@@ -136,7 +131,7 @@ def test_b10g11r11_word_layout():
     assert np.array_equal(unpack_b10g11r11(np.uint32(0x781E03C0)), [1.0, 1.0, 1.0])
     rgb = np.random.default_rng(3).uniform(0, 100, (50, 3))
     back = unpack_b10g11r11(pack_b10g11r11(rgb))
-    assert np.all(np.abs(back - rgb) <= _b10g11r11_tol(rgb))
+    assert np.all(np.abs(back - rgb) <= b10g11r11_tolerance(rgb))
 
 
 # ----------------------------------------------------------------------------
@@ -265,14 +260,7 @@ def test_ktx2_round_trip_all_formats(tmp_path, name, cube):
     header, back, kv = read_ktx2(path)
     assert header["vkFormat"] == VK_FORMATS[name][0]
     assert kv["KTXorientation"] == "rd"
-    for a, b in zip(levels, back):
-        assert b.shape == a.shape and b.dtype == np.float32
-        if encoding == "float32":
-            assert np.array_equal(b, a.astype(np.float32))
-        elif encoding == "float16":
-            assert np.array_equal(b, a.astype(np.float16).astype(np.float32))
-        else:
-            assert np.all(np.abs(b - a) <= _b10g11r11_tol(a))
+    assert_levels_decoded(levels, back, encoding)
     # Deterministic: same input, same bytes.
     assert path.read_bytes() == ktx2_bytes(levels, name, cube=cube)
 
