@@ -8,7 +8,7 @@ from typer.testing import CliRunner
 
 from pbrkit.cli import app
 from pbrkit.furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
-from pbrkit.report import texel_centres
+from pbrkit.tables import texel_centres
 
 LOBES = furnace_lobes()
 

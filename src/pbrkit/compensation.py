@@ -18,6 +18,8 @@ white-furnace result measures exactly what a renderer would get.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .tables import (
@@ -36,9 +38,15 @@ __all__ = ["METHODS", "white_furnace_compensated", "compensated_albedo"]
 METHODS = ("kulla-conty", "filament")
 
 
+@functools.lru_cache(maxsize=4)
 def _runtime_tables(table_size, n_mu=64):
-    """The DFG table, and E_avg per roughness computed from the table as an engine bakes it."""
+    """The DFG table, and E_avg per roughness computed from the table as an engine bakes it.
+
+    Cached: a report evaluates several methods and metals against the same table.
+    The table is returned read-only so the cache cannot be altered by a caller.
+    """
     table = lookup_table("dfg", table_size)[0]
+    table.setflags(write=False)
     x, w = _gauss_legendre_01(n_mu)
 
     def e_avg(roughness):

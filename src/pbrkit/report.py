@@ -12,13 +12,9 @@ import numpy as np
 
 from ._atomic import atomic_path, write_bytes, write_text
 from .furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
+from .tables import texel_centres
 
-__all__ = ["furnace_report", "texel_centres"]
-
-
-def texel_centres(n):
-    """(i + 0.5) / n for i in 0..n-1, the texel-centre grid of CONVENTIONS.md."""
-    return (np.arange(n) + 0.5) / n
+__all__ = ["furnace_report", "compensation_report"]
 
 
 def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=None, progress=None):
@@ -145,11 +141,10 @@ def compensation_report(out_dir, method, table_size=128):
     from .compensation import compensated_albedo, white_furnace_compensated
     from .fresnel import CONDUCTORS, f_conductor
     from .tables import DEFAULT_NODES
-    from .tables import texel_centres as centres
 
     out_dir = Path(out_dir)
     fine = tuple(4 * x for x in DEFAULT_NODES)
-    grid = centres(table_size)
+    grid = texel_centres(table_size)
     single = white_furnace_compensated("none", grid, grid, table_size, fine)
     comp = white_furnace_compensated(method, grid, grid, table_size, fine)
     between = (np.arange(table_size - 1) + 1.0) / table_size
