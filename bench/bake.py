@@ -63,7 +63,8 @@ def _maxrss_mb():
 def child(env, size, out):
     """Run in a fresh process: import, bake, write; print one JSON line."""
     t0 = time.perf_counter()
-    from pbrkit.bake import bake, write_bake
+    from pbrkit.ibl.bake import bake
+    from pbrkit.io.bake_files import write_bake
 
     t1 = time.perf_counter()
     base = _maxrss_mb()
@@ -90,7 +91,8 @@ def run_child(env, size, out, extra_env=None):
 
 
 def speed(env, repeat):
-    from pbrkit.bake import bake, write_bake
+    from pbrkit.ibl.bake import bake
+    from pbrkit.io.bake_files import write_bake
 
     print("== 1. speed (in process, after JIT warm-up; 2-core targets: 256 <= 1.8 s, 512 <= 8 s) ==")
     with warnings.catch_warnings():
@@ -125,8 +127,9 @@ def memory(env):
 
 
 def big_input(env):
-    from pbrkit.bake import load_bake
-    from pbrkit.imageio import pfm_bytes, read_image
+    from pbrkit.io.bake_files import load_bake
+    from pbrkit.io.images import read_image
+    from pbrkit.io.pfm import pfm_bytes
 
     print("== 3. 8192 x 4096 input (the environment repeated 8 x 8 per pixel; target <= 2 GB) ==")
     img = read_image(env)
@@ -160,10 +163,10 @@ def cold(env):
 
 
 def accuracy(samples=300):
-    from pbrkit.bake import bake
-    from pbrkit.cubemap import cube_texel_directions
-    from pbrkit.irradiance import irradiance_reference
-    from pbrkit.prefilter import prefilter_importance_sampled, prefilter_reference
+    from pbrkit.ibl.bake import bake
+    from pbrkit.ibl.cubemap import cube_texel_directions
+    from pbrkit.ibl.irradiance import irradiance_reference
+    from pbrkit.ibl.prefilter import prefilter_importance_sampled, prefilter_reference
 
     print("== 5. accuracy at size 256: relative RMS error vs brute force over all 393,216 level-0 texels ==")
     print("   per level m = 1..4 (roughness 0.25, 0.5, 0.75, 1): bake (spectral) | bake --method fis | "

@@ -11,12 +11,12 @@ the 2-core development machine.
 from __future__ import annotations
 
 import argparse
-import numpy as np
 
+import numpy as np
 from _timing import best_and_median
 
 from pbrkit import Material
-from pbrkit.models import ue4
+from pbrkit.brdf.models import ue4
 
 
 def random_hemisphere(rng, n):

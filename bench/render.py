@@ -29,10 +29,13 @@ from pathlib import Path
 import numpy as np
 from _timing import best_and_median
 
-from pbrkit.geometry import Geometry
-from pbrkit.lights import Light
-from pbrkit.render import EnvironmentLight, luminance, render_realtime, render_reference
-from pbrkit.scene import EnvironmentSpec, builtin_scene
+from pbrkit.core.color import luminance
+from pbrkit.render.environment import EnvironmentLight
+from pbrkit.render.geometry import Geometry
+from pbrkit.render.lights import Light
+from pbrkit.render.realtime import render_realtime
+from pbrkit.render.reference import render_reference
+from pbrkit.render.scene import EnvironmentSpec, builtin_scene
 
 DEFAULT_ENV = Path(__file__).resolve().parents[2] / "shared" / "data" / "env" / "rooitou_park_1k.hdr"
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.approximations import COMPARISONS, approximation_errors
-from pbrkit.cli import app
+from pbrkit.albedo.approximations import COMPARISONS, approximation_errors
+from pbrkit.app.cli import app
 
 
 @pytest.fixture(scope="module")

@@ -16,13 +16,16 @@ import numpy as np
 import pytest
 from scipy.special import sph_harm_y
 
-from pbrkit.bake import Bake, bake, load_bake, preview_strip, write_bake
-from pbrkit.cubemap import cube_texel_directions, cube_texel_solid_angles
-from pbrkit.dds import read_dds
-from pbrkit.envmap import equirect_directions, equirect_solid_angles
-from pbrkit.imageio import LDRInputWarning, read_image, write_pfm
-from pbrkit.ktx2 import read_ktx2
-from pbrkit.prefilter import prefilter_importance_sampled, prefilter_reference
+from pbrkit.ibl.bake import Bake, bake, preview_strip
+from pbrkit.ibl.cubemap import cube_texel_directions, cube_texel_solid_angles
+from pbrkit.ibl.equirect import equirect_directions, equirect_solid_angles
+from pbrkit.ibl.prefilter import prefilter_importance_sampled, prefilter_reference
+from pbrkit.io.bake_files import load_bake, write_bake
+from pbrkit.io.dds import read_dds
+from pbrkit.io.image_checks import LDRInputWarning
+from pbrkit.io.images import read_image
+from pbrkit.io.ktx2 import read_ktx2
+from pbrkit.io.pfm import write_pfm
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "env"
 ROOITOU = DATA / "rooitou_park_1k.hdr"
@@ -320,7 +323,7 @@ def test_same_input_same_bytes(sun_env, tmp_path):
 
 
 def test_failed_write_leaves_nothing(sun_bake, tmp_path, monkeypatch):
-    import pbrkit.bake as bake_module
+    import pbrkit.io.bake_files as bake_module
 
     def boom(*args, **kwargs):
         raise OSError("disk full (simulated)")

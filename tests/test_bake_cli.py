@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.cli import app
-from pbrkit.imageio import hdr_bytes, pfm_bytes, write_pfm
+from pbrkit.app.cli import app
+from pbrkit.io.hdr import hdr_bytes
+from pbrkit.io.pfm import pfm_bytes, write_pfm
 
 SMALL = ["--size", "16", "--min-size", "4", "--irradiance-size", "4", "--lut-size", "4"]
 

@@ -17,11 +17,15 @@ import pytest
 from scipy import integrate
 from scipy.special import eval_legendre, sph_harm_y
 
-from pbrkit import prefilter as pf
-from pbrkit import spectral as sp
-from pbrkit.envmap import equirect_directions, equirect_integral, equirect_solid_angles
-from pbrkit.irradiance import cosine_zonal_coefficients, irradiance_reference
-from pbrkit.sh import eval_sh, project_equirect
+from pbrkit.ibl import prefilter as pf
+from pbrkit.ibl import spectral as sp
+from pbrkit.ibl.equirect import (
+    equirect_directions,
+    equirect_integral,
+    equirect_solid_angles,
+)
+from pbrkit.ibl.irradiance import cosine_zonal_coefficients, irradiance_reference
+from pbrkit.ibl.sh import eval_sh, project_equirect
 
 
 def ggx(noh, alpha):
@@ -200,7 +204,7 @@ def test_highlight_split_conserves_energy():
     cube = np.ones((6, 8, 8, 3))
     cube[2, 3, 4] = 1000.0
     hc = pf.cube_highlights(cube)
-    from pbrkit.cubemap import cube_texel_solid_angles
+    from pbrkit.ibl.cubemap import cube_texel_solid_angles
 
     omega = cube_texel_solid_angles(8)
     mean = (np.sum(omega) + 999 * omega[2, 3, 4]) / (4 * np.pi)
@@ -209,7 +213,7 @@ def test_highlight_split_conserves_energy():
 
 
 def test_irradiance_reference_of_constant_cube_is_pi():
-    from pbrkit.cubemap import cube_texel_directions
+    from pbrkit.ibl.cubemap import cube_texel_directions
 
     cube = np.ones((6, 16, 16, 3))
     e = irradiance_reference(cube, cube_texel_directions(4).reshape(-1, 3))

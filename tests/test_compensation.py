@@ -6,10 +6,8 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.cli import app
-from pbrkit.compensation import compensated_albedo, white_furnace_compensated
-from pbrkit.fresnel import CONDUCTORS, f_conductor, f_schlick
-from pbrkit.tables import (
+from pbrkit.albedo.compensation import compensated_albedo, white_furnace_compensated
+from pbrkit.albedo.tables import (
     average_albedo,
     f_avg_conductor,
     f_avg_numeric,
@@ -19,6 +17,8 @@ from pbrkit.tables import (
     specular_integrals,
     texel_centres,
 )
+from pbrkit.app.cli import app
+from pbrkit.brdf.fresnel import CONDUCTORS, f_conductor, f_schlick
 
 
 @pytest.mark.parametrize("method", ["kulla-conty", "filament"])

@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from pbrkit import cubemap as cm
+from pbrkit.ibl import cubemap as cm
 
 # OpenGL 4.6 core profile, table 8.19 (also CONVENTIONS.md), written out literally
 TABLE = [

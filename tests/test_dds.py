@@ -11,9 +11,9 @@ import struct
 
 import numpy as np
 import pytest
-
-from pbrkit.dds import DXGI_FORMATS, dds_bytes, parse_dds, read_dds, write_dds
 from texels import assert_levels_decoded
+
+from pbrkit.io.dds import DXGI_FORMATS, dds_bytes, parse_dds, read_dds, write_dds
 
 
 def _header(flags, height, width, pitch, mips, caps, caps2, dxgi, misc):

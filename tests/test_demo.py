@@ -35,8 +35,9 @@ class _Links(HTMLParser):
 
 @pytest.fixture(scope="module")
 def demo_dir(tmp_path_factory):
-    from pbrkit.cli import app
     from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
 
     out = tmp_path_factory.mktemp("demo") / "site"
     # the demo's CLI with small sizes (the defaults take ~20 s on 2 cores)

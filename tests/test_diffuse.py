@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from pbrkit import diffuse
 from quadrature import hemisphere_rule, view_direction
+
+from pbrkit.brdf import diffuse
 
 
 def _albedo(factor_of_l, n_mu=96, n_phi=64):

@@ -2,11 +2,11 @@
 
 import numpy as np
 import pytest
+from quadrature import directional_albedo, view_direction
 
 from pbrkit import Material
-from pbrkit.diffuse import burley_subsurface
-from pbrkit.models import cook_torrance, disney
-from quadrature import directional_albedo, view_direction
+from pbrkit.brdf.diffuse import burley_subsurface
+from pbrkit.brdf.models import cook_torrance, disney
 
 RNG = np.random.default_rng(11)
 N = np.array([0.0, 0.0, 1.0])

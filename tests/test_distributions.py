@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from pbrkit import distributions as dist
 from quadrature import (
     directional_albedo,
     half_vector_rule,
@@ -21,6 +19,8 @@ from quadrature import (
     theta_max_visible,
     view_direction,
 )
+
+from pbrkit.brdf import distributions as dist
 
 NORM_TOL = 1e-5
 ALPHAS = (1e-3, 0.01, 0.05, 0.3, 1.0)

@@ -17,10 +17,26 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pbrkit import cubemap as cm
-from pbrkit import envmap as em
-from pbrkit import imageio as pio
-from pbrkit.errors import InputError
+from pbrkit.core.color import linear_to_srgb, srgb_to_linear
+from pbrkit.core.errors import InputError
+from pbrkit.ibl import cubemap as cm
+from pbrkit.ibl.equirect import (
+    cube_to_equirect,
+    direction_to_equirect,
+    equirect_directions,
+    equirect_integral,
+    equirect_solid_angles,
+    equirect_to_cube,
+)
+from pbrkit.io.environment import (
+    NegativeRadianceWarning,
+    fix_nonfinite_pixels,
+    load_environment,
+)
+from pbrkit.io.hdr import hdr_bytes
+from pbrkit.io.image_checks import LDRInputWarning
+from pbrkit.io.images import write_image
+from pbrkit.io.png import write_png
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 ENV = DATA / "env"
@@ -38,25 +54,25 @@ def unit(v):
 
 def test_equirect_directions_follow_conventions():
     h = 8
-    d = em.equirect_directions(h)
+    d = equirect_directions(h)
     assert d.shape == (h, 2 * h, 3)
     theta = np.pi * 0.5 / h
     phi = 2 * np.pi * 0.5 / (2 * h) - np.pi
     assert np.allclose(d[0, 0], [np.sin(theta) * np.cos(phi), np.cos(theta), np.sin(theta) * np.sin(phi)])
     assert np.allclose(np.linalg.norm(d, axis=-1), 1.0)
     # image centre is +X on the horizon, u = 0.25 is -Z, u = 0.75 is +Z (three.js / Khronos)
-    u, v = em.direction_to_equirect(np.array([[1, 0, 0], [0, 0, -1], [0, 0, 1], [0, 1, 0], [0, -2, 0]]))
+    u, v = direction_to_equirect(np.array([[1, 0, 0], [0, 0, -1], [0, 0, 1], [0, 1, 0], [0, -2, 0]]))
     assert np.allclose(u[:3], [0.5, 0.25, 0.75]) and np.allclose(v, [0.5, 0.5, 0.5, 0.0, 1.0])
     # pixel centres map back to their pixels
-    u, v = em.direction_to_equirect(d)
+    u, v = direction_to_equirect(d)
     rows, cols = np.meshgrid(np.arange(h), np.arange(2 * h), indexing="ij")
     assert np.array_equal(np.floor(v * h), rows) and np.array_equal(np.floor(u * 2 * h), cols)
 
 
 @pytest.mark.parametrize("h", [4, 64, 512])
 def test_equirect_solid_angles(h):
-    exact = em.equirect_solid_angles(h, exact=True)
-    midpoint = em.equirect_solid_angles(h)
+    exact = equirect_solid_angles(h, exact=True)
+    midpoint = equirect_solid_angles(h)
     assert exact.shape == midpoint.shape == (h, 2 * h)
     assert exact.sum() == pytest.approx(4 * np.pi, rel=1e-13)
     theta = np.pi * (np.arange(h) + 0.5) / h
@@ -69,10 +85,10 @@ def test_equirect_solid_angles(h):
 
 def test_equirect_integral_constant_and_linear():
     img = np.ones((32, 64, 2))
-    assert np.allclose(em.equirect_integral(img, exact=True), 4 * np.pi, rtol=1e-13)
-    d = em.equirect_directions(256)
+    assert np.allclose(equirect_integral(img, exact=True), 4 * np.pi, rtol=1e-13)
+    d = equirect_directions(256)
     # the integral of a linear field over the sphere is 4 pi (odd part vanishes)
-    assert em.equirect_integral(1.0 + d @ A) == pytest.approx(4 * np.pi, rel=1e-4)
+    assert equirect_integral(1.0 + d @ A) == pytest.approx(4 * np.pi, rel=1e-4)
 
 
 # ------------------------------------------------------- equirect -> cube
@@ -81,7 +97,7 @@ def test_equirect_integral_constant_and_linear():
 @pytest.mark.parametrize("h, n", [(8, 3), (16, 5), (6, 4), (5, 7), (64, 16), (1, 1)])
 def test_constant_map_stays_constant(h, n):
     img = np.full((h, 2 * h, 2), 3.0)
-    cube = em.equirect_to_cube(img, n)
+    cube = equirect_to_cube(img, n)
     assert cube.shape == (6, n, n, 2)
     assert np.allclose(cube, 3.0, rtol=1e-12)
 
@@ -89,8 +105,8 @@ def test_constant_map_stays_constant(h, n):
 @pytest.mark.parametrize("h, n", [(8, 3), (10, 9), (64, 16), (48, 5)])
 def test_energy_is_conserved_exactly(h, n):
     img = np.random.default_rng(h * n).random((h, 2 * h, 3)) ** 4
-    cube = em.equirect_to_cube(img, n)
-    assert np.allclose(cm.cube_integral(cube), em.equirect_integral(img, exact=True), rtol=1e-12)
+    cube = equirect_to_cube(img, n)
+    assert np.allclose(cm.cube_integral(cube), equirect_integral(img, exact=True), rtol=1e-12)
 
 
 def _cell_mean_of_linear_field(h):
@@ -134,11 +150,11 @@ def _texel_mean_of_linear_field(n):
 
 def test_linear_field_matches_arvo_texel_means():
     n = 3
-    cube = em.equirect_to_cube(_cell_mean_of_linear_field(512), n)
+    cube = equirect_to_cube(_cell_mean_of_linear_field(512), n)
     ref = _texel_mean_of_linear_field(n)
     assert np.abs(cube - ref).max() < 2e-4
     # with a coarser source the remaining error (cells cut by texel edges) grows
-    coarse = np.abs(em.equirect_to_cube(_cell_mean_of_linear_field(32), n) - ref).max()
+    coarse = np.abs(equirect_to_cube(_cell_mean_of_linear_field(32), n) - ref).max()
     assert np.abs(cube - ref).max() < coarse / 4
 
 
@@ -146,11 +162,11 @@ def test_sun_inside_one_texel_lands_there_exactly():
     h, n = 256, 4
     img = np.zeros((h, 2 * h, 1))
     target = cm.cube_texel_directions(n)[4, 1, 2]  # a texel centre on +Z
-    u, v = em.direction_to_equirect(target)
+    u, v = direction_to_equirect(target)
     i, j = int(v * h), int(u * 2 * h)
     img[i, j] = 1e6
-    cube = em.equirect_to_cube(img, n)[..., 0]
-    cell = em.equirect_solid_angles(h, exact=True)[i, j]
+    cube = equirect_to_cube(img, n)[..., 0]
+    cell = equirect_solid_angles(h, exact=True)[i, j]
     omega = cm.cube_texel_solid_angles(n)
     assert cube[4, 1, 2] * omega[4, 1, 2] == pytest.approx(1e6 * cell, rel=1e-12)
     others = np.ones(cube.shape, bool)
@@ -162,12 +178,12 @@ def test_sun_inside_one_texel_lands_there_exactly():
 def test_sun_straddling_texels_splits_by_area(corner):
     h, n = 16, 3
     img = np.zeros((h, 2 * h, 1))
-    u, v = em.direction_to_equirect(np.array(corner, float))
+    u, v = direction_to_equirect(np.array(corner, float))
     i, j = int(v * h), int(u * 2 * h)
     img[i, j] = 1.0
-    cube = em.equirect_to_cube(img, n)[..., 0]
+    cube = equirect_to_cube(img, n)[..., 0]
     omega = cm.cube_texel_solid_angles(n)
-    cell = em.equirect_solid_angles(h, exact=True)[i, j]
+    cell = equirect_solid_angles(h, exact=True)[i, j]
     share = cube * omega / cell
     assert share.sum() == pytest.approx(1.0, rel=1e-12)  # the sun keeps its energy
     assert np.count_nonzero(share > 1e-3) >= 2
@@ -193,17 +209,17 @@ def test_one_pixel_sun_conserved_for_many_positions():
         img = np.zeros((h, 2 * h, 1))
         i, j = rng.integers(0, h), rng.integers(0, 2 * h)
         img[i, j] = 7.0
-        cube = em.equirect_to_cube(img, n)
-        assert cm.cube_integral(cube)[0] == pytest.approx(7.0 * em.equirect_solid_angles(h, exact=True)[i, j],
+        cube = equirect_to_cube(img, n)
+        assert cm.cube_integral(cube)[0] == pytest.approx(7.0 * equirect_solid_angles(h, exact=True)[i, j],
                                                           rel=1e-11)
         assert cube.min() > -1e-9 * cube.max()
 
 
 def test_quadrant_masks_land_on_the_right_faces():
     h, n = 64, 8
-    d = em.equirect_directions(h)
+    d = equirect_directions(h)
     img = (d > 0).astype(np.float64)  # R: x > 0, G: y > 0, B: z > 0 (at pixel centres)
-    cube = em.equirect_to_cube(img, n)
+    cube = equirect_to_cube(img, n)
     half = n // 2
     assert np.allclose(cube[0, ..., 0], 1) and np.allclose(cube[1, ..., 0], 0, atol=1e-12)
     assert np.allclose(cube[2, ..., 1], 1) and np.allclose(cube[3, ..., 1], 0, atol=1e-12)
@@ -217,34 +233,34 @@ def test_quadrant_masks_land_on_the_right_faces():
 
 def test_float32_and_grey_inputs():
     img = np.random.default_rng(2).random((16, 32)).astype(np.float32)
-    cube = em.equirect_to_cube(img, 4)
+    cube = equirect_to_cube(img, 4)
     assert cube.shape == (6, 4, 4) and cube.dtype == np.float32
-    ref = em.equirect_to_cube(img.astype(np.float64), 4)
+    ref = equirect_to_cube(img.astype(np.float64), 4)
     assert np.allclose(cube, ref, rtol=1e-6)
 
 
 def test_equirect_to_cube_validation():
     with pytest.raises(ValueError, match=r"\(H, 2H\)"):
-        em.equirect_to_cube(np.ones((4, 4, 3)), 2)
+        equirect_to_cube(np.ones((4, 4, 3)), 2)
     with pytest.raises(ValueError, match="non-finite"):
-        em.equirect_to_cube(np.full((2, 4, 3), np.nan), 2)
+        equirect_to_cube(np.full((2, 4, 3), np.nan), 2)
     with pytest.raises(ValueError, match="positive integer"):
-        em.equirect_to_cube(np.ones((2, 4, 3)), 0)
+        equirect_to_cube(np.ones((2, 4, 3)), 0)
 
 
 # ------------------------------------------------------- cube -> equirect
 
 
 def test_cube_to_equirect():
-    assert np.allclose(em.cube_to_equirect(np.full((6, 4, 4, 3), 2.0), 8), 2.0)
+    assert np.allclose(cube_to_equirect(np.full((6, 4, 4, 3), 2.0), 8), 2.0)
     n = 64
     cube = 1.0 + cm.cube_texel_directions(n) @ A
-    img = em.cube_to_equirect(cube, 48)
+    img = cube_to_equirect(cube, 48)
     assert img.shape == (48, 96)
-    assert np.abs(img - (1.0 + em.equirect_directions(48) @ A)).max() < 0.25 * (2.0 / n)
+    assert np.abs(img - (1.0 + equirect_directions(48) @ A)).max() < 0.25 * (2.0 / n)
     # round trip of a smooth map: equirect -> cube (exact) -> equirect (bilinear)
     src = _cell_mean_of_linear_field(64)
-    back = em.cube_to_equirect(em.equirect_to_cube(src, 64), 64)
+    back = cube_to_equirect(equirect_to_cube(src, 64), 64)
     assert np.abs(back - src).max() < 0.02
 
 
@@ -252,13 +268,13 @@ def test_cube_to_equirect():
 
 
 def write(path, img):
-    pio.write_image(path, img)
+    write_image(path, img)
     return path
 
 
 def test_load_equirect_hdr_and_to_cube(tmp_path):
     img = np.random.default_rng(0).random((8, 16, 3)).astype(np.float32)
-    env = em.load_environment(write(tmp_path / "e.exr", img))
+    env = load_environment(write(tmp_path / "e.exr", img))
     assert env.layout == "equirect" and not env.is_cube and env.source == (str(tmp_path / "e.exr"),)
     assert np.array_equal(env.equirect, img)
     cube = env.to_cube(4)
@@ -269,7 +285,7 @@ def test_load_equirect_hdr_and_to_cube(tmp_path):
 @pytest.mark.parametrize("layout", ["hcross", "vcross"])
 def test_load_cross(tmp_path, layout):
     cube = np.random.default_rng(1).random((6, 4, 4, 3)).astype(np.float32)
-    env = em.load_environment(write(tmp_path / "c.pfm", cm.cube_to_cross(cube, layout)))
+    env = load_environment(write(tmp_path / "c.pfm", cm.cube_to_cross(cube, layout)))
     assert env.layout == layout and env.is_cube
     assert np.array_equal(env.cube, cube)
     assert np.allclose(env.to_cube(2).sum(), cm.resample_cube(cube, 2).sum())
@@ -278,13 +294,13 @@ def test_load_cross(tmp_path, layout):
 def test_cross_unused_blocks_are_not_validated(tmp_path):
     cube = np.ones((6, 4, 4, 3), np.float32)
     cross = cm.cube_to_cross(cube, "hcross", fill=np.nan)  # unused blocks hold NaN
-    env = em.load_environment(write_raw(tmp_path / "c.exr", cross))
+    env = load_environment(write_raw(tmp_path / "c.exr", cross))
     assert np.array_equal(env.cube, cube)
     cross[5, 5, 0] = np.nan  # +Z (block row 1, column 1), texel (1, 1)
     cross[6, 13, 1] = -2.0  # -Z (block row 1, column 3), texel (2, 1)
-    _one_line_error(lambda: em.load_environment(write_raw(tmp_path / "d.exr", cross)), "1 non-finite")
-    with pytest.warns(em.NegativeRadianceWarning, match="1 negative"):
-        env = em.load_environment(tmp_path / "d.exr", fix_nonfinite=True)
+    _one_line_error(lambda: load_environment(write_raw(tmp_path / "d.exr", cross)), "1 non-finite")
+    with pytest.warns(NegativeRadianceWarning, match="1 negative"):
+        env = load_environment(tmp_path / "d.exr", fix_nonfinite=True)
     assert env.cube[4, 1, 1, 0] == 1.0 and env.cube[5, 2, 1, 1] == 0.0
     assert np.count_nonzero(env.cube != 1.0) == 1
 
@@ -292,24 +308,24 @@ def test_cross_unused_blocks_are_not_validated(tmp_path):
 def test_load_six_faces(tmp_path):
     cube = np.random.default_rng(2).random((6, 4, 4, 3)).astype(np.float32)
     paths = [write(tmp_path / f"f{k}.exr", cube[k]) for k in range(6)]
-    env = em.load_environment(paths)
+    env = load_environment(paths)
     assert env.layout == "faces" and np.array_equal(env.cube, cube)
     assert env.integral() == pytest.approx(cm.cube_integral(cube), rel=1e-12)
 
 
 def test_grey_image_is_replicated(tmp_path):
     img = np.random.default_rng(3).random((4, 8)).astype(np.float32)
-    env = em.load_environment(write(tmp_path / "g.pfm", img))
+    env = load_environment(write(tmp_path / "g.pfm", img))
     assert env.equirect.shape == (4, 8, 3) and np.array_equal(env.equirect[..., 1], img)
 
 
 def test_ldr_input_warns(tmp_path):
     path = tmp_path / "l.png"
-    pio.write_png(path, np.full((4, 8, 3), 0.5))
-    with pytest.warns(pio.LDRInputWarning):
-        env = em.load_environment(path)
-    code = np.rint(pio.linear_to_srgb(0.5) * 255) / 255
-    assert np.allclose(env.equirect, pio.srgb_to_linear(code), rtol=1e-6)
+    write_png(path, np.full((4, 8, 3), 0.5))
+    with pytest.warns(LDRInputWarning):
+        env = load_environment(path)
+    code = np.rint(linear_to_srgb(0.5) * 255) / 255
+    assert np.allclose(env.equirect, srgb_to_linear(code), rtol=1e-6)
 
 
 def _one_line_error(call, *message):
@@ -323,11 +339,11 @@ def _one_line_error(call, *message):
 
 
 def test_error_truncated_and_garbage(tmp_path):
-    data = pio.hdr_bytes(np.random.default_rng(4).random((16, 32, 3)))
+    data = hdr_bytes(np.random.default_rng(4).random((16, 32, 3)))
     (tmp_path / "t.hdr").write_bytes(data[:-300])
-    _one_line_error(lambda: em.load_environment(tmp_path / "t.hdr"), str(tmp_path / "t.hdr"), "truncated")
+    _one_line_error(lambda: load_environment(tmp_path / "t.hdr"), str(tmp_path / "t.hdr"), "truncated")
     (tmp_path / "g.exr").write_bytes(bytes(range(256)) * 4)
-    _one_line_error(lambda: em.load_environment(tmp_path / "g.exr"), "g.exr", "not a valid EXR file")
+    _one_line_error(lambda: load_environment(tmp_path / "g.exr"), "g.exr", "not a valid EXR file")
 
 
 def write_raw(path, img):
@@ -351,8 +367,8 @@ def test_error_nonfinite_with_count_and_fix(tmp_path, suffix):
     img[4, 9] = np.inf
     img[0, 0, 2] = -np.inf
     path = write_raw(tmp_path / f"n{suffix}", img)
-    _one_line_error(lambda: em.load_environment(path), path.name, "5 non-finite")
-    env = em.load_environment(path, fix_nonfinite=True)
+    _one_line_error(lambda: load_environment(path), path.name, "5 non-finite")
+    env = load_environment(path, fix_nonfinite=True)
     assert np.all(np.isfinite(env.equirect)) and any("5 non-finite" in n for n in env.notes)
     assert np.allclose(env.equirect, 1.0)
 
@@ -361,14 +377,14 @@ def test_fix_nonfinite_uses_finite_neighbour_mean():
     img = np.arange(30, dtype=np.float64).reshape(3, 10, 1)
     img[1, 4, 0] = np.nan
     img[0, 0, 0] = np.nan
-    fixed, count = em.fix_nonfinite_pixels(img, wrap=True)
+    fixed, count = fix_nonfinite_pixels(img, wrap=True)
     assert count == 2
     ring = [img[r % 3, c % 10, 0] for r, c in [(0, 3), (0, 4), (0, 5), (1, 3), (1, 5), (2, 3), (2, 4), (2, 5)]]
     assert fixed[1, 4, 0] == pytest.approx(np.mean(ring))
     # row 0, column 0: neighbours (0, 9), (0, 1), (1, 9), (1, 0), (1, 1) with the column wrap
     assert fixed[0, 0, 0] == pytest.approx(np.mean([9, 1, 19, 10, 11]))
     all_bad = np.full((2, 2, 1), np.nan)
-    assert np.array_equal(em.fix_nonfinite_pixels(all_bad)[0], np.zeros((2, 2, 1)))
+    assert np.array_equal(fix_nonfinite_pixels(all_bad)[0], np.zeros((2, 2, 1)))
 
 
 def test_negative_values_are_clamped_with_warning(tmp_path):
@@ -376,35 +392,35 @@ def test_negative_values_are_clamped_with_warning(tmp_path):
     img[2, 3, 1] = -0.5
     img[5, 6] = -1e-3
     path = write(tmp_path / "neg.exr", img)
-    with pytest.warns(em.NegativeRadianceWarning, match="4 negative sample"):
-        env = em.load_environment(path)
+    with pytest.warns(NegativeRadianceWarning, match="4 negative sample"):
+        env = load_environment(path)
     assert env.equirect.min() == 0.0 and env.equirect[2, 3, 1] == 0.0
     assert any("4 negative" in n for n in env.notes)
 
 
 def test_error_aspect_ratios(tmp_path):
-    _one_line_error(lambda: em.load_environment(write(tmp_path / "w.pfm", np.ones((4, 12, 3), np.float32))),
+    _one_line_error(lambda: load_environment(write(tmp_path / "w.pfm", np.ones((4, 12, 3), np.float32))),
                     "w.pfm", "12x4", "width must be 2x height")
-    _one_line_error(lambda: em.load_environment(write(tmp_path / "e.pfm", np.ones((4, 8, 3), np.float32)),
+    _one_line_error(lambda: load_environment(write(tmp_path / "e.pfm", np.ones((4, 8, 3), np.float32)),
                                                 layout="hcross"), "does not fit the hcross layout")
-    _one_line_error(lambda: em.load_environment(write(tmp_path / "c.pfm", np.ones((6, 8, 3), np.float32)),
+    _one_line_error(lambda: load_environment(write(tmp_path / "c.pfm", np.ones((6, 8, 3), np.float32)),
                                                 layout="equirect"), "width must be twice the height")
 
 
 def test_error_zero_and_absurd_sizes(tmp_path):
     (tmp_path / "z.pfm").write_bytes(b"PF\n0 0\n-1.0\n")
-    _one_line_error(lambda: em.load_environment(tmp_path / "z.pfm"), "z.pfm", "empty")
+    _one_line_error(lambda: load_environment(tmp_path / "z.pfm"), "z.pfm", "empty")
     (tmp_path / "a.hdr").write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 40000 +X 80000\n")
-    _one_line_error(lambda: em.load_environment(tmp_path / "a.hdr"), "a.hdr", "exceeds the 32768-pixel limit")
+    _one_line_error(lambda: load_environment(tmp_path / "a.hdr"), "a.hdr", "exceeds the 32768-pixel limit")
 
 
 def test_error_faces(tmp_path):
     faces = [write(tmp_path / f"f{k}.pfm", np.ones((4, 4, 3), np.float32)) for k in range(6)]
     faces[3] = write(tmp_path / "big.pfm", np.ones((5, 5, 3), np.float32))
-    _one_line_error(lambda: em.load_environment(faces), "big.pfm", "face -Y is 5x5", "equal sizes")
+    _one_line_error(lambda: load_environment(faces), "big.pfm", "face -Y is 5x5", "equal sizes")
     faces[3] = write(tmp_path / "rect.pfm", np.ones((4, 5, 3), np.float32))
-    _one_line_error(lambda: em.load_environment(faces), "rect.pfm", "must be square")
-    _one_line_error(lambda: em.load_environment(faces[:5]), "six face files", "got 5")
+    _one_line_error(lambda: load_environment(faces), "rect.pfm", "must be square")
+    _one_line_error(lambda: load_environment(faces[:5]), "six face files", "got 5")
 
 
 # --------------------------------------------------------------- real maps
@@ -418,14 +434,14 @@ REAL = ["rooitou_park_1k.hdr", "kloofendal_overcast_1k.hdr", "studio_small_03_1k
 def test_real_map_cube_integral_equals_equirect_integral(name):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        env = em.load_environment(ENV / name)
-    negatives = [w for w in caught if issubclass(w.category, em.NegativeRadianceWarning)]
+        env = load_environment(ENV / name)
+    negatives = [w for w in caught if issubclass(w.category, NegativeRadianceWarning)]
     if name.startswith("moonless"):  # lossy DWAB: 250 slightly negative samples (SOURCES.md)
         assert len(negatives) == 1 and "250 negative" in str(negatives[0].message)
     else:
         assert not negatives
     assert env.equirect.shape == (512, 1024, 3) and env.equirect.min() >= 0
-    reference = em.equirect_integral(env.equirect)  # CONVENTIONS pixel solid angles
+    reference = equirect_integral(env.equirect)  # CONVENTIONS pixel solid angles
     for size in (32, 128):
         cube = env.to_cube(size)
         assert np.allclose(cm.cube_integral(cube), env.integral(), rtol=1e-6)

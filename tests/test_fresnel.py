@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pbrkit import diffuse
-from pbrkit import fresnel as fr
+from pbrkit.brdf import diffuse
+from pbrkit.brdf import fresnel as fr
 
 MU = np.linspace(0.0, 1.0, 2001)
 

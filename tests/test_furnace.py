@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.cli import app
-from pbrkit.furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
-from pbrkit.tables import texel_centres
+from pbrkit.albedo.furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
+from pbrkit.albedo.tables import texel_centres
+from pbrkit.app.cli import app
 
 LOBES = furnace_lobes()
 

@@ -15,8 +15,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pbrkit import imageio as pio
-from pbrkit.errors import InputError
+from pbrkit.core.color import linear_to_srgb, srgb_to_linear
+from pbrkit.core.errors import InputError
+from pbrkit.io.exr import read_exr, write_exr
+from pbrkit.io.hdr import hdr_bytes, read_hdr, write_hdr
+from pbrkit.io.image_checks import LDRInputWarning
+from pbrkit.io.images import read_image, read_image_with_notes, write_image
+from pbrkit.io.pfm import read_pfm, write_pfm
+from pbrkit.io.png import write_png
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 ENV = DATA / "env"
@@ -32,12 +38,12 @@ def hdr_header(res=b"-Y 2 +X 3", extra=b""):
 
 def test_srgb_transfer_known_values():
     # IEC 61966-2-1: 0.5 -> ((0.555)/1.055)^2.4; breakpoints 0.04045 <-> 0.0031308
-    assert pio.srgb_to_linear(0.5) == pytest.approx((0.555 / 1.055) ** 2.4, rel=1e-15)
-    assert pio.srgb_to_linear(0.04045) == pytest.approx(0.04045 / 12.92, rel=1e-15)
-    assert pio.srgb_to_linear([0.0, 1.0]) == pytest.approx([0.0, 1.0], abs=1e-15)
-    assert pio.linear_to_srgb(0.0031308) == pytest.approx(0.0031308 * 12.92, rel=1e-12)
+    assert srgb_to_linear(0.5) == pytest.approx((0.555 / 1.055) ** 2.4, rel=1e-15)
+    assert srgb_to_linear(0.04045) == pytest.approx(0.04045 / 12.92, rel=1e-15)
+    assert srgb_to_linear([0.0, 1.0]) == pytest.approx([0.0, 1.0], abs=1e-15)
+    assert linear_to_srgb(0.0031308) == pytest.approx(0.0031308 * 12.92, rel=1e-12)
     x = np.linspace(0, 1, 1001)
-    assert np.allclose(pio.srgb_to_linear(pio.linear_to_srgb(x)), x, atol=1e-12)
+    assert np.allclose(srgb_to_linear(linear_to_srgb(x)), x, atol=1e-12)
     # the two branches meet (continuity within 1e-7 at the breakpoint)
     assert abs(1.055 * 0.0031308 ** (1 / 2.4) - 0.055 - 12.92 * 0.0031308) < 1e-7
 
@@ -51,7 +57,7 @@ def test_hdr_decoding_rule_on_hand_built_flat_file(tmp_path):
               (200, 100, 50, 120), (1, 2, 3, 0), (128, 128, 128, 128)]
     path = tmp_path / "flat.hdr"
     path.write_bytes(hdr_header() + bytes(np.array(pixels, np.uint8).ravel()))
-    img = pio.read_hdr(path)
+    img = read_hdr(path)
     expected = np.array([[m + 0.5 for m in p[:3]] for p in pixels]) * np.array(
         [2.0 ** (p[3] - 136) if p[3] else 0.0 for p in pixels])[:, None]
     assert img.dtype == np.float32 and img.shape == (2, 3, 3)
@@ -68,7 +74,7 @@ def test_hdr_new_style_rle_hand_built(tmp_path):
         body += bytes([128 + 6, run_value, 4] + literal)
     path = tmp_path / "rle.hdr"
     path.write_bytes(hdr_header(b"-Y 1 +X 10") + body)
-    img = pio.read_hdr(path)
+    img = read_hdr(path)
     rgbe = np.array([[p[0]] * 6 + p[1] for p in planes]).T  # (10, 4)
     expected = (rgbe[:, :3] + 0.5) * np.ldexp(1.0, rgbe[:, 3] - 136)[:, None]
     assert np.array_equal(img[0], expected.astype(np.float32))
@@ -79,7 +85,7 @@ def test_hdr_old_style_run(tmp_path):
     body = bytes([100, 50, 25, 130, 1, 1, 1, 3, 10, 20, 30, 131])
     path = tmp_path / "old.hdr"
     path.write_bytes(hdr_header(b"-Y 1 +X 5") + body)
-    img = pio.read_hdr(path)[0]
+    img = read_hdr(path)[0]
     first = (np.array([100, 50, 25]) + 0.5) * 2.0 ** -6
     assert np.array_equal(img[:4], np.tile(first, (4, 1)).astype(np.float32))
     assert np.array_equal(img[4], ((np.array([10, 20, 30]) + 0.5) * 2.0 ** -5).astype(np.float32))
@@ -94,7 +100,7 @@ def test_hdr_orientations(tmp_path, res, flip):
     rgbe[:, 3] = 136  # value = code + 0.5
     path = tmp_path / "o.hdr"
     path.write_bytes(hdr_header(res) + rgbe.tobytes())
-    img = pio.read_hdr(path)[..., 0] - 0.5
+    img = read_hdr(path)[..., 0] - 0.5
     stream = codes.astype(float)
     if flip == "rows":  # scanlines bottom to top
         expected = stream.reshape(2, 3)[::-1]
@@ -112,30 +118,30 @@ def test_hdr_round_trip_error_bound(tmp_path, rle):
     img[2, 5:30] = 3.25  # a run for the RLE coder
     img[3, :] = 0.0
     path = tmp_path / "rt.hdr"
-    pio.write_hdr(path, img, rle=rle)
-    back = pio.read_hdr(path)
+    write_hdr(path, img, rle=rle)
+    back = read_hdr(path)
     peak = img.max(axis=-1, keepdims=True)
     # truncated 8-bit mantissa, decoded at the bucket centre: error <= peak / 256
     assert np.all(np.abs(back - img) <= peak / 256 * (1 + 1e-6))
     assert np.all(back[3] == 0)
-    assert pio.hdr_bytes(img, rle=rle) == path.read_bytes()  # deterministic
+    assert hdr_bytes(img, rle=rle) == path.read_bytes()  # deterministic
 
 
 def test_hdr_rle_is_smaller_and_decodes_the_same(tmp_path):
     img = np.ones((4, 300, 3), np.float32)
     img[:, 100:] = 2.0
     img[:, 7] = [0.1, 0.2, 0.3]
-    assert len(pio.hdr_bytes(img, rle=True)) < len(pio.hdr_bytes(img, rle=False)) / 10
-    pio.write_hdr(tmp_path / "r.hdr", img, rle=True)
-    pio.write_hdr(tmp_path / "f.hdr", img, rle=False)
-    assert np.array_equal(pio.read_hdr(tmp_path / "r.hdr"), pio.read_hdr(tmp_path / "f.hdr"))
+    assert len(hdr_bytes(img, rle=True)) < len(hdr_bytes(img, rle=False)) / 10
+    write_hdr(tmp_path / "r.hdr", img, rle=True)
+    write_hdr(tmp_path / "f.hdr", img, rle=False)
+    assert np.array_equal(read_hdr(tmp_path / "r.hdr"), read_hdr(tmp_path / "f.hdr"))
 
 
 def test_hdr_writer_rejects_bad_values(tmp_path):
     with pytest.raises(ValueError, match="non-finite"):
-        pio.write_hdr(tmp_path / "x.hdr", np.full((2, 2, 3), np.nan))
+        write_hdr(tmp_path / "x.hdr", np.full((2, 2, 3), np.nan))
     with pytest.raises(ValueError, match="too large"):
-        pio.write_hdr(tmp_path / "x.hdr", np.full((2, 2, 3), 1e39))
+        write_hdr(tmp_path / "x.hdr", np.full((2, 2, 3), 1e39))
     assert not list(tmp_path.iterdir())
 
 
@@ -159,19 +165,19 @@ def _bad(path, data):
 ])
 def test_hdr_errors(tmp_path, name, data, message):
     if data is None:
-        full = pio.hdr_bytes(np.random.default_rng(1).random((16, 32, 3)))
+        full = hdr_bytes(np.random.default_rng(1).random((16, 32, 3)))
         data = full[: len(full) - 200]
     path = _bad(tmp_path / name, data)
     with pytest.raises(InputError, match=message) as err:
-        pio.read_image(path)
+        read_image(path)
     assert str(err.value).startswith(str(path) + ": ") and "\n" not in str(err.value)
 
 
 def test_missing_and_directory(tmp_path):
     with pytest.raises(InputError, match="file not found"):
-        pio.read_image(tmp_path / "nope.exr")
+        read_image(tmp_path / "nope.exr")
     with pytest.raises(InputError, match="directory"):
-        pio.read_image(tmp_path)
+        read_image(tmp_path)
 
 
 # -------------------------------------------------------------------- EXR
@@ -180,22 +186,22 @@ def test_missing_and_directory(tmp_path):
 def test_exr_round_trip_float_and_half(tmp_path):
     rng = np.random.default_rng(3)
     img = (rng.random((7, 12, 3)) * 100).astype(np.float32)
-    pio.write_exr(tmp_path / "f.exr", img)
-    assert np.array_equal(pio.read_exr(tmp_path / "f.exr"), img)
-    pio.write_exr(tmp_path / "h.exr", img, half=True, compression="piz")
-    assert np.array_equal(pio.read_exr(tmp_path / "h.exr"), img.astype(np.float16).astype(np.float32))
+    write_exr(tmp_path / "f.exr", img)
+    assert np.array_equal(read_exr(tmp_path / "f.exr"), img)
+    write_exr(tmp_path / "h.exr", img, half=True, compression="piz")
+    assert np.array_equal(read_exr(tmp_path / "h.exr"), img.astype(np.float16).astype(np.float32))
     first = (tmp_path / "f.exr").read_bytes()
-    pio.write_exr(tmp_path / "f.exr", img)
+    write_exr(tmp_path / "f.exr", img)
     assert (tmp_path / "f.exr").read_bytes() == first  # deterministic
 
 
 def test_exr_grey_alpha_and_channels(tmp_path):
     grey = np.linspace(0, 1, 20, dtype=np.float32).reshape(4, 5)
-    pio.write_exr(tmp_path / "y.exr", grey)
-    assert np.array_equal(pio.read_exr(tmp_path / "y.exr")[..., 0], grey)
+    write_exr(tmp_path / "y.exr", grey)
+    assert np.array_equal(read_exr(tmp_path / "y.exr")[..., 0], grey)
     rgba = np.random.default_rng(0).random((3, 4, 4)).astype(np.float32)
-    pio.write_exr(tmp_path / "a.exr", rgba)
-    img, fmt, notes = pio.read_image_with_notes(tmp_path / "a.exr")
+    write_exr(tmp_path / "a.exr", rgba)
+    img, fmt, notes = read_image_with_notes(tmp_path / "a.exr")
     assert fmt == "exr" and np.array_equal(img, rgba[..., :3]) and any("A ignored" in n for n in notes)
 
 
@@ -206,17 +212,17 @@ def test_exr_errors(tmp_path):
                      {"Z": np.zeros((2, 3), np.float32)})
     z.write(str(tmp_path / "z.exr"))
     with pytest.raises(InputError, match="no R, G, B"):
-        pio.read_image(tmp_path / "z.exr")
-    pio.write_exr(tmp_path / "ok.exr", np.ones((64, 64, 3), np.float32))
+        read_image(tmp_path / "z.exr")
+    write_exr(tmp_path / "ok.exr", np.ones((64, 64, 3), np.float32))
     data = (tmp_path / "ok.exr").read_bytes()
     _bad(tmp_path / "trunc.exr", data[: len(data) // 3])
     with pytest.raises(InputError, match="corrupt or truncated OpenEXR"):
-        pio.read_image(tmp_path / "trunc.exr")
+        read_image(tmp_path / "trunc.exr")
     _bad(tmp_path / "garbage.exr", b"\x76\x2f\x31\x01" + b"\xff" * 64)
     with pytest.raises(InputError, match="OpenEXR"):
-        pio.read_image(tmp_path / "garbage.exr")
+        read_image(tmp_path / "garbage.exr")
     with pytest.raises(ValueError, match="float16 range"):
-        pio.write_exr(tmp_path / "big.exr", np.full((2, 2, 3), 1e5), half=True)
+        write_exr(tmp_path / "big.exr", np.full((2, 2, 3), 1e5), half=True)
 
 
 # -------------------------------------------------------------------- PFM
@@ -227,17 +233,17 @@ def test_pfm_byte_order_and_row_order_hand_built(tmp_path):
     rows = np.array([[[1, 2, 3], [4, 5, 6]], [[7, 8, 9], [10, 11, 12]]], dtype=np.float32)  # top, bottom
     little = b"PF\n2 2\n-1.0\n" + rows[::-1].astype("<f4").tobytes()
     big = b"PF\n2 2\n1.0\n" + rows[::-1].astype(">f4").tobytes()
-    assert np.array_equal(pio.read_pfm(_bad(tmp_path / "l.pfm", little)), rows)
-    assert np.array_equal(pio.read_pfm(_bad(tmp_path / "b.pfm", big)), rows)
+    assert np.array_equal(read_pfm(_bad(tmp_path / "l.pfm", little)), rows)
+    assert np.array_equal(read_pfm(_bad(tmp_path / "b.pfm", big)), rows)
     grey = b"Pf\n3 1\n-1\n" + np.array([1, 2, 3], "<f4").tobytes()
-    assert np.array_equal(pio.read_pfm(_bad(tmp_path / "g.pfm", grey))[..., 0], [[1, 2, 3]])
+    assert np.array_equal(read_pfm(_bad(tmp_path / "g.pfm", grey))[..., 0], [[1, 2, 3]])
 
 
 @pytest.mark.parametrize("little", [True, False])
 def test_pfm_round_trip(tmp_path, little):
     img = np.random.default_rng(5).normal(size=(5, 6, 3)).astype(np.float32)
-    pio.write_pfm(tmp_path / "x.pfm", img, little_endian=little)
-    assert np.array_equal(pio.read_pfm(tmp_path / "x.pfm"), img)
+    write_pfm(tmp_path / "x.pfm", img, little_endian=little)
+    assert np.array_equal(read_pfm(tmp_path / "x.pfm"), img)
 
 
 @pytest.mark.parametrize("data, message", [
@@ -249,7 +255,7 @@ def test_pfm_round_trip(tmp_path, little):
 ])
 def test_pfm_errors(tmp_path, data, message):
     with pytest.raises(InputError, match=message):
-        pio.read_image(_bad(tmp_path / "bad.pfm", data))
+        read_image(_bad(tmp_path / "bad.pfm", data))
 
 
 # ------------------------------------------------------------ PNG and JPEG
@@ -260,12 +266,12 @@ def test_png_write_read(tmp_path, bits):
     rng = np.random.default_rng(2)
     img = rng.random((6, 9, 3))
     path = tmp_path / f"p{bits}.png"
-    pio.write_png(path, img, bits=bits)
+    write_png(path, img, bits=bits)
     scale = (1 << bits) - 1
-    codes = np.rint(pio.linear_to_srgb(img) * scale)
-    with pytest.warns(pio.LDRInputWarning, match="low-dynamic-range"):
-        back = pio.read_image(path)
-    assert np.allclose(back, pio.srgb_to_linear(codes / scale), atol=1e-7)
+    codes = np.rint(linear_to_srgb(img) * scale)
+    with pytest.warns(LDRInputWarning, match="low-dynamic-range"):
+        back = read_image(path)
+    assert np.allclose(back, srgb_to_linear(codes / scale), atol=1e-7)
     # independent check of the stored codes through Pillow (8 bits) or the raw bytes (16 bits)
     if bits == 8:
         import imageio.v3 as iio
@@ -279,12 +285,12 @@ def test_png16_linear_grey_codes(tmp_path):
     import imageio.v3 as iio
 
     x = np.linspace(0, 1, 12).reshape(3, 4)
-    pio.write_png(tmp_path / "g.png", x, bits=16, srgb=False)
+    write_png(tmp_path / "g.png", x, bits=16, srgb=False)
     codes = iio.imread(tmp_path / "g.png")  # Pillow reads 16-bit grey exactly
     assert codes.dtype == np.uint16 and np.array_equal(codes, np.rint(x * 65535).astype(np.uint16))
     assert b"sRGB" not in (tmp_path / "g.png").read_bytes()
-    pio.write_png(tmp_path / "s.png", x, bits=16)
-    assert np.array_equal(iio.imread(tmp_path / "s.png"), np.rint(pio.linear_to_srgb(x) * 65535))
+    write_png(tmp_path / "s.png", x, bits=16)
+    assert np.array_equal(iio.imread(tmp_path / "s.png"), np.rint(linear_to_srgb(x) * 65535))
 
 
 def test_png16_decoder_filters(tmp_path):
@@ -318,39 +324,41 @@ def test_png16_decoder_filters(tmp_path):
     png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 4, 5, 16, 2, 0, 0, 0))
            + chunk(b"IDAT", zlib.compress(b"".join(lines))) + chunk(b"IEND", b""))
     path = _bad(tmp_path / "f.png", png)
-    with pytest.warns(pio.LDRInputWarning):
-        back = pio.read_image(path)
-    assert np.allclose(back, pio.srgb_to_linear(img / 65535.0), atol=1e-7)
+    with pytest.warns(LDRInputWarning):
+        back = read_image(path)
+    assert np.allclose(back, srgb_to_linear(img / 65535.0), atol=1e-7)
 
 
 def test_jpeg_reads_with_warning(tmp_path):
     import imageio.v3 as iio
 
     iio.imwrite(tmp_path / "x.jpg", np.full((8, 8, 3), 128, np.uint8), extension=".jpg", quality=100)
-    with pytest.warns(pio.LDRInputWarning):
-        img = pio.read_image(tmp_path / "x.jpg")
-    assert np.allclose(img, pio.srgb_to_linear(128 / 255), atol=2e-3)
+    with pytest.warns(LDRInputWarning):
+        img = read_image(tmp_path / "x.jpg")
+    assert np.allclose(img, srgb_to_linear(128 / 255), atol=2e-3)
 
 
 def test_png_corrupt(tmp_path):
-    pio.write_png(tmp_path / "ok.png", np.ones((32, 32, 3)) * 0.5)
+    write_png(tmp_path / "ok.png", np.ones((32, 32, 3)) * 0.5)
     data = (tmp_path / "ok.png").read_bytes()
     with pytest.raises(InputError, match="PNG"), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        pio.read_image(_bad(tmp_path / "t.png", data[:40]))
+        read_image(_bad(tmp_path / "t.png", data[:40]))
 
 
 def test_atomic_write_leaves_nothing_on_failure(tmp_path, monkeypatch):
     target = tmp_path / "keep.png"
-    pio.write_png(target, np.zeros((2, 2, 3)), bits=16)
+    write_png(target, np.zeros((2, 2, 3)), bits=16)
     before = target.read_bytes()
 
     def boom(*args, **kwargs):
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(pio, "_png_bytes16", boom)
+    import pbrkit.io.png as png_module
+
+    monkeypatch.setattr(png_module, "_png_bytes16", boom)
     with pytest.raises(RuntimeError):
-        pio.write_png(target, np.ones((2, 2, 3)), bits=16)
+        write_png(target, np.ones((2, 2, 3)), bits=16)
     assert target.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.png"]
 
@@ -358,10 +366,10 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path, monkeypatch):
 def test_write_image_dispatch(tmp_path):
     img = np.random.default_rng(0).random((4, 8, 3)).astype(np.float32)
     for suffix in (".exr", ".pfm"):
-        pio.write_image(tmp_path / f"x{suffix}", img)
-        assert np.array_equal(pio.read_image(tmp_path / f"x{suffix}"), img)
+        write_image(tmp_path / f"x{suffix}", img)
+        assert np.array_equal(read_image(tmp_path / f"x{suffix}"), img)
     with pytest.raises(ValueError, match="suffix"):
-        pio.write_image(tmp_path / "x.tif", img)
+        write_image(tmp_path / "x.tif", img)
 
 
 # -------------------------------------------------------------- real data
@@ -374,7 +382,7 @@ def test_write_image_dispatch(tmp_path):
     ("potsdamer_platz_1k.hdr", 11, 0), ("moonless_golf_1k_blender_night.exr", 6450, 250),
 ])
 def test_real_maps_match_sources(name, peak, negatives):
-    img = pio.read_image(ENV / name)
+    img = read_image(ENV / name)
     assert img.shape == (512, 1024, 3) and img.dtype == np.float32 and np.all(np.isfinite(img))
     luminance = img.astype(np.float64) @ [0.2126, 0.7152, 0.0722]  # Rec. 709
     assert luminance.max() == pytest.approx(peak, rel=0.03)

@@ -13,9 +13,10 @@ import warnings
 
 import numpy as np
 import pytest
+from texels import assert_levels_decoded, b10g11r11_tolerance
 
-from pbrkit import halfpack
-from pbrkit.halfpack import (
+from pbrkit.io.containers import encode_texels
+from pbrkit.io.float_packing import (
     RangeWarning,
     float_to_ufloat,
     pack_b10g11r11,
@@ -23,8 +24,7 @@ from pbrkit.halfpack import (
     ufloat_to_float,
     unpack_b10g11r11,
 )
-from pbrkit.ktx2 import VK_FORMATS, ktx2_bytes, parse_ktx2, read_ktx2, write_ktx2
-from texels import assert_levels_decoded, b10g11r11_tolerance
+from pbrkit.io.ktx2 import VK_FORMATS, ktx2_bytes, parse_ktx2, read_ktx2, write_ktx2
 
 IDENT = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
 
@@ -331,4 +331,4 @@ def test_ktx2_reader_rejects_unsorted_keys():
 
 def test_halfpack_texel_helpers_reject_wrong_channels():
     with pytest.raises(ValueError, match="channel"):
-        halfpack.encode_texels(np.zeros((2, 2, 2)), "b10g11r11", 3)
+        encode_texels(np.zeros((2, 2, 2)), "b10g11r11", 3)

@@ -7,10 +7,10 @@ import png
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.cli import app
-from pbrkit.ktx2 import read_ktx2
-from pbrkit.lutfiles import QuantisationWarning, parse_header, write_lut
-from pbrkit.tables import lookup_table
+from pbrkit.albedo.tables import lookup_table
+from pbrkit.app.cli import app
+from pbrkit.io.ktx2 import read_ktx2
+from pbrkit.io.lut_files import QuantisationWarning, parse_header, write_lut
 
 
 @pytest.fixture(scope="module")

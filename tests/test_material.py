@@ -9,9 +9,18 @@ import numpy as np
 import pytest
 
 from pbrkit import Material
-from pbrkit.distributions import ALPHA_MIN
-from pbrkit.fresnel import CONDUCTORS
-from pbrkit.models import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS, cook_torrance, filament, ue4, urp_mobile
+from pbrkit.brdf.distributions import ALPHA_MIN
+from pbrkit.brdf.fresnel import CONDUCTORS
+from pbrkit.brdf.models import (
+    DIFFUSES,
+    DISTRIBUTIONS,
+    FRESNELS,
+    MASKINGS,
+    cook_torrance,
+    filament,
+    ue4,
+    urp_mobile,
+)
 
 
 def test_defaults_are_valid_arrays():

@@ -24,9 +24,11 @@ import itertools
 
 import numpy as np
 import pytest
+from quadrature import albedo_nodes, hemisphere_rule, view_direction
+from test_fresnel import dielectric_reference
 
 from pbrkit import Material
-from pbrkit.models import (
+from pbrkit.brdf.models import (
     DISTRIBUTIONS,
     FRESNELS,
     MASKINGS,
@@ -35,8 +37,6 @@ from pbrkit.models import (
     ue4,
     urp_mobile,
 )
-from quadrature import albedo_nodes, hemisphere_rule, view_direction
-from test_fresnel import dielectric_reference
 
 N_LOCAL = np.array([0.0, 0.0, 1.0])
 T_LOCAL = np.array([1.0, 0.0, 0.0])

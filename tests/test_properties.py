@@ -22,11 +22,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pbrkit import Material
-from pbrkit import diffuse as df
-from pbrkit import distributions as dist
-from pbrkit import fresnel as fr
-from pbrkit import masking as mk
-from pbrkit.models import (
+from pbrkit.brdf import diffuse as df
+from pbrkit.brdf import distributions as dist
+from pbrkit.brdf import fresnel as fr
+from pbrkit.brdf import masking as mk
+from pbrkit.brdf.models import (
     DISTRIBUTIONS,
     FRESNELS,
     MASKINGS,

@@ -12,11 +12,38 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from pbrkit import render
-from pbrkit.geometry import SurfaceMaterial
-from pbrkit.lights import Light
-from pbrkit.models import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS, cook_torrance, filament, ue4, urp_mobile
-from pbrkit.scene import Camera, EnvironmentSpec, MaterialSpec, Plane, Scene, Sphere
+from pbrkit.brdf.models import (
+    DIFFUSES,
+    DISTRIBUTIONS,
+    FRESNELS,
+    MASKINGS,
+    cook_torrance,
+    filament,
+    ue4,
+    urp_mobile,
+)
+from pbrkit.core.color import TONEMAPS, luminance, tonemap
+from pbrkit.render.compare import compare_images
+from pbrkit.render.environment import (
+    EnvironmentLight,
+    _env_pdf_texel,
+    _env_sample,
+    _env_texel,
+)
+from pbrkit.render.lights import Light
+from pbrkit.render.realtime import render_realtime
+from pbrkit.render.reference import render_reference
+from pbrkit.render.scene import (
+    Camera,
+    EnvironmentSpec,
+    MaterialSpec,
+    Plane,
+    Scene,
+    Sphere,
+)
+from pbrkit.render.shading import brdf_values
+from pbrkit.render.textures import SurfaceMaterial
+from pbrkit.sampling.random import _path_key, _uniform
 
 # ------------------------------------------------------------------ helpers
 
@@ -52,7 +79,7 @@ def random_unit(rng, n, hemisphere=True):
 
 def equirect_of(function, height):
     """An (H, 2H, 3) equirect whose texels hold ``function(direction)`` at the texel centres."""
-    from pbrkit.envmap import equirect_directions
+    from pbrkit.ibl.equirect import equirect_directions
 
     return np.ascontiguousarray(function(equirect_directions(height)), dtype=np.float64)
 
@@ -86,7 +113,7 @@ def test_kernel_brdf_matches_the_numpy_models(model, dist, mask, fres, diff):
             kwargs.update(conductor="copper", base_color=(0.5, 0.5, 0.5))
             kwargs.pop("metallic")
     spec = MaterialSpec(**kwargs)
-    got = render.brdf_values([SurfaceMaterial(spec)], l, v, n)
+    got = brdf_values([SurfaceMaterial(spec)], l, v, n)
     material = spec.material()
     if model == "cook_torrance":
         expected = cook_torrance(l, v, n, material, distribution=dist, masking=mask, fresnel=fres, diffuse=diff)
@@ -103,7 +130,7 @@ def test_kernel_brdf_matches_the_numpy_models(model, dist, mask, fres, diff):
 
 
 def test_table_lookup_kernel_matches_sample_table():
-    from pbrkit.tables import lookup_table, sample_table, table_bilinear
+    from pbrkit.albedo.tables import lookup_table, sample_table, table_bilinear
 
     table = lookup_table("dfg", 16)[0].astype(np.float64)
     tables = np.ascontiguousarray(table[None])
@@ -130,19 +157,19 @@ def test_environment_sampling_is_proportional_to_luminance_sin_theta():
     image = rng.gamma(0.6, 1.0, size=(8, 16, 3))
     image[2, 5] = 40.0  # a bright texel
     image[7, :] = 0.0  # a black row
-    env = render.EnvironmentLight(EnvironmentSpec(equirect=image, rotation=40.0))
+    env = EnvironmentLight(EnvironmentSpec(equirect=image, rotation=40.0))
     func, total, marg, cond = env.distribution
 
     @numba.njit
     def draw(count, func, total, marg, cond, c, s, out_dir, out_pdf, out_pdf2, out_texel):
         for k in range(count):
-            key = render._path_key(5, k, 0, 0)
-            x, y, z, pdf, i, j = render._env_sample(func, total, marg, cond, c, s, render._uniform(key, 0),
-                                                    render._uniform(key, 1))
+            key = _path_key(5, k, 0, 0)
+            x, y, z, pdf, i, j = _env_sample(func, total, marg, cond, c, s, _uniform(key, 0),
+                                                    _uniform(key, 1))
             out_dir[k, 0], out_dir[k, 1], out_dir[k, 2] = x, y, z
             out_pdf[k] = pdf
-            ii, jj, st = render._env_texel(func.shape[0], func.shape[1], c, s, x, y, z)
-            out_pdf2[k] = render._env_pdf_texel(func, total, ii, jj, st)
+            ii, jj, st = _env_texel(func.shape[0], func.shape[1], c, s, x, y, z)
+            out_pdf2[k] = _env_pdf_texel(func, total, ii, jj, st)
             out_texel[k, 0], out_texel[k, 1] = ii, jj
 
     count = 200_000
@@ -164,7 +191,7 @@ def test_environment_sampling_is_proportional_to_luminance_sin_theta():
     assert stats.chi2.sf(chi2, keep.sum() - 1) > 1e-3
     # the solid-angle pdf integrates to 1 over the sphere (fine midpoint grid in the map frame)
     h = 256
-    from pbrkit.envmap import equirect_directions, equirect_solid_angles
+    from pbrkit.ibl.equirect import equirect_directions, equirect_solid_angles
 
     dirs = equirect_directions(h).reshape(-1, 3)
     world = np.stack([env.cos * dirs[:, 0] + env.sin * dirs[:, 2], dirs[:, 1],
@@ -173,8 +200,8 @@ def test_environment_sampling_is_proportional_to_luminance_sin_theta():
     @numba.njit
     def pdfs(d, func, total, c, s, out):
         for k in range(d.shape[0]):
-            i, j, st = render._env_texel(func.shape[0], func.shape[1], c, s, d[k, 0], d[k, 1], d[k, 2])
-            out[k] = render._env_pdf_texel(func, total, i, j, st)
+            i, j, st = _env_texel(func.shape[0], func.shape[1], c, s, d[k, 0], d[k, 1], d[k, 2])
+            out[k] = _env_pdf_texel(func, total, i, j, st)
 
     p = np.empty(world.shape[0])
     pdfs(world, func, total, env.cos, env.sin, p)
@@ -185,7 +212,7 @@ def test_environment_rotation_turns_the_map_about_plus_y():
     """rotation theta: the radiance from world direction d is the map's at R_y(-theta) d,
     R_y(theta) = [[cos, 0, sin], [0, 1, 0], [-sin, 0, cos]] (counter-clockwise seen from +Y)."""
     image = equirect_of(_octant_colour, 64)
-    env = render.EnvironmentLight(EnvironmentSpec(equirect=image, rotation=90.0))
+    env = EnvironmentLight(EnvironmentSpec(equirect=image, rotation=90.0))
     rng = np.random.default_rng(4)
     d = random_unit(rng, 2000, hemisphere=False)
     undo = np.stack([-d[:, 2], d[:, 1], d[:, 0]], axis=1)  # R_y(-90 degrees) d
@@ -202,13 +229,13 @@ def test_environment_rotation_turns_the_map_about_plus_y():
 def test_furnace_reference_gives_the_directional_albedo(masking):
     """F = 1, constant white environment: each pixel is E(mu) of the lookup-table
     quadrature (pbrkit.tables.specular_integrals) within 3 standard errors."""
-    from pbrkit.tables import specular_integrals
+    from pbrkit.albedo.tables import specular_integrals
 
     roughness = 0.8
     material = MaterialSpec(name="m", metallic=1.0, roughness=roughness, masking=masking, fresnel="none",
                             diffuse="none")
     scene = sphere_scene(material, EnvironmentSpec(color=(1.0, 1.0, 1.0)), size=18)
-    result = render.render_reference(scene, spp=1024, seed=1)
+    result = render_reference(scene, spp=1024, seed=1)
     mask, p, v = pixel_geometry(scene)
     inner = mask & result.mask
     mu = np.sum(p * v, axis=-1)[inner]
@@ -242,9 +269,9 @@ def test_mirror_sphere_reflects_the_conventional_direction(mode):
     scene = sphere_scene(material, env, size=40, fov=30.0)
     cam = scene.camera
     if mode == "reference":
-        result = render.render_reference(scene, spp=8, seed=2)
+        result = render_reference(scene, spp=8, seed=2)
     else:
-        result = render.render_realtime(scene, bake_size=64)
+        result = render_realtime(scene, bake_size=64)
     mask, p, v = pixel_geometry(scene)
     r = 2.0 * np.sum(p * v, axis=-1, keepdims=True) * p - v
     margin = np.min(np.abs(r), axis=-1) > 0.15  # away from the octant boundaries
@@ -256,7 +283,7 @@ def test_mirror_sphere_reflects_the_conventional_direction(mode):
     assert np.mean(np.all(np.abs(got - expected) < 0.12, axis=-1)) > 0.97
     # and the camera sees the environment itself around the sphere (row 0 = up: +Y colours at the top)
     top = result.image[0, cam.width // 2]
-    assert top[1] > 0.9 and render.EnvironmentLight(env).background(cam.ray_directions()[0, cam.width // 2])[0][1] > 0.9
+    assert top[1] > 0.9 and EnvironmentLight(env).background(cam.ray_directions()[0, cam.width // 2])[0][1] > 0.9
 
 
 @pytest.mark.parametrize("roughness", [0.3, 0.75])
@@ -265,8 +292,8 @@ def test_realtime_equals_reference_where_the_split_sum_is_exact(roughness):
     exact and real time (DFG table) must match the Monte Carlo integral."""
     material = MaterialSpec(name="m", metallic=1.0, roughness=roughness, base_color=(0.95, 0.64, 0.3))
     scene = sphere_scene(material, EnvironmentSpec(color=(0.8, 0.8, 0.8)), size=16)
-    ref = render.render_reference(scene, spp=512, seed=3)
-    rt = render.render_realtime(scene, bake_size=32)
+    ref = render_reference(scene, spp=512, seed=3)
+    rt = render_realtime(scene, bake_size=32)
     sel = ref.mask & rt.mask
     z = (rt.image[sel] - ref.image[sel]) / np.sqrt(ref.stderr[sel] ** 2 + (2e-3 * ref.image[sel]) ** 2)
     assert np.mean(np.abs(z) > 3) < 0.01 and np.abs(z).max() < 5.0
@@ -278,8 +305,8 @@ def test_realtime_mirror_converges_to_reference_in_a_smooth_environment():
 
     material = MaterialSpec(name="m", metallic=1.0, roughness=0.0, base_color=(0.9, 0.9, 0.9))
     scene = sphere_scene(material, EnvironmentSpec(equirect=equirect_of(sky, 256)), size=24)
-    ref = render.render_reference(scene, spp=16, seed=4)
-    rt = render.render_realtime(scene, bake_size=128)
+    ref = render_reference(scene, spp=16, seed=4)
+    rt = render_realtime(scene, bake_size=128)
     sel = ref.mask & rt.mask
     rel = np.abs(rt.image[sel] - ref.image[sel]) / ref.image[sel]
     assert np.median(rel) < 0.01 and np.percentile(rel, 95) < 0.03
@@ -289,7 +316,7 @@ def _half_vector_truth(scene, env, material_spec, pixels, n_theta=40, n_phi=40):
     """Integral of f (n.l) L(l) dl per pixel by Gauss quadrature over the half vector
     (pbrkit.furnace.half_vector_domain, mirrored for the full azimuth), with the NumPy
     model pbrkit.models.cook_torrance and the environment's own texel lookup."""
-    from pbrkit.furnace import half_vector_domain
+    from pbrkit.albedo.furnace import half_vector_domain
 
     mask, p, v = pixel_geometry(scene)
     alpha = max(material_spec.roughness ** 2, 1e-3)
@@ -334,18 +361,18 @@ def test_compare_reports_the_split_sum_error_against_independent_quadrature():
     spec = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.95, 0.93, 0.88), diffuse="none")
     env_spec = EnvironmentSpec(equirect=equirect_of(sky, 128))
     scene = sphere_scene(spec, env_spec, size=12, fov=28.0)
-    env = render.EnvironmentLight(env_spec)
-    ref = render.render_reference(scene, spp=2048, seed=5, env=env)
-    rt = render.render_realtime(scene, env=env, bake_size=64)
+    env = EnvironmentLight(env_spec)
+    ref = render_reference(scene, spp=2048, seed=5, env=env)
+    rt = render_realtime(scene, env=env, bake_size=64)
     mask = ref.mask & rt.mask
     pixels = list(zip(*np.nonzero(mask)))
     truth = _half_vector_truth(scene, env, spec, pixels)
     got = ref.image[mask]
     z = (got - truth) / np.sqrt(ref.stderr[mask] ** 2 + (3e-3 * truth) ** 2)
     assert np.mean(np.abs(z) > 3) < 0.02 and np.abs(z).max() < 5.0
-    metrics = render.compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
-    y_true = render.luminance(truth)
-    true_rel = np.abs(render.luminance(rt.image[mask]) - y_true) / y_true
+    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
+    y_true = luminance(truth)
+    true_rel = np.abs(luminance(rt.image[mask]) - y_true) / y_true
     assert metrics["pixels"] == mask.sum()
     assert metrics["mean_relative_error"] == pytest.approx(true_rel.mean(), abs=3 * metrics["mean_relative_stderr"])
     assert true_rel.mean() > 5 * metrics["mean_relative_stderr"]  # a real error, not noise
@@ -368,7 +395,7 @@ def test_bounces_inside_a_closed_emissive_sphere_sum_the_geometric_series(engine
                   materials={"default": MaterialSpec(), "m": material},
                   objects=(Sphere(center=(0.0, 0.0, 0.0), radius=2.0, material="m"),))
     for bounces in (0, 1, 3):
-        result = render.render_reference(scene, spp=8, bounces=bounces, seed=6, engine=engine)
+        result = render_reference(scene, spp=8, bounces=bounces, seed=6, engine=engine)
         expected = le * (1 - rho ** (bounces + 2)) / (1 - rho)
         np.testing.assert_allclose(result.image, expected, rtol=1e-9)
         np.testing.assert_allclose(result.stderr, 0.0, atol=1e-9)
@@ -393,7 +420,7 @@ def test_point_and_spot_lights_follow_the_inverse_square_law():
         to_light = np.array([0.0, height, 0.0]) - p
         dist = np.linalg.norm(to_light, axis=-1)
         expected = rho / np.pi * intensity * (to_light[..., 1] / dist) / dist**2
-        for result in (render.render_realtime(scene, bake_size=16), render.render_reference(scene, spp=2)):
+        for result in (render_realtime(scene, bake_size=16), render_reference(scene, spp=2)):
             np.testing.assert_allclose(result.image[..., 0], expected, rtol=1e-9)
     # a sphere between the light and the floor's centre shadows it, in both modes
     shadowed = Scene(camera=cam, environment=env,
@@ -401,7 +428,7 @@ def test_point_and_spot_lights_follow_the_inverse_square_law():
                      objects=(Plane(point=(0, 0, 0), normal=(0, 1, 0), material="floor"),
                               Sphere(center=(0.0, 1.0, 0.0), radius=0.3, material="floor")),
                      lights=(Light(type="point", position=(0.0, height, 0.0), intensity=intensity),))
-    for result in (render.render_realtime(shadowed, bake_size=16), render.render_reference(shadowed, spp=2)):
+    for result in (render_realtime(shadowed, bake_size=16), render_reference(shadowed, spp=2)):
         rows, cols = cam.project(np.array([[0.45, 0.0, 0.0]]))
         assert result.image[int(rows[0]), int(cols[0]), 0] == 0.0  # in the shadow
         assert result.image[1, 1, 0] > 0.0
@@ -415,14 +442,14 @@ def test_spot_cone_and_directional_light():
     sun = Light(type="directional", direction=(0.0, -1.0, -1.0), intensity=3.0, color=(1.0, 0.5, 0.25))
     scene = Scene(camera=cam, environment=env, materials={"default": MaterialSpec(), "floor": floor},
                   objects=(Plane(point=(0, 0, 0), normal=(0, 1, 0), material="floor"),), lights=(sun,))
-    img = render.render_realtime(scene, bake_size=16).image
+    img = render_realtime(scene, bake_size=16).image
     np.testing.assert_allclose(img, np.broadcast_to(np.array([1.0, 0.5, 0.25]) * 3.0 / np.pi / math.sqrt(2),
                                                     img.shape), rtol=1e-12)
     spot = Light(type="spot", position=(0.0, 1.0, 0.0), direction=(0.0, -1.0, 0.0), intensity=1.0,
                  inner_cone_angle=0.3, outer_cone_angle=0.6)
     scene = Scene(camera=cam, environment=env, materials={"default": MaterialSpec(), "floor": floor},
                   objects=(Plane(point=(0, 0, 0), normal=(0, 1, 0), material="floor"),), lights=(spot,))
-    img = render.render_reference(scene, spp=1).image[..., 0]
+    img = render_reference(scene, spp=1).image[..., 0]
     d = cam.ray_directions()[:, :, 0]
     p = np.asarray(cam.position) + (-cam.position[1] / d[..., 1])[..., None] * d
     angle = np.arctan2(np.hypot(p[..., 0], p[..., 2]), 1.0)
@@ -436,8 +463,8 @@ def test_energy_compensation_makes_the_realtime_furnace_white():
     """Filament's 1 + F0 (1 / DFG2 - 1) with F = 1 turns the albedo DFG2 into 1."""
     material = MaterialSpec(name="m", metallic=1.0, roughness=0.9, fresnel="none", diffuse="none")
     scene = sphere_scene(material, EnvironmentSpec(color=(1.0, 1.0, 1.0)), size=12)
-    plain = render.render_realtime(scene, bake_size=32)
-    comp = render.render_realtime(scene, bake_size=32, energy_compensation=True)
+    plain = render_realtime(scene, bake_size=32)
+    comp = render_realtime(scene, bake_size=32, energy_compensation=True)
     sel = plain.mask
     assert plain.image[sel].min() < 0.85
     np.testing.assert_allclose(comp.image[sel], 1.0, atol=2e-5)
@@ -453,25 +480,25 @@ def test_fused_and_wavefront_engines_give_the_same_numbers():
                   objects=scene.objects + (Plane(point=(0, -1, 0), normal=(0, 1, 0), material="m"),),
                   lights=scene.lights)
     for bounces in (0, 2):
-        a = render.render_reference(scene, spp=6, bounces=bounces, seed=9, engine="fused")
-        b = render.render_reference(scene, spp=6, bounces=bounces, seed=9, engine="wavefront")
+        a = render_reference(scene, spp=6, bounces=bounces, seed=9, engine="fused")
+        b = render_reference(scene, spp=6, bounces=bounces, seed=9, engine="wavefront")
         np.testing.assert_allclose(a.image, b.image, rtol=1e-10, atol=1e-13)
         np.testing.assert_allclose(a.stderr, b.stderr, rtol=1e-7, atol=1e-12)
 
 
 def test_reference_is_deterministic_and_seeded():
     scene = sphere_scene(MaterialSpec(name="m", roughness=0.4), EnvironmentSpec(), size=8, supersample=2)
-    a = render.render_reference(scene, spp=8, seed=1)
-    b = render.render_reference(scene, spp=8, seed=1)
-    c = render.render_reference(scene, spp=8, seed=2)
+    a = render_reference(scene, spp=8, seed=1)
+    b = render_reference(scene, spp=8, seed=1)
+    c = render_reference(scene, spp=8, seed=2)
     assert a.image.tobytes() == b.image.tobytes() and a.stderr.tobytes() == b.stderr.tobytes()
     assert not np.array_equal(a.image, c.image)
 
 
 def test_brdf_sampling_only_agrees_with_mis_and_is_noisier():
     scene = sphere_scene(MaterialSpec(name="m", roughness=0.3, metallic=0.0), EnvironmentSpec(), size=10)
-    mis = render.render_reference(scene, spp=256, seed=7)
-    brdf = render.render_reference(scene, spp=256, seed=8, strategy="brdf")
+    mis = render_reference(scene, spp=256, seed=7)
+    brdf = render_reference(scene, spp=256, seed=8, strategy="brdf")
     sel = mis.mask
     z = (mis.image[sel] - brdf.image[sel]) / np.sqrt(mis.stderr[sel] ** 2 + brdf.stderr[sel] ** 2)
     assert np.mean(np.abs(z) > 3) < 0.02
@@ -480,26 +507,26 @@ def test_brdf_sampling_only_agrees_with_mis_and_is_noisier():
 
 def test_tone_mappers():
     x = np.linspace(0.0, 50.0, 2001)[:, None] * np.array([1.0, 0.6, 0.3])
-    for name in render.TONEMAPS:
-        y = render.tonemap(x, name)
+    for name in TONEMAPS:
+        y = tonemap(x, name)
         assert y.min() >= 0.0 and y.max() <= 1.0
         # monotonic in the input's scale (AgX's polynomial fit overshoots by < 1e-5 near white)
         assert np.all(np.diff(y[:, 0]) >= (-1e-5 if name == "agx" else -1e-12))
-    assert render.tonemap(np.array([1.0, 1.0, 1.0]), "reinhard")[0] == 0.5
-    assert render.tonemap(np.array([0.25, 0.25, 0.25]), "reinhard", exposure=2.0)[0] == 0.5
+    assert tonemap(np.array([1.0, 1.0, 1.0]), "reinhard")[0] == 0.5
+    assert tonemap(np.array([0.25, 0.25, 0.25]), "reinhard", exposure=2.0)[0] == 0.5
     # Khronos PBR Neutral is the identity minus the 0.04 offset below the compression start
-    np.testing.assert_allclose(render.tonemap(np.array([0.5, 0.3, 0.2]), "khronos-neutral"), [0.46, 0.26, 0.16])
-    np.testing.assert_allclose(render.tonemap(np.array([0.5, 0.3, 2.0]), "none"), [0.5, 0.3, 1.0])
+    np.testing.assert_allclose(tonemap(np.array([0.5, 0.3, 0.2]), "khronos-neutral"), [0.46, 0.26, 0.16])
+    np.testing.assert_allclose(tonemap(np.array([0.5, 0.3, 2.0]), "none"), [0.5, 0.3, 1.0])
     # Hill's ACES fit: RRTAndODTFit(0) = -0.000090537 / 0.238081 -> 0 after the clamp; white saturates;
     # mid grey 0.18 -> ~0.106 (three.js scales the input by 1 / 0.6 to lift it; pbrkit leaves that to --exposure)
-    assert render.tonemap(np.zeros(3), "aces")[0] == 0.0
-    assert render.tonemap(np.full(3, 100.0), "aces")[0] == pytest.approx(1.0, abs=2e-2)
-    assert render.tonemap(np.full(3, 0.18), "aces")[0] == pytest.approx(0.1056, abs=1e-3)
+    assert tonemap(np.zeros(3), "aces")[0] == 0.0
+    assert tonemap(np.full(3, 100.0), "aces")[0] == pytest.approx(1.0, abs=2e-2)
+    assert tonemap(np.full(3, 0.18), "aces")[0] == pytest.approx(0.1056, abs=1e-3)
     # AgX keeps mid grey near 0.18-0.22 (display linear) and stays neutral for grey input
-    agx_grey = render.tonemap(np.full(3, 0.18), "agx")
+    agx_grey = tonemap(np.full(3, 0.18), "agx")
     assert 0.18 < agx_grey[0] < 0.25 and np.ptp(agx_grey) < 1e-3
     with pytest.raises(ValueError, match="tone mapper"):
-        render.tonemap(x, "filmic")
+        tonemap(x, "filmic")
 
 
 # ====================================================================== CLI
@@ -508,7 +535,7 @@ def test_tone_mappers():
 def _cli(args):
     from typer.testing import CliRunner
 
-    from pbrkit.cli import app
+    from pbrkit.app.cli import app
 
     return CliRunner().invoke(app, args)
 
@@ -516,7 +543,7 @@ def _cli(args):
 def test_cli_render_modes_write_their_files(tmp_path):
     import imageio.v3 as iio
 
-    from pbrkit.imageio import read_exr
+    from pbrkit.io.exr import read_exr
 
     def read_image(path):
         return read_exr(path) if path.suffix == ".exr" else iio.imread(path)

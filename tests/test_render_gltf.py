@@ -11,10 +11,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pbrkit.errors import InputError
-from pbrkit.geometry import Geometry, Texture, load_gltf, mikktspace_tangents
-from pbrkit.imageio import srgb_to_linear
-from pbrkit.scene import Camera, EnvironmentSpec, GltfObject, MaterialSpec, Plane, Scene
+from pbrkit.core.color import srgb_to_linear
+from pbrkit.core.errors import InputError
+from pbrkit.render.geometry import Geometry
+from pbrkit.render.gltf import load_gltf
+from pbrkit.render.scene import (
+    Camera,
+    EnvironmentSpec,
+    GltfObject,
+    MaterialSpec,
+    Plane,
+    Scene,
+)
+from pbrkit.render.tangents import mikktspace_tangents
+from pbrkit.render.textures import Texture
 
 MODELS = Path(__file__).resolve().parents[2] / "shared" / "data" / "models"
 needs_models = pytest.mark.skipif(not (MODELS / "NormalTangentTest.glb").exists(),
@@ -302,7 +312,8 @@ def test_normal_tangent_test_bumps_tilt_outward():
 
 @needs_models
 def test_metal_rough_spheres_materials_and_both_render_modes():
-    from pbrkit import render
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.reference import render_reference
 
     asset = load_gltf(MODELS / "MetalRoughSpheresNoTextures.glb")
     metallic = sorted({round(m.spec.metallic, 3) for m in asset.materials})
@@ -316,21 +327,22 @@ def test_metal_rough_spheres_materials_and_both_render_modes():
                   environment=EnvironmentSpec(),
                   objects=(GltfObject(str(MODELS / "MetalRoughSpheresNoTextures.glb"), translation=centre,
                                       scale=1000.0),))
-    rt = render.render_realtime(scene, bake_size=32)
-    ref = render.render_reference(scene, spp=4, occlusion=False)
+    rt = render_realtime(scene, bake_size=32)
+    ref = render_reference(scene, spp=4, occlusion=False)
     assert rt.mask.mean() > 0.2 and np.all(np.isfinite(rt.image)) and np.all(np.isfinite(ref.image))
     assert ref.stats["engine"].startswith("wavefront")
 
 
 @needs_models
 def test_damaged_helmet_textures_emission_and_bounces():
-    from pbrkit import render
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.reference import render_reference
 
     helmet = MODELS / "DamagedHelmet.glb"
     scene = Scene(camera=Camera(position=(0.0, 0.0, 3.0), look_at=(0.0, 0.0, 0.0), fov=45.0, width=24, height=24),
                   environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)), objects=(GltfObject(str(helmet)),))
-    rt = render.render_realtime(scene, bake_size=16)
-    ref = render.render_reference(scene, spp=2, bounces=1)
+    rt = render_realtime(scene, bake_size=16)
+    ref = render_reference(scene, spp=2, bounces=1)
     # black environment, no lights: only the emissive texture shines, identically in both modes at the hits
     sel = rt.mask & ref.mask
     assert rt.image[sel].max() > 0.05

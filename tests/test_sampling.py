@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from scipy import stats
 
 from pbrkit import sampling as s
-from pbrkit.distributions import ALPHA_MIN
+from pbrkit.brdf.distributions import ALPHA_MIN
 
 try:  # tests/ as a package or as a plain directory on sys.path
     from . import chi2

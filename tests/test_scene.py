@@ -8,9 +8,15 @@ import math
 import numpy as np
 import pytest
 
-from pbrkit.errors import InputError
-from pbrkit.lights import Light, falloff_khr, falloff_ue4, spot_attenuation, window_ue4
-from pbrkit.scene import (
+from pbrkit.core.errors import InputError
+from pbrkit.render.lights import (
+    Light,
+    falloff_khr,
+    falloff_ue4,
+    spot_attenuation,
+    window_ue4,
+)
+from pbrkit.render.scene import (
     Camera,
     EnvironmentSpec,
     GltfObject,
@@ -191,7 +197,7 @@ def test_material_models_fix_their_terms():
     with pytest.raises(ValueError, match="Lambert"):
         MaterialSpec(model="ue4", diffuse="burley")
     gold = MaterialSpec(conductor="gold")
-    from pbrkit.fresnel import f_conductor
+    from pbrkit.brdf.fresnel import f_conductor
 
     eta, k = np.array(gold.eta), np.array(gold.k)
     np.testing.assert_allclose(gold.base_color, np.minimum(f_conductor(1.0, eta, k), 1.0))

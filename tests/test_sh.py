@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from quadrature import hemisphere_rule
 from scipy.special import sph_harm_y
 
-from pbrkit import sh
-from pbrkit.vec import to_world
-from quadrature import hemisphere_rule
+from pbrkit.core.vec import to_world
+from pbrkit.ibl import sh
 
 
 def _sphere_quadrature(n_cos, n_phi):

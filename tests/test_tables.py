@@ -4,9 +4,8 @@ import numpy as np
 import pytest
 
 from pbrkit import Material
-from pbrkit.furnace import albedo_quadrature
-from pbrkit.models import filament
-from pbrkit.tables import (
+from pbrkit.albedo.furnace import albedo_quadrature
+from pbrkit.albedo.tables import (
     DEFAULT_NODES,
     env_brdf_approx,
     lookup_table,
@@ -15,6 +14,7 @@ from pbrkit.tables import (
     specular_integrals,
     texel_centres,
 )
+from pbrkit.brdf.models import filament
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +93,7 @@ def test_a_cruder_rule_fails_the_accuracy_test():
 def test_sheen_albedo_against_direct_quadrature_over_light_directions():
     # Independent route: integrate D_Charlie V_Neubelt (n.l) directly over l with a
     # tensor Gauss-Legendre rule in (cos theta_l, phi_l); no half-vector map.
-    from pbrkit.masking import v_neubelt
+    from pbrkit.brdf.masking import v_neubelt
 
     def charlie(noh, alpha):
         sin_h = np.sqrt(np.maximum(0.0, 1.0 - noh * noh))

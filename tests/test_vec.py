@@ -4,7 +4,7 @@ equal to the NumPy path."""
 import numba
 import numpy as np
 
-from pbrkit.vec import orthonormal_basis, orthonormal_basis_xyz
+from pbrkit.core.vec import orthonormal_basis, orthonormal_basis_xyz
 
 
 def _normals():

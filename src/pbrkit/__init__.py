@@ -1,19 +1,76 @@
 """pbrkit: physically based shading for real-time rendering.
 
-Modules follow the physics: :mod:`~pbrkit.distributions` (D),
-:mod:`~pbrkit.masking` (G and V), :mod:`~pbrkit.fresnel` (F),
-:mod:`~pbrkit.diffuse`, :mod:`~pbrkit.models` (UE4, Filament, URP mobile,
-generic Cook-Torrance), :mod:`~pbrkit.sampling` (low-discrepancy points and
-warps with their pdfs) and :mod:`~pbrkit.furnace` (directional albedo).
+The subpackages follow the theory, from the formulas up to the application:
+
+- :mod:`pbrkit.core`: compiled helpers (:mod:`~pbrkit.core.jit`), vectors,
+  colour and tone mapping, quadrature rules, errors, atomic file output;
+- :mod:`pbrkit.brdf`: the BRDF terms (D, G and V, F, diffuse), the material,
+  and the shading models, each composed once (:mod:`~pbrkit.brdf.bxdf`);
+- :mod:`pbrkit.sampling`: low-discrepancy points, warps with their pdfs,
+  counter-based random numbers;
+- :mod:`pbrkit.albedo`: directional albedo (the white furnace), the
+  split-sum / DFG lookup tables, energy compensation, and the error of the
+  real-time approximations;
+- :mod:`pbrkit.ibl`: cube maps, equirectangular maps, spherical harmonics,
+  GGX prefiltering, irradiance and the bake;
+- :mod:`pbrkit.io`: image files, float packing, KTX2, DDS, table and bake
+  files, environment loading;
+- :mod:`pbrkit.render`: scenes, lights, geometry, real-time shading and the
+  Monte Carlo ground truth;
+- :mod:`pbrkit.app`: the command line, the demo and the reports.
+
+The names of the README's API tour are importable from here: ``Material``,
+and the modules ``models``, ``distributions``, ``masking``, ``fresnel``,
+``diffuse``, ``sampling`` and ``tables``; ``pbrkit.bake`` is
+:mod:`pbrkit.ibl` (``bake``, ``write_bake``, ``load_bake``,
+``level_of_roughness``).
 """
 
+import importlib
+import importlib.abc
+import importlib.util
+import sys
 from importlib.metadata import PackageNotFoundError, version
-
-from .material import Material
 
 try:
     __version__ = version("pbrkit")
 except PackageNotFoundError:  # running from a source tree
     __version__ = "0.0.0+unknown"
 
-__all__ = ["Material", "__version__"]
+from . import sampling  # noqa: E402
+from .albedo import tables  # noqa: E402
+from .brdf import diffuse, distributions, fresnel, masking, models  # noqa: E402
+from .brdf.material import Material  # noqa: E402
+
+__all__ = ["Material", "__version__", "models", "distributions", "masking", "fresnel", "diffuse", "sampling",
+           "tables"]
+
+#: Dotted names kept importable (``import pbrkit.models``, ``from pbrkit.bake import bake``).
+_ALIASES = {
+    "pbrkit.models": "pbrkit.brdf.models",
+    "pbrkit.distributions": "pbrkit.brdf.distributions",
+    "pbrkit.masking": "pbrkit.brdf.masking",
+    "pbrkit.fresnel": "pbrkit.brdf.fresnel",
+    "pbrkit.diffuse": "pbrkit.brdf.diffuse",
+    "pbrkit.tables": "pbrkit.albedo.tables",
+    "pbrkit.bake": "pbrkit.ibl",
+}
+
+
+class _AliasFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Import ``pbrkit.<alias>`` as the module it names (:data:`_ALIASES`)."""
+
+    def find_spec(self, fullname, path, target=None):
+        if fullname in _ALIASES:
+            return importlib.util.spec_from_loader(fullname, self)
+        return None
+
+    def create_module(self, spec):
+        return importlib.import_module(_ALIASES[spec.name])
+
+    def exec_module(self, module):
+        pass
+
+
+if not any(isinstance(f, _AliasFinder) for f in sys.meta_path):
+    sys.meta_path.append(_AliasFinder())

@@ -1,0 +1,164 @@
+"""Numba helpers shared by every module: one decorator for compiled helpers,
+two for kernels, and a disk cache that follows pbrkit's sources.
+
+Each formula in pbrkit is written once, as a plain NumPy function decorated
+with :func:`dual_use`.  Called from Python it runs on arrays of any leading
+shape (NumPy broadcasting); called from a Numba kernel it is compiled for
+scalars into that kernel (Numba's ``register_jitable``).  So the NumPy
+reference path and the compiled hot path share one formula.
+
+Kernels (:func:`kernel`, :func:`parallel_kernel`) are cached on disk.  Numba's
+own cache checks only the kernel's source file, so a kernel whose helpers
+changed in another file would be loaded stale.  pbrkit's kernels therefore
+use their own cache directory, keyed on the package version and a hash of
+every source file of the package (:func:`source_hash`): editing any pbrkit
+module starts a fresh cache, and installs of the same sources share one.  The
+directory is ``$PBRKIT_CACHE_DIR`` if set, else ``$NUMBA_CACHE_DIR/pbrkit``,
+else ``$XDG_CACHE_HOME/pbrkit`` (``~/.cache/pbrkit``), with a subdirectory
+``numba-<version>-<hash>`` (:func:`cache_directory`).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+from pathlib import Path
+
+import numba
+import numpy as np
+from numba import types
+from numba.core.caching import CacheImpl, _CacheLocator
+from numba.extending import overload, register_jitable
+
+__all__ = ["dual_use", "kernel", "parallel_kernel", "select", "source_hash", "cache_directory"]
+
+_PACKAGE_ROOT = Path(__file__).resolve().parent.parent
+
+
+def dual_use(fn=None, *, inline=False):
+    """Mark ``fn`` as a dual-use helper: NumPy on arrays from Python, compiled for
+    scalars into every Numba kernel that calls it.
+
+    ``inline=True`` inlines it at Numba's IR level (``njit(inline="always")``)
+    instead of leaving the choice to LLVM: for the few tiny helpers in the
+    innermost loops (cube-map texel fetches) where a call costs as much as the
+    work; called from Python such a helper is compiled for its argument types.
+    Use as ``@dual_use`` or ``@dual_use(inline=True)``."""
+    if fn is None:
+        return functools.partial(dual_use, inline=inline)
+    if inline:
+        return numba.njit(inline="always", cache=True)(fn)
+    return register_jitable(fn)
+
+
+def kernel(fn):
+    """Compile *fn* with Numba, cached on disk (:func:`cache_directory`), serial."""
+    return numba.njit(cache=True, fastmath=False)(fn)
+
+
+def parallel_kernel(fn):
+    """Compile *fn* with Numba, cached on disk, with ``prange`` parallel loops."""
+    return numba.njit(cache=True, parallel=True, fastmath=False)(fn)
+
+
+def select(condition, if_true, if_false):
+    """Elementwise ``if_true if condition else if_false``.
+
+    ``np.where`` on arrays from Python; inside Numba kernels, on scalars, a plain
+    conditional expression (Numba's ``np.where`` would allocate a 0-d array).
+    """
+    return np.where(condition, if_true, if_false)
+
+
+@overload(select)
+def _select_numba(condition, if_true, if_false):
+    if isinstance(condition, types.Boolean):
+        def scalar_select(condition, if_true, if_false):
+            return if_true if condition else if_false
+
+        return scalar_select
+
+    def array_select(condition, if_true, if_false):
+        return np.where(condition, if_true, if_false)
+
+    return array_select
+
+
+# ----------------------------------------------------------------- the cache
+
+
+@functools.lru_cache(maxsize=1)
+def source_hash():
+    """SHA-256 (hex) of every ``.py`` file of the package, in sorted path order
+    (relative path and content both hashed)."""
+    digest = hashlib.sha256()
+    for path in sorted(_PACKAGE_ROOT.rglob("*.py")):
+        digest.update(path.relative_to(_PACKAGE_ROOT).as_posix().encode())
+        digest.update(b"\0")
+        digest.update(path.read_bytes())
+        digest.update(b"\0")
+    return digest.hexdigest()
+
+
+def _version():
+    try:
+        from importlib.metadata import version
+
+        return version("pbrkit")
+    except Exception:  # running from a source tree
+        return "0"
+
+
+@functools.lru_cache(maxsize=1)
+def cache_directory():
+    """Where pbrkit's compiled kernels are cached (module docstring)."""
+    base = os.environ.get("PBRKIT_CACHE_DIR")
+    if not base and os.environ.get("NUMBA_CACHE_DIR"):
+        base = os.path.join(os.environ["NUMBA_CACHE_DIR"], "pbrkit")
+    if not base:
+        base = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache"), "pbrkit")
+    return os.path.join(base, f"numba-{_version()}-{source_hash()[:16]}")
+
+
+class _SourceHashLocator(_CacheLocator):
+    """Numba cache locator for pbrkit's own kernels: entries live in
+    :func:`cache_directory` (one subfolder per source folder) and are stamped
+    with the hash of all the package's sources, not the kernel file's
+    modification time."""
+
+    def __init__(self, py_func, py_file):
+        self._lineno = py_func.__code__.co_firstlineno
+        relative = Path(py_file).resolve().relative_to(_PACKAGE_ROOT)
+        self._cache_path = os.path.join(cache_directory(), *relative.parent.parts)
+
+    def get_cache_path(self):
+        return self._cache_path
+
+    def get_source_stamp(self):
+        return source_hash()
+
+    def get_disambiguator(self):
+        return str(self._lineno)
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        try:
+            Path(py_file).resolve().relative_to(_PACKAGE_ROOT)
+        except (ValueError, OSError, TypeError):
+            return None  # not one of pbrkit's files: Numba's own locators decide
+        self = cls(py_func, py_file)
+        try:
+            self.ensure_cache_path()
+        except OSError:
+            return None  # unwritable: Numba's own locators are tried next
+        return self
+
+
+def _install_locator():
+    # CacheImpl tries its locator classes in order; ours claims pbrkit's files only.
+    if _SourceHashLocator not in CacheImpl._locator_classes:
+        CacheImpl._locator_classes.insert(0, _SourceHashLocator)
+
+
+_install_locator()

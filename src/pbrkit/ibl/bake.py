@@ -1,0 +1,497 @@
+"""Image-based-lighting bakes: everything a real-time renderer needs for the
+split-sum IBL of an HDR environment (``pbrkit bake``).
+
+:func:`bake` computes, from an environment (:func:`pbrkit.envmap.
+load_environment`: equirect .hdr/.exr/.pfm/.png/.jpg, cube crosses or six
+faces):
+
+- the GGX-prefiltered specular mip chain (:mod:`pbrkit.prefilter`): level 0
+  is the environment resampled to ``size`` (exact area-weighted,
+  :meth:`pbrkit.envmap.Environment.to_cube`), level m of M has perceptual
+  roughness r_m = m / (M - 1) (:func:`roughness_of_level`; a shader samples
+  lod = r (M - 1), :func:`level_of_roughness`) and size ``size`` / 2^m down
+  to ``min_size``;
+- the irradiance cube map E(n) (:mod:`pbrkit.irradiance`);
+- the 9 radiance SH coefficients (:func:`pbrkit.sh.project_equirect`: the
+  exact integrals of the basis over the input pixels' cells, or
+  :func:`pbrkit.sh.project_cube` for cube input: solid-angle-weighted
+  projection; windowing optional, off by default);
+- the split-sum DFG table (:func:`pbrkit.tables.lookup_table` kind ``dfg``:
+  Filament's (DFG1, DFG2) with the height-correlated Smith visibility).
+
+Levels 1.. and the irradiance map come from one spherical-harmonic transform
+of the environment's bounded part plus exactly summed highlights
+(:func:`pbrkit.prefilter.prefilter_spectral`); ``method="fis"`` uses
+filtered importance sampling instead (:func:`pbrkit.prefilter.
+prefilter_fis`).
+
+The files of a bake are written and read by :mod:`pbrkit.io.bake_files`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from ..brdf.distributions import alpha_from_roughness
+from ..io.environment import Environment, load_environment
+from .cubemap import FACE_NAMES, cube_texel_solid_angles, cube_to_cross, resample_cube
+from .equirect import cube_to_equirect
+from .irradiance import irradiance_spectral
+from .prefilter import (
+    BAND_LIMIT_TOLERANCE,
+    HIGHLIGHT_RATIO,
+    band_limit,
+    cube_highlights,
+    default_sample_counts,
+    equirect_highlights,
+    prefilter_fis,
+    prefilter_spectral,
+    roughness_of_level,
+)
+
+__all__ = [
+    "FORMAT",
+    "FORMAT_VERSION",
+    "FACE_FILE_NAMES",
+    "SPECULAR_FORMATS",
+    "Bake",
+    "bake",
+    "check_output_dir",
+    "tone_map",
+    "preview_strip",
+]
+
+FORMAT = "pbrkit IBL bake"
+FORMAT_VERSION = 1
+#: File-name suffixes of the six faces (+X, -X, +Y, -Y, +Z, -Z).
+FACE_FILE_NAMES = ("px", "nx", "py", "ny", "pz", "nz")
+#: ``specular_format`` -> (KTX2 vkFormat, DDS DXGI format).
+SPECULAR_FORMATS = {
+    "rgba16f": ("R16G16B16A16_SFLOAT", "R16G16B16A16_FLOAT"),
+    "b10g11r11": ("B10G11R11_UFLOAT_PACK32", "R11G11B10_FLOAT"),
+}
+METHODS = ("spectral", "fis")
+MAX_SIZE = 4096
+_CHUNK = 1 << 20
+
+
+@dataclass
+class Bake:
+    """A bake in memory (see the module doc).
+
+    ``specular``: level m (6, N_m, N_m, 3) float32, N_m = size >> m;
+    ``roughness`` (M,) perceptual roughness per level (0 first, increasing);
+    ``irradiance`` (6, K, K, 3) float32 E(n); ``sh`` (9, 3) float64 radiance
+    SH (CONVENTIONS order and basis); ``lut`` (L, L, 2) float32 DFG table;
+    ``manifest`` what ``manifest.json`` holds; ``timings`` seconds per stage
+    (never written: they differ from run to run)."""
+
+    specular: list
+    roughness: np.ndarray
+    irradiance: np.ndarray
+    sh: np.ndarray
+    lut: np.ndarray
+    manifest: dict
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def levels(self):
+        return len(self.specular)
+
+
+# ------------------------------------------------------------------- checks
+
+
+def _power_of_two(value, name, low, high):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    value = int(value)
+    if value < low or value > high or value & (value - 1):
+        raise ValueError(f"{name} must be a power of two in [{low}, {high}], got {value}")
+    return value
+
+
+def _int_in(value, name, low, high):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= value <= high:
+        raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+    return int(value)
+
+
+def _check_options(size, min_size, irradiance_size, lut_size, specular_format, method, sh_window):
+    size = _power_of_two(size, "size", 2, MAX_SIZE)
+    min_size = _power_of_two(min_size, "min size", 1, MAX_SIZE)
+    if min_size >= size:
+        raise ValueError(f"min size ({min_size}) must be smaller than size ({size}): the chain needs 2 levels")
+    irradiance_size = _int_in(irradiance_size, "irradiance size", 1, 1024)
+    lut_size = _int_in(lut_size, "LUT size", 2, 1024)
+    if specular_format not in SPECULAR_FORMATS:
+        raise ValueError(f"unknown format {specular_format!r}; use one of {', '.join(SPECULAR_FORMATS)}")
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; use one of {', '.join(METHODS)}")
+    if sh_window not in (None, "hanning", "lanczos"):
+        raise ValueError(f"unknown SH window {sh_window!r}; use hanning or lanczos (or none)")
+    return size, min_size, irradiance_size, lut_size
+
+
+def check_output_dir(out_dir, force=False):
+    """Raise ValueError unless ``out_dir`` is absent, an empty directory, or
+    (with ``force``) any directory."""
+    out = Path(out_dir)
+    if out.exists() or out.is_symlink():
+        if not out.is_dir():
+            raise ValueError(f"{out}: exists and is not a directory")
+        if not force and any(out.iterdir()):
+            raise ValueError(f"{out}: directory exists and is not empty (use --force to replace it)")
+    return out
+
+
+def _sha256(path):
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(_CHUNK), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+# --------------------------------------------------------------------- bake
+
+
+def _stage_names(levels):
+    return (["load", "cube", "sh", "split", "transform"] + [f"specular m={m}" for m in range(1, levels)]
+            + ["irradiance", "lut"])
+
+
+def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *, specular_format="rgba16f",
+         method="spectral", sh_window=None, sh_window_width=3.0, fis_samples=None, fis_bias=1.0,
+         fix_nonfinite=False, layout=None, progress=None):
+    """Bake an environment (module doc) and return a :class:`Bake`.
+
+    ``environment``: a path, a list of six face paths (+X, -X, +Y, -Y, +Z,
+    -Z) or a :class:`pbrkit.envmap.Environment`.  ``size`` (power of two,
+    <= 4096) and ``min_size`` (power of two, smaller) set the specular chain
+    (M = log2(size / min_size) + 1 levels); ``irradiance_size`` (<= 1024)
+    and ``lut_size`` (<= 1024) the other outputs; ``specular_format``
+    ``"rgba16f"`` or ``"b10g11r11"`` for the KTX2/DDS files (recorded in the
+    manifest); ``method`` ``"spectral"`` (default) or ``"fis"`` (with
+    ``fis_samples`` per level and lod ``fis_bias``); ``sh_window`` None,
+    ``"hanning"`` or ``"lanczos"`` (:func:`pbrkit.sh.sh_window`) applied to
+    the stored SH; ``fix_nonfinite`` and ``layout`` are passed to
+    :func:`pbrkit.envmap.load_environment`.  ``progress(stage, done,
+    total)`` is called after each stage.  Bad input raises ValueError
+    (:class:`pbrkit.errors.InputError` for files) with a one-line message.
+    """
+    from ..albedo.tables import lookup_table
+    from .sh import apply_window, project_cube, project_equirect
+    from .spectral import analyse_equirect
+
+    size, min_size, irradiance_size, lut_size = _check_options(
+        size, min_size, irradiance_size, lut_size, specular_format, method, sh_window)
+    levels = int(math.log2(size // min_size)) + 1
+    stages = _stage_names(levels)
+    timings = {}
+    clock = [time.perf_counter()]
+
+    def done(stage):
+        now = time.perf_counter()
+        timings[stage] = now - clock[0]
+        clock[0] = now
+        if progress is not None:
+            progress(stage, len(timings), len(stages))
+
+    if isinstance(environment, Environment):
+        env = environment
+    else:
+        env = load_environment(environment if isinstance(environment, (str, Path)) else list(environment),
+                               fix_nonfinite=fix_nonfinite, layout=layout)
+    files = []
+    for p in env.source:
+        entry = {"name": Path(p).name}
+        if Path(p).is_file():
+            entry["sha256"] = _sha256(p)
+        files.append(entry)
+    done("load")
+
+    level0 = env.to_cube(size).astype(np.float32)
+    done("cube")
+
+    if env.equirect is not None:
+        sh = project_equirect(_reduce_rows(env.equirect, 1024))
+    else:
+        sh = project_cube(env.cube)
+    if sh_window is not None:
+        sh = apply_window(sh, sh_window, sh_window_width)
+    done("sh")
+
+    if env.equirect is not None:
+        highlights = equirect_highlights(env.equirect)
+        resolution = [int(env.equirect.shape[1]), int(env.equirect.shape[0])]
+    else:
+        highlights = cube_highlights(env.cube)
+        resolution = [int(env.cube.shape[1])] * 2
+    threshold = highlights.threshold
+    if method == "spectral":
+        alpha1 = float(alpha_from_roughness(1.0 / (levels - 1)))  # the narrowest lobe, level 1
+        # |lambda_l| < 1e-6 from about 7.7 / alpha on; a rough level 1 (chains of 2 or 3 levels) has an
+        # algebraic tail instead, cut at 8 / alpha + 64 (and twice the size) where it is below 1e-4
+        lmax = band_limit(alpha1, lmax_cap=max(64, min(2 * size, int(8.0 / alpha1) + 64)))
+    else:
+        lmax = 64  # the transform serves the irradiance map only
+    if env.equirect is not None:
+        bounded = _analysis_grid(env.equirect, lmax, threshold)
+    else:
+        bounded = _analysis_grid(cube_to_equirect(np.minimum(env.cube, threshold), 4 * lmax), lmax)
+    done("split")
+    coeffs = analyse_equirect(bounded, lmax)
+    transform = dict(band_limit=lmax, band_limit_tolerance=BAND_LIMIT_TOLERANCE,
+                     analysis_grid=[int(bounded.shape[1]), int(bounded.shape[0])])
+    del bounded
+    done("transform")
+    if method == "spectral":
+        chain, info = prefilter_spectral(coeffs, highlights, size, levels,
+                                         progress=lambda m: done(f"specular m={m}"))
+    else:
+        from .equirect import equirect_to_cube
+
+        transform["used_for"] = "irradiance only"
+        if env.equirect is not None:
+            bounded_cube = equirect_to_cube(np.minimum(env.equirect, np.float32(threshold)), size)
+        else:
+            bounded_cube = resample_cube(np.minimum(env.cube, threshold), size)
+        counts = default_sample_counts(levels) if fis_samples is None else [int(k) for k in fis_samples]
+        chain, info = prefilter_fis(bounded_cube, levels, counts, fis_bias, highlights,
+                                    progress=lambda m: done(f"specular m={m}"))
+        del bounded_cube
+    irradiance, irr_info = irradiance_spectral(coeffs, highlights, irradiance_size)
+    del coeffs
+    done("irradiance")
+
+    lut, spec = lookup_table("dfg", lut_size)
+    done("lut")
+
+    specular = [level0] + chain
+    roughness = np.array([roughness_of_level(m, levels) for m in range(levels)])
+    options = dict(size=size, min_size=min_size, levels=levels, irradiance_size=irradiance_size,
+                   lut_size=lut_size, format=specular_format, method=method, sh_window=sh_window,
+                   sh_window_width=float(sh_window_width) if sh_window else None,
+                   fix_nonfinite=bool(fix_nonfinite), layout=env.layout)
+    if method == "fis":
+        options.update(fis_samples=[int(k) for k in counts], fis_bias=float(fis_bias))
+    level_info = [dict(level=0, size=size, roughness=0.0, method="the environment resampled (exact area-weighted)")]
+    level_info += [{k: _plain(v) for k, v in entry.items()} for entry in info]
+    manifest = _manifest(files, env, resolution, options, level_info, transform, highlights, irr_info, sh,
+                         spec, levels, size, irradiance_size, lut_size, specular_format, method, sh_window,
+                         sh_window_width)
+    return Bake(specular=specular, roughness=roughness, irradiance=irradiance, sh=np.asarray(sh, dtype=np.float64),
+                lut=lut, manifest=manifest, timings=timings)
+
+
+def _reduce_rows(image, rows):
+    """``image`` halved (:func:`pbrkit.spectral.halve_equirect`, integral
+    preserving) while it has more than ``rows`` rows (and an even count)."""
+    from .spectral import halve_equirect
+
+    while image.shape[0] > rows and image.shape[0] % 2 == 0:
+        image = halve_equirect(image)
+    return image
+
+
+def _analysis_grid(image, lmax, clip=None):
+    """The equirect image min(image, clip) to analyse to degree ``lmax``:
+    halved (:func:`pbrkit.spectral.halve_equirect`, integral-preserving,
+    clamping band by band) while it keeps at least 4 L rows, or its pixels
+    repeated 2^k times (the same piecewise-constant function) until it has
+    more than 2 L rows."""
+    from .spectral import halve_equirect
+
+    if image.shape[0] % 2 == 0 and image.shape[0] // 2 >= 4 * lmax:
+        image = halve_equirect(image, clip=clip)
+    elif clip is not None:
+        image = np.minimum(image, np.asarray(clip, dtype=image.dtype))
+    while image.shape[0] % 2 == 0 and image.shape[0] // 2 >= 4 * lmax:
+        image = halve_equirect(image)
+    if image.shape[0] <= 2 * lmax:
+        k = 1 << int(math.ceil(math.log2((2 * lmax + 2) / image.shape[0])))
+        image = np.repeat(np.repeat(image, k, axis=0), k, axis=1)
+    return image
+
+
+def _plain(value):
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (np.floating,)):
+        return float(value)
+    return value
+
+
+def _conventions(levels, sh_window, sh_window_width):
+    from .sh import COSINE_LOBE_COEFFICIENTS
+
+    return {
+        "frame": "right-handed world space, +Y up (glTF); directions are unit vectors (x, y, z)",
+        "colour": "linear Rec.709 / sRGB primaries in every float file; preview.png is tone-mapped and "
+                  "sRGB-encoded",
+        "cube_map": {
+            "face_order": list(FACE_NAMES),
+            "face_file_names": list(FACE_FILE_NAMES),
+            "texel": "texel (row i, column j) of an N x N face: s = (j + 0.5) / N, t = (i + 0.5) / N, "
+                     "sc = 2 s - 1, tc = 2 t - 1",
+            "directions": {"+X": "(1, -tc, -sc)", "-X": "(-1, -tc, sc)", "+Y": "(sc, 1, tc)",
+                           "-Y": "(sc, -1, -tc)", "+Z": "(sc, -tc, 1)", "-Z": "(-sc, -tc, -1)"},
+            "directions_note": "normalised; OpenGL 4.6 core profile table 8.19, as KTX2, DDS and Vulkan sample",
+            "row_0": "t = 0: the first row stored in KTX2, DDS and EXR files",
+            "mirrored": False,
+        },
+        "equirect": "H x 2H image, row 0 at +Y; pixel (i, j) centre theta = pi (i + 0.5) / H from +Y, "
+                    "phi = 2 pi (j + 0.5) / W - pi, d = (sin theta cos phi, cos theta, sin theta sin phi); "
+                    "u = 0.5 + atan2(d.z, d.x) / (2 pi), v = acos(d.y) / pi",
+        "sh": {
+            "basis": "real spherical harmonics, bands l = 0..2, orthonormal, on world (x, y, z) "
+                     "(Ramamoorthi & Hanrahan 2001, eq. 3; no Condon-Shortley phase)",
+            "order": ["(0,0)", "(1,-1)", "(1,0)", "(1,1)", "(2,-2)", "(2,-1)", "(2,0)", "(2,1)", "(2,2)"],
+            "functions": ["0.282095", "0.488603 y", "0.488603 z", "0.488603 x", "1.092548 x y", "1.092548 y z",
+                          "0.315392 (3 z^2 - 1)", "1.092548 x z", "0.546274 (x^2 - y^2)"],
+            "coefficients": "radiance L_lm = integral of L(w) Y_lm(w) dw (equirect input: exact integrals over "
+                            "the pixels' cells, the image piecewise constant; cube input: sum over the texels "
+                            "weighted by their exact solid angles); rows of 'sh' are the 9 coefficients, "
+                            "columns R, G, B",
+            "irradiance": "E(n) = sum_lm A_l L_lm Y_lm(n) with A_l = (%r, %r, %r)" % COSINE_LOBE_COEFFICIENTS,
+            "window": None if sh_window is None else {
+                "kind": sh_window, "width": float(sh_window_width),
+                "reference": "Sloan 2008, Stupid Spherical Harmonics (SH) Tricks",
+                "applied_to_stored_coefficients": True},
+        },
+        "roughness": "perceptual roughness r in [0, 1]; GGX alpha = max(r^2, 1e-3)",
+        "roughness_of_level": "r = m / (M - 1) for level m of M = %d" % levels,
+        "level_of_roughness": "lod = r (M - 1), sampled with trilinear filtering",
+        "specular": "split-sum prefiltered radiance (Karis 2013) with n = v = r: integral of L(l) D_GGX(h) (n.l) dl "
+                    "divided by the integral of D_GGX(h) (n.l) dl over n.l > 0, h = normalize(n + l)",
+        "irradiance": "E(n) = integral of L(l) max(0, n.l) dl (not divided by pi): radiance 1 everywhere gives pi; "
+                      "Lambertian radiance is albedo / pi * E",
+        "split_sum": "specular = prefiltered(n, lod) * (DFG1 + F0 (DFG2 - DFG1)), DFG from brdf_lut at "
+                     "(n.v, r) (texel centres, clamp to edge)",
+    }
+
+
+def _manifest(files, env, resolution, options, level_info, transform, highlights, irr_info, sh, lut_spec,
+              levels, size, irradiance_size, lut_size, specular_format, method, sh_window, sh_window_width):
+    ktx_format, dds_format = SPECULAR_FORMATS[specular_format]
+    method_text = {
+        "spectral": "levels >= 1 and irradiance: the bounded part min(L, T) convolved exactly in the spherical-"
+                    "harmonic domain (Funk-Hecke), series cut where |lambda_l| < %g, synthesised on an equirect "
+                    "grid and interpolated (Keys cubic) at texel centres; pixels above T summed exactly as "
+                    "points (energy-weighted centroids per output texel)" % BAND_LIMIT_TOLERANCE,
+        "fis": "levels >= 1: filtered importance sampling (Krivanek & Colbert 2008) of the bounded part's "
+               "solid-angle-weighted mip pyramid with Hammersley GGX samples, lod = 0.5 log2(Omega_s / Omega_p) "
+               "+ bias, weights n.l (Karis 2013); pixels above T summed exactly as points; irradiance as in "
+               "the spectral method",
+    }[method]
+    lut_description = lut_spec.description()
+    return {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "pbrkit_version": __version__,
+        "input": {"files": files, "layout": env.layout, "resolution": resolution, "notes": list(env.notes)},
+        "options": options,
+        "conventions": _conventions(levels, sh_window, sh_window_width),
+        "method": {
+            "name": method,
+            "description": method_text,
+            "highlight_threshold": float(highlights.threshold),
+            "highlight_rule": "T = max(%g x mean radiance, value of the (count + 1)-th brightest pixel), count = "
+                              "pixels / 1536 (at least 16)" % HIGHLIGHT_RATIO,
+            "highlight_pixels": highlights.count,
+            "transform": transform,
+        },
+        "outputs": {
+            "specular": {
+                "ktx2": {"path": "specular.ktx2", "format": ktx_format},
+                "dds": {"path": "specular.dds", "format": dds_format},
+                "faces": {"path": "faces/specular_m{level}_{face}.exr", "format": "OpenEXR float32 RGB, ZIP"},
+                "size": size,
+                "levels": levels,
+                "roughness": [float(roughness_of_level(m, levels)) for m in range(levels)],
+                "level_info": level_info,
+            },
+            "irradiance": {
+                "ktx2": {"path": "irradiance.ktx2", "format": ktx_format},
+                "dds": {"path": "irradiance.dds", "format": dds_format},
+                "faces": {"path": "faces/irradiance_{face}.exr", "format": "OpenEXR float32 RGB, ZIP"},
+                "size": irradiance_size,
+                "levels": 1,
+                "info": {k: _plain(v) for k, v in irr_info.items()},
+            },
+            "brdf_lut": {
+                "ktx2": {"path": "brdf_lut.ktx2", "format": "R16G16_SFLOAT"},
+                "npy": {"path": "brdf_lut.npy", "format": "float32 (N, N, 2)"},
+                "exr": {"path": "brdf_lut.exr", "format": "OpenEXR float32 RGB (B = 0)"},
+                "descriptions": "each file has a .json beside it",
+                "size": lut_size,
+                "levels": 1,
+                "kind": "dfg",
+                "description": lut_description,
+            },
+            "preview": {
+                "path": "preview.png",
+                "layout": "left to right: specular levels 0..M-1, then irradiance / pi; each a horizontal cross "
+                          "(row 1: -X +Z +X -Z, +Y above +Z, -Y below), faces resampled to the preview size",
+                "tone_mapping": "exposure 0.18 / log-average luminance of level 0 (Reinhard et al. 2002, eq. 1), "
+                                "then x / (1 + x) per channel, sRGB-encoded 8-bit",
+            },
+        },
+        "sh": [[float(v) for v in row] for row in np.asarray(sh, dtype=np.float64)],
+    }
+
+
+# -------------------------------------------------------------------- preview
+
+
+def tone_map(image, exposure):
+    """Reinhard et al. 2002 ("Photographic Tone Reproduction for Digital
+    Images", eq. 3 simple operator) per channel: x / (1 + x) with
+    x = exposure * L; linear output in [0, 1) (encode with sRGB)."""
+    x = np.maximum(np.asarray(image, dtype=np.float64), 0.0) * exposure
+    return x / (1.0 + x)
+
+
+def _log_average_luminance(cube):
+    """exp(solid-angle-weighted mean of log(1e-4 + Y)), Y = Rec.709 luminance
+    (Reinhard et al. 2002, eq. 1)."""
+    c = np.asarray(cube, dtype=np.float64)
+    y = c @ np.array([0.2126, 0.7152, 0.0722])
+    omega = cube_texel_solid_angles(c.shape[1])
+    return float(np.exp(np.sum(omega * np.log(1e-4 + np.maximum(y, 0.0))) / np.sum(omega)))
+
+
+def _resize_cube(cube, size):
+    n = cube.shape[1]
+    if n == size:
+        return np.asarray(cube, dtype=np.float64)
+    if n > size:
+        return resample_cube(cube, size)
+    k = size // n
+    return np.repeat(np.repeat(np.asarray(cube, dtype=np.float64), k, axis=1), k, axis=2)
+
+
+def preview_strip(bake_result, face_size=64, gap=4):
+    """The preview image (3 F, (M + 1) (4 F + gap) - gap, 3) in [0, 1)
+    linear (module doc): each specular level and the irradiance / pi as a
+    horizontal cross of faces resampled to F = ``face_size`` (a power of
+    two), tone-mapped with one exposure."""
+    exposure = 0.18 / max(_log_average_luminance(bake_result.specular[0]), 1e-12)
+    panels = [_resize_cube(level, face_size) for level in bake_result.specular]
+    panels.append(_resize_cube(np.asarray(bake_result.irradiance, dtype=np.float64) / math.pi, face_size))
+    crosses = [tone_map(cube_to_cross(p, "hcross"), exposure) for p in panels]
+    height, width = crosses[0].shape[:2]
+    out = np.zeros((height, len(crosses) * (width + gap) - gap, 3))
+    for k, c in enumerate(crosses):
+        out[:, k * (width + gap):k * (width + gap) + width] = c
+    return out
+
+

@@ -1,0 +1,188 @@
+"""PNG and JPEG files: 8- and 16-bit, sRGB-decoded on reading (see :mod:`pbrkit.io.images`).
+"""
+
+from __future__ import annotations
+
+import struct
+import zlib
+
+import numpy as np
+
+from ..core.atomic import atomic_path
+from ..core.color import linear_to_srgb, srgb_to_linear
+from ..core.errors import InputError
+from ..core.jit import kernel
+from .image_checks import (
+    _check_size,
+    _finite_float,
+    _one_line,
+    _read_bytes,
+    image_format,
+)
+
+__all__ = [
+    "read_ldr",
+    "write_png",
+]
+
+# ---------------------------------------------------------------- PNG / JPEG
+
+
+@kernel
+def _png_unfilter(raw, height, stride, bpp, out):
+    """Undo PNG scanline filters (ISO/IEC 15948 sec. 9.2: None, Sub, Up,
+    Average, Paeth) from raw (height * (1 + stride)) into out (height, stride).
+    Returns the row of an unknown filter type, or -1."""
+    for y in range(height):
+        ftype = raw[y * (stride + 1)]
+        base = y * (stride + 1) + 1
+        for x in range(stride):
+            v = np.int64(raw[base + x])
+            a = np.int64(out[y, x - bpp]) if x >= bpp else 0
+            b = np.int64(out[y - 1, x]) if y > 0 else 0
+            c = np.int64(out[y - 1, x - bpp]) if (x >= bpp and y > 0) else 0
+            if ftype == 0:
+                r = v
+            elif ftype == 1:
+                r = v + a
+            elif ftype == 2:
+                r = v + b
+            elif ftype == 3:
+                r = v + (a + b) // 2
+            elif ftype == 4:
+                p = a + b - c
+                pa = abs(p - a)
+                pb = abs(p - b)
+                pc = abs(p - c)
+                if pa <= pb and pa <= pc:
+                    r = v + a
+                elif pb <= pc:
+                    r = v + b
+                else:
+                    r = v + c
+            else:
+                return y
+            out[y, x] = r & 255
+    return -1
+
+
+def _png_16bit_info(data):
+    """(width, height, channels) for a non-interlaced 16-bit colour PNG, else None."""
+    if len(data) < 33 or data[12:16] != b"IHDR":
+        return None
+    width, height, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", data[16:29])
+    if depth != 16 or ctype not in (2, 6) or interlace != 0:
+        return None
+    return width, height, 3 if ctype == 2 else 4
+
+
+def _decode_png16(data, path, width, height, channels):
+    idat = []
+    pos = 8
+    while pos + 8 <= len(data):
+        length, ctype = struct.unpack(">I4s", data[pos:pos + 8])
+        if pos + 12 + length > len(data):
+            raise InputError("truncated PNG chunk", path)
+        if ctype == b"IDAT":
+            idat.append(data[pos + 8:pos + 8 + length])
+        elif ctype == b"IEND":
+            break
+        pos += 12 + length
+    try:
+        raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
+    except zlib.error as exc:
+        raise InputError(f"corrupt PNG image data ({exc})", path) from None
+    stride = width * channels * 2
+    if raw.size < height * (stride + 1):
+        raise InputError("truncated PNG image data", path)
+    rows = np.empty((height, stride), dtype=np.uint8)
+    bad = _png_unfilter(raw, height, stride, channels * 2, rows)
+    if bad >= 0:
+        raise InputError(f"corrupt PNG filter type in row {bad}", path)
+    return rows.view(">u2").reshape(height, width, channels).astype(np.uint16)
+
+
+def _read_ldr(path, fmt):
+    import imageio.v3 as iio
+
+    data = _read_bytes(path)
+    info = _png_16bit_info(data) if fmt == "png" else None
+    if info is not None:
+        _check_size(path, info[1], info[0])
+        pixels = _decode_png16(data, path, *info)
+    else:
+        try:
+            props = iio.improps(data, extension=".png" if fmt == "png" else ".jpg")
+            shape = props.shape
+            if len(shape) >= 2:
+                _check_size(path, shape[0], shape[1])
+            pixels = iio.imread(data, extension=".png" if fmt == "png" else ".jpg")
+        except InputError:
+            raise
+        except Exception as exc:
+            raise InputError(f"corrupt or truncated {fmt.upper()} file ({_one_line(exc)})", path) from None
+    if pixels.ndim == 2:
+        pixels = pixels[:, :, None]
+    if pixels.dtype not in (np.uint8, np.uint16) or pixels.ndim != 3:
+        raise InputError(f"unsupported {fmt.upper()} pixel layout {pixels.dtype} {pixels.shape}", path)
+    bits = 8 * pixels.dtype.itemsize
+    notes = [f"{fmt.upper()} {bits}-bit sRGB decoded to linear"]
+    if fmt == "png" and info is None and len(data) > 28 and data[24] == 16 and pixels.dtype == np.uint8:
+        notes.append("16-bit PNG read at 8-bit precision (interlaced or grey+alpha, decoded by Pillow)")
+    if pixels.shape[2] in (2, 4):
+        pixels = pixels[..., :-1]
+        notes.append("alpha ignored")
+    linear = srgb_to_linear(pixels / float((1 << bits) - 1)).astype(np.float32)
+    return linear, notes
+
+
+def read_ldr(path):
+    """PNG or JPEG as linear float32 (H, W, C) (sRGB decoded; alpha dropped)."""
+    fmt = image_format(path)
+    if fmt not in ("png", "jpeg"):
+        raise InputError(f"not a PNG or JPEG file ({fmt})", path)
+    return _read_ldr(path, fmt)[0]
+
+
+def _png_bytes16(a, srgb):
+    height, width, channels = a.shape
+    ctype = {1: 0, 2: 4, 3: 2, 4: 6}[channels]
+    rows = a.astype(">u2").reshape(height, width * channels).view(np.uint8)
+    raw = np.concatenate([np.zeros((height, 1), dtype=np.uint8), rows], axis=1)  # filter 0 per row
+
+    def chunk(tag, body):
+        return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body) & 0xFFFFFFFF)
+
+    ihdr = struct.pack(">IIBBBBB", width, height, 16, ctype, 0, 0, 0)
+    colour = chunk(b"sRGB", b"\x00") if srgb else b""  # sRGB chunk (perceptual intent) only for sRGB data
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + colour
+            + chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)) + chunk(b"IEND", b""))
+
+
+def write_png(path, image, bits=8, srgb=True):
+    """Write float ``image`` (H, W), (H, W, 1..4) in [0, 1] as an 8- or 16-bit
+    PNG, atomically.  With ``srgb`` (the default, CONVENTIONS "Colour") colour
+    channels are encoded with the sRGB transfer function (alpha, the 2nd or
+    4th channel, stays linear); values are clipped to [0, 1] and rounded.
+    8-bit files go through imageio (Pillow); 16-bit ones, which Pillow cannot
+    write in colour, are encoded here (PNG spec: filter 0, zlib level 6, an
+    sRGB chunk when ``srgb``).  Note that :func:`read_image` decodes every
+    PNG as sRGB: linear PNGs are for other consumers (e.g. lookup tables)."""
+    a = _finite_float(image, "image").astype(np.float64)
+    if bits not in (8, 16):
+        raise ValueError(f"PNG bits must be 8 or 16, got {bits}")
+    if srgb:
+        colour = a.shape[2] if a.shape[2] in (1, 3) else a.shape[2] - 1
+        a = a.copy()
+        a[..., :colour] = linear_to_srgb(np.clip(a[..., :colour], 0.0, 1.0))
+    q = np.rint(np.clip(a, 0.0, 1.0) * ((1 << bits) - 1))
+    with atomic_path(path, suffix=".png") as tmp:
+        if bits == 16:
+            tmp.write_bytes(_png_bytes16(q.astype(np.uint16), srgb))
+        else:
+            import imageio.v3 as iio
+
+            q8 = q.astype(np.uint8)
+            iio.imwrite(tmp, q8[..., 0] if q8.shape[2] == 1 else q8, extension=".png")
+
+

@@ -1,0 +1,58 @@
+"""Primary rays: camera rays cast into the scene, their hits, and the
+resolve of sub-pixel rays into an image.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "RenderResult",
+]
+
+# ================================================================ results
+
+
+@dataclass
+class RenderResult:
+    """An image (H, W, 3) float64 linear radiance, its per-pixel standard error
+    (reference mode), the mask of pixels whose centre ray hit a surface, and stats."""
+
+    image: np.ndarray
+    mask: np.ndarray
+    stderr: np.ndarray | None = None
+    stats: dict = field(default_factory=dict)
+
+
+@dataclass
+class _Primary:
+    """Primary hits of every (pixel, sub-pixel) ray."""
+
+    dirs: np.ndarray        # (P * K, 3)
+    hit: np.ndarray         # (P * K,) bool
+    rows: np.ndarray        # indices of hit rays
+    surface: object         # Surface of the hit rays
+    origin: np.ndarray
+
+
+def _primary(scene, geometry):
+    cam = scene.camera
+    dirs = cam.ray_directions().reshape(-1, 3)
+    origins = np.broadcast_to(np.asarray(cam.position, dtype=np.float64), dirs.shape)
+    hits = geometry.intersect(origins, dirs)
+    rows = np.flatnonzero(hits.hit)
+    surface = geometry.surface(hits, origins, dirs, rows)
+    return _Primary(dirs, hits.hit, rows, surface, np.asarray(cam.position, dtype=np.float64))
+
+
+
+def _resolve(scene, per_ray, hit):
+    """Average the k^2 sub-pixel rays of each pixel -> (H, W, 3); mask: the pixel's rays all hit."""
+    cam = scene.camera
+    k2 = cam.supersample ** 2
+    image = per_ray.reshape(cam.height, cam.width, k2, -1).mean(axis=2)
+    mask = hit.reshape(cam.height, cam.width, k2).all(axis=2)
+    return image, mask
+

@@ -1,0 +1,119 @@
+"""Punctual lights at surface points: unshadowed radiance per light and, in
+analytic scenes, shadow rays inside the kernel.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ..core.jit import dual_use, parallel_kernel
+from .lights import light_arrays, light_incidence
+from .primitives import KIND_NONE, trace_analytic
+from .shading import _cosines, brdf_value
+
+__all__ = [
+]
+
+# ============================================================ punctual lights
+
+
+@parallel_kernel
+def _punctual_kernel(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, li, out_dir, out_dist,
+                     out_value):
+    """Unshadowed radiance from light li at each point, its direction and distance."""
+    ct = codes[li, 0]
+    cf = codes[li, 1]
+    lv = values[li]
+    for i in numba.prange(p.shape[0]):
+        lx, ly, lz, dist, factor = light_incidence(ct, cf, lv, p[i, 0], p[i, 1], p[i, 2])
+        out_dir[i, 0] = lx
+        out_dir[i, 1] = ly
+        out_dir[i, 2] = lz
+        out_dist[i] = dist
+        out_value[i, 0] = 0.0
+        out_value[i, 1] = 0.0
+        out_value[i, 2] = 0.0
+        if factor <= 0.0 or ng[i, 0] * lx + ng[i, 1] * ly + ng[i, 2] * lz <= 0.0:
+            continue
+        nol, nov, noh, voh = _cosines(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], lx, ly, lz)
+        f = brdf_value(mi, mf, mat[i], nol, nov, noh, voh, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2],
+                       ec[i, 0], ec[i, 1], ec[i, 2])
+        e = factor * max(nol, 0.0)
+        out_value[i, 0] = f[0] * lv[0] * e
+        out_value[i, 1] = f[1] * lv[1] * e
+        out_value[i, 2] = f[2] * lv[2] * e
+
+
+@parallel_kernel
+def _punctual_analytic_batch(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, eps, shadows, spheres,
+                             lo, hi, skip, first, count, order, planes, out):
+    for i in numba.prange(p.shape[0]):
+        r = _punctual_at(mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1],
+                         n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2],
+                         ec[i, 0], ec[i, 1], ec[i, 2], codes, values, eps, shadows, spheres, lo, hi, skip, first,
+                         count, order, planes)
+        out[i, 0] = r[0]
+        out[i, 1] = r[1]
+        out[i, 2] = r[2]
+
+
+def _punctual(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True):
+    """Radiance (N, 3) from the scene's punctual lights at the surface points, seen along v."""
+    count = surface.p.shape[0]
+    total = np.zeros((count, 3))
+    if not geometry.lights or count == 0:
+        return total
+    codes, values = light_arrays(geometry.lights)
+    ec = np.ones((count, 3)) if ec is None else np.ascontiguousarray(ec)
+    if not geometry.has_meshes:  # analytic scene: shadow rays inside the kernel
+        _punctual_analytic_batch(mat_i, mat_f, np.ascontiguousarray(surface.material),
+                                 *(np.ascontiguousarray(x) for x in (surface.p, surface.ng, surface.n, v,
+                                                                     surface.roughness, surface.metallic,
+                                                                     surface.base_color)),
+                                 ec, codes, values, 1e-7 * geometry.scale, bool(shadows), geometry.spheres,
+                                 *geometry.bvh, geometry.planes, total)
+        return total
+    args = [np.ascontiguousarray(x) for x in (surface.p, surface.ng, surface.n, v, surface.roughness,
+                                              surface.metallic, surface.base_color)]
+    direction = np.empty((count, 3))
+    dist = np.empty(count)
+    value = np.empty((count, 3))
+    for li in range(len(geometry.lights)):
+        _punctual_kernel(mat_i, mat_f, np.ascontiguousarray(surface.material), *args, ec, codes, values, li,
+                         direction, dist, value)
+        lit = np.flatnonzero(np.any(value > 0.0, axis=1))
+        if shadows and lit.size:
+            origins = geometry.offset_origins(surface.p[lit], surface.ng[lit], direction[lit])
+            blocked = geometry.occluded(origins, direction[lit], dist[lit] * (1.0 - 1e-6))
+            value[lit[blocked]] = 0.0
+        total += value
+    return total
+
+
+
+@dual_use
+def _punctual_at(mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2, ec0, ec1,
+                 ec2, codes, values, eps, shadows, spheres, lo, hi, skip, first, count, order, planes):
+    """Radiance from every punctual light at an analytic-scene point (geometric normal g,
+    shading normal n), with shadow rays when ``shadows``."""
+    r0 = r1 = r2 = 0.0
+    for li in range(codes.shape[0]):
+        lx, ly, lz, dist, factor = light_incidence(codes[li, 0], codes[li, 1], values[li], px, py, pz)
+        if factor <= 0.0 or gx * lx + gy * ly + gz * lz <= 0.0:
+            continue
+        nol, nov, noh, voh = _cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
+        f = brdf_value(mi, mf, m, nol, nov, noh, voh, rough, metal, b0, b1, b2, ec0, ec1, ec2)
+        if f[0] <= 0.0 and f[1] <= 0.0 and f[2] <= 0.0:
+            continue
+        if shadows:
+            t, k, _ = trace_analytic(px + eps * gx, py + eps * gy, pz + eps * gz, lx, ly, lz, 0.0,
+                                     dist * (1.0 - 1e-6), True, spheres, lo, hi, skip, first, count, order, planes)
+            if k != KIND_NONE:
+                continue
+        e = factor * nol
+        r0 += f[0] * values[li, 0] * e
+        r1 += f[1] * values[li, 1] * e
+        r2 += f[2] * values[li, 2] * e
+    return r0, r1, r2
+

@@ -1,0 +1,536 @@
+"""Monte Carlo ground truth (:func:`render_reference`) integrates the same BRDF times
+cos against the full environment and the lights by Monte Carlo, per pixel
+(Veach 1997, "Robust Monte Carlo Methods for Light Transport Simulation",
+ch. 9):
+
+- environment importance sampling from the piecewise-constant equirect
+  radiance: a 2-D distribution over (u, v) proportional to
+  luminance(i, j) sin(theta_i), sampled as a marginal over rows and a
+  conditional over columns (pbrt-v4, Pharr, Jakob and Humphreys 2023,
+  sec. A.5.6 ``PiecewiseConstant2D`` and sec. 12.5.2 image infinite lights),
+  with the solid-angle pdf p(u, v) / (2 pi^2 sin theta);
+- BRDF sampling: GGX visible normals (Heitz 2018,
+  :func:`pbrkit.sampling.warp_ggx_vndf`) for the specular lobe and cosine
+  sampling for the diffuse one, mixed by an estimate of their albedos;
+- multiple importance sampling with the power heuristic (beta = 2; Veach
+  1997, sec. 9.2.4), occlusion by shadow rays;
+- punctual lights evaluated exactly (with shadow rays) at every vertex;
+  emissive surfaces hit by BRDF samples add their emission;
+- ``bounces`` = 0 is direct lighting; each further bounce continues the
+  path in the sampled BRDF direction (next-event estimation + MIS at every
+  vertex).  The per-pixel standard error of the mean is returned with it.
+- visibility is traced, so the glTF occlusion texture (a real-time stand-in
+  for it) is not applied; ``occlusion=False`` instead lets every surface see
+  the whole environment unblocked by the other objects, as real-time IBL
+  assumes, to isolate the shading approximations in a comparison.
+- scenes of spheres and planes run in one fused kernel per pixel (all
+  samples, ray casting included); scenes with triangle meshes run as a
+  wavefront loop over the samples, casting with Embree; the two give the
+  same numbers for the same scene (tested).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numba
+import numpy as np
+
+from ..brdf.distributions import alpha_from_roughness
+from ..brdf.fresnel import f_schlick
+from ..core.jit import dual_use, parallel_kernel
+from ..core.vec import orthonormal_basis_xyz
+from ..sampling.random import _path_key, _uniform
+from ..sampling.warps import (
+    pdf_cosine_hemisphere,
+    pdf_ggx_vndf,
+    pdf_light_from_half,
+    warp_cosine_hemisphere,
+    warp_ggx_vndf,
+)
+from .environment import EnvironmentLight, _env_pdf_texel, _env_sample, _env_texel
+from .geometry import Geometry
+from .lights import light_arrays
+from .primary import RenderResult, _primary
+from .primitives import KIND_NONE, KIND_SPHERE, trace_analytic
+from .punctual import _punctual, _punctual_at
+from .shading import (
+    _MF_BASE,
+    _MF_EMIT,
+    _MF_METAL,
+    _MF_ROUGH,
+    _MF_SPEC,
+    _MF_TWO_SIDED,
+    _MI_DIFF,
+    _MI_FRES,
+    _MI_MODEL,
+    _cosines,
+    _f0_channel,
+    brdf_value,
+    material_tables,
+)
+
+__all__ = [
+    "render_reference",
+]
+
+
+@dual_use
+def _lobe_probability(mi, mf, m, nov, metallic, b0, b1, b2):
+    """Probability of sampling the specular lobe: its albedo estimate (the Fresnel
+    at n.v) against the diffuse colour's, by luminance."""
+    model = mi[m, _MI_MODEL]
+    diffuse_on = model == 2 or model == 3 or mi[m, _MI_DIFF] != 2
+    if model == 0 and mi[m, _MI_FRES] == 5:
+        ws = 0.2126 * mf[m, _MF_SPEC] + 0.7152 * mf[m, _MF_SPEC + 1] + 0.0722 * mf[m, _MF_SPEC + 2]
+    else:
+        ws = (0.2126 * f_schlick(nov, _f0_channel(mi, mf, m, b0, metallic), 1.0)
+              + 0.7152 * f_schlick(nov, _f0_channel(mi, mf, m, b1, metallic), 1.0)
+              + 0.0722 * f_schlick(nov, _f0_channel(mi, mf, m, b2, metallic), 1.0))
+    wd = 0.0
+    if diffuse_on:
+        wd = (0.2126 * b0 + 0.7152 * b1 + 0.0722 * b2) * (1.0 - metallic)
+    if wd <= 0.0:
+        return 1.0
+    if ws <= 0.0:
+        return 0.0
+    return min(max(ws / (ws + wd), 0.1), 0.9)
+
+
+@dual_use
+def _brdf_pdf(p_spec, alpha, nol, nov, noh, voh):
+    """Solid-angle pdf of the BRDF-sampling mixture for direction l."""
+    pdf = 0.0
+    if p_spec > 0.0:
+        pdf += p_spec * pdf_light_from_half(pdf_ggx_vndf(nov, noh, voh, alpha), voh)
+    if p_spec < 1.0:
+        pdf += (1.0 - p_spec) * pdf_cosine_hemisphere(nol)
+    return pdf
+
+
+@dual_use
+def _power_heuristic(pa, pb):
+    """Veach 1997, sec. 9.2.4: w = pa^2 / (pa^2 + pb^2)."""
+    a = pa * pa
+    b = pb * pb
+    if a + b <= 0.0:
+        return 0.0
+    return a / (a + b)
+
+
+@dual_use
+def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2,
+            env, func, total, marg, cond, c, s, strategy):
+    """The two samples of one path vertex.  Returns
+    (light direction (3), light contribution (3, unshadowed, MIS-weighted),
+     BRDF direction (3), BRDF weight f cos / pdf (3), BRDF pdf).
+    ``strategy`` 0 = MIS (environment + BRDF sampling), 1 = BRDF sampling only."""
+    z3 = (0.0, 0.0, 0.0)
+    nov = nx * vx + ny * vy + nz * vz
+    if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
+        return z3, z3, z3, z3, 0.0
+    alpha = alpha_from_roughness(rough)
+    p_spec = _lobe_probability(mi, mf, m, nov, metal, b0, b1, b2)
+    # --- environment sample
+    light_dir = z3
+    light_val = z3
+    if strategy == 0:
+        lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, marg, cond, c, s, _uniform(key, 0), _uniform(key, 1))
+        light_dir = (lx, ly, lz)
+        if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
+            nol, nov_, noh, voh = _cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
+            if nol > 0.0:
+                f = brdf_value(mi, mf, m, nol, nov_, noh, voh, rough, metal, b0, b1, b2, 1.0, 1.0, 1.0)
+                pdf_b = _brdf_pdf(p_spec, alpha, nol, nov_, noh, voh)
+                w = _power_heuristic(pdf_e, pdf_b) * nol / pdf_e
+                light_val = (f[0] * env[ei, ej, 0] * w, f[1] * env[ei, ej, 1] * w, f[2] * env[ei, ej, 2] * w)
+    # --- BRDF sample
+    (tx, ty, tz), (bx, by, bz) = orthonormal_basis_xyz(nx, ny, nz)
+    u1 = _uniform(key, 2)
+    u2 = _uniform(key, 3)
+    if _uniform(key, 4) < p_spec:
+        wox = vx * tx + vy * ty + vz * tz
+        woy = vx * bx + vy * by + vz * bz
+        woz = nov
+        hx, hy, hz = warp_ggx_vndf(u1, u2, wox, woy, woz, alpha)
+        two = 2.0 * (wox * hx + woy * hy + woz * hz)
+        llx = two * hx - wox
+        lly = two * hy - woy
+        llz = two * hz - woz
+    else:
+        llx, lly, llz = warp_cosine_hemisphere(u1, u2)
+    lx = llx * tx + lly * bx + llz * nx
+    ly = llx * ty + lly * by + llz * ny
+    lz = llx * tz + lly * bz + llz * nz
+    norm = math.sqrt(lx * lx + ly * ly + lz * lz)
+    if norm <= 0.0:
+        return light_dir, light_val, z3, z3, 0.0
+    lx /= norm
+    ly /= norm
+    lz /= norm
+    if gx * lx + gy * ly + gz * lz <= 0.0:
+        return light_dir, light_val, (lx, ly, lz), z3, 0.0
+    nol, nov_, noh, voh = _cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
+    if nol <= 0.0:
+        return light_dir, light_val, (lx, ly, lz), z3, 0.0
+    pdf_b = _brdf_pdf(p_spec, alpha, nol, nov_, noh, voh)
+    if pdf_b <= 0.0:
+        return light_dir, light_val, (lx, ly, lz), z3, 0.0
+    f = brdf_value(mi, mf, m, nol, nov_, noh, voh, rough, metal, b0, b1, b2, 1.0, 1.0, 1.0)
+    k = nol / pdf_b
+    return light_dir, light_val, (lx, ly, lz), (f[0] * k, f[1] * k, f[2] * k), pdf_b
+
+
+@dual_use
+def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
+    """Radiance times the MIS weight of a BRDF sample that reaches the environment."""
+    i, j, sin_theta = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
+    w = 1.0
+    if strategy == 0:
+        w = _power_heuristic(pdf_b, _env_pdf_texel(func, total, i, j, sin_theta))
+    return env[i, j, 0] * w, env[i, j, 1] * w, env[i, j, 2] * w
+
+
+# ------------------------------------------------- fused kernel (analytic scenes)
+
+
+@dual_use
+def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, ox, oy, oz, dx, dy, dz, t):
+    """Position, normal (facing the ray for double-sided materials) and material of an analytic hit."""
+    px = ox + t * dx
+    py = oy + t * dy
+    pz = oz + t * dz
+    if kind == KIND_SPHERE:
+        r = spheres[index, 3]
+        nx = px - spheres[index, 0]
+        ny = py - spheres[index, 1]
+        nz = pz - spheres[index, 2]
+        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        nx /= length
+        ny /= length
+        nz /= length
+        px = spheres[index, 0] + r * nx
+        py = spheres[index, 1] + r * ny
+        pz = spheres[index, 2] + r * nz
+        m = sphere_mat[index]
+    else:
+        nx = planes[index, 3]
+        ny = planes[index, 4]
+        nz = planes[index, 5]
+        m = plane_mat[index]
+    if mf[m, _MF_TWO_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
+        nx, ny, nz = -nx, -ny, -nz
+    return px, py, pz, nx, ny, nz, m
+
+
+
+
+
+@parallel_kernel
+def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
+                  base, mi, mf, env, func, total, marg, cond, c, s, eps, spheres, lo, hi, skip, first, count,
+                  order, planes, sphere_mat, plane_mat, codes, values, out_shift, out_sum, out_sumsq):
+    """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
+    rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
+    ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
+    emission + punctual light at the primary hit); ``p`` etc. are the primary hits
+    (rows with mat < 0 missed).  Per pixel it accumulates the sum and the sum of
+    squares of (x - K), K = the pixel's first sample (the shifted-data algorithm,
+    which keeps the variance free of cancellation; Chan, Golub and LeVeque,
+    "Algorithms for Computing the Sample Variance", 1983)."""
+    n_pixels = out_sum.shape[0]
+    for pix in numba.prange(n_pixels):
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        q0 = 0.0
+        q1 = 0.0
+        q2 = 0.0
+        for j in range(spp):
+            row = pix * k2 + (j % k2)
+            x0 = base_value[row, 0]
+            x1 = base_value[row, 1]
+            x2 = base_value[row, 2]
+            m = mat[row]
+            if m >= 0:
+                px, py, pz = p[row, 0], p[row, 1], p[row, 2]
+                gx, gy, gz = ng[row, 0], ng[row, 1], ng[row, 2]
+                nx, ny, nz = n[row, 0], n[row, 1], n[row, 2]
+                vx, vy, vz = v[row, 0], v[row, 1], v[row, 2]
+                r = rough[row]
+                me = metal[row]
+                b0, b1, b2 = base[row, 0], base[row, 1], base[row, 2]
+                t0 = t1 = t2 = 1.0
+                for bounce in range(bounces + 1):
+                    key = _path_key(seed, pix, j, bounce)
+                    ldir, lval, bdir, bw, pdf_b = _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx,
+                                                          vy, vz, r, me, b0, b1, b2, env, func, total, marg, cond,
+                                                          c, s, strategy)
+                    ox = px + eps * gx
+                    oy = py + eps * gy
+                    oz = pz + eps * gz
+                    if lval[0] > 0.0 or lval[1] > 0.0 or lval[2] > 0.0:
+                        hk = KIND_NONE
+                        if occlusion:
+                            _, hk, _ = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True,
+                                                      spheres, lo, hi, skip, first, count, order, planes)
+                        if hk == KIND_NONE:
+                            x0 += t0 * lval[0]
+                            x1 += t1 * lval[1]
+                            x2 += t2 * lval[2]
+                    if pdf_b <= 0.0 or (bw[0] <= 0.0 and bw[1] <= 0.0 and bw[2] <= 0.0):
+                        break
+                    th, hk, hi_ = np.inf, KIND_NONE, -1
+                    if occlusion:
+                        th, hk, hi_ = trace_analytic(ox, oy, oz, bdir[0], bdir[1], bdir[2], 0.0, np.inf, False,
+                                                     spheres, lo, hi, skip, first, count, order, planes)
+                    t0 *= bw[0]
+                    t1 *= bw[1]
+                    t2 *= bw[2]
+                    if hk == KIND_NONE:
+                        le = _env_miss(strategy, pdf_b, env, func, total, c, s, bdir[0], bdir[1], bdir[2])
+                        x0 += t0 * le[0]
+                        x1 += t1 * le[1]
+                        x2 += t2 * le[2]
+                        break
+                    px, py, pz, nx, ny, nz, m = _analytic_surface(hk, hi_, spheres, planes, sphere_mat, plane_mat, mf,
+                                                                  ox, oy, oz, bdir[0], bdir[1], bdir[2], th)
+                    x0 += t0 * mf[m, _MF_EMIT]
+                    x1 += t1 * mf[m, _MF_EMIT + 1]
+                    x2 += t2 * mf[m, _MF_EMIT + 2]
+                    if bounce == bounces:
+                        break
+                    gx, gy, gz = nx, ny, nz
+                    vx, vy, vz = -bdir[0], -bdir[1], -bdir[2]
+                    r = mf[m, _MF_ROUGH]
+                    me = mf[m, _MF_METAL]
+                    b0, b1, b2 = mf[m, _MF_BASE], mf[m, _MF_BASE + 1], mf[m, _MF_BASE + 2]
+                    if codes.shape[0]:
+                        pr = _punctual_at(mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me, b0, b1,
+                                          b2, 1.0, 1.0, 1.0, codes, values, eps, True, spheres, lo, hi, skip, first,
+                                          count, order, planes)
+                        x0 += t0 * pr[0]
+                        x1 += t1 * pr[1]
+                        x2 += t2 * pr[2]
+            if j == 0:
+                out_shift[pix, 0] = x0
+                out_shift[pix, 1] = x1
+                out_shift[pix, 2] = x2
+            x0 -= out_shift[pix, 0]
+            x1 -= out_shift[pix, 1]
+            x2 -= out_shift[pix, 2]
+            s0 += x0
+            s1 += x1
+            s2 += x2
+            q0 += x0 * x0
+            q1 += x1 * x1
+            q2 += x2 * x2
+        out_sum[pix, 0] = s0
+        out_sum[pix, 1] = s1
+        out_sum[pix, 2] = s2
+        out_sumsq[pix, 0] = q0
+        out_sumsq[pix, 1] = q1
+        out_sumsq[pix, 2] = q2
+
+
+# ------------------------------------------------- wavefront (scenes with meshes)
+
+
+@parallel_kernel
+def _vertex_batch(seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
+                  total, marg, cond, c, s, light_dir, light_val, brdf_dir, brdf_w, brdf_pdf):
+    for i in numba.prange(p.shape[0]):
+        key = _path_key(seed, pixel[i], sample, bounce)
+        ldir, lval, bdir, bw, pdf_b = _vertex(key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1],
+                                              ng[i, 2], n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2],
+                                              rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], env, func,
+                                              total, marg, cond, c, s, strategy)
+        for a in range(3):
+            light_dir[i, a] = ldir[a]
+            light_val[i, a] = lval[a]
+            brdf_dir[i, a] = bdir[a]
+            brdf_w[i, a] = bw[a]
+        brdf_pdf[i] = pdf_b
+
+
+@parallel_kernel
+def _miss_batch(strategy, pdf_b, d, env, func, total, c, s, out):
+    for i in numba.prange(d.shape[0]):
+        le = _env_miss(strategy, pdf_b[i], env, func, total, c, s, d[i, 0], d[i, 1], d[i, 2])
+        out[i, 0] = le[0]
+        out[i, 1] = le[1]
+        out[i, 2] = le[2]
+
+
+def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, mat_i,
+               mat_f):
+    func, total, marg, cond = env.distribution
+    total_sum = np.zeros((n_pixels, 3))
+    total_sq = np.zeros((n_pixels, 3))
+    ray_pixel = np.arange(prim.dirs.shape[0]) // k2
+    ray_sub = np.arange(prim.dirs.shape[0]) % k2
+    for j in range(spp):
+        sub = j % k2
+        x = base_value[sub::k2].copy()  # rays are pixel-major: ray = pixel * k2 + sub
+        sel = np.flatnonzero(ray_sub[prim.rows] == sub)
+        rows = prim.rows[sel]
+        surf_p = prim.surface.p[sel]
+        surf_ng = prim.surface.ng[sel]
+        surf_n = prim.surface.n[sel]
+        surf_mat = prim.surface.material[sel]
+        surf_r = prim.surface.roughness[sel]
+        surf_m = prim.surface.metallic[sel]
+        surf_b = prim.surface.base_color[sel]
+        v = -prim.dirs[rows]
+        pix = ray_pixel[rows]
+        through = np.ones((rows.size, 3))
+        for bounce in range(bounces + 1):
+            count = pix.size
+            if count == 0:
+                break
+            ldir = np.empty((count, 3))
+            lval = np.empty((count, 3))
+            bdir = np.empty((count, 3))
+            bw = np.empty((count, 3))
+            bpdf = np.empty(count)
+            _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), np.ascontiguousarray(surf_p),
+                          np.ascontiguousarray(surf_ng), np.ascontiguousarray(surf_n), np.ascontiguousarray(v),
+                          np.ascontiguousarray(surf_mat), np.ascontiguousarray(surf_r), np.ascontiguousarray(surf_m),
+                          np.ascontiguousarray(surf_b), mat_i, mat_f, env.radiance, func, total, marg, cond, env.cos,
+                          env.sin, ldir, lval, bdir, bw, bpdf)
+            lit = np.flatnonzero(np.any(lval > 0.0, axis=1))
+            if lit.size and occlusion:
+                lit = lit[~geometry.occluded(geometry.offset_origins(surf_p[lit], surf_ng[lit], ldir[lit]), ldir[lit])]
+            np.add.at(x, pix[lit], through[lit] * lval[lit])
+            go = np.flatnonzero((bpdf > 0.0) & np.any(bw > 0.0, axis=1))
+            if go.size == 0:
+                break
+            origins = geometry.offset_origins(surf_p[go], surf_ng[go], bdir[go])
+            dirs = np.ascontiguousarray(bdir[go])
+            through = through[go] * bw[go]
+            pix = pix[go]
+            hits = geometry.intersect(origins, dirs) if occlusion else None
+            miss = np.arange(go.size) if hits is None else np.flatnonzero(~hits.hit)
+            if miss.size:
+                le = np.empty((miss.size, 3))
+                _miss_batch(strategy, np.ascontiguousarray(bpdf[go][miss]), np.ascontiguousarray(dirs[miss]),
+                            env.radiance, func, total, env.cos, env.sin, le)
+                np.add.at(x, pix[miss], through[miss] * le)
+            if hits is None:
+                break
+            hit = np.flatnonzero(hits.hit)
+            if hit.size == 0:
+                break
+            surface = geometry.surface(hits, origins, dirs, hit)
+            np.add.at(x, pix[hit], through[hit] * surface.emissive)
+            if bounce == bounces:
+                break
+            through = through[hit]
+            pix = pix[hit]
+            v = -dirs[hit]
+            if geometry.lights:
+                np.add.at(x, pix, through * _punctual(geometry, surface, v, mat_i, mat_f))
+            surf_p, surf_ng, surf_n = surface.p, surface.ng, surface.n
+            surf_mat, surf_r, surf_m, surf_b = surface.material, surface.roughness, surface.metallic, \
+                surface.base_color
+        if j == 0:
+            shift = x.copy()
+        x -= shift
+        total_sum += x
+        total_sq += x * x
+    return shift, total_sum, total_sq
+
+
+def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, strategy="mis", occlusion=True,
+                     engine="auto"):
+    """Monte Carlo ground truth of ``scene`` (module docstring) with ``spp`` samples per
+    pixel.  ``strategy``: ``mis`` (environment + BRDF sampling, power heuristic) or
+    ``brdf`` (BRDF sampling only, for comparison).  ``occlusion=False`` lets every
+    surface see the whole environment and every light, unblocked by the other
+    objects (the assumption of real-time IBL; bounces must then be 0), so that a
+    comparison isolates the shading approximations.  Returns a
+    :class:`RenderResult` with the per-pixel standard error of the mean.  ``engine``:
+    ``auto`` (the fused kernel for scenes of spheres and planes only, else the
+    wavefront loop with Embree), ``fused`` or ``wavefront``; both give the same
+    numbers for the same scene."""
+    if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or not 1 <= spp <= 1 << 20:
+        raise ValueError(f"spp must be an integer in [1, 1048576]; got {spp!r}")
+    if isinstance(bounces, bool) or not isinstance(bounces, (int, np.integer)) or not 0 <= bounces <= 64:
+        raise ValueError(f"bounces must be an integer in [0, 64]; got {bounces!r}")
+    if strategy not in ("mis", "brdf"):
+        raise ValueError(f"unknown strategy {strategy!r}; use 'mis' or 'brdf'")
+    if engine not in ("auto", "fused", "wavefront"):
+        raise ValueError(f"unknown engine {engine!r}; use 'auto', 'fused' or 'wavefront'")
+    if not occlusion and bounces:
+        raise ValueError("bounces need occlusion (rays must hit the other objects); use bounces = 0")
+    t0 = time.perf_counter()
+    geometry = geometry or Geometry(scene)
+    env = env or EnvironmentLight(scene.environment)
+    func, total, marg, cond = env.distribution
+    t1 = time.perf_counter()
+    prim = _primary(scene, geometry)
+    cam = scene.camera
+    k2 = cam.supersample ** 2
+    n_pixels = cam.width * cam.height
+    mat_i, mat_f = material_tables(geometry.materials)
+    s = prim.surface
+    v = -prim.dirs[prim.rows]
+    # deterministic part of each ray: background, or emission + punctual lights at the hit
+    base_value = np.zeros((prim.dirs.shape[0], 3))
+    base_value[~prim.hit] = env.background(prim.dirs[~prim.hit])
+    if prim.rows.size:
+        base_value[prim.rows] = s.emissive + _punctual(geometry, s, v, mat_i, mat_f, None, occlusion)
+    t2 = time.perf_counter()
+    code = 0 if strategy == "mis" else 1
+    if engine == "fused" and geometry.has_meshes:
+        raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
+    if geometry.has_meshes or engine == "wavefront":
+        shift, total_sum, total_sq = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code,
+                                         bool(occlusion), mat_i, mat_f)
+        engine_name = "wavefront" + (" (Embree)" if geometry.has_meshes else "")
+    else:
+        rays = prim.dirs.shape[0]
+        mat = np.full(rays, -1, dtype=np.int64)
+        p = np.zeros((rays, 3))
+        ng = np.zeros((rays, 3))
+        n = np.zeros((rays, 3))
+        vv = np.zeros((rays, 3))
+        rough = np.zeros(rays)
+        metal = np.zeros(rays)
+        base = np.zeros((rays, 3))
+        mat[prim.rows] = s.material
+        p[prim.rows] = s.p
+        ng[prim.rows] = s.ng
+        n[prim.rows] = s.n
+        vv[prim.rows] = v
+        rough[prim.rows] = s.roughness
+        metal[prim.rows] = s.metallic
+        base[prim.rows] = s.base_color
+        codes, values = light_arrays(geometry.lights)
+        shift = np.zeros((n_pixels, 3))
+        total_sum = np.zeros((n_pixels, 3))
+        total_sq = np.zeros((n_pixels, 3))
+        eps = 1e-7 * geometry.scale
+        _fused_kernel(np.uint64(seed), spp, k2, bounces, code, bool(occlusion), base_value, p, ng, n, vv, mat, rough,
+                      metal, base, mat_i, mat_f, env.radiance, func, total, marg, cond, env.cos, env.sin, eps,
+                      geometry.spheres, *geometry.bvh, geometry.planes,
+                      geometry.sphere_material, geometry.plane_material, codes, values, shift, total_sum, total_sq)
+        engine_name = "fused (analytic primitives)"
+    t3 = time.perf_counter()
+    mean_shifted = total_sum / spp
+    mean = shift + mean_shifted
+    var = np.maximum(total_sq / spp - mean_shifted * mean_shifted, 0.0) * (spp / max(spp - 1, 1))
+    stderr = np.sqrt(var / spp)
+    image = mean.reshape(cam.height, cam.width, 3)
+    stderr = stderr.reshape(cam.height, cam.width, 3)
+    mask = prim.hit.reshape(cam.height, cam.width, k2).all(axis=2)
+    paths = int(spp * n_pixels)
+    surface_paths = int(np.count_nonzero(prim.hit.reshape(n_pixels, k2).any(axis=1))) * spp
+    stats = {"mode": "reference", "spp": int(spp), "bounces": int(bounces), "seed": int(seed),
+             "strategy": strategy, "occlusion": bool(occlusion), "engine": engine_name, "paths": paths,
+             "surface_paths": surface_paths,
+             "timings": {"load": t1 - t0, "primary_rays": t2 - t1, "sampling": t3 - t2, "total": t3 - t0},
+             "paths_per_second": surface_paths / max(t3 - t2, 1e-9), "pixels": n_pixels}
+    return RenderResult(image, mask, stderr, stats)
+

@@ -1,0 +1,640 @@
+"""Scenes for ``pbrkit render``: the camera, the environment, materials,
+objects and punctual lights, read from a TOML or JSON file or built in.
+
+A scene file (TOML shown; JSON has the same structure).  Relative paths are
+relative to the scene file's folder.  Every key is optional except
+``objects``; unknown keys are errors::
+
+    [camera]                      # pinhole camera, looks down its -Z
+    position = [0.0, 0.0, 5.0]
+    look_at = [0.0, 0.0, 0.0]
+    up = [0.0, 1.0, 0.0]
+    fov = 40.0                    # vertical field of view, degrees
+    width = 512
+    height = 512
+    supersample = 1               # k: k x k rays per pixel (stratified), 1 = the pixel centre
+
+    [environment]                 # one of file / bake / color; default: the bundled CC0 map
+    file = "studio.hdr"           # equirect .hdr/.exr/.pfm, or a cube cross
+    # bake = "bake_dir"           # a directory written by `pbrkit bake`
+    # color = [1.0, 1.0, 1.0]     # constant radiance
+    intensity = 1.0
+    rotation = 0.0                # degrees about +Y (counter-clockwise seen from +Y)
+
+    [materials.gold]
+    model = "cook_torrance"       # cook_torrance (default), filament, ue4, urp_mobile
+    base_color = [1.0, 0.78, 0.34]
+    metallic = 1.0
+    roughness = 0.3               # perceptual roughness, alpha = r^2
+    reflectance = 0.5             # dielectric f0 = 0.16 reflectance^2
+    emissive = [0.0, 0.0, 0.0]    # emitted radiance (cd / m^2)
+    # cook_torrance only:
+    distribution = "ggx"          # ggx, beckmann, blinn-phong
+    masking = "height-correlated" # height-correlated, separable, schlick-ggx, schlick-ggx-ue4, kelemen, implicit
+    fresnel = "schlick"           # schlick, schlick-pow4, ue4-sg, exact-conductor, exact-dielectric, none
+    # eta = [...], k = [...]      # complex IOR (RGB) for exact-conductor; or conductor = "gold"
+    # specular_color = [1, 1, 1]  # the constant F of fresnel = "none"
+    diffuse = "lambert"           # lambert, burley, none (cook_torrance and filament)
+
+    [[objects]]
+    type = "sphere"
+    center = [0.0, 0.0, 0.0]
+    radius = 1.0
+    material = "gold"
+
+    [[objects]]
+    type = "plane"                # infinite plane
+    point = [0.0, -1.0, 0.0]
+    normal = [0.0, 1.0, 0.0]
+    material = "gold"
+
+    [[objects]]
+    type = "gltf"                 # glTF 2.0 (.gltf or .glb), its own materials
+    file = "model.glb"
+    translation = [0.0, 0.0, 0.0]
+    rotation = [0.0, 0.0, 0.0, 1.0]   # unit quaternion (x, y, z, w), as in glTF
+    scale = 1.0                       # or [sx, sy, sz]
+
+    [[lights]]                    # KHR_lights_punctual units: lux, candela
+    type = "spot"                 # directional, point, spot
+    position = [0.0, 4.0, 0.0]
+    direction = [0.0, -1.0, 0.0]  # the direction the light travels
+    color = [1.0, 1.0, 1.0]
+    intensity = 50.0
+    range = 20.0                  # optional
+    inner_cone_angle = 0.2        # radians (spot)
+    outer_cone_angle = 0.5
+    falloff = "khr"               # khr (windowed 1/d^2) or ue4 (Karis 2013 eq. 9)
+
+Camera conventions (``CONVENTIONS.md``, "Camera"): right-handed world, +Y up;
+the camera looks along ``look_at - position`` (its -Z); image row 0 is the
+top and column 0 the left; without supersampling the ray of pixel (row i,
+column j) passes through the pixel centre (i + 0.5, j + 0.5) of the image
+plane at unit distance whose half height is tan(fov / 2) (and half width
+tan(fov / 2) * width / height).  With ``supersample = k`` the rays pass
+through the centres of the k x k sub-pixels (an ordered grid).
+
+Built-in scenes (:func:`builtin_scene`): ``spheres``, a 7 x 7 grid of
+spheres with perceptual roughness 0, 1/6, ..., 1 across (left to right) and
+metallic 0, 1/6, ..., 1 down (top to bottom), seen from far away with a
+narrow field of view; and ``sphere``, one material ball.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from ..brdf.fresnel import CONDUCTORS, f_conductor
+from ..brdf.material import Material
+from ..brdf.models import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS
+from ..core.errors import InputError
+from .lights import LIGHT_TYPES, Light
+
+__all__ = [
+    "Camera",
+    "EnvironmentSpec",
+    "MaterialSpec",
+    "Sphere",
+    "Plane",
+    "GltfObject",
+    "Scene",
+    "SHADING_MODELS",
+    "BUILTIN_SCENES",
+    "load_scene",
+    "scene_from_dict",
+    "builtin_scene",
+    "resolve_scene",
+    "bundled_environment",
+]
+
+#: Shading models a scene material may name (those of :mod:`pbrkit.models`).
+SHADING_MODELS = ("cook_torrance", "filament", "ue4", "urp_mobile")
+BUILTIN_SCENES = ("spheres", "sphere")
+
+
+# ---------------------------------------------------------------- camera
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Pinhole camera (module docstring)."""
+
+    position: tuple = (0.0, 0.0, 5.0)
+    look_at: tuple = (0.0, 0.0, 0.0)
+    up: tuple = (0.0, 1.0, 0.0)
+    fov: float = 40.0
+    width: int = 512
+    height: int = 512
+    supersample: int = 1
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        for name in ("position", "look_at", "up"):
+            a = np.asarray(getattr(self, name), dtype=float)
+            if a.shape != (3,) or not np.all(np.isfinite(a)):
+                raise ValueError(f"camera.{name} must be 3 finite numbers; got {getattr(self, name)!r}")
+            set_(self, name, tuple(float(x) for x in a))
+        fov = float(self.fov)
+        if not 0.0 < fov < 180.0:
+            raise ValueError(f"camera.fov must be in (0, 180) degrees; got {self.fov!r}")
+        set_(self, "fov", fov)
+        for name, hi in (("width", 16384), ("height", 16384), ("supersample", 16)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= hi:
+                raise ValueError(f"camera.{name} must be an integer in [1, {hi}]; got {v!r}")
+            set_(self, name, int(v))
+        forward = np.subtract(self.look_at, self.position)
+        if np.linalg.norm(forward) == 0.0:
+            raise ValueError("camera.look_at must differ from camera.position")
+        if np.linalg.norm(np.cross(forward, self.up)) <= 1e-9 * np.linalg.norm(forward) * np.linalg.norm(self.up):
+            raise ValueError("camera.up must not be parallel to the viewing direction (look_at - position)")
+
+    def basis(self):
+        """(right, true_up, forward) unit vectors: forward = the viewing direction
+        (the camera's -Z), right = forward x up, true_up = right x forward."""
+        forward = np.subtract(self.look_at, self.position).astype(float)
+        forward /= np.linalg.norm(forward)
+        right = np.cross(forward, self.up)
+        right /= np.linalg.norm(right)
+        return right, np.cross(right, forward), forward
+
+    def subpixel_offsets(self):
+        """(k^2, 2) offsets (row, column) inside a pixel of the k x k sub-pixel centres."""
+        k = self.supersample
+        c = (np.arange(k) + 0.5) / k
+        rows, cols = np.meshgrid(c, c, indexing="ij")
+        return np.stack([rows.ravel(), cols.ravel()], axis=-1)
+
+    def ray_directions(self, rows=None, cols=None):
+        """Unit ray directions: (H, W, k^2, 3) for the whole image, or for the given
+        fractional image coordinates ``rows``, ``cols`` (any equal shapes; the pixel
+        centre of (i, j) is (i + 0.5, j + 0.5)) an array of that shape + (3,)."""
+        right, up, forward = self.basis()
+        t = math.tan(math.radians(self.fov) / 2.0)
+        aspect = self.width / self.height
+        if rows is None:
+            off = self.subpixel_offsets()
+            rows = np.arange(self.height)[:, None, None] + off[None, None, :, 0]
+            cols = np.arange(self.width)[None, :, None] + off[None, None, :, 1]
+            rows, cols = np.broadcast_arrays(rows, cols)
+        rows = np.asarray(rows, dtype=float)
+        cols = np.asarray(cols, dtype=float)
+        x = (2.0 * cols / self.width - 1.0) * t * aspect
+        y = (1.0 - 2.0 * rows / self.height) * t
+        d = forward + x[..., None] * right + y[..., None] * up
+        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+    def project(self, points):
+        """Fractional image coordinates (rows, cols) of world points (..., 3) (inverse of
+        :meth:`ray_directions`); points behind the camera give NaN."""
+        right, up, forward = self.basis()
+        p = np.asarray(points, dtype=float) - np.asarray(self.position)
+        z = p @ forward
+        t = math.tan(math.radians(self.fov) / 2.0)
+        aspect = self.width / self.height
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = (p @ right) / z / (t * aspect)
+            y = (p @ up) / z / t
+        cols = np.where(z > 0, (x + 1.0) * 0.5 * self.width, np.nan)
+        rows = np.where(z > 0, (1.0 - y) * 0.5 * self.height, np.nan)
+        return rows, cols
+
+
+# ------------------------------------------------------------- environment
+
+
+@dataclass(frozen=True)
+class EnvironmentSpec:
+    """Where the environment comes from: exactly one of ``file`` (an image),
+    ``bake`` (a bake directory), ``color`` (constant radiance) or ``equirect``
+    (an in-memory (H, 2H, 3) array); none of them means the bundled map.
+    ``intensity`` multiplies the radiance; ``rotation`` (degrees) turns the
+    environment about +Y: the radiance arriving from world direction d is the
+    map's radiance at R_y(-rotation) d."""
+
+    file: str | None = None
+    bake: str | None = None
+    color: tuple | None = None
+    equirect: np.ndarray | None = field(default=None, compare=False, repr=False)
+    intensity: float = 1.0
+    rotation: float = 0.0
+
+    def __post_init__(self):
+        given = [k for k in ("file", "bake", "color", "equirect") if getattr(self, k) is not None]
+        if len(given) > 1:
+            raise ValueError(f"environment takes only one of file, bake, color; got {', '.join(given)}")
+        if self.color is not None:
+            c = np.asarray(self.color, dtype=float)
+            if c.shape != (3,) or not np.all(np.isfinite(c)) or np.any(c < 0):
+                raise ValueError(f"environment.color must be 3 finite non-negative numbers; got {self.color!r}")
+            object.__setattr__(self, "color", tuple(float(x) for x in c))
+        if self.equirect is not None:
+            a = np.asarray(self.equirect)
+            if a.ndim != 3 or a.shape[2] != 3 or a.shape[1] != 2 * a.shape[0]:
+                raise ValueError(f"environment.equirect must have shape (H, 2H, 3); got {a.shape}")
+        intensity = float(self.intensity)
+        if not np.isfinite(intensity) or intensity < 0:
+            raise ValueError(f"environment.intensity must be finite and >= 0; got {self.intensity!r}")
+        rotation = float(self.rotation)
+        if not np.isfinite(rotation):
+            raise ValueError(f"environment.rotation must be finite; got {self.rotation!r}")
+        object.__setattr__(self, "intensity", intensity)
+        object.__setattr__(self, "rotation", rotation)
+
+
+def bundled_environment():
+    """Path of the CC0 environment map shipped with pbrkit (see data/LICENSE-environment.md)."""
+    return Path(__file__).resolve().parent.parent / "data" / "environment.hdr"
+
+
+# --------------------------------------------------------------- materials
+
+_MODEL_FIXED = {
+    # model -> (distribution, masking, fresnel) it implies; cook_torrance chooses them
+    "ue4": ("ggx", "schlick-ggx-ue4", "ue4-sg"),
+    "filament": ("ggx", "height-correlated", "schlick"),
+    "urp_mobile": ("ggx", "height-correlated", "schlick"),
+}
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    """A scene material: the metallic-roughness parameters of
+    :class:`pbrkit.Material`, the shading model and, for ``cook_torrance``, its
+    D, G and F terms by name (:func:`pbrkit.models.cook_torrance`).
+
+    ``fresnel = "none"`` means F = ``specular_color`` (default white).
+    ``conductor`` names a metal of :data:`pbrkit.fresnel.CONDUCTORS`: it sets
+    eta and k, metallic 1 and base_color = the exact Fresnel reflectance at
+    normal incidence (as :meth:`pbrkit.Material.conductor`).
+    """
+
+    name: str = "default"
+    base_color: tuple = (0.8, 0.8, 0.8)
+    metallic: float = 0.0
+    roughness: float = 0.5
+    reflectance: float = 0.5
+    emissive: tuple = (0.0, 0.0, 0.0)
+    model: str = "cook_torrance"
+    distribution: str = "ggx"
+    masking: str = "height-correlated"
+    fresnel: str = "schlick"
+    diffuse: str = "lambert"
+    eta: tuple | None = None
+    k: tuple | None = None
+    specular_color: tuple = (1.0, 1.0, 1.0)
+    conductor: str | None = None
+    double_sided: bool = True
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        if self.model not in SHADING_MODELS:
+            raise ValueError(f"material {self.name!r}: unknown model {self.model!r}; "
+                             f"choose one of {', '.join(SHADING_MODELS)}")
+        for kind, value, choices in (("distribution", self.distribution, DISTRIBUTIONS),
+                                     ("masking", self.masking, MASKINGS),
+                                     ("fresnel", self.fresnel, FRESNELS),
+                                     ("diffuse", self.diffuse, DIFFUSES)):
+            if value not in choices:
+                raise ValueError(f"material {self.name!r}: unknown {kind} {value!r}; choose one of "
+                                 f"{', '.join(choices)}")
+        if self.model != "cook_torrance":
+            fixed = _MODEL_FIXED[self.model]
+            given = (self.distribution, self.masking, self.fresnel)
+            defaults = ("ggx", "height-correlated", "schlick")
+            for kind, default, implied, value in zip(("distribution", "masking", "fresnel"), defaults, fixed, given):
+                if value not in (default, implied):
+                    raise ValueError(f"material {self.name!r}: {kind} can only be chosen with model "
+                                     f"'cook_torrance' (model {self.model!r} fixes it)")
+            set_(self, "distribution", fixed[0])
+            set_(self, "masking", fixed[1])
+            set_(self, "fresnel", fixed[2])
+            if self.model in ("ue4", "urp_mobile") and self.diffuse != "lambert":
+                raise ValueError(f"material {self.name!r}: model {self.model!r} has Lambert diffuse only")
+        if self.conductor is not None:
+            if self.conductor not in CONDUCTORS:
+                raise ValueError(f"material {self.name!r}: unknown conductor {self.conductor!r}; "
+                                 f"known: {', '.join(sorted(CONDUCTORS))}")
+            if self.eta is not None or self.k is not None:
+                raise ValueError(f"material {self.name!r}: give either conductor or eta and k, not both")
+            eta, k = (np.asarray(x) for x in CONDUCTORS[self.conductor])
+            set_(self, "eta", tuple(eta))
+            set_(self, "k", tuple(k))
+            set_(self, "metallic", 1.0)
+            set_(self, "base_color", tuple(np.minimum(f_conductor(1.0, eta, k), 1.0)))
+        try:
+            m = self.material()
+        except ValueError as exc:
+            raise ValueError(f"material {self.name!r}: {exc}") from None
+        set_(self, "base_color", tuple(float(x) for x in m.base_color))
+        set_(self, "metallic", float(m.metallic))
+        set_(self, "roughness", float(m.roughness))
+        set_(self, "reflectance", float(m.reflectance))
+        if m.eta is not None:
+            set_(self, "eta", tuple(float(x) for x in m.eta))
+            set_(self, "k", tuple(float(x) for x in m.k))
+        if self.fresnel == "exact-conductor" and self.eta is None:
+            raise ValueError(f"material {self.name!r}: fresnel 'exact-conductor' needs eta and k (or conductor)")
+        for name in ("emissive", "specular_color"):
+            a = np.asarray(getattr(self, name), dtype=float)
+            if a.shape != (3,) or not np.all(np.isfinite(a)) or np.any(a < 0):
+                raise ValueError(f"material {self.name!r}: {name} must be 3 finite non-negative numbers; "
+                                 f"got {getattr(self, name)!r}")
+            set_(self, name, tuple(float(x) for x in a))
+        if np.any(np.asarray(self.specular_color) > 1.0):
+            raise ValueError(f"material {self.name!r}: specular_color must be in [0, 1]")
+
+    def material(self):
+        """The :class:`pbrkit.Material` of these parameters (validates them)."""
+        return Material(base_color=np.asarray(self.base_color, dtype=float), metallic=self.metallic,
+                        roughness=self.roughness, reflectance=self.reflectance,
+                        eta=None if self.eta is None else np.asarray(self.eta, dtype=float),
+                        k=None if self.k is None else np.asarray(self.k, dtype=float))
+
+
+# ----------------------------------------------------------------- objects
+
+
+def _vector(what, value, n=3):
+    a = np.asarray(value, dtype=float)
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{what} must be {n} finite numbers; got {value!r}")
+    return tuple(float(x) for x in a)
+
+
+@dataclass(frozen=True)
+class Sphere:
+    center: tuple = (0.0, 0.0, 0.0)
+    radius: float = 1.0
+    material: str = "default"
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _vector("sphere center", self.center))
+        r = float(self.radius)
+        if not np.isfinite(r) or r <= 0.0:
+            raise ValueError(f"sphere radius must be positive; got {self.radius!r}")
+        object.__setattr__(self, "radius", r)
+
+
+@dataclass(frozen=True)
+class Plane:
+    point: tuple = (0.0, 0.0, 0.0)
+    normal: tuple = (0.0, 1.0, 0.0)
+    material: str = "default"
+
+    def __post_init__(self):
+        object.__setattr__(self, "point", _vector("plane point", self.point))
+        n = np.asarray(_vector("plane normal", self.normal))
+        if np.linalg.norm(n) == 0.0:
+            raise ValueError("plane normal must not be zero")
+        object.__setattr__(self, "normal", tuple(n / np.linalg.norm(n)))
+
+
+@dataclass(frozen=True)
+class GltfObject:
+    """A glTF 2.0 file placed with translation, rotation (unit quaternion x, y, z, w)
+    and scale, applied as T R S to the file's scene (glTF's node transform order)."""
+
+    file: str
+    translation: tuple = (0.0, 0.0, 0.0)
+    rotation: tuple = (0.0, 0.0, 0.0, 1.0)
+    scale: tuple = (1.0, 1.0, 1.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "translation", _vector("gltf translation", self.translation))
+        q = np.asarray(_vector("gltf rotation (quaternion x, y, z, w)", self.rotation, 4))
+        if abs(np.linalg.norm(q) - 1.0) > 1e-3:
+            raise ValueError(f"gltf rotation must be a unit quaternion (x, y, z, w); got {self.rotation!r}")
+        object.__setattr__(self, "rotation", tuple(q / np.linalg.norm(q)))
+        s = self.scale
+        if np.ndim(s) == 0:
+            s = (s, s, s)
+        s = _vector("gltf scale", s)
+        if any(x == 0.0 for x in s):
+            raise ValueError("gltf scale must not be zero")
+        object.__setattr__(self, "scale", s)
+
+    def matrix(self):
+        """4 x 4 matrix T R S (glTF 2.0 sec. 3.5.3)."""
+        return trs_matrix(self.translation, self.rotation, self.scale)
+
+
+def trs_matrix(translation, rotation, scale):
+    """4 x 4 matrix T R S from translation, unit quaternion (x, y, z, w) and scale (glTF 2.0, sec. 3.5.3)."""
+    x, y, z, w = rotation
+    r = np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+    m = np.eye(4)
+    m[:3, :3] = r * np.asarray(scale, dtype=float)[None, :]
+    m[:3, 3] = translation
+    return m
+
+
+# ------------------------------------------------------------------- scene
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything a render needs; ``source`` names the file (or built-in) it came from."""
+
+    camera: Camera = field(default_factory=Camera)
+    environment: EnvironmentSpec = field(default_factory=EnvironmentSpec)
+    materials: dict = field(default_factory=lambda: {"default": MaterialSpec()})
+    objects: tuple = ()
+    lights: tuple = ()
+    source: str = "<scene>"
+
+    def __post_init__(self):
+        if not self.objects:
+            raise ValueError("scene has no objects")
+        for obj in self.objects:
+            if isinstance(obj, (Sphere, Plane)) and obj.material not in self.materials:
+                raise ValueError(f"{type(obj).__name__.lower()} uses material {obj.material!r}, which is not "
+                                 f"defined (defined: {', '.join(sorted(self.materials)) or 'none'})")
+
+    def with_camera(self, **changes):
+        """A copy with some camera fields changed (e.g. width, height)."""
+        return replace(self, camera=replace(self.camera, **changes))
+
+
+_SECTIONS = {"camera", "environment", "materials", "objects", "lights"}
+_CAMERA_KEYS = {"position", "look_at", "up", "fov", "width", "height", "supersample"}
+_ENV_KEYS = {"file", "bake", "color", "intensity", "rotation"}
+_MATERIAL_KEYS = {"base_color", "metallic", "roughness", "reflectance", "emissive", "model", "distribution",
+                  "masking", "fresnel", "diffuse", "eta", "k", "specular_color", "conductor"}
+_OBJECT_KEYS = {"sphere": {"type", "center", "radius", "material"},
+                "plane": {"type", "point", "normal", "material"},
+                "gltf": {"type", "file", "translation", "rotation", "scale"}}
+_LIGHT_KEYS = {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
+               "outer_cone_angle", "falloff"}
+
+
+def _check_keys(where, table, allowed):
+    if not isinstance(table, dict):
+        raise ValueError(f"{where} must be a table/object; got {type(table).__name__}")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise ValueError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(allowed))}")
+
+
+def _resolve(base_dir, path, what):
+    if not isinstance(path, str) or not path:
+        raise ValueError(f"{what} must be a non-empty string path; got {path!r}")
+    p = Path(path)
+    if not p.is_absolute() and base_dir is not None:
+        p = Path(base_dir) / p
+    if not p.exists():
+        raise ValueError(f"{what} {str(p)!r} does not exist")
+    return str(p)
+
+
+def scene_from_dict(data, base_dir=None, source="<scene>"):
+    """Build and validate a :class:`Scene` from the parsed content of a scene file.
+    Raises ``ValueError`` with a one-line message naming the problem."""
+    _check_keys("scene", data, _SECTIONS)
+    camera = Camera(**_kwargs("camera", data.get("camera", {}), _CAMERA_KEYS))
+    env = data.get("environment", {})
+    _check_keys("environment", env, _ENV_KEYS)
+    env = dict(env)
+    if "file" in env:
+        env["file"] = _resolve(base_dir, env["file"], "environment.file")
+    if "bake" in env:
+        env["bake"] = _resolve(base_dir, env["bake"], "environment.bake")
+    environment = EnvironmentSpec(**env)
+    materials = {"default": MaterialSpec()}
+    mats = data.get("materials", {})
+    if not isinstance(mats, dict):
+        raise ValueError("materials must be a table of named materials")
+    for name, spec in mats.items():
+        _check_keys(f"materials.{name}", spec, _MATERIAL_KEYS)
+        materials[name] = MaterialSpec(name=name, **spec)
+    objects = []
+    objs = data.get("objects", [])
+    if not isinstance(objs, list):
+        raise ValueError("objects must be an array of tables")
+    for index, obj in enumerate(objs):
+        where = f"objects[{index}]"
+        if not isinstance(obj, dict) or "type" not in obj:
+            raise ValueError(f"{where} needs a type ({', '.join(_OBJECT_KEYS)})")
+        kind = obj["type"]
+        if kind not in _OBJECT_KEYS:
+            raise ValueError(f"{where}: unknown type {kind!r}; choose one of {', '.join(_OBJECT_KEYS)}")
+        _check_keys(where, obj, _OBJECT_KEYS[kind])
+        args = {k: v for k, v in obj.items() if k != "type"}
+        try:
+            if kind == "sphere":
+                objects.append(Sphere(**args))
+            elif kind == "plane":
+                objects.append(Plane(**args))
+            else:
+                if "file" not in args:
+                    raise ValueError("gltf needs a file")
+                args["file"] = _resolve(base_dir, args["file"], "gltf file")
+                objects.append(GltfObject(**args))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{where}: {exc}") from None
+    lights = []
+    lts = data.get("lights", [])
+    if not isinstance(lts, list):
+        raise ValueError("lights must be an array of tables")
+    for index, light in enumerate(lts):
+        where = f"lights[{index}]"
+        _check_keys(where, light, _LIGHT_KEYS)
+        if "type" not in light:
+            raise ValueError(f"{where} needs a type ({', '.join(LIGHT_TYPES)})")
+        try:
+            lights.append(Light(**light))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{where}: {exc}") from None
+    return Scene(camera=camera, environment=environment, materials=materials, objects=tuple(objects),
+                 lights=tuple(lights), source=source)
+
+
+def _kwargs(where, table, allowed):
+    _check_keys(where, table, allowed)
+    return dict(table)
+
+
+def load_scene(path):
+    """Read a scene file (``.toml`` or ``.json``).  Problems raise
+    :class:`pbrkit.errors.InputError` (a ``ValueError``) with one line naming the file."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".toml", ".json"):
+        raise InputError(f"scene files must be .toml or .json; got {suffix or 'no suffix'!r}", path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read scene file: {exc}", path) from None
+    try:
+        data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"invalid {suffix[1:].upper()}: {exc}", path) from None
+    try:
+        return scene_from_dict(data, base_dir=path.parent, source=str(path))
+    except (TypeError, ValueError) as exc:
+        raise InputError(str(exc), path) from None
+
+
+def builtin_scene(name, width=None, height=None, environment=None):
+    """The built-in scene ``spheres`` or ``sphere`` (module docstring).  ``environment``
+    (an :class:`EnvironmentSpec`) replaces the bundled map."""
+    if name not in BUILTIN_SCENES:
+        raise ValueError(f"unknown built-in scene {name!r}; choose one of {', '.join(BUILTIN_SCENES)}")
+    environment = environment or EnvironmentSpec()
+    width = 512 if width is None else width
+    height = 512 if height is None else height
+    if name == "sphere":
+        camera = Camera(position=(0.0, 0.0, 4.5), look_at=(0.0, 0.0, 0.0), fov=32.0,
+                        width=width, height=height)
+        materials = {"default": MaterialSpec(), "ball": MaterialSpec(name="ball", base_color=(0.9, 0.6, 0.35),
+                                                                     metallic=0.0, roughness=0.4)}
+        return Scene(camera=camera, environment=environment, materials=materials,
+                     objects=(Sphere(center=(0.0, 0.0, 0.0), radius=1.0, material="ball"),), source="sphere")
+    n = 7
+    spacing = 2.4
+    materials = {"default": MaterialSpec()}
+    objects = []
+    for row in range(n):
+        for col in range(n):
+            name_ = f"m{row}_r{col}"
+            materials[name_] = MaterialSpec(name=name_, base_color=(0.9, 0.6, 0.35), metallic=row / (n - 1),
+                                            roughness=col / (n - 1))
+            objects.append(Sphere(center=((col - (n - 1) / 2) * spacing, ((n - 1) / 2 - row) * spacing, 0.0),
+                                  radius=1.0, material=name_))
+    half = ((n - 1) / 2 * spacing + 1.0) * 1.06
+    distance = 60.0
+    camera = Camera(position=(0.0, 0.0, distance), look_at=(0.0, 0.0, 0.0),
+                    fov=2.0 * math.degrees(math.atan(half / (distance - 1.0))),
+                    width=width, height=height)
+    return Scene(camera=camera, environment=environment, materials=materials, objects=tuple(objects),
+                 source="spheres")
+
+
+def resolve_scene(name_or_path, width=None, height=None, environment=None):
+    """A built-in scene by name, or a scene file; ``width``/``height`` override the
+    camera's, ``environment`` (an :class:`EnvironmentSpec`) the file's environment."""
+    if str(name_or_path) in BUILTIN_SCENES:
+        return builtin_scene(str(name_or_path), width, height, environment)
+    path = Path(name_or_path)
+    if not path.exists():
+        raise InputError(f"no such scene file (built-in scenes: {', '.join(BUILTIN_SCENES)})", path)
+    scene = load_scene(path)
+    changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
+    if changes:
+        try:
+            scene = scene.with_camera(**changes)
+        except ValueError as exc:
+            raise InputError(str(exc), path) from None
+    if environment is not None:
+        scene = replace(scene, environment=environment)
+    return scene

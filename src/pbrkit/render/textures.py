@@ -1,0 +1,106 @@
+"""glTF textures and the materials that use them.
+
+Texture sampling follows the glTF sampler: bilinear (or nearest) filtering of
+linear texel values at texel centres (sRGB texels are decoded before
+filtering, as GPUs do), REPEAT / CLAMP_TO_EDGE / MIRRORED_REPEAT wrapping, UV
+(0, 0) at the first (top-left) texel.  Minification filters and mip maps are
+not used (supersample the camera instead).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .scene import MaterialSpec
+
+__all__ = [
+    "Texture",
+    "TextureRef",
+    "SurfaceMaterial",
+]
+
+# ================================================================ textures
+
+
+_WRAP_REPEAT, _WRAP_CLAMP, _WRAP_MIRROR = 10497, 33071, 33648
+_FILTER_NEAREST = 9728
+
+
+def _wrap(i, n, mode):
+    if mode == _WRAP_CLAMP:
+        return np.clip(i, 0, n - 1)
+    if mode == _WRAP_MIRROR:
+        m = np.mod(i, 2 * n)
+        return np.where(m < n, m, 2 * n - 1 - m)
+    return np.mod(i, n)
+
+
+@dataclass
+class Texture:
+    """Texels (H, W, 4) float32, already linear (sRGB images decoded), with the
+    glTF sampler's wrap modes and magnification filter."""
+
+    texels: np.ndarray
+    wrap_s: int = _WRAP_REPEAT
+    wrap_t: int = _WRAP_REPEAT
+    mag_filter: int | None = None
+
+    def sample(self, uv):
+        """Filtered texels at texture coordinates uv (N, 2) -> (N, 4).  Texel (row i,
+        column j) has its centre at u = (j + 0.5) / W, v = (i + 0.5) / H (glTF: the
+        first texel is the upper left corner of the image)."""
+        h, w = self.texels.shape[:2]
+        x = uv[:, 0] * w
+        y = uv[:, 1] * h
+        if self.mag_filter == _FILTER_NEAREST:
+            j = _wrap(np.floor(x).astype(np.int64), w, self.wrap_s)
+            i = _wrap(np.floor(y).astype(np.int64), h, self.wrap_t)
+            return self.texels[i, j].astype(np.float64)
+        x -= 0.5
+        y -= 0.5
+        x0 = np.floor(x)
+        y0 = np.floor(y)
+        fx = (x - x0)[:, None]
+        fy = (y - y0)[:, None]
+        x0 = x0.astype(np.int64)
+        y0 = y0.astype(np.int64)
+        j0 = _wrap(x0, w, self.wrap_s)
+        j1 = _wrap(x0 + 1, w, self.wrap_s)
+        i0 = _wrap(y0, h, self.wrap_t)
+        i1 = _wrap(y0 + 1, h, self.wrap_t)
+        t = self.texels
+        return ((t[i0, j0] * (1 - fx) + t[i0, j1] * fx) * (1 - fy)
+                + (t[i1, j0] * (1 - fx) + t[i1, j1] * fx) * fy).astype(np.float64)
+
+
+@dataclass(frozen=True)
+class TextureRef:
+    """A material's use of a texture: which one, which TEXCOORD set, and the
+    scale (normal) or strength (occlusion)."""
+
+    texture: int
+    texcoord: int = 0
+    scale: float = 1.0
+
+
+@dataclass
+class SurfaceMaterial:
+    """A material as the renderer uses it: the :class:`pbrkit.scene.MaterialSpec`
+    (factors, model and terms) and optional glTF textures."""
+
+    spec: MaterialSpec
+    base_color_texture: TextureRef | None = None
+    metallic_roughness_texture: TextureRef | None = None
+    normal_texture: TextureRef | None = None
+    occlusion_texture: TextureRef | None = None
+    emissive_texture: TextureRef | None = None
+    textures: list | None = None  # the Texture objects the refs index
+
+    @property
+    def textured(self):
+        return any(r is not None for r in (self.base_color_texture, self.metallic_roughness_texture,
+                                           self.normal_texture, self.occlusion_texture, self.emissive_texture))
+
+
