@@ -212,6 +212,26 @@ def test_highlight_split_conserves_energy():
     assert np.allclose(hc.energies, (1000 - hc.threshold) * omega[2, 3, 4])
 
 
+@pytest.mark.parametrize("lobe", [pf.LOBE_COSINE, pf.LOBE_GGX])
+@pytest.mark.parametrize("normalise", [False, True])
+def test_point_lobe_sum_is_the_written_out_sum(lobe, normalise):
+    rng = np.random.default_rng(6)
+    n = rng.normal(size=(40, 3))
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    l = rng.normal(size=(70, 3))
+    l /= np.linalg.norm(l, axis=1, keepdims=True)
+    values, weights, start = rng.random((70, 2)), rng.random(70), rng.random((40, 2))
+    alpha, scale = 0.3, 1.7
+    nol = n @ l.T
+    k = np.maximum(nol, 0.0) if lobe == pf.LOBE_COSINE else np.where(
+        nol > 0, ggx(np.sqrt(0.5 + 0.5 * np.maximum(nol, -1.0)), alpha) * nol, 0.0)
+    w = k * scale * weights[None, :]
+    out = np.zeros((40, 2)) if normalise else start.copy()
+    pf.point_lobe_sum(out, n, l, values, lobe, alpha, scale, weights, normalise)
+    expected = w @ values / w.sum(axis=1, keepdims=True) if normalise else start + w @ values
+    assert np.allclose(out, expected, rtol=1e-13)
+
+
 def test_irradiance_reference_of_constant_cube_is_pi():
     from pbrkit.ibl.cubemap import cube_texel_directions
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
+import numba
 import numpy as np
 import pytest
 
@@ -22,11 +23,16 @@ from pbrkit.core.errors import InputError
 from pbrkit.ibl import cubemap as cm
 from pbrkit.ibl.equirect import (
     cube_to_equirect,
+    direction_angles,
     direction_to_equirect,
+    equirect_angles_of_uv,
+    equirect_direction,
     equirect_directions,
     equirect_integral,
+    equirect_pixel_angles,
     equirect_solid_angles,
     equirect_to_cube,
+    equirect_uv,
 )
 from pbrkit.io.environment import (
     NegativeRadianceWarning,
@@ -67,6 +73,40 @@ def test_equirect_directions_follow_conventions():
     u, v = direction_to_equirect(d)
     rows, cols = np.meshgrid(np.arange(h), np.arange(2 * h), indexing="ij")
     assert np.array_equal(np.floor(v * h), rows) and np.array_equal(np.floor(u * 2 * h), cols)
+
+
+def test_equirect_mapping_helpers_by_hand():
+    # pixel centres of a 4 x 8 map: theta = pi (i + 0.5) / 4, phi = 2 pi (j + 0.5) / 8 - pi
+    theta, phi = equirect_pixel_angles(np.arange(4), np.arange(8), 4, 8)
+    assert np.allclose(theta, [np.pi / 8, 3 * np.pi / 8, 5 * np.pi / 8, 7 * np.pi / 8])
+    assert np.allclose(phi, -np.pi + np.pi / 8 + np.arange(8) * np.pi / 4)
+    # axes (CONVENTIONS.md): +Y is theta = 0; +X is phi = 0 (u = 0.5), -Z is phi = -pi/2 (u = 0.25), +Z u = 0.75
+    axes = {(1, 0, 0): (np.pi / 2, 0.0, 0.5, 0.5), (0, 0, -1): (np.pi / 2, -np.pi / 2, 0.25, 0.5),
+            (0, 0, 1): (np.pi / 2, np.pi / 2, 0.75, 0.5), (-1, 0, 0): (np.pi / 2, np.pi, 1.0, 0.5),
+            (0, 1, 0): (0.0, 0.0, 0.5, 0.0), (0, -1, 0): (np.pi, 0.0, 0.5, 1.0)}
+    for d, (t, p, u, v) in axes.items():
+        assert np.allclose(direction_angles(*map(float, d)), (t, p))
+        assert np.allclose(equirect_uv(*map(float, d)), (u, v))
+        assert np.allclose(equirect_direction(t, p), d, atol=1e-15)
+        assert np.allclose(equirect_angles_of_uv(u, v), (t, p))
+    # round trips on random directions, NumPy and compiled alike
+    rng = np.random.default_rng(4)
+    d = unit(rng.normal(size=(1000, 3)))
+    u, v = equirect_uv(d[:, 0], d[:, 1], d[:, 2])
+    assert np.allclose(np.stack(equirect_direction(*equirect_angles_of_uv(u, v)), axis=-1), d, atol=1e-14)
+
+    @numba.njit
+    def compiled(d, out):
+        for k in range(d.shape[0]):
+            uu, vv = equirect_uv(d[k, 0], d[k, 1], d[k, 2])
+            x, y, z = equirect_direction(*equirect_angles_of_uv(uu, vv))
+            t, p = equirect_pixel_angles(k % 7, k % 13, 7, 14)
+            out[k] = (uu, vv, x, y, z, t, p)
+
+    out = np.zeros((d.shape[0], 7))
+    compiled(d, out)
+    t, p = equirect_pixel_angles(np.arange(1000) % 7, np.arange(1000) % 13, 7, 14)
+    assert np.allclose(out, np.column_stack([u, v, d, t, p]), rtol=1e-14, atol=1e-14)
 
 
 @pytest.mark.parametrize("h", [4, 64, 512])
@@ -244,7 +284,7 @@ def test_equirect_to_cube_validation():
         equirect_to_cube(np.ones((4, 4, 3)), 2)
     with pytest.raises(ValueError, match="non-finite"):
         equirect_to_cube(np.full((2, 4, 3), np.nan), 2)
-    with pytest.raises(ValueError, match="positive integer"):
+    with pytest.raises(ValueError, match=r"integer in \[1, 32768\]"):
         equirect_to_cube(np.ones((2, 4, 3)), 0)
 
 

@@ -93,6 +93,25 @@ def test_constant_radiance_gives_sqrt_4pi_and_irradiance_pi():
         assert np.abs(c[1:]).max() < 1e-12
 
 
+def test_cosine_lobe_coefficients_match_quadrature_and_exact_values():
+    import math
+    from fractions import Fraction
+
+    from pbrkit.ibl.spectral import zonal_coefficients
+
+    a = sh.cosine_lobe_coefficients(64)
+    quad, _ = zonal_coefficients(lambda t: np.maximum(np.cos(t), 0.0), 64, theta_max=0.5 * np.pi, normalise=False)
+    assert np.allclose(a, quad, rtol=0, atol=1e-10)
+    assert sh.COSINE_LOBE_COEFFICIENTS == (np.pi, 2 * np.pi / 3, np.pi / 4)
+    assert np.array_equal(sh.cosine_lobe_coefficients(2), sh.COSINE_LOBE_COEFFICIENTS)
+    # high degree: exact rational factor binom(l, l/2) / 2^l / ((l + 2)(l - 1)) of R&H 2001 eq. 9
+    big = sh.cosine_lobe_coefficients(1000)
+    assert np.all(np.isfinite(big)) and np.all(big[3::2] == 0.0)
+    for l in (2, 4, 10, 100, 512, 998, 1000):
+        exact = Fraction(math.comb(l, l // 2), 2 ** l * (l + 2) * (l - 1))
+        assert big[l] == pytest.approx(2 * np.pi * (-1) ** (l // 2 - 1) * float(exact), rel=1e-13)
+
+
 def test_equirect_projection_is_exact_per_cell():
     # A piecewise-constant image: reference by a 12 x 12 Gauss-Legendre product rule in
     # (theta, phi) inside every cell (the integrand Y_lm sin(theta) is a smooth, low-degree

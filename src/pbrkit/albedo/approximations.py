@@ -18,7 +18,7 @@ import numpy as np
 
 from ..brdf.material import Material
 from ..brdf.models import cook_torrance, urp_mobile
-from ..core.atomic import atomic_path, write_text
+from ..core.atomic import write_text
 from .furnace import albedo_quadrature
 
 __all__ = ["Comparison", "COMPARISONS", "approximation_errors", "approximations_report"]
@@ -157,14 +157,11 @@ def approximations_report(out_dir, n=32):
 
 
 def _plot(path, errors, summary):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..app.figures import new_figure, save_figure
 
     cols = 4
     rows = (len(COMPARISONS) + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
+    fig, axes = new_figure(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
     for ax, c in zip(axes.flat, COMPARISONS):
         e = errors[c.name]
         limit = max(float(np.abs(e).max()), 1e-12)
@@ -179,6 +176,4 @@ def _plot(path, errors, summary):
         ax.axis("off")
     fig.suptitle("Albedo error of real-time approximations (approximation minus reference)", fontsize=11)
     fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=100, format="png", metadata={"Software": None})
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)

@@ -22,8 +22,8 @@ import functools
 
 import numpy as np
 
+from ..core.quadrature import gauss_legendre_01
 from .tables import (
-    _gauss_legendre_01,
     f_avg_schlick,
     filament_energy_compensation,
     kulla_conty_color,
@@ -47,7 +47,7 @@ def _runtime_tables(table_size, n_mu=64):
     """
     table = lookup_table("dfg", table_size)[0]
     table.setflags(write=False)
-    x, w = _gauss_legendre_01(n_mu)
+    x, w = gauss_legendre_01(n_mu)
 
     def e_avg(roughness):
         e = sample_table(table, x[None, :], np.asarray(roughness, dtype=float)[:, None])[..., 1]

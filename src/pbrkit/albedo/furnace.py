@@ -10,9 +10,12 @@ seed 002).  Two independent estimators:
   h is parameterised by u, the GGX NDF cumulative distribution in theta_h
   (tan^2 theta_h = alpha^2 u / (1 - u), Walter et al. 2007 eq. 35), and the
   azimuth phi, restricted analytically to the directions whose reflection
-  l = 2 (v.h) h - v lies above the horizon.  With dl = 4 (v.h) dh and
-  dh = du dphi / (2 pi D(h) cos theta_h) the integrand is smooth, and a
-  Gauss-Legendre rule converges to better than 1e-5 at the defaults.
+  l = 2 (v.h) h - v (:func:`pbrkit.sampling.warps.reflect`) lies above the
+  horizon (the node map and the horizon bounds are those of
+  :mod:`pbrkit.core.quadrature`, shared with the compiled tables).  With
+  dl = 4 (v.h) dh and dh = du dphi / (2 pi D(h) cos theta_h) the integrand
+  is smooth, and a Gauss-Legendre rule converges to better than 1e-5 at the
+  defaults.
 - :func:`albedo_monte_carlo`, importance sampling of visible normals
   (Heitz 2018) with a seeded generator, returning the estimate and its
   standard error.
@@ -23,6 +26,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..brdf.distributions import alpha_from_roughness
+from ..core.quadrature import (
+    ggx_cos_of_s,
+    ggx_s_of_cos,
+    horizon_limits,
+    horizon_phi_max,
+    split_node,
+)
+from ..sampling.warps import reflect
 
 __all__ = ["albedo_quadrature", "albedo_monte_carlo", "view_direction", "half_vector_domain"]
 
@@ -31,14 +42,6 @@ def view_direction(mu):
     """v = (sqrt(1 - mu^2), 0, mu) in the local frame (n = +z)."""
     mu = np.asarray(mu, dtype=float)
     return np.stack([np.sqrt(np.maximum(0.0, 1.0 - mu * mu)), np.zeros_like(mu), mu], axis=-1)
-
-
-def _s_of_cos(cos_theta, alpha):
-    # Node variable s = log(1 + tan^2 theta_h / alpha^2) = -log(1 - u) for u the GGX NDF's
-    # CDF in theta_h (Walter et al. 2007, eq. 35): uniform s spreads the nodes over the
-    # lobe's core and its heavy tail alike, which also suits lighter-tailed lobes.
-    c2 = cos_theta * cos_theta
-    return np.log1p((1.0 - c2) / np.maximum(c2, 1e-300) / (alpha * alpha))
 
 
 def half_vector_domain(mu, alpha, n_theta=48, n_phi=24):
@@ -58,6 +61,10 @@ def half_vector_domain(mu, alpha, n_theta=48, n_phi=24):
     the lobe's core and its heavy tail alike; on the second part the cosine
     substitution s = s_a + (s_b - s_a)(1 - cos(pi tau)) / 2 removes the
     square-root behaviour of phi_max at both ends, so the rule converges fast.
+    The pieces are those of :mod:`pbrkit.core.quadrature` (:func:`~pbrkit.
+    core.quadrature.ggx_s_of_cos` and its inverse, :func:`~pbrkit.core.
+    quadrature.horizon_limits`, :func:`~pbrkit.core.quadrature.horizon_phi_max`,
+    :func:`~pbrkit.core.quadrature.split_node`).
     """
     mu = np.minimum(np.asarray(mu, dtype=float), 1.0)[..., None, None]
     alpha = np.asarray(alpha, dtype=float)[..., None, None]
@@ -65,24 +72,16 @@ def half_vector_domain(mu, alpha, n_theta=48, n_phi=24):
     x_p, w_p = np.polynomial.legendre.leggauss(n_phi)
     x_t = 0.5 * (x_t[:, None] + 1.0)
     w_t = 0.5 * w_t[:, None]
-    theta_v = np.arccos(mu)
-    s_a = _s_of_cos(np.cos(0.25 * np.pi - 0.5 * theta_v), alpha)
-    s_b = _s_of_cos(np.cos(0.25 * np.pi + 0.5 * theta_v), alpha)
+    sin_v, cos_a, cos_b = horizon_limits(mu)
+    s_a = ggx_s_of_cos(cos_a, alpha)
+    s_b = ggx_s_of_cos(cos_b, alpha)
     # Segment 1: every phi.  Segment 2: cosine substitution.
-    s1 = s_a * x_t
-    ds1 = s_a * w_t
-    s2 = s_a + (s_b - s_a) * 0.5 * (1.0 - np.cos(np.pi * x_t))
-    ds2 = (s_b - s_a) * 0.5 * np.pi * np.sin(np.pi * x_t) * w_t
+    s1, ds1 = split_node(0, x_t, w_t, s_a, s_b)
+    s2, ds2 = split_node(1, x_t, w_t, s_a, s_b)
     s = np.concatenate(np.broadcast_arrays(s1, s2), axis=-2)
     ds = np.concatenate(np.broadcast_arrays(ds1, ds2), axis=-2)
-    x = np.expm1(s)  # tan^2 theta_h / alpha^2
-    cos_h = 1.0 / np.sqrt(1.0 + alpha * alpha * x)
-    sin_h = np.sqrt(np.maximum(0.0, 1.0 - cos_h * cos_h))
-    sin_v = np.sin(theta_v)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        bound = mu * (1.0 - 2.0 * cos_h * cos_h) / (2.0 * cos_h * sin_v * sin_h)
-    bound = np.where(np.isfinite(bound), bound, np.where(1.0 - 2.0 * cos_h * cos_h < 0.0, -1.0, 1.0))
-    phi_max = np.arccos(np.clip(bound, -1.0, 1.0))
+    cos_h, sin_h, x = ggx_cos_of_s(s, alpha)  # x = tan^2 theta_h / alpha^2
+    phi_max = horizon_phi_max(mu, sin_v, cos_h, sin_h)
     phi = 0.5 * phi_max * (x_p[None, :] + 1.0)
     h = np.stack([sin_h * np.cos(phi), sin_h * np.sin(phi), np.broadcast_to(cos_h, phi.shape)], axis=-1)
     # dh = sin theta (d theta / dx)(dx / ds) ds dphi with sin theta d theta / dx =
@@ -115,7 +114,7 @@ def albedo_quadrature(brdf, mu, roughness, n_theta=None, n_phi=None):
     h, weight = half_vector_domain(mu[:, None], alpha[None, :], n_theta or default_theta, n_phi or default_phi)
     v = view_direction(mu)[:, None, None, None, :]
     voh = np.sum(v * h, axis=-1)
-    l = 2.0 * voh[..., None] * h - v
+    l = reflect(v, h)
     n = np.array([0.0, 0.0, 1.0])
     r = np.broadcast_to(roughness[None, :, None, None], voh.shape)
     f = np.asarray(brdf(l, np.broadcast_to(v, l.shape), n, r))
@@ -145,7 +144,7 @@ def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
     a = np.broadcast_to(alpha[None, :, None], shape)
     h = sample_ggx_vndf(u, v, a)
     voh = np.sum(v * h, axis=-1)
-    l = 2.0 * voh[..., None] * h - v
+    l = reflect(v, h)
     pdf_l = pdf_light_from_half(pdf_ggx_vndf(v[..., 2], h[..., 2], voh, a), voh)
     n = np.array([0.0, 0.0, 1.0])
     r = np.broadcast_to(roughness[None, :, None], shape)
@@ -196,7 +195,7 @@ def furnace_lobes():
     for d in DISTRIBUTIONS:
         for g in MASKINGS:
             lobes[f"{d}/{g}"] = cook_torrance_lobe(d, g)
-    lobes["ue4"] = lambda l, v, n, r: ue4(l, v, n, white(r), backend="numpy")[..., 0]
+    lobes["ue4"] = lambda l, v, n, r: ue4(l, v, n, white(r))[..., 0]
     lobes["filament"] = lambda l, v, n, r: filament(l, v, n, white(r))[..., 0]
     def urp(l, v, n, r):
         return urp_mobile(l, v, n, white(r))[..., 0]

@@ -7,10 +7,12 @@ r = (j + 0.5) / N (texel centres; row 0 = smooth).  GGX lobes use
 alpha = max(r^2, ALPHA_MIN).
 
 The integrals are computed by deterministic quadrature over the half vector
-(the method of :mod:`pbrkit.furnace`, compiled): h is parameterised by the
-lobe's own cumulative distribution in theta_h and by the azimuth, restricted
-analytically to the half vectors that reflect v above the horizon, so that D
-cancels against the parameterisation's density and the integrand is smooth.
+(the method of :mod:`pbrkit.furnace`, compiled, with the node map, horizon
+bounds and segments of :mod:`pbrkit.core.quadrature`): h is parameterised by
+the lobe's own cumulative distribution in theta_h and by the azimuth,
+restricted analytically to the half vectors that reflect v above the
+horizon, so that D cancels against the parameterisation's density and the
+integrand is smooth.
 Gauss-Legendre rules converge to well below the 1e-3 tolerance (see the
 tests); more theta nodes are used in the grazing columns where the integrand
 varies fastest.
@@ -24,18 +26,32 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from ..brdf.bxdf import (
+    MASK_HEIGHT_CORRELATED,
+    MASK_SCHLICK_GGX,
+    MASK_SEPARABLE,
+    MODEL_COOK_TORRANCE,
+    MODEL_FILAMENT,
+    Cosines,
+    lobe_bxdf,
+    specular_visibility,
+)
 from ..brdf.distributions import ALPHA_MIN, alpha_from_roughness
 from ..brdf.fresnel import f_conductor, f_schlick
 from ..brdf.masking import (
-    g2_schlick_ggx,
-    g2_separable,
-    k_schlick_from_alpha,
-    lambda_ggx,
     v_neubelt,
-    v_smith_ggx_height_correlated,
-    visibility,
 )
+from ..core import checks
+from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, parallel_kernel
+from ..core.quadrature import (
+    gauss_legendre_01,
+    ggx_cos_of_s,
+    ggx_s_of_cos,
+    horizon_limits,
+    horizon_phi_max,
+    split_node,
+)
 
 __all__ = [
     "VISIBILITIES",
@@ -73,31 +89,32 @@ def texel_centres(n):
 
 @dual_use
 def _lobe_visibility(code, nol, nov, alpha):
-    # Visibility V = G2 / (4 n.l n.v) by code; each term is defined once in pbrkit.masking.
+    """Visibility V = G2 / (4 n.l n.v) of the table's lobe, by code: the specular
+    visibility of the models' own composition (:func:`pbrkit.brdf.bxdf.specular_visibility`)
+    for Schlick-GGX with k = alpha / 2 (cook_torrance ``schlick-ggx``, UE4's IBL),
+    separable exact Smith (cook_torrance ``separable``) and height-correlated Smith
+    (Filament's division-free form), or the cloth lobe's Neubelt visibility."""
+    if code == _NEUBELT:
+        return v_neubelt(nol, nov)
     if code == 0:
-        return visibility(g2_schlick_ggx(nol, nov, k_schlick_from_alpha(alpha)), nol, nov)
-    if code == 1:
-        return visibility(g2_separable(lambda_ggx(nol, alpha), lambda_ggx(nov, alpha)), nol, nov)
-    if code == 2:
-        return v_smith_ggx_height_correlated(nol, nov, alpha)
-    return v_neubelt(nol, nov)
-
-
-@dual_use
-def _ggx_cdf_of_cos(cos_theta, alpha):
-    # GGX NDF cumulative distribution in theta_h (Walter et al. 2007, eq. 35 inverted):
-    # u = tan^2 / (alpha^2 + tan^2).
-    c2 = cos_theta * cos_theta
-    t2 = (1.0 - c2) / max(c2, 1e-300)
-    return t2 / (alpha * alpha + t2)
+        b = lobe_bxdf(MODEL_COOK_TORRANCE, MASK_SCHLICK_GGX, alpha)
+    elif code == 1:
+        b = lobe_bxdf(MODEL_COOK_TORRANCE, MASK_SEPARABLE, alpha)
+    else:
+        b = lobe_bxdf(MODEL_FILAMENT, MASK_HEIGHT_CORRELATED, alpha)
+    return specular_visibility(b, Cosines(nol, nov, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
 
 
 @parallel_kernel
 def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, out):
     """out[j, i] = (integral of V (1 - Fc) (n.l) ..., integral of V Fc ...) with Fc = (1 - v.h)^5.
 
-    Quadrature in (w, phi): w is the fraction of the lobe's CDF in theta_h
-    within the admissible range; phi in [0, phi_max(theta_h)], mirrored.
+    Quadrature in (w, phi) over the half-vector domain of
+    :mod:`pbrkit.core.quadrature` (split at theta_a, horizon bound phi_max):
+    for GGX w = s = -log(1 - u), u the NDF's CDF in theta_h
+    (:func:`~pbrkit.core.quadrature.ggx_s_of_cos`), for Charlie the fraction
+    of the lobe's CDF within the admissible range; phi in
+    [0, phi_max(theta_h)], mirrored.
     """
     n_r = alpha.shape[0]
     n_mu = mu.shape[0]
@@ -106,18 +123,14 @@ def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, o
         i = index % n_mu
         m = mu[i]
         a = alpha[j]
-        theta_v = math.acos(min(m, 1.0))
-        sin_v = math.sqrt(max(0.0, 1.0 - m * m))
-        cos_a = math.cos(0.25 * math.pi - 0.5 * theta_v)
-        cos_b = math.cos(0.25 * math.pi + 0.5 * theta_v)
+        sin_v, cos_a, cos_b = horizon_limits(min(m, 1.0))
         if lobe == _LOBE_GGX:
-            # GGX: nodes uniform in l = -log(1 - u), u the NDF's CDF in theta_h; this spreads
+            # GGX: nodes uniform in s = -log(1 - u), u the NDF's CDF in theta_h; this spreads
             # them over the lobe's core (u < 0.9) and its tail toward the horizon alike.
-            l_b = -math.log1p(-_ggx_cdf_of_cos(cos_b, a))
-            l_a = -math.log1p(-_ggx_cdf_of_cos(cos_a, a))
+            w_a = ggx_s_of_cos(cos_a, a)
+            w_b = ggx_s_of_cos(cos_b, a)
             u_b = 1.0
-            w_a = l_a / l_b
-            k = l_b
+            k = 0.0  # (Charlie only)
             s_b = 0.0
         else:
             # Charlie: CDF in s = sin theta_h is s^k with k = 2 + 1 / alpha (Estevez & Kulla 2017).
@@ -126,35 +139,21 @@ def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, o
             s_a = math.sqrt(max(0.0, 1.0 - cos_a * cos_a))
             u_b = math.exp(k * math.log(max(s_b, 1e-300)))
             w_a = math.exp(k * (math.log(max(s_a, 1e-300)) - math.log(max(s_b, 1e-300))))
+            w_b = 1.0
         acc_a = 0.0
         acc_b = 0.0
         for segment in range(2):
             for t in range(x_theta.shape[0]):
-                xt = x_theta[t]
-                wt = w_theta[t]
-                if segment == 0:
-                    w = w_a * xt
-                    dw = w_a * wt
-                else:
-                    w = w_a + (1.0 - w_a) * 0.5 * (1.0 - math.cos(math.pi * xt))
-                    dw = (1.0 - w_a) * 0.5 * math.pi * math.sin(math.pi * xt) * wt
+                w, dw = split_node(segment, x_theta[t], w_theta[t], w_a, w_b)
                 if lobe == _LOBE_GGX:
-                    one_minus_u = math.exp(-k * w)
-                    u = 1.0 - one_minus_u
-                    dw *= k * one_minus_u
-                    cos_h = math.sqrt(one_minus_u / (1.0 + (a * a - 1.0) * u))
-                    sin_h = math.sqrt(max(0.0, 1.0 - cos_h * cos_h))
+                    cos_h, sin_h, x = ggx_cos_of_s(w, a)
+                    dw /= 1.0 + x  # du = (1 - u) ds
                 else:
                     sin_h = s_b * math.exp(math.log(max(w, 1e-300)) / k)
                     cos_h = math.sqrt(max(0.0, 1.0 - sin_h * sin_h))
                 if cos_h <= 0.0:
                     continue
-                denominator = 2.0 * cos_h * sin_v * sin_h
-                if denominator > 0.0:
-                    bound = m * (1.0 - 2.0 * cos_h * cos_h) / denominator
-                else:
-                    bound = -1.0 if 1.0 - 2.0 * cos_h * cos_h < 0.0 else 1.0
-                phi_max = math.acos(min(max(bound, -1.0), 1.0))
+                phi_max = horizon_phi_max(m, sin_v, cos_h, sin_h)
                 # D dh = u_b dw dphi / (2 pi cos_h) and dphi = phi_max w_phi, doubled for
                 # the mirrored half of the phi range.
                 scale = u_b * dw * phi_max / (math.pi * cos_h)
@@ -172,10 +171,8 @@ def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, o
         out[j, i, 1] = acc_b
 
 
-def _gauss_legendre_01(n):
-    x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1.0), 0.5 * w
-
+#: The Gauss-Legendre rule on [0, 1] by its former name here (:func:`pbrkit.core.quadrature.gauss_legendre_01`).
+_gauss_legendre_01 = gauss_legendre_01
 
 #: Default quadrature: theta nodes per segment (and in the grazing columns), phi nodes.
 DEFAULT_NODES = (12, 24, 6)
@@ -183,9 +180,9 @@ DEFAULT_NODES = (12, 24, 6)
 
 def _run(mu, alpha, lobe, vis_code, nodes=DEFAULT_NODES):
     n_theta, n_theta_grazing, n_phi = nodes
-    x_t, w_t = _gauss_legendre_01(n_theta)
-    x_g, w_g = _gauss_legendre_01(n_theta_grazing)
-    x_p, w_p = _gauss_legendre_01(n_phi)
+    x_t, w_t = gauss_legendre_01(n_theta)
+    x_g, w_g = gauss_legendre_01(n_theta_grazing)
+    x_p, w_p = gauss_legendre_01(n_phi)
     out = np.zeros((alpha.size, mu.size, 2))
     mu = np.ascontiguousarray(mu, dtype=np.float64)
     alpha = np.ascontiguousarray(alpha, dtype=np.float64)
@@ -302,8 +299,7 @@ def lookup_table(kind="dfg", size=128, visibility=None, cloth=False, nodes=DEFAU
     """
     if kind not in ("splitsum", "dfg"):
         raise ValueError(f"unknown table kind {kind!r}; use 'splitsum' or 'dfg'")
-    if not isinstance(size, (int, np.integer)) or size < 2 or size > 4096:
-        raise ValueError(f"table size must be an integer in [2, 4096]; got {size!r}")
+    size = checks.integer(size, "table size", 2, 4096)
     if visibility is None:
         visibility = "schlick-ggx" if kind == "splitsum" else "height-correlated"
     axis = texel_centres(size)
@@ -335,17 +331,11 @@ def table_bilinear(tables, t, nov, roughness, c):
     n.v = (i + 0.5) / columns, row j at r = (j + 0.5) / rows, CONVENTIONS.md)
     with clamp to edge; a single row or column is constant along its axis.
     A scalar helper compiled into Numba kernels (``pbrkit.render``) and into
-    :func:`sample_table`'s kernel; arguments must be finite."""
-    n_rows = tables.shape[1]
-    n_cols = tables.shape[2]
-    fx = min(max(nov * n_cols - 0.5, 0.0), n_cols - 1.0)
-    fy = min(max(roughness * n_rows - 0.5, 0.0), n_rows - 1.0)
-    x0 = min(int(math.floor(fx)), max(n_cols - 2, 0))
-    y0 = min(int(math.floor(fy)), max(n_rows - 2, 0))
-    x1 = min(x0 + 1, n_cols - 1)
-    y1 = min(y0 + 1, n_rows - 1)
-    ax = fx - x0
-    ay = fy - y0
+    :func:`sample_table`'s kernel; arguments must be finite.  Texel selection
+    and weights: :func:`pbrkit.core.filtering.texel_pair` (OpenGL 4.6
+    sec. 8.14.2)."""
+    x0, x1, ax = texel_pair(nov * tables.shape[2] - 0.5, tables.shape[2], CLAMP_TO_EDGE)
+    y0, y1, ay = texel_pair(roughness * tables.shape[1] - 0.5, tables.shape[1], CLAMP_TO_EDGE)
     return ((tables[t, y0, x0, c] * (1.0 - ax) + tables[t, y0, x1, c] * ax) * (1.0 - ay)
             + (tables[t, y1, x0, c] * (1.0 - ax) + tables[t, y1, x1, c] * ax) * ay)
 
@@ -401,7 +391,7 @@ def env_brdf_approx(nov, roughness):
 def average_albedo(roughness, visibility="height-correlated", n_mu=64, nodes=DEFAULT_NODES):
     """E_avg(r) = 2 integral_0^1 E(mu) mu dmu for the F = 1 GGX lobe (Kulla & Conty 2017, eq. 6),
     by Gauss-Legendre in mu over the same quadrature of E."""
-    x, w = _gauss_legendre_01(n_mu)
+    x, w = gauss_legendre_01(n_mu)
     ab = specular_integrals(x, roughness, visibility, nodes)
     e = ab[..., 0] + ab[..., 1]
     return 2.0 * np.sum(e * x * w, axis=-1)
@@ -425,7 +415,7 @@ def f_avg_schlick(f0):
 
 def f_avg_numeric(fresnel, n_mu=64):
     """F_avg = 2 integral_0^1 F(mu) mu dmu of any ``fresnel(mu)`` by Gauss-Legendre."""
-    x, w = _gauss_legendre_01(n_mu)
+    x, w = gauss_legendre_01(n_mu)
     values = np.asarray(fresnel(x.reshape((-1,) + (1,) * 1)))
     return 2.0 * np.tensordot(w * x, values, axes=(0, 0))
 

@@ -12,6 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from .. import __version__
+from ..core import checks
 
 app = typer.Typer(
     help="pbrkit: physically based shading for real-time rendering.",
@@ -88,8 +89,7 @@ def furnace(
     from ..albedo.furnace import furnace_lobes
     from .report import furnace_report
 
-    if roughness_count < 2 or roughness_count > 1024:
-        raise ValueError(f"--roughness must be in [2, 1024]; got {roughness_count}")
+    checks.integer(roughness_count, "--roughness", 2, 1024)
     if compensation is not None and compensation not in ("kulla-conty", "filament"):
         raise ValueError(f"--compensation must be kulla-conty or filament; got {compensation!r}")
     names = lobe or list(furnace_lobes())
@@ -149,8 +149,7 @@ def lut(
         raise ValueError(f"{out}: unsupported table format {out.suffix!r}; use one of {', '.join(LUT_SUFFIXES)}")
     nodes = DEFAULT_NODES
     if samples is not None:
-        if samples < 8 or samples > 1 << 20:
-            raise ValueError(f"--samples must be in [8, 1048576]; got {samples}")
+        checks.integer(samples, "--samples", 8, 1 << 20)
         # Split the budget as the default rule does: 2 theta segments x n_theta x n_phi, n_phi = n_theta / 2.
         n_theta = max(2, int(round(samples ** 0.5)))
         nodes = (n_theta, 2 * n_theta, max(2, n_theta // 2))
@@ -176,8 +175,7 @@ def approximations(
     shortcuts, URP mobile, compensation) as directional-albedo differences."""
     from ..albedo.approximations import approximations_report
 
-    if size < 4 or size > 256:
-        raise ValueError(f"--size must be in [4, 256]; got {size}")
+    checks.integer(size, "--size", 4, 256)
     summary = approximations_report(out, size)
     if not quiet:
         from rich.table import Table
@@ -298,13 +296,13 @@ def bake(
     cube, SH9, DFG table, faces, preview and manifest.json in OUT."""
     import warnings
 
+    from ..core.atomic import check_output_directory
     from ..ibl.bake import bake as bake_environment
-    from ..ibl.bake import check_output_dir
     from ..io.bake_files import write_bake
 
     if len(env) not in (1, 6):
         raise ValueError(f"give one environment file or six face files, got {len(env)}")
-    check_output_dir(out, force)
+    check_output_directory(out, force)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with progress_bar(quiet, 1, "bake") as bar:

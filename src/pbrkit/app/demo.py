@@ -19,10 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.atomic import atomic_path, write_text
+from ..core import checks
+from ..core.atomic import write_text
 from ..core.color import linear_to_srgb
 from ..io.exr import write_exr
 from ..io.png import write_png
+from .figures import new_figure, save_figure
 
 __all__ = ["run_demo", "FURNACE_LOBES"]
 
@@ -31,12 +33,7 @@ FURNACE_LOBES = ("ggx/height-correlated", "ggx/separable", "ggx/schlick-ggx", "u
 
 
 def _lut_plot(path, table, spec):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.6))
+    fig, axes = new_figure(1, 2, figsize=(8.0, 3.6))
     for c, (ax, name) in enumerate(zip(axes, ("DFG1", "DFG2 = E(mu), F = 1"))):
         im = ax.imshow(table[..., c], origin="lower", extent=(0.0, 1.0, 0.0, 1.0), vmin=0.0, vmax=1.0,
                        cmap="viridis", interpolation="nearest")
@@ -46,9 +43,7 @@ def _lut_plot(path, table, spec):
         fig.colorbar(im, ax=ax, fraction=0.046)
     fig.suptitle(f"DFG lookup table ({spec.size} x {spec.size}, {spec.visibility} Smith GGX)", fontsize=10)
     fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=100, format="png", metadata={"Software": None})
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
 
 
 def _png(path, linear, tonemap_name="aces", exposure=0.0):
@@ -82,12 +77,9 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     from ..render.scene import EnvironmentSpec, builtin_scene, bundled_environment
     from .report import furnace_report
 
-    for name, value, lo, hi in (("size", size, 16, 4096), ("spp", spp, 1, 1 << 16), ("bake_size", bake_size, 16,
-                                                                                      2048)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
-            raise ValueError(f"{name} must be an integer in [{lo}, {hi}]; got {value!r}")
-    if bake_size & (bake_size - 1):
-        raise ValueError(f"bake_size must be a power of two; got {bake_size}")
+    size = checks.integer(size, "size", 16, 4096)
+    spp = checks.integer(spp, "spp", 1, 1 << 16)
+    bake_size = checks.power_of_two(bake_size, "bake_size", 16, 2048)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     step = progress or (lambda name: None)

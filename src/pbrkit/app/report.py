@@ -12,7 +12,9 @@ import numpy as np
 
 from ..albedo.furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
 from ..albedo.tables import texel_centres
-from ..core.atomic import atomic_path, write_bytes, write_text
+from ..core import checks
+from ..core.atomic import write_bytes, write_text
+from .figures import colors, new_figure, save_figure
 
 __all__ = ["furnace_report", "compensation_report"]
 
@@ -28,10 +30,8 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
     timings, so that the same options give the same bytes) and the timings.
     """
     out_dir = Path(out_dir)
-    if n_mu < 2 or n_mu > 4096:
-        raise ValueError(f"n_mu must be in [2, 4096]; got {n_mu}")
-    if samples < 2 or samples > 1 << 20:
-        raise ValueError(f"samples must be in [2, 1048576]; got {samples}")
+    n_mu = checks.integer(n_mu, "n_mu", 2, 4096)
+    samples = checks.integer(samples, "samples", 2, 1 << 20)
     mu = texel_centres(n_mu)
     roughness = np.linspace(0.0, 1.0, 11) if roughness is None else np.asarray(roughness, dtype=float)
     all_lobes = furnace_lobes()
@@ -95,20 +95,14 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
 
 def plot_albedo(path, names, mu, roughness, albedo, title):
     """One panel per lobe, E against mu, one curve per roughness (viridis)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     cols = min(6, len(names))
     rows = (len(names) + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(2.6 * cols, 2.3 * rows), sharex=True, sharey=True,
-                             squeeze=False)
-    colors = plt.cm.viridis(np.linspace(0.0, 1.0, len(roughness)))
+    fig, axes = new_figure(rows, cols, figsize=(2.6 * cols, 2.3 * rows), sharex=True, sharey=True, squeeze=False)
+    palette = colors(len(roughness))
     for k, name in enumerate(names):
         ax = axes.flat[k]
         for j, r in enumerate(roughness):
-            ax.plot(mu, albedo[k, :, j], color=colors[j], lw=1.2, label=f"r={r:.2f}")
+            ax.plot(mu, albedo[k, :, j], color=palette[j], lw=1.2, label=f"r={r:.2f}")
         ax.set_title(name, fontsize=8)
         ax.set_ylim(0.0, max(1.05, float(np.nanmax(albedo)) * 1.02))
         ax.axhline(1.0, color="0.6", lw=0.6, ls="--")
@@ -123,9 +117,7 @@ def plot_albedo(path, names, mu, roughness, albedo, title):
     fig.legend(handles, labels, loc="lower right", fontsize=7, ncol=2)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110, format="png", metadata={"Software": None})
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def compensation_report(out_dir, method, table_size=128):
@@ -200,15 +192,9 @@ def _saturation(rgb):
 
 
 def _plot_compensation(path, method, grid, single, comp, roughness, metals):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 4, figsize=(17, 4))
+    fig, axes = new_figure(1, 4, figsize=(17, 4))
     picks = np.linspace(0, grid.size - 1, 6).astype(int)
-    colors = plt.cm.viridis(np.linspace(0.0, 1.0, picks.size))
-    for c, j in zip(colors, picks):
+    for c, j in zip(colors(picks.size), picks):
         axes[0].plot(grid, single[:, j], color=c, ls="--", lw=1)
         axes[0].plot(grid, comp[:, j], color=c, lw=1.5, label=f"r={grid[j]:.2f}")
     axes[0].set_title(f"F = 1: single scattering (dashed) vs {method}", fontsize=9)
@@ -235,6 +221,4 @@ def _plot_compensation(path, method, grid, single, comp, roughness, metals):
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=100, format="png", metadata={"Software": None})
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)

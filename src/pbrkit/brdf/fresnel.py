@@ -23,6 +23,8 @@ __all__ = [
     "f_conductor",
     "f0_from_ior",
     "f0_from_reflectance",
+    "ior_from_f0",
+    "f0_conductor",
     "f0_metallic",
     "f90_filament",
     "CONDUCTORS",
@@ -115,6 +117,24 @@ def f_dielectric(cos_theta, eta):
 def f0_from_ior(ior):
     """Normal-incidence reflectance ((n - 1) / (n + 1))^2 (Fresnel at cos = 1, external medium n = 1)."""
     return ((ior - 1.0) / (ior + 1.0)) ** 2
+
+
+@dual_use
+def ior_from_f0(f0):
+    """The relative IOR n of a dielectric with normal reflectance f0, the inverse of
+    :func:`f0_from_ior`: n = (1 + sqrt(f0)) / (1 - sqrt(f0)), the denominator
+    clamped at 1e-6 (f0 -> 1 is an infinitely dense medium)."""
+    root = np.sqrt(f0)
+    return (1.0 + root) / np.maximum(1.0 - root, 1e-6)
+
+
+@dual_use
+def f0_conductor(eta, k):
+    """Normal-incidence reflectance of a conductor of complex IOR eta + i k, clamped
+    to [0, 1] to serve as a metallic-workflow base colour:
+    min(F(cos = 1), 1) with F of :func:`f_conductor` (Born & Wolf sec. 14.2:
+    ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2))."""
+    return np.minimum(f_conductor(1.0, eta, k), 1.0)
 
 
 @dual_use

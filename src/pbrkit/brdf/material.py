@@ -92,7 +92,7 @@ class Material:
         base_color is set to the exact Fresnel f0 of that IOR so that the
         metallic-workflow models show the same metal.
         """
-        from .fresnel import f_conductor
+        from .fresnel import f0_conductor
 
         try:
             eta, k = CONDUCTORS[name]
@@ -100,7 +100,7 @@ class Material:
             raise ValueError(f"unknown conductor {name!r}; known: {', '.join(sorted(CONDUCTORS))}") from None
         eta = np.asarray(eta)
         k = np.asarray(k)
-        return cls(base_color=np.minimum(f_conductor(1.0, eta, k), 1.0), metallic=1.0,
+        return cls(base_color=f0_conductor(eta, k), metallic=1.0,
                    roughness=roughness, eta=eta, k=k, **kwargs)
 
     @classmethod

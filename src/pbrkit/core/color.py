@@ -7,12 +7,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from .jit import dual_use
+
 __all__ = [
     "srgb_to_linear",
     "linear_to_srgb",
     "TONEMAPS",
     "tonemap",
     "luminance",
+    "rec709_luminance",
 ]
 
 # ----------------------------------------------------------------- transfer
@@ -34,11 +37,21 @@ def linear_to_srgb(x):
 
 
 TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")
-_REC709_Y = np.array([0.2126, 0.7152, 0.0722])
+#: Rec.709 / sRGB luminance weights of linear R, G, B (ITU-R BT.709).
+REC709_WEIGHTS = (0.2126, 0.7152, 0.0722)
+_REC709_Y = np.array(REC709_WEIGHTS)
+
+
+@dual_use
+def rec709_luminance(r, g, b):
+    """Rec.709 relative luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of linear
+    components (ITU-R BT.709), :data:`REC709_WEIGHTS`; scalars in kernels or arrays."""
+    return REC709_WEIGHTS[0] * r + REC709_WEIGHTS[1] * g + REC709_WEIGHTS[2] * b
 
 
 def luminance(rgb):
-    """Rec.709 relative luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (ITU-R BT.709)."""
+    """Rec.709 relative luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (ITU-R BT.709,
+    :data:`REC709_WEIGHTS`) of RGB in the last axis, as one matrix product."""
     return np.asarray(rgb, dtype=float) @ _REC709_Y
 
 

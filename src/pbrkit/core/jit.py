@@ -88,13 +88,14 @@ def _select_numba(condition, if_true, if_false):
 # ----------------------------------------------------------------- the cache
 
 
-@functools.lru_cache(maxsize=1)
-def source_hash():
-    """SHA-256 (hex) of every ``.py`` file of the package, in sorted path order
-    (relative path and content both hashed)."""
+@functools.lru_cache(maxsize=4)
+def source_hash(root=_PACKAGE_ROOT):
+    """SHA-256 (hex) of every ``.py`` file under ``root`` (default: the package), in
+    sorted path order (relative path and content both hashed)."""
+    root = Path(root)
     digest = hashlib.sha256()
-    for path in sorted(_PACKAGE_ROOT.rglob("*.py")):
-        digest.update(path.relative_to(_PACKAGE_ROOT).as_posix().encode())
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
         digest.update(b"\0")
         digest.update(path.read_bytes())
         digest.update(b"\0")

@@ -40,6 +40,9 @@ import numpy as np
 
 from .. import __version__
 from ..brdf.distributions import alpha_from_roughness
+from ..core import checks
+from ..core.atomic import check_output_directory as check_output_dir
+from ..core.color import luminance, tonemap_reinhard
 from ..io.environment import Environment, load_environment
 from .cubemap import FACE_NAMES, cube_texel_solid_angles, cube_to_cross, resample_cube
 from .equirect import cube_to_equirect
@@ -109,28 +112,13 @@ class Bake:
 # ------------------------------------------------------------------- checks
 
 
-def _power_of_two(value, name, low, high):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer, got {value!r}")
-    value = int(value)
-    if value < low or value > high or value & (value - 1):
-        raise ValueError(f"{name} must be a power of two in [{low}, {high}], got {value}")
-    return value
-
-
-def _int_in(value, name, low, high):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= value <= high:
-        raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
-    return int(value)
-
-
 def _check_options(size, min_size, irradiance_size, lut_size, specular_format, method, sh_window):
-    size = _power_of_two(size, "size", 2, MAX_SIZE)
-    min_size = _power_of_two(min_size, "min size", 1, MAX_SIZE)
+    size = checks.power_of_two(size, "size", 2, MAX_SIZE)
+    min_size = checks.power_of_two(min_size, "min size", 1, MAX_SIZE)
     if min_size >= size:
         raise ValueError(f"min size ({min_size}) must be smaller than size ({size}): the chain needs 2 levels")
-    irradiance_size = _int_in(irradiance_size, "irradiance size", 1, 1024)
-    lut_size = _int_in(lut_size, "LUT size", 2, 1024)
+    irradiance_size = checks.integer(irradiance_size, "irradiance size", 1, 1024)
+    lut_size = checks.integer(lut_size, "LUT size", 2, 1024)
     if specular_format not in SPECULAR_FORMATS:
         raise ValueError(f"unknown format {specular_format!r}; use one of {', '.join(SPECULAR_FORMATS)}")
     if method not in METHODS:
@@ -138,18 +126,6 @@ def _check_options(size, min_size, irradiance_size, lut_size, specular_format, m
     if sh_window not in (None, "hanning", "lanczos"):
         raise ValueError(f"unknown SH window {sh_window!r}; use hanning or lanczos (or none)")
     return size, min_size, irradiance_size, lut_size
-
-
-def check_output_dir(out_dir, force=False):
-    """Raise ValueError unless ``out_dir`` is absent, an empty directory, or
-    (with ``force``) any directory."""
-    out = Path(out_dir)
-    if out.exists() or out.is_symlink():
-        if not out.is_dir():
-            raise ValueError(f"{out}: exists and is not a directory")
-        if not force and any(out.iterdir()):
-            raise ValueError(f"{out}: directory exists and is not empty (use --force to replace it)")
-    return out
 
 
 def _sha256(path):
@@ -455,16 +431,16 @@ def _manifest(files, env, resolution, options, level_info, transform, highlights
 def tone_map(image, exposure):
     """Reinhard et al. 2002 ("Photographic Tone Reproduction for Digital
     Images", eq. 3 simple operator) per channel: x / (1 + x) with
-    x = exposure * L; linear output in [0, 1) (encode with sRGB)."""
-    x = np.maximum(np.asarray(image, dtype=np.float64), 0.0) * exposure
-    return x / (1.0 + x)
+    x = exposure * L (exposure > 0), by :func:`pbrkit.core.color.tonemap_reinhard`;
+    linear output in [0, 1) (encode with sRGB)."""
+    return tonemap_reinhard(np.asarray(image, dtype=np.float64) * exposure)
 
 
 def _log_average_luminance(cube):
     """exp(solid-angle-weighted mean of log(1e-4 + Y)), Y = Rec.709 luminance
-    (Reinhard et al. 2002, eq. 1)."""
+    (:func:`pbrkit.core.color.luminance`; Reinhard et al. 2002, eq. 1)."""
     c = np.asarray(cube, dtype=np.float64)
-    y = c @ np.array([0.2126, 0.7152, 0.0722])
+    y = luminance(c)
     omega = cube_texel_solid_angles(c.shape[1])
     return float(np.exp(np.sum(omega * np.log(1e-4 + np.maximum(y, 0.0))) / np.sum(omega)))
 

@@ -53,6 +53,8 @@ import math
 import numba
 import numpy as np
 
+from ..core import checks
+from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, parallel_kernel, select
 
 __all__ = [
@@ -130,31 +132,17 @@ def cube_face_coords(x, y, z):
     return face, sc, tc
 
 
-def _directions(d):
-    d = np.asarray(d, dtype=np.float64)
-    if d.ndim < 1 or d.shape[-1] != 3:
-        raise ValueError(f"directions must have shape (..., 3), got {d.shape}")
-    bad = ~np.all(np.isfinite(d), axis=-1) | np.all(d == 0.0, axis=-1)
-    if np.any(bad):
-        raise ValueError(f"{int(np.sum(bad))} direction(s) are zero or non-finite")
-    return d
-
-
 def direction_to_cube(d):
     """(face, s, t) for directions (..., 3): face index 0..5 (int64) and face
     coordinates s, t in [0, 1] (texel j = floor(s N), row i = floor(t N)).
     Directions need not be unit length."""
-    d = _directions(d)
+    d = checks.directions(d)
     face, sc, tc = cube_face_coords(d[..., 0], d[..., 1], d[..., 2])
     return np.asarray(face, dtype=np.int64), 0.5 * (np.asarray(sc) + 1.0), 0.5 * (np.asarray(tc) + 1.0)
 
 
 def _check_size(n, what="cube size"):
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"{what} must be a positive integer, got {n!r}")
-    if n > 32768:
-        raise ValueError(f"{what} {n} exceeds 32768")
-    return int(n)
+    return checks.integer(n, what, 1, 32768)
 
 
 def cube_texel_directions(n):
@@ -303,26 +291,16 @@ def _bordered(cube):
 @dual_use(inline=True)
 def _bilinear_add(data, offset, n, face, sc, tc, weight, out):
     """out += weight * bilinear sample of the bordered level (6, n+2, n+2, C)
-    stored flat at data[offset:] at face coordinates (sc, tc).  Inlined (at
+    stored flat at data[offset:] at face coordinates (sc, tc), clamped to the
+    bordered face (:func:`pbrkit.core.filtering.texel_pair`).  Inlined (at
     Numba IR level) into every kernel that calls it (here and in
     :mod:`pbrkit.prefilter`): a call to a separately compiled function in an
     inner loop costs about as much as the lookup itself."""
     nb = n + 2
     channels = out.shape[0]
-    u = 0.5 * (sc + 1.0) * n + 0.5  # bordered texel coordinates (centre of texel k at k + 0.5 - 1 + 1)
-    v = 0.5 * (tc + 1.0) * n + 0.5
-    x0 = int(math.floor(u))
-    y0 = int(math.floor(v))
-    fx = u - x0
-    fy = v - y0
-    if x0 < 0:
-        x0, fx = 0, 0.0
-    elif x0 > n:
-        x0, fx = n, 1.0
-    if y0 < 0:
-        y0, fy = 0, 0.0
-    elif y0 > n:
-        y0, fy = n, 1.0
+    # coordinates from the centre of bordered texel 0: face texel j (bordered j + 1) has s = (j + 0.5) / n
+    x0, _, fx = texel_pair(0.5 * (sc + 1.0) * n + 0.5, nb, CLAMP_TO_EDGE)
+    y0, _, fy = texel_pair(0.5 * (tc + 1.0) * n + 0.5, nb, CLAMP_TO_EDGE)
     base = offset + ((face * nb + y0) * nb + x0) * channels
     row = nb * channels
     w00 = weight * (1.0 - fx) * (1.0 - fy)
@@ -404,7 +382,7 @@ class CubeSampler:
         return len(self.sizes)
 
     def __call__(self, directions, lod=None):
-        d = _directions(directions)
+        d = checks.directions(directions)
         shape = d.shape[:-1]
         flat = np.ascontiguousarray(d.reshape(-1, 3))
         lods = np.zeros(flat.shape[0]) if lod is None else np.ascontiguousarray(

@@ -4,7 +4,13 @@ Equirectangular convention (``CONVENTIONS.md``): an H x W image with W = 2H,
 row 0 at the top (+Y); pixel (i, j) has its centre at theta = pi (i + 0.5) / H
 (from +Y) and phi = 2 pi (j + 0.5) / W - pi, direction
 d = (sin theta cos phi, cos theta, sin theta sin phi), and solid angle
-(2 pi / W)(pi / H) sin theta.  Cube maps follow :mod:`pbrkit.cubemap`.
+(2 pi / W)(pi / H) sin theta; texture coordinates u = 0.5 + atan2(z, x) /
+(2 pi) = (phi + pi) / (2 pi), v = acos(y) / pi = theta / pi.  The mapping is
+written once, as the dual-use helpers :func:`equirect_pixel_angles`,
+:func:`equirect_angles_of_uv`, :func:`equirect_direction`,
+:func:`direction_angles` and :func:`equirect_uv` (NumPy arrays from Python,
+scalars in Numba kernels: the renderer's environment, the spectral
+transforms).  Cube maps follow :mod:`pbrkit.cubemap`.
 
 Equirect -> cube (:func:`equirect_to_cube`) is exact area-weighted
 (conservative) remapping: the source is taken as piecewise constant over its
@@ -35,45 +41,6 @@ nothing, and P vanishes at the north pole, so texels touching or containing
 it need no correction; the -Y face uses the potential integrated from the
 south pole instead, for the same reason.  Cost: O(N^2 + N (H + W)) edge
 pieces; memory: one float64 copy of the image (the potential).
-
-
-from __future__ import annotations
-
-import math
-import warnings
-from dataclasses import dataclass, field
-from pathlib import Path
-
-import numba
-import numpy as np
-
-from ._jit import kernel, parallel_kernel
-from .cubemap import (
-    CubeSampler,
-    _as_cube,
-    _check_size,
-    cross_layout_of,
-    cube_from_cross,
-    cube_integral,
-    cube_texel_solid_angles,
-    face_direction,
-    resample_cube,
-)
-from .errors import InputError
-from .imageio import read_image_with_notes
-
-__all__ = [
-    "NegativeRadianceWarning",
-    "equirect_directions",
-    "equirect_solid_angles",
-    "direction_to_equirect",
-    "equirect_integral",
-    "equirect_to_cube",
-    "cube_to_equirect",
-    "Environment",
-    "load_environment",
-    "fix_nonfinite_pixels",
-]
 """
 
 from __future__ import annotations
@@ -83,7 +50,8 @@ import math
 import numba
 import numpy as np
 
-from ..core.jit import kernel, parallel_kernel
+from ..core import checks
+from ..core.jit import dual_use, kernel, parallel_kernel
 from .cubemap import (
     CubeSampler,
     _as_cube,
@@ -93,6 +61,11 @@ from .cubemap import (
 )
 
 __all__ = [
+    "equirect_pixel_angles",
+    "equirect_angles_of_uv",
+    "equirect_direction",
+    "direction_angles",
+    "equirect_uv",
     "equirect_directions",
     "equirect_solid_angles",
     "direction_to_equirect",
@@ -110,15 +83,54 @@ def _equirect_shape(height, width):
     return height, width
 
 
+@dual_use
+def equirect_pixel_angles(i, j, height, width):
+    """(theta, phi) of the centre of pixel (row i, column j) of a height x
+    width equirect (CONVENTIONS.md): theta = pi (i + 0.5) / H from +Y and
+    phi = 2 pi (j + 0.5) / W - pi.  theta depends on i only and phi on j
+    only, so i and j need not broadcast together (a grid's rows and columns
+    as two 1-D arrays)."""
+    return np.pi * (i + 0.5) / height, 2.0 * np.pi * (j + 0.5) / width - np.pi
+
+
+@dual_use
+def equirect_angles_of_uv(u, v):
+    """(theta, phi) = (pi v, 2 pi u - pi) of equirect texture coordinates
+    (u, v) in [0, 1] (CONVENTIONS.md; the inverse of :func:`equirect_uv`)."""
+    return np.pi * v, 2.0 * np.pi * u - np.pi
+
+
+@dual_use
+def equirect_direction(theta, phi):
+    """Unit direction d = (sin theta cos phi, cos theta, sin theta sin phi) of
+    the equirect angles (CONVENTIONS.md: theta from +Y, phi = atan2(z, x))."""
+    st = np.sin(theta)
+    return st * np.cos(phi), np.cos(theta), st * np.sin(phi)
+
+
+@dual_use
+def direction_angles(x, y, z):
+    """(theta, phi) = (acos(y), atan2(z, x)) of a unit direction (y clamped
+    to [-1, 1]): the inverse of :func:`equirect_direction` (CONVENTIONS.md)."""
+    return np.arccos(np.minimum(np.maximum(y, -1.0), 1.0)), np.arctan2(z, x)
+
+
+@dual_use
+def equirect_uv(x, y, z):
+    """Equirect texture coordinates u = 0.5 + atan2(z, x) / (2 pi),
+    v = acos(y) / pi in [0, 1] of a unit direction (CONVENTIONS.md); pixel
+    column floor(u W), row floor(v H)."""
+    theta, phi = direction_angles(x, y, z)
+    return 0.5 + phi / (2.0 * np.pi), theta / np.pi
+
+
 def equirect_directions(height, width=None, rows=None):
     """Unit directions (H, W, 3) of the pixel centres of an H x W (default
     W = 2H) equirectangular image (CONVENTIONS.md); only the given ``rows``
     (an index array) when set."""
     h, w = _equirect_shape(height, width)
-    theta = np.pi * ((np.arange(h) if rows is None else np.asarray(rows)) + 0.5) / h
-    phi = 2.0 * np.pi * (np.arange(w) + 0.5) / w - np.pi
-    st = np.sin(theta)[:, None]
-    return np.stack(np.broadcast_arrays(st * np.cos(phi), np.cos(theta)[:, None], st * np.sin(phi)), axis=-1)
+    theta, phi = equirect_pixel_angles(np.arange(h) if rows is None else np.asarray(rows), np.arange(w), h, w)
+    return np.stack(np.broadcast_arrays(*equirect_direction(theta[:, None], phi[None, :])), axis=-1)
 
 
 def equirect_solid_angles(height, width=None, exact=False, rows=None):
@@ -129,7 +141,7 @@ def equirect_solid_angles(height, width=None, exact=False, rows=None):
     exactly and is what :func:`equirect_to_cube` conserves.  Only the given
     ``rows`` when set."""
     h, w = _equirect_shape(height, width)
-    theta = np.pi * ((np.arange(h) if rows is None else np.asarray(rows)) + 0.5) / h
+    theta, _ = equirect_pixel_angles(np.arange(h) if rows is None else np.asarray(rows), 0, h, w)
     if exact:
         row = (2.0 * np.pi / w) * 2.0 * np.sin(theta) * np.sin(0.5 * np.pi / h)
     else:
@@ -139,17 +151,10 @@ def equirect_solid_angles(height, width=None, exact=False, rows=None):
 
 def direction_to_equirect(d):
     """Texture coordinates (u, v) in [0, 1] of directions (..., 3):
-    u = 0.5 + atan2(z, x) / (2 pi), v = acos(y / |d|) / pi (CONVENTIONS.md);
-    pixel column floor(u W), row floor(v H)."""
-    d = np.asarray(d, dtype=np.float64)
-    if d.ndim < 1 or d.shape[-1] != 3:
-        raise ValueError(f"directions must have shape (..., 3), got {d.shape}")
-    length = np.linalg.norm(d, axis=-1)
-    if np.any(length == 0.0) or not np.all(np.isfinite(length)):
-        raise ValueError("directions must be finite and non-zero")
-    u = 0.5 + np.arctan2(d[..., 2], d[..., 0]) / (2.0 * np.pi)
-    v = np.arccos(np.clip(d[..., 1] / length, -1.0, 1.0)) / np.pi
-    return u, v
+    u = 0.5 + atan2(z, x) / (2 pi), v = acos(y / |d|) / pi (CONVENTIONS.md,
+    :func:`equirect_uv`); pixel column floor(u W), row floor(v H)."""
+    d, length = checks.direction_lengths(d)
+    return equirect_uv(d[..., 0], d[..., 1] / length, d[..., 2])
 
 
 def _as_equirect(image, what="equirect image"):
@@ -343,8 +348,8 @@ def _face_corners(face, n, z):
     e = 2.0 * np.arange(n + 1) / n - 1.0
     x, y, zz = face_direction(face, e[None, :], e[:, None])
     x, y, zz = np.broadcast_arrays(x, y, zz)
-    phi = np.arctan2(zz, x)
     yn = y / np.sqrt(x * x + y * y + zz * zz)
+    _, phi = direction_angles(x, yn, zz)
     height = z.shape[0] - 1
     # row r holds z[r + 1] <= y <= z[r]; z decreases with r
     row = np.clip(np.searchsorted(-z, -yn, side="right") - 1, 0, height - 1)
@@ -404,7 +409,7 @@ def equirect_to_cube(image, size):
     h, w, channels = a.shape
     edges = np.arange(h + 1) * (np.pi / h)
     z = np.cos(edges)
-    dz = 2.0 * np.sin(np.pi * (np.arange(h) + 0.5) / h) * np.sin(0.5 * np.pi / h)
+    dz = 2.0 * np.sin(equirect_pixel_angles(np.arange(h), 0, h, w)[0]) * np.sin(0.5 * np.pi / h)
     with np.errstate(divide="ignore"):
         cot = np.cos(edges) / np.sin(edges)
         csc = 1.0 / np.sin(edges)
@@ -434,12 +439,8 @@ def cube_to_equirect(cube, height):
     sampler = CubeSampler(_as_cube(cube))
     out = np.empty((height, 2 * height, sampler.channels))
     rows = max(1, (1 << 18) // (2 * height))
-    phi = 2.0 * np.pi * (np.arange(2 * height) + 0.5) / (2 * height) - np.pi
     for r0 in range(0, height, rows):
-        theta = np.pi * (np.arange(r0, min(height, r0 + rows)) + 0.5) / height
-        st = np.sin(theta)[:, None]
-        d = np.stack(np.broadcast_arrays(st * np.cos(phi), np.cos(theta)[:, None],
-                                         st * np.sin(phi)), axis=-1)
-        out[r0:r0 + len(theta)] = sampler(d)
+        r1 = min(height, r0 + rows)
+        out[r0:r1] = sampler(equirect_directions(height, rows=np.arange(r0, r1)))
     return out[..., 0] if np.ndim(cube) == 3 else out
 

@@ -23,43 +23,28 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from ..core.jit import parallel_kernel
 from .cubemap import _as_cube, cube_texel_directions, cube_texel_solid_angles
-from .prefilter import merge_highlights
-from .spectral import convolve, sample_equirect, synthesise_equirect, zonal_coefficients
+from .prefilter import LOBE_COSINE, merge_highlights, point_lobe_sum
+from .sh import cosine_lobe_coefficients
+from .spectral import convolve, sample_equirect, synthesise_equirect
 
 __all__ = ["cosine_zonal_coefficients", "add_cosine_highlights", "irradiance_spectral", "irradiance_reference"]
 
 
 def cosine_zonal_coefficients(lmax):
-    """lambda_l (l = 0..L) of the normalised clamped cosine max(0, cos
-    theta) / pi, by :func:`pbrkit.spectral.zonal_coefficients` (the
-    quadrature reproduces A_l / pi of Ramamoorthi & Hanrahan 2001 eq. 9)."""
-    lam, _ = zonal_coefficients(lambda t: np.maximum(np.cos(t), 0.0), lmax, theta_max=0.5 * math.pi)
-    return lam
-
-
-@parallel_kernel
-def _cosine_points_kernel(dirs, points, energies, out):
-    """out[k] += sum_i E_i max(0, n_k . l_i)."""
-    channels = out.shape[1]
-    for k in numba.prange(dirs.shape[0]):
-        for i in range(points.shape[0]):
-            nol = dirs[k, 0] * points[i, 0] + dirs[k, 1] * points[i, 1] + dirs[k, 2] * points[i, 2]
-            if nol > 0.0:
-                for c in range(channels):
-                    out[k, c] += nol * energies[i, c]
+    """lambda_l = A_l / pi (l = 0..L) of the normalised clamped cosine
+    max(0, cos theta) / pi, A_l in closed form (Ramamoorthi & Hanrahan 2001,
+    eqs. 8-9; :func:`pbrkit.sh.cosine_lobe_coefficients`)."""
+    return cosine_lobe_coefficients(lmax) / math.pi
 
 
 def add_cosine_highlights(out, directions, points, energies):
     """Add the irradiance of point highlights E_i max(0, n.l_i) at unit
-    ``directions`` (K, 3) to ``out`` (K, C) in place."""
-    if points.shape[0]:
-        _cosine_points_kernel(np.ascontiguousarray(directions, dtype=np.float64), points, energies, out)
-    return out
+    ``directions`` (K, 3) to ``out`` (K, C) in place
+    (:func:`pbrkit.prefilter.point_lobe_sum`)."""
+    return point_lobe_sum(out, directions, points, energies, LOBE_COSINE)
 
 
 def irradiance_spectral(coeffs, highlights, size, grid_factor=2.0):
@@ -85,24 +70,12 @@ def irradiance_spectral(coeffs, highlights, size, grid_factor=2.0):
     return values.reshape(6, size, size, -1).astype(np.float32), info
 
 
-@parallel_kernel
-def _reference_kernel(dirs, src_dirs, src, out):
-    channels = out.shape[1]
-    for k in numba.prange(dirs.shape[0]):
-        for c in range(channels):
-            out[k, c] = 0.0
-        for i in range(src_dirs.shape[0]):
-            nol = dirs[k, 0] * src_dirs[i, 0] + dirs[k, 1] * src_dirs[i, 1] + dirs[k, 2] * src_dirs[i, 2]
-            if nol > 0.0:
-                for c in range(channels):
-                    out[k, c] += nol * src[i, c]
-
-
 def irradiance_reference(cube, directions):
     """Brute-force irradiance sum_i L_i max(0, n.l_i) Omega_i over every
     texel i of ``cube`` (6, N, N, C) (centre directions, exact solid angles
     :func:`pbrkit.cubemap.cube_texel_solid_angles`) at unit ``directions``
-    (..., 3) -> (..., C).  O(directions x 6 N^2)."""
+    (..., 3) -> (..., C), by :func:`pbrkit.prefilter.point_lobe_sum`.
+    O(directions x 6 N^2)."""
     c = _as_cube(cube).astype(np.float64)
     n = c.shape[1]
     d = np.asarray(directions, dtype=np.float64)
@@ -110,6 +83,6 @@ def irradiance_reference(cube, directions):
     flat = d.reshape(-1, 3)
     flat = np.ascontiguousarray(flat / np.linalg.norm(flat, axis=1, keepdims=True))
     src = np.ascontiguousarray((c * cube_texel_solid_angles(n)[..., None]).reshape(-1, c.shape[3]))
-    out = np.empty((flat.shape[0], c.shape[3]))
-    _reference_kernel(flat, np.ascontiguousarray(cube_texel_directions(n).reshape(-1, 3)), src, out)
+    out = np.zeros((flat.shape[0], c.shape[3]))
+    point_lobe_sum(out, flat, cube_texel_directions(n).reshape(-1, 3), src, LOBE_COSINE)
     return out.reshape(shape + (c.shape[3],))

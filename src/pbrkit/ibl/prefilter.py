@@ -47,7 +47,8 @@ L = min(L, T) + max(L - T, 0).
   cube twice as fine as the output level at their energy-weighted centroids
   (:func:`merge_highlights`),
   and summed exactly: each adds E_i D(h_i) (n.l_i) / Z(alpha) to a texel
-  (:func:`add_highlights`).
+  (:func:`add_highlights`, by :func:`point_lobe_sum`, which also sums the
+  brute-force references here and in :mod:`pbrkit.irradiance`).
 
 The alternative :func:`prefilter_fis` is filtered importance sampling
 (Krivanek & Colbert, "Real-time Shading with Filtered Importance Sampling",
@@ -77,6 +78,7 @@ import numba
 import numpy as np
 
 from ..brdf.distributions import alpha_from_roughness, d_ggx
+from ..core import checks
 from ..core.jit import dual_use, parallel_kernel, select
 from ..core.vec import orthonormal_basis_xyz
 from ..sampling.low_discrepancy import hammersley
@@ -108,6 +110,9 @@ __all__ = [
     "equirect_highlights",
     "cube_highlights",
     "merge_highlights",
+    "LOBE_COSINE",
+    "LOBE_GGX",
+    "point_lobe_sum",
     "add_highlights",
     "prefilter_spectral",
     "cube_texel_density",
@@ -133,9 +138,7 @@ BAND_LIMIT_TOLERANCE = 1e-6
 
 
 def _check_levels(levels):
-    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 2:
-        raise ValueError(f"a prefiltered chain needs at least 2 levels, got {levels!r}")
-    return int(levels)
+    return checks.integer(levels, "levels of a prefiltered chain", 2)
 
 
 def roughness_of_level(m, levels):
@@ -341,28 +344,68 @@ def merge_highlights(highlights, size, max_points=4096):
     return np.ascontiguousarray(centroid), np.ascontiguousarray(energy), size
 
 
+#: Zonal lobes k(n.l) of :func:`point_lobe_sum`: the clamped cosine max(0, n.l)
+#: (irradiance, :mod:`pbrkit.irradiance`) and the split-sum GGX kernel
+#: D(n.h) (n.l) on n.l > 0 with n.h = sqrt((1 + n.l) / 2) (h bisects n = v and l;
+#: :func:`ggx_prefilter_kernel` as a function of n.l).
+LOBE_COSINE = 0
+LOBE_GGX = 1
+
+
+@dual_use
+def _point_lobe(lobe, nol, alpha):
+    """k(n.l) of lobe code ``lobe`` (:data:`LOBE_COSINE`, :data:`LOBE_GGX`) for n.l > 0."""
+    if lobe == LOBE_COSINE:
+        return nol
+    return d_ggx(math.sqrt(0.5 + 0.5 * nol), alpha) * nol
+
+
 @parallel_kernel
-def _ggx_points_kernel(dirs, points, energies, alpha, inv_z, out):
-    """out[k] += sum_i E_i D(n.h_i) (n.l_i) / Z over points i with n.l_i > 0,
-    n.h_i = sqrt((1 + n.l_i) / 2) (h bisects n = v and l)."""
+def _point_lobe_kernel(dirs, points, values, weights, lobe, alpha, scale, normalise, out):
+    """out[k] += sum_i w_i L_i with w_i = k(n_k.l_i) scale weights_i over the points
+    i with n_k.l_i > 0; with ``normalise`` out[k] is then divided by sum_i w_i."""
     channels = out.shape[1]
     for k in numba.prange(dirs.shape[0]):
         nx, ny, nz = dirs[k, 0], dirs[k, 1], dirs[k, 2]
+        total = 0.0
         for i in range(points.shape[0]):
             nol = nx * points[i, 0] + ny * points[i, 1] + nz * points[i, 2]
             if nol > 0.0:
-                w = d_ggx(math.sqrt(0.5 + 0.5 * nol), alpha) * nol * inv_z
+                w = _point_lobe(lobe, nol, alpha) * scale * weights[i]
+                total += w
                 for c in range(channels):
-                    out[k, c] += w * energies[i, c]
+                    out[k, c] += w * values[i, c]
+        if normalise:
+            for c in range(channels):
+                out[k, c] = out[k, c] / total
+
+
+def point_lobe_sum(out, directions, points, values, lobe, alpha=1.0, scale=1.0, weights=None, normalise=False):
+    """Sum a zonal lobe over points on the sphere, in place: for each unit
+    direction n_k (``directions`` (K, 3)), ``out[k]`` ((K, C)) += sum_i w_i
+    ``values[i]`` over the points l_i (``points`` (P, 3), unit) with
+    n_k.l_i > 0, w_i = k(n_k.l_i) ``scale`` ``weights[i]`` (default 1), the
+    lobe k of :data:`LOBE_COSINE` or :data:`LOBE_GGX` (of ``alpha``); with
+    ``normalise``, out[k] (zero on entry) is then divided by sum_i w_i.  The
+    exact highlight sums (:func:`add_highlights`,
+    :func:`pbrkit.irradiance.add_cosine_highlights`) and the brute-force
+    references (:func:`prefilter_reference`,
+    :func:`pbrkit.irradiance.irradiance_reference`) are this sum."""
+    if points.shape[0]:
+        weights = np.ones(points.shape[0]) if weights is None else np.ascontiguousarray(weights, dtype=np.float64)
+        _point_lobe_kernel(np.ascontiguousarray(directions, dtype=np.float64), np.ascontiguousarray(points),
+                           np.ascontiguousarray(values), weights, int(lobe), float(alpha), float(scale),
+                           bool(normalise), out)
+    return out
 
 
 def add_highlights(out, directions, points, energies, alpha):
     """Add the exact prefiltered contribution of point highlights (module
-    doc) at unit ``directions`` (K, 3) to ``out`` (K, C) in place."""
-    if points.shape[0]:
-        _ggx_points_kernel(np.ascontiguousarray(directions, dtype=np.float64), points, energies, float(alpha),
-                           1.0 / float(ggx_lobe_normalization(float(alpha))), out)
-    return out
+    doc), E_i D(n.h_i) (n.l_i) / Z(alpha), at unit ``directions`` (K, 3) to
+    ``out`` (K, C) in place (:func:`point_lobe_sum`)."""
+    alpha = float(alpha)
+    return point_lobe_sum(out, directions, points, energies, LOBE_GGX, alpha,
+                          1.0 / float(ggx_lobe_normalization(alpha)))
 
 
 # ------------------------------------------------------------ spectral path
@@ -437,8 +480,7 @@ def sample_set(roughness, count, bias=1.0):
     pdf of l from :func:`pbrkit.sampling.pdf_light_from_half` of
     :func:`pbrkit.sampling.pdf_ggx_ndf` (D / 4 here) and Omega_s =
     1 / (count pdf); ``bias`` 1 is Krivanek & Colbert's."""
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or not 1 <= count <= 1 << 20:
-        raise ValueError(f"sample count must be an integer in [1, 1048576], got {count!r}")
+    count = checks.integer(count, "sample count", 1, 1 << 20)
     roughness = float(roughness)
     if not 0.0 <= roughness <= 1.0:
         raise ValueError(f"roughness must be in [0, 1], got {roughness!r}")
@@ -491,13 +533,8 @@ def _fis_kernel(dirs, l, weight, lod_offset, lod_base, data, offsets, sizes, out
 
 
 def _flat_dirs(directions):
-    d = np.asarray(directions, dtype=np.float64)
-    if d.ndim < 1 or d.shape[-1] != 3:
-        raise ValueError(f"directions must have shape (..., 3), got {d.shape}")
-    length = np.linalg.norm(d, axis=-1, keepdims=True)
-    if np.any(length == 0.0) or not np.all(np.isfinite(length)):
-        raise ValueError("directions must be finite and non-zero")
-    return np.ascontiguousarray((d / length).reshape(-1, 3)), d.shape[:-1]
+    d, length = checks.direction_lengths(directions)
+    return np.ascontiguousarray((d / length[..., None]).reshape(-1, 3)), d.shape[:-1]
 
 
 def prefilter_level(sampler, directions, samples):
@@ -552,44 +589,22 @@ def prefilter_fis(cube, levels, sample_counts=None, bias=1.0, highlights=None, p
 # ---------------------------------------------------------------- references
 
 
-@parallel_kernel
-def _reference_kernel(dirs, src_dirs, src, alpha, out):
-    """out[k] = sum_i L_i D(n.h_i) (n.l_i) Omega_i / sum_i D(n.h_i) (n.l_i) Omega_i
-    over every source texel i with n.l_i > 0 (``src`` holds L_i and, in its
-    last column, Omega_i)."""
-    channels = out.shape[1]
-    for k in numba.prange(dirs.shape[0]):
-        nx, ny, nz = dirs[k, 0], dirs[k, 1], dirs[k, 2]
-        acc = np.zeros(channels)
-        total = 0.0
-        for i in range(src_dirs.shape[0]):
-            nol = nx * src_dirs[i, 0] + ny * src_dirs[i, 1] + nz * src_dirs[i, 2]
-            if nol <= 0.0:
-                continue
-            w = d_ggx(math.sqrt(0.5 + 0.5 * nol), alpha) * nol * src[i, channels]
-            total += w
-            for c in range(channels):
-                acc[c] += w * src[i, c]
-        for c in range(channels):
-            out[k, c] = acc[c] / total
-
-
 def prefilter_reference(cube, directions, roughness):
     """Brute-force prefiltered radiance at ``directions`` (..., 3): the ratio
     of the module doc as a sum over *every* texel i of ``cube``
     (6, N, N, C), with its centre direction l_i and exact solid angle
     Omega_i (:func:`pbrkit.cubemap.cube_texel_solid_angles`),
     n.h_i = sqrt((1 + n.l_i) / 2) and D = :func:`pbrkit.distributions.d_ggx`
-    with alpha = max(r^2, ALPHA_MIN), normalised by the same sum of weights.
-    O(directions x 6 N^2); for tests and benchmarks.  Returns (..., C)."""
+    with alpha = max(r^2, ALPHA_MIN), normalised by the same sum of weights
+    (:func:`point_lobe_sum`).  O(directions x 6 N^2); for tests and
+    benchmarks.  Returns (..., C)."""
     c = _as_cube(cube).astype(np.float64)
     n = c.shape[1]
     dirs, shape = _flat_dirs(directions)
-    src_dirs = np.ascontiguousarray(cube_texel_directions(n).reshape(-1, 3))
-    src = np.concatenate([c.reshape(-1, c.shape[3]), cube_texel_solid_angles(n).reshape(-1, 1)], axis=1)
-    out = np.empty((dirs.shape[0], c.shape[3]))
-    _reference_kernel(dirs, src_dirs, np.ascontiguousarray(src), float(alpha_from_roughness(float(roughness))),
-                      out)
+    out = np.zeros((dirs.shape[0], c.shape[3]))
+    point_lobe_sum(out, dirs, cube_texel_directions(n).reshape(-1, 3), c.reshape(-1, c.shape[3]), LOBE_GGX,
+                   float(alpha_from_roughness(float(roughness))),
+                   weights=cube_texel_solid_angles(n).reshape(-1), normalise=True)
     return out.reshape(shape + (c.shape[3],))
 
 

@@ -26,7 +26,8 @@ sum_i L(w_i) Y_lm(w_i) dOmega_i over texels with their exact solid angles
 (:func:`project_cube`, :func:`project`).  Irradiance E(n) = integral of L(w) max(0, n.w) dw is, by the
 Funk-Hecke theorem, E(n) = sum_lm A_l L_lm Y_lm(n) with the clamped-cosine
 coefficients A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4 (Ramamoorthi & Hanrahan
-2001, eqs. 7-9), exact for radiance band-limited to l <= 2.
+2001, eqs. 7-9; every degree: :func:`cosine_lobe_coefficients`), exact for
+radiance band-limited to l <= 2.
 
 Truncation error.  For any non-negative radiance the 9-coefficient
 irradiance E_2 differs from the exact E by at most (3/32) times the total
@@ -49,10 +50,12 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.jit import dual_use
 from .cubemap import cube_texel_directions, cube_texel_solid_angles
+from .equirect import equirect_pixel_angles
 
 __all__ = [
     "SH_COUNT",
     "SH_BANDS",
+    "cosine_lobe_coefficients",
     "COSINE_LOBE_COEFFICIENTS",
     "TRUNCATION_ERROR_BOUND",
     "sh9",
@@ -69,9 +72,35 @@ __all__ = [
 SH_COUNT = 9
 #: Band l of each of the 9 coefficients.
 SH_BANDS = np.array([0, 1, 1, 1, 2, 2, 2, 2, 2])
-#: A_l of the clamped cosine max(0, cos theta) for l = 0, 1, 2
-#: (Ramamoorthi & Hanrahan 2001, eqs. 8-9).
-COSINE_LOBE_COEFFICIENTS = (math.pi, 2.0 * math.pi / 3.0, math.pi / 4.0)
+
+
+def cosine_lobe_coefficients(lmax):
+    """A_l (l = 0..L, float64 (L + 1,)) of the clamped cosine max(0, cos
+    theta): its Funk-Hecke coefficients 2 pi integral_0^1 t P_l(t) dt, in
+    closed form (Ramamoorthi & Hanrahan 2001, eqs. 8-9): A_0 = pi,
+    A_1 = 2 pi / 3, A_l = 0 for odd l > 1 and, for even l >= 2,
+
+        A_l = 2 pi (-1)^(l/2 - 1) / ((l + 2)(l - 1)) * l! / (2^l ((l/2)!)^2).
+
+    The last factor c_l = binom(l, l/2) / 2^l comes from the ratio
+    recurrence c_0 = 1, c_l = c_{l-2} (l - 1) / l (no factorials, so no
+    overflow: stable to any degree; c_l ~ sqrt(2 / (pi l)))."""
+    if isinstance(lmax, bool) or not isinstance(lmax, (int, np.integer)) or lmax < 0:
+        raise ValueError(f"degree must be a non-negative integer, got {lmax!r}")
+    a = np.zeros(int(lmax) + 1)
+    a[0] = math.pi
+    if lmax >= 1:
+        a[1] = 2.0 * math.pi / 3.0
+    l = np.arange(2, lmax + 1, 2, dtype=np.float64)
+    c = np.cumprod((l - 1.0) / l)
+    sign = np.where((np.arange(2, lmax + 1, 2) // 2) % 2 == 1, 1.0, -1.0)
+    a[2::2] = 2.0 * math.pi * sign / ((l + 2.0) * (l - 1.0)) * c
+    return a
+
+
+#: A_l of the clamped cosine max(0, cos theta) for l = 0, 1, 2: pi, 2 pi / 3,
+#: pi / 4 (:func:`cosine_lobe_coefficients`; Ramamoorthi & Hanrahan 2001, eqs. 8-9).
+COSINE_LOBE_COEFFICIENTS = tuple(float(a) for a in cosine_lobe_coefficients(2))
 #: max over t in [-1, 1] of |max(0, t) - k_2(t)|: bound of the irradiance
 #: truncation error per unit of integral of L dw (module docstring).
 TRUNCATION_ERROR_BOUND = 3.0 / 32.0
@@ -187,7 +216,7 @@ def _equirect_cell_integrals_theta(rows, h):
     (product forms around the band centre theta_i, half width a = pi / 2H, to
     avoid cancellation); each (rows,)."""
     a = 0.5 * math.pi / h
-    t = math.pi * (np.asarray(rows, dtype=np.float64) + 0.5) / h
+    t, _ = equirect_pixel_angles(np.asarray(rows, dtype=np.float64), 0, h, 2 * h)
     c0, c1 = np.cos(t - a), np.cos(t + a)
     s0, s1 = np.sin(t - a), np.sin(t + a)
     s_1 = 2.0 * np.sin(t) * math.sin(a)                        # int sin = cos0 - cos1
@@ -204,7 +233,7 @@ def _equirect_cell_integrals_phi(w):
     of 1, cos, sin, cos^2, sin^2 and sin cos of phi, in closed form (product
     forms around the column centre phi_j, half width b = pi / W); (W, 6)."""
     b = math.pi / w
-    p = 2.0 * math.pi * (np.arange(w) + 0.5) / w - math.pi
+    _, p = equirect_pixel_angles(0, np.arange(w), w // 2, w)
     half = 0.5 * math.sin(2.0 * b)
     return np.stack([
         np.full(w, 2.0 * b),                  # int 1
@@ -286,11 +315,11 @@ def irradiance_from_sh(coeffs, normals, window=None, width=3.0):
     """Irradiance E(n) = sum_lm A_l w_l L_lm Y_lm(n) from radiance SH.
 
     Ramamoorthi & Hanrahan 2001, eq. 7 with A_0 = pi, A_1 = 2 pi / 3,
-    A_2 = pi / 4 (:data:`COSINE_LOBE_COEFFICIENTS`); w_l is the optional
+    A_2 = pi / 4 (:func:`cosine_lobe_coefficients`); w_l is the optional
     window of :func:`sh_window` (none by default).  A constant radiance 1
     gives E = pi.  ``coeffs`` (9,) or (9, C), ``normals`` (..., 3) unit
     vectors; returns (...) or (..., C).
     """
     c = apply_window(coeffs, window, width)
-    a = np.array(COSINE_LOBE_COEFFICIENTS)[SH_BANDS]
+    a = cosine_lobe_coefficients(2)[SH_BANDS]
     return eval_sh(c * a.reshape((SH_COUNT,) + (1,) * (c.ndim - 1)), normals)

@@ -51,7 +51,9 @@ import math
 import numba
 import numpy as np
 
+from ..core import checks
 from ..core.jit import kernel, parallel_kernel
+from .equirect import direction_angles, equirect_pixel_angles
 
 __all__ = [
     "analyse_equirect",
@@ -136,9 +138,7 @@ def _analyse_kernel(g_re, g_im, x_nodes, s_log, w_nodes, log_pmm, a, b, col_fact
 
 
 def _check_lmax(lmax):
-    if isinstance(lmax, bool) or not isinstance(lmax, (int, np.integer)) or not 0 <= lmax <= 4096:
-        raise ValueError(f"degree must be an integer in [0, 4096], got {lmax!r}")
-    return int(lmax)
+    return checks.integer(lmax, "degree", 0, 4096)
 
 
 def analyse_equirect(image, lmax):
@@ -152,17 +152,17 @@ def analyse_equirect(image, lmax):
     h, w, channels = img.shape
     if lmax >= w // 2:
         raise ValueError(f"degree {lmax} needs an image wider than {2 * lmax} pixels, got {w}")
-    # G_m(row) = sum_j f_j exp(-i m phi_j), phi_j = 2 pi (j + 0.5) / W - pi
+    # G_m(row) = sum_j f_j exp(-i m phi_j), phi_j = 2 pi (j + 0.5) / W - pi = phi_0 + 2 pi j / W
     spec = np.fft.rfft(img, axis=1)[:, : lmax + 1, :]
     m = np.arange(lmax + 1)
-    spec *= np.exp(-1j * m * (math.pi / w - math.pi))[None, :, None]
+    mid, phi0 = equirect_pixel_angles(np.arange(h), 0, h, w)
+    spec *= np.exp(-1j * m * phi0)[None, :, None]
     dphi = 2.0 * math.pi / w
     half = 0.5 * m * dphi
     col_factor = dphi * np.where(m == 0, 1.0, np.sin(half) / np.where(m == 0, 1.0, half))
     # 2-point Gauss-Legendre in theta over each row band: the integrand Pbar_lm(cos theta) sin(theta) is a
     # trigonometric polynomial in theta, smooth also at the poles
     half = 0.5 * math.pi / h
-    mid = math.pi * (np.arange(h) + 0.5) / h
     g = half / math.sqrt(3.0)
     theta = np.stack([mid - g, mid + g], axis=1)
     x_nodes = np.cos(theta)
@@ -208,7 +208,7 @@ def synthesise_equirect(coeffs, height):
     if height <= lmax:
         raise ValueError(f"a grid of {height} rows cannot hold degree {lmax}")
     width = 2 * height
-    theta = np.pi * (np.arange(height) + 0.5) / height
+    theta, phi0 = equirect_pixel_angles(np.arange(height), 0, height, width)
     x = np.cos(theta)
     s_log = np.log(np.sin(theta))
     a, b = _recurrence_tables(lmax)
@@ -217,7 +217,7 @@ def synthesise_equirect(coeffs, height):
     _synthesise_kernel(np.ascontiguousarray(c.real, dtype=np.float64), np.ascontiguousarray(c.imag, dtype=np.float64),
                        x, s_log, _log_pmm_table(lmax), a, b, f_re, f_im)
     m = np.arange(lmax + 1)
-    spec = (f_re + 1j * f_im) * np.exp(1j * m * (math.pi / width - math.pi))[None, :, None]
+    spec = (f_re + 1j * f_im) * np.exp(1j * m * phi0)[None, :, None]
     # sum_m F_m e^{i m phi} over m = -L..L: irfft gives (1 / W) (F_0 + 2 Re sum_{m>0} F_m e^{2 pi i m j / W})
     full = np.zeros((height, width // 2 + 1, c.shape[2]), dtype=complex)
     full[:, : lmax + 1] = spec
@@ -239,9 +239,8 @@ def _sample_kernel(grid, dirs, out):
     w = grid.shape[1]
     channels = grid.shape[2]
     for k in numba.prange(dirs.shape[0]):
-        x, y, z = dirs[k, 0], dirs[k, 1], dirs[k, 2]
-        theta = math.acos(min(1.0, max(-1.0, y)))
-        phi = math.atan2(z, x)
+        theta, phi = direction_angles(dirs[k, 0], dirs[k, 1], dirs[k, 2])
+        # grid coordinates from the centre of pixel (0, 0): v H - 1/2 and u W - 1/2 (CONVENTIONS.md)
         v = theta / math.pi * h - 0.5
         u = (phi + math.pi) / (2.0 * math.pi) * w - 0.5
         i0 = int(math.floor(v))

@@ -16,21 +16,17 @@ nothing time- or machine-dependent is written.
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
-import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from ..core.atomic import atomic_directory
 from ..ibl.bake import (
     FACE_FILE_NAMES,
     FORMAT,
     SPECULAR_FORMATS,
     Bake,
-    check_output_dir,
     preview_strip,
 )
 
@@ -104,42 +100,13 @@ def write_bake(bake_result, out_dir, force=False, progress=None):
     The files are written into a temporary directory beside ``out_dir``,
     which is renamed to ``out_dir`` only when everything succeeded; any
     failure removes it (and any parent directories this call created), so
-    no partial output remains.  An existing non-empty ``out_dir`` is
-    refused unless ``force``, which replaces it.  ``progress(step, done,
-    total)`` after each group of files.  Returns the output path."""
-    out = check_output_dir(out_dir, force)
-    parent = out.absolute().parent
-    created = []
-    probe = parent
-    while not probe.exists():
-        created.append(probe)
-        probe = probe.parent
-    parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
-    try:
-        os.chmod(tmp, 0o777 & ~_umask())
+    no partial output remains (:func:`pbrkit.core.atomic.atomic_directory`).
+    An existing non-empty ``out_dir`` is refused unless ``force``, which
+    replaces it.  ``progress(step, done, total)`` after each group of files.
+    Returns the output path."""
+    with atomic_directory(out_dir, force) as tmp:
         _write_all(tmp, bake_result, progress)
-        if out.exists() or out.is_symlink():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=parent))
-            os.rmdir(old)
-            os.rename(out, old)
-            os.rename(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.rename(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        for path in created:  # deepest first
-            with contextlib.suppress(OSError):
-                path.rmdir()
-        raise
-    return out
-
-
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+    return Path(out_dir)
 
 
 # ----------------------------------------------------------------------- load

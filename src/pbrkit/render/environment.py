@@ -21,7 +21,15 @@ import numba
 import numpy as np
 
 from ..core.color import luminance
+from ..core.filtering import CLAMP_TO_EDGE, REPEAT, texel_pair
 from ..core.jit import dual_use, parallel_kernel
+from ..ibl.equirect import (
+    equirect_angles_of_uv,
+    equirect_direction,
+    equirect_pixel_angles,
+    equirect_uv,
+)
+from ..sampling.warps import pdf_uniform_sphere, warp_uniform_sphere
 from .scene import bundled_environment
 
 __all__ = [
@@ -41,10 +49,10 @@ def _rotate_y(x, y, z, c, s):
 def _env_texel(h, w, c, s, dx, dy, dz):
     """Texel (row, column) of the equirect (H x W, CONVENTIONS.md) seen along world
     direction d (unit) with the environment rotated by R_y(theta), and sin(theta)
-    of the direction in the map's frame."""
+    of the direction in the map's frame (texture coordinates:
+    :func:`pbrkit.ibl.equirect.equirect_uv`)."""
     x, y, z = _rotate_y(dx, dy, dz, c, -s)
-    u = 0.5 + math.atan2(z, x) / (2.0 * math.pi)
-    v = math.acos(min(max(y, -1.0), 1.0)) / math.pi
+    u, v = equirect_uv(x, y, z)
     j = min(max(int(u * w), 0), w - 1)
     i = min(max(int(v * h), 0), h - 1)
     return i, j, math.sqrt(max(0.0, 1.0 - y * y))
@@ -61,7 +69,7 @@ def _env_lookup(env, c, s, dx, dy, dz):
 def _env_pdf_texel(func, total, i, j, sin_theta):
     """Solid-angle pdf p(u, v) / (2 pi^2 sin theta) of :func:`_env_sample` in texel (i, j)."""
     if total <= 0.0:
-        return 0.25 / math.pi
+        return pdf_uniform_sphere(0.0)
     if sin_theta <= 0.0:
         return 0.0
     return func[i, j] / total / (2.0 * math.pi * math.pi * sin_theta)
@@ -87,29 +95,25 @@ def _sample_1d(cdf, guide, u):
 def _env_sample(func, total, marg_cdf, cond_cdf, c, s, u1, u2):
     """Direction (world), solid-angle pdf and texel (i, j) sampled from the 2-D
     distribution (pbrt-v4 PiecewiseConstant2D: row from the marginal, column from
-    its conditional)."""
+    its conditional); the point (u, v) is mapped to a direction by
+    :func:`pbrkit.ibl.equirect.equirect_angles_of_uv` and
+    :func:`~pbrkit.ibl.equirect.equirect_direction`.  A black environment is
+    sampled uniformly (:func:`pbrkit.sampling.warps.warp_uniform_sphere`, its
+    polar axis along +Y)."""
     h = func.shape[0]
     w = func.shape[1]
     if total <= 0.0:  # black environment: uniform sphere
-        z = 1.0 - 2.0 * u1
-        r = math.sqrt(max(0.0, 1.0 - z * z))
-        phi = 2.0 * math.pi * u2
-        wx, wy, wz = r * math.cos(phi), z, r * math.sin(phi)
-        i, j, _ = _env_texel(h, w, c, s, wx, wy, wz)
-        return wx, wy, wz, 0.25 / math.pi, i, j
+        sx, sy, sz = warp_uniform_sphere(u1, u2)
+        i, j, _ = _env_texel(h, w, c, s, sx, sz, sy)
+        return sx, sz, sy, pdf_uniform_sphere(sz), i, j
     i, dv = _sample_1d(marg_cdf[0], marg_cdf[1], u1)
     j, du = _sample_1d(cond_cdf[0][i], cond_cdf[1][i], u2)
-    v = (i + dv) / h
-    u = (j + du) / w
-    theta = math.pi * v
-    phi = 2.0 * math.pi * u - math.pi
+    theta, phi = equirect_angles_of_uv((j + du) / w, (i + dv) / h)
     st = math.sin(theta)
     if st <= 0.0:
         return 0.0, 1.0, 0.0, 0.0, i, j
-    x = st * math.cos(phi)
-    y = math.cos(theta)
-    z = st * math.sin(phi)
-    pdf = func[i, j] / total / (2.0 * math.pi * math.pi * st)
+    x, y, z = equirect_direction(theta, phi)
+    pdf = _env_pdf_texel(func, total, i, j, st)
     wx, wy, wz = _rotate_y(x, y, z, c, s)
     return wx, wy, wz, pdf, i, j
 
@@ -169,7 +173,7 @@ class EnvironmentLight:
         mean (so p(u, v) = func / total); guide[k] = the bin holding u = k / n."""
         if self._distribution is None:
             h, w = self.radiance.shape[:2]
-            sin_t = np.sin(np.pi * (np.arange(h) + 0.5) / h)
+            sin_t = np.sin(equirect_pixel_angles(np.arange(h), 0, h, w)[0])
             func = np.maximum(luminance(self.radiance), 0.0) * sin_t[:, None]
             row = func.sum(axis=1)
             cond = np.zeros((h, w + 1))
@@ -208,8 +212,8 @@ class EnvironmentLight:
     def to_env_frame(self, directions):
         """World directions expressed in the environment map's frame: R_y(-theta) d."""
         d = np.asarray(directions, dtype=np.float64)
-        c, s = self.cos, -self.sin
-        return np.stack([c * d[..., 0] + s * d[..., 2], d[..., 1], -s * d[..., 0] + c * d[..., 2]], axis=-1)
+        return np.stack(np.broadcast_arrays(*_rotate_y(d[..., 0], d[..., 1], d[..., 2], self.cos, -self.sin)),
+                        axis=-1)
 
     def bake(self, size=256, irradiance_size=32, lut_size=128, **options):
         """The IBL bake (:func:`pbrkit.bake.bake`) of the un-scaled environment (the
@@ -226,22 +230,15 @@ class EnvironmentLight:
 
 @parallel_kernel
 def _background_batch(env, c, s, d, out):
-    """Bilinear equirect lookup (texel centres, CONVENTIONS.md; columns wrap, rows clamp)."""
+    """Bilinear equirect lookup (texel centres, CONVENTIONS.md; columns wrap, rows
+    clamp: :func:`pbrkit.core.filtering.texel_pair`)."""
     h = env.shape[0]
     w = env.shape[1]
     for i in numba.prange(d.shape[0]):
         x, y, z = _rotate_y(d[i, 0], d[i, 1], d[i, 2], c, -s)
-        u = 0.5 + math.atan2(z, x) / (2.0 * math.pi)
-        v = math.acos(min(max(y, -1.0), 1.0)) / math.pi
-        fx = u * w - 0.5
-        fy = min(max(v * h - 0.5, 0.0), h - 1.0)
-        x0 = int(math.floor(fx))
-        y0 = min(int(math.floor(fy)), max(h - 2, 0))
-        ax = fx - x0
-        ay = fy - y0
-        y1 = min(y0 + 1, h - 1)
-        j0 = x0 % w
-        j1 = (x0 + 1) % w
+        u, v = equirect_uv(x, y, z)
+        j0, j1, ax = texel_pair(u * w - 0.5, w, REPEAT)
+        y0, y1, ay = texel_pair(v * h - 0.5, h, CLAMP_TO_EDGE)
         for ch in range(3):
             out[i, ch] = ((env[y0, j0, ch] * (1.0 - ax) + env[y0, j1, ch] * ax) * (1.0 - ay)
                           + (env[y1, j0, ch] * (1.0 - ax) + env[y1, j1, ch] * ax) * ay)

@@ -18,6 +18,7 @@ from .primitives import (
     KIND_TRIANGLE,
     _trace_batch,
     build_sphere_bvh,
+    sphere_normal_and_point,
 )
 from .scene import GltfObject, Plane, Sphere
 from .textures import SurfaceMaterial
@@ -200,22 +201,14 @@ class Geometry:
         emissive = np.zeros((n_rows, 3))
         sph = k == KIND_SPHERE
         if np.any(sph):
-            if sph.all():
-                s = self.spheres[idx]
-                normal = p - s[:, :3]
-                normal /= np.sqrt(np.einsum("ij,ij->i", normal, normal))[:, None]
-                p = s[:, :3] + s[:, 3:4] * normal  # snap onto the sphere
-                ng = normal
-                n = normal.copy()
-                mat = self.sphere_material[idx]
-            else:
-                s = self.spheres[idx[sph]]
-                normal = p[sph] - s[:, :3]
-                normal /= np.sqrt(np.einsum("ij,ij->i", normal, normal))[:, None]
-                p[sph] = s[:, :3] + s[:, 3:4] * normal  # snap onto the sphere
-                ng[sph] = normal
-                n[sph] = normal
-                mat[sph] = self.sphere_material[idx[sph]]
+            s = self.spheres[idx[sph]]
+            q = p[sph]
+            nx, ny, nz, sx, sy, sz = sphere_normal_and_point(s[:, 0], s[:, 1], s[:, 2], s[:, 3],
+                                                             q[:, 0], q[:, 1], q[:, 2])
+            p[sph] = np.stack([sx, sy, sz], axis=-1)  # snapped onto the sphere
+            ng[sph] = np.stack([nx, ny, nz], axis=-1)
+            n[sph] = ng[sph]
+            mat[sph] = self.sphere_material[idx[sph]]
         pl = k == KIND_PLANE
         if np.any(pl):
             ng[pl] = self.planes[idx[pl], 3:6]

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core import checks
 from ..core.jit import dual_use, select
 
 __all__ = [
@@ -98,18 +99,6 @@ def spot_attenuation(cos_angle, cos_inner, cos_outer):
     return a * a
 
 
-def _vec3(name, value, unit=False):
-    a = np.asarray(value, dtype=float)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"light {name} must be 3 finite numbers; got {value!r}")
-    if unit:
-        length = float(np.linalg.norm(a))
-        if length == 0.0:
-            raise ValueError(f"light {name} must not be the zero vector")
-        a = a / length
-    return a
-
-
 @dataclass(frozen=True)
 class Light:
     """A punctual light (see the module docstring for units and conventions)."""
@@ -130,7 +119,7 @@ class Light:
             raise ValueError(f"unknown light type {self.type!r}; choose one of {', '.join(LIGHT_TYPES)}")
         if self.falloff not in FALLOFFS:
             raise ValueError(f"unknown light falloff {self.falloff!r}; choose one of {', '.join(FALLOFFS)}")
-        color = _vec3("color", self.color)
+        color = checks.vector(self.color, "light color")
         if np.any(color < 0.0):
             raise ValueError(f"light color must be non-negative; got {self.color!r}")
         set_(self, "color", tuple(color))
@@ -138,8 +127,8 @@ class Light:
         if not np.isfinite(intensity) or intensity < 0.0:
             raise ValueError(f"light intensity must be finite and >= 0; got {self.intensity!r}")
         set_(self, "intensity", intensity)
-        set_(self, "position", tuple(_vec3("position", self.position)))
-        set_(self, "direction", tuple(_vec3("direction", self.direction, unit=True)))
+        set_(self, "position", tuple(checks.vector(self.position, "light position")))
+        set_(self, "direction", tuple(checks.vector(self.direction, "light direction", unit=True)))
         if self.range is not None:
             r = float(self.range)
             if not np.isfinite(r) or r <= 0.0:

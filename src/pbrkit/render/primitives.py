@@ -5,6 +5,9 @@
   pointers, so traversal needs no stack), with the numerically careful
   ray/sphere solution of Haines, Günther and Akenine-Möller, "Precision
   Improvements for Ray/Sphere Intersection", Ray Tracing Gems (2019), ch. 7.
+  The surface data of a sphere hit (unit normal, point snapped onto the
+  sphere) are computed once, by :func:`sphere_normal_and_point`, for the
+  NumPy shading path and the compiled kernels alike.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ __all__ = [
     "KIND_PLANE",
     "KIND_TRIANGLE",
     "build_sphere_bvh",
+    "sphere_normal_and_point",
 ]
 
 KIND_NONE, KIND_SPHERE, KIND_PLANE, KIND_TRIANGLE = 0, 1, 2, 3
@@ -101,6 +105,25 @@ def _ray_sphere(ox, oy, oz, dx, dy, dz, cx, cy, cz, r, tmin):
     if t1 > tmin:
         return t1
     return _INF
+
+
+@dual_use
+def sphere_normal_and_point(cx, cy, cz, r, px, py, pz):
+    """The unit outward normal n = (p - c) / |p - c| of the sphere (centre c,
+    radius r) at a hit point p, and p snapped onto the sphere, c + r n.
+    Returns (nx, ny, nz, sx, sy, sz): scalars inside kernels, arrays from
+    NumPy.  p = o + t d with t from :func:`_ray_sphere` (Haines et al. 2019,
+    Ray Tracing Gems ch. 7) carries the rounding error of t, which grows with
+    the distance; the snapped point lies on the sphere to the precision of c
+    and r, so rays leaving it start from the surface."""
+    nx = px - cx
+    ny = py - cy
+    nz = pz - cz
+    length = np.sqrt(nx * nx + ny * ny + nz * nz)
+    nx = nx / length
+    ny = ny / length
+    nz = nz / length
+    return nx, ny, nz, cx + r * nx, cy + r * ny, cz + r * nz
 
 
 @dual_use

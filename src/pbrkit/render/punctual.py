@@ -7,13 +7,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..brdf.bxdf import bxdf_f
 from ..core.jit import dual_use, parallel_kernel
 from .lights import light_arrays, light_incidence
+from .materials import hit_bxdf, hit_cosines
 from .primitives import KIND_NONE, trace_analytic
-from .shading import _cosines, brdf_value
 
-__all__ = [
-]
+__all__ = ["punctual_at", "punctual_radiance"]
 
 # ============================================================ punctual lights
 
@@ -36,10 +36,11 @@ def _punctual_kernel(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, va
         out_value[i, 2] = 0.0
         if factor <= 0.0 or ng[i, 0] * lx + ng[i, 1] * ly + ng[i, 2] * lz <= 0.0:
             continue
-        nol, nov, noh, voh = _cosines(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], lx, ly, lz)
-        f = brdf_value(mi, mf, mat[i], nol, nov, noh, voh, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2],
-                       ec[i, 0], ec[i, 1], ec[i, 2])
-        e = factor * max(nol, 0.0)
+        b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                            n[i, 2])
+        c = hit_cosines(n[i, 0], n[i, 1], n[i, 2], t, bt, v[i, 0], v[i, 1], v[i, 2], lx, ly, lz)
+        f = bxdf_f(b, c, ec[i, 0], ec[i, 1], ec[i, 2])
+        e = factor * max(c.nol, 0.0)
         out_value[i, 0] = f[0] * lv[0] * e
         out_value[i, 1] = f[1] * lv[1] * e
         out_value[i, 2] = f[2] * lv[2] * e
@@ -49,16 +50,17 @@ def _punctual_kernel(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, va
 def _punctual_analytic_batch(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, eps, shadows, spheres,
                              lo, hi, skip, first, count, order, planes, out):
     for i in numba.prange(p.shape[0]):
-        r = _punctual_at(mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1],
-                         n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2],
-                         ec[i, 0], ec[i, 1], ec[i, 2], codes, values, eps, shadows, spheres, lo, hi, skip, first,
-                         count, order, planes)
+        b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                            n[i, 2])
+        r = punctual_at(b, t, bt, p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
+                        v[i, 0], v[i, 1], v[i, 2], ec[i, 0], ec[i, 1], ec[i, 2], codes, values, eps, shadows,
+                        spheres, lo, hi, skip, first, count, order, planes)
         out[i, 0] = r[0]
         out[i, 1] = r[1]
         out[i, 2] = r[2]
 
 
-def _punctual(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True):
+def punctual_radiance(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True):
     """Radiance (N, 3) from the scene's punctual lights at the surface points, seen along v."""
     count = surface.p.shape[0]
     total = np.zeros((count, 3))
@@ -93,25 +95,25 @@ def _punctual(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True):
 
 
 @dual_use
-def _punctual_at(mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2, ec0, ec1,
-                 ec2, codes, values, eps, shadows, spheres, lo, hi, skip, first, count, order, planes):
+def punctual_at(b, t, bt, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, ec0, ec1, ec2, codes, values, eps,
+                shadows, spheres, lo, hi, skip, first, count, order, planes):
     """Radiance from every punctual light at an analytic-scene point (geometric normal g,
-    shading normal n), with shadow rays when ``shadows``."""
+    shading normal n, BxDF ``b`` with frame (n, t, bt)), with shadow rays when ``shadows``."""
     r0 = r1 = r2 = 0.0
     for li in range(codes.shape[0]):
         lx, ly, lz, dist, factor = light_incidence(codes[li, 0], codes[li, 1], values[li], px, py, pz)
         if factor <= 0.0 or gx * lx + gy * ly + gz * lz <= 0.0:
             continue
-        nol, nov, noh, voh = _cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
-        f = brdf_value(mi, mf, m, nol, nov, noh, voh, rough, metal, b0, b1, b2, ec0, ec1, ec2)
+        c = hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+        f = bxdf_f(b, c, ec0, ec1, ec2)
         if f[0] <= 0.0 and f[1] <= 0.0 and f[2] <= 0.0:
             continue
         if shadows:
-            t, k, _ = trace_analytic(px + eps * gx, py + eps * gy, pz + eps * gz, lx, ly, lz, 0.0,
+            _, k, _ = trace_analytic(px + eps * gx, py + eps * gy, pz + eps * gz, lx, ly, lz, 0.0,
                                      dist * (1.0 - 1e-6), True, spheres, lo, hi, skip, first, count, order, planes)
             if k != KIND_NONE:
                 continue
-        e = factor * nol
+        e = factor * c.nol
         r0 += f[0] * values[li, 0] * e
         r1 += f[1] * values[li, 1] * e
         r2 += f[2] * values[li, 2] * e

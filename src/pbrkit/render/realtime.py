@@ -29,36 +29,44 @@ of Beckmann / Blinn-Phong for the IBL, and the SH truncation.
 
 from __future__ import annotations
 
+import math
 import time
 from functools import lru_cache
 
 import numba
 import numpy as np
 
-from ..albedo.tables import table_bilinear
+from ..albedo.tables import filament_energy_compensation, table_bilinear
+from ..brdf.bxdf import (
+    DIFF_NONE,
+    FRES_EXACT_CONDUCTOR,
+    FRES_EXACT_DIELECTRIC,
+    FRES_NONE,
+    MODEL_COOK_TORRANCE,
+    MODEL_DISNEY,
+    MODEL_FILAMENT,
+    MODEL_URP_MOBILE,
+    P_ANISOTROPY,
+    URP_DIELECTRIC_F0,
+)
 from ..brdf.diffuse import kd_ibl
-from ..brdf.fresnel import f_conductor
-from ..core.jit import parallel_kernel
+from ..brdf.fresnel import f0_conductor, f_schlick
+from ..core.jit import dual_use, parallel_kernel
+from ..core.quadrature import gauss_legendre_01
 from .environment import EnvironmentLight
 from .geometry import Geometry
+from .materials import hit_bxdf, material_tables
 from .primary import RenderResult, _primary, _resolve
-from .punctual import _punctual
-from .shading import (
-    _INV_PI,
-    _MF_ETA,
-    _MF_F0D,
-    _MF_K,
-    _MF_SPEC,
-    _MI_DIFF,
-    _MI_FRES,
-    _MI_MODEL,
-    _f0_channel,
-    material_tables,
-)
+from .punctual import punctual_radiance
 
 __all__ = [
     "render_realtime",
+    "split_sum_f0",
+    "reflection_direction",
+    "sheen_albedo_table",
 ]
+
+_INV_PI = 1.0 / math.pi
 
 # ================================================================ real time
 
@@ -79,47 +87,145 @@ def _lut_for(spec, bake_lut):
     return np.asarray(bake_lut), "height-correlated"
 
 
+@dual_use
+def split_sum_f0(b, channel):
+    """The normal reflectance F0 that a real-time shader feeds to the split-sum
+    table for one channel: the metallic workflow's (the model's f0), the exact
+    conductor's min(F(1), 1), the dielectric f0 of ``exact-dielectric`` (whose
+    metallic is ignored), or the constant colour of ``fresnel = "none"``."""
+    if b.model == MODEL_COOK_TORRANCE:
+        if b.fresnel == FRES_EXACT_CONDUCTOR:
+            return f0_conductor(b.eta[channel], b.k[channel])
+        if b.fresnel == FRES_EXACT_DIELECTRIC:
+            return b.dielectric_f0
+        if b.fresnel == FRES_NONE:
+            return b.specular_color[channel]
+    return b.f0[channel]
+
+
+@dual_use
+def reflection_direction(nx, ny, nz, vx, vy, vz, t, bt, anisotropy, roughness):
+    """The direction a shader looks up the prefiltered environment in: the mirror
+    direction R = 2 (n.v) n - v about the normal, or for an anisotropic lobe
+    about Filament's bent normal (Filament documentation, "Anisotropic
+    specular" IBL, after McAuley 2015 and Revie 2011): with the anisotropy
+    direction d = bitangent (anisotropy >= 0) or tangent, the anisotropic
+    normal a = (d x v) x d and n' = normalize(mix(n, a, |anisotropy|
+    saturate(5 r))), r perceptual roughness."""
+    if anisotropy != 0.0:
+        if anisotropy >= 0.0:
+            dx, dy, dz = bt
+        else:
+            dx, dy, dz = t
+        ax = dy * vz - dz * vy
+        ay = dz * vx - dx * vz
+        az = dx * vy - dy * vx
+        qx = ay * dz - az * dy
+        qy = az * dx - ax * dz
+        qz = ax * dy - ay * dx
+        bend = abs(anisotropy) * min(max(5.0 * roughness, 0.0), 1.0)
+        nx = nx + (qx - nx) * bend
+        ny = ny + (qy - ny) * bend
+        nz = nz + (qz - nz) * bend
+        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        nx /= length
+        ny /= length
+        nz /= length
+    nov = nx * vx + ny * vy + nz * vz
+    return 2.0 * nov * nx - vx, 2.0 * nov * ny - vy, 2.0 * nov * nz - vz
+
+
+@parallel_kernel
+def _reflection_kernel(mi, mf, mat, n, v, rough, metal, base, out, coat_out):
+    """The lookup direction (:func:`reflection_direction`) of every pixel, and the
+    perceptual roughness of Disney's clear coat (sqrt of its GTR1 alpha; -1 without one)."""
+    for i in numba.prange(n.shape[0]):
+        m = mat[i]
+        b, t, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                            n[i, 2])
+        anisotropy = mf[m, P_ANISOTROPY] if b.anisotropic else 0.0
+        r = reflection_direction(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], t, bt, anisotropy, rough[i])
+        out[i, 0] = r[0]
+        out[i, 1] = r[1]
+        out[i, 2] = r[2]
+        coat_out[i] = math.sqrt(b.clearcoat_alpha) if b.clearcoat > 0.0 else -1.0
+
+
+@lru_cache(maxsize=1)
+def sheen_albedo_table(size=64, nodes=64):
+    """Directional albedo of Disney's sheen lobe per unit sheen colour,
+    S(mu) = integral of (1 - l.h)^5 (n.l) dl over the upper hemisphere (Burley
+    2012, App. B), at mu = n.v = (i + 0.5) / size, by a Gauss-Legendre product
+    rule in (cos theta_l, phi) (the integrand is smooth: a polynomial in the
+    direction's components under a square root); a shader looks it up linearly."""
+    x, w = gauss_legendre_01(nodes)
+    phi = np.pi * x  # symmetric in phi: integrate over [0, pi] and double
+    mu_v = (np.arange(size) + 0.5) / size
+    v = np.stack([np.sqrt(1.0 - mu_v * mu_v), np.zeros(size), mu_v], axis=-1)[:, None, None, :]
+    ml = x[:, None]
+    sl = np.sqrt(1.0 - ml * ml)
+    l = np.stack(np.broadcast_arrays(sl * np.cos(phi)[None, :], sl * np.sin(phi)[None, :], ml), axis=-1)[None]
+    h = l + v
+    h /= np.linalg.norm(h, axis=-1, keepdims=True)
+    loh = np.sum(l * h, axis=-1)
+    integrand = f_schlick(loh, 0.0, 1.0) * ml[None]
+    return 2.0 * np.pi * np.einsum("mtp,t,p->m", integrand, w, w)
+
+
+@dual_use
+def _sheen_lookup(table, nov):
+    x = min(max(nov * table.shape[0] - 0.5, 0.0), table.shape[0] - 1.0)
+    i0 = min(int(x), table.shape[0] - 2) if table.shape[0] > 1 else 0
+    f = x - i0
+    return table[i0] * (1.0 - f) + table[min(i0 + 1, table.shape[0] - 1)] * f
+
+
 @parallel_kernel
 def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
-                energy_compensation, out, ec_out):
+                coat_prefiltered, coat_roughness, sheen_table, energy_compensation, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
     energy-compensation factor (for the punctual lights)."""
     for i in numba.prange(n.shape[0]):
         m = mat[i]
+        b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                           n[i, 2])
         nov = max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 1e-4)
         r = rough[i]
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
-        model = mi[m, _MI_MODEL]
-        fres = mi[m, _MI_FRES]
-        diffuse_on = model == 2 or model == 3 or mi[m, _MI_DIFF] != 2
+        diffuse_on = not ((b.model == MODEL_COOK_TORRANCE or b.model == MODEL_FILAMENT) and b.diffuse == DIFF_NONE)
+        exact_dielectric = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_EXACT_DIELECTRIC
+        constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE
+        coat = 0.0
+        sheen = 0.0
+        if b.model == MODEL_DISNEY:
+            if b.clearcoat > 0.0:
+                c1 = table_bilinear(tables, t, nov, coat_roughness[i], 0)
+                c2 = table_bilinear(tables, t, nov, coat_roughness[i], 1)
+                coat = b.clearcoat * (c1 + 0.04 * (c2 - c1))
+            sheen = _sheen_lookup(sheen_table, nov) * _INV_PI
         for c in range(3):
-            b = base[i, c]
-            if model == 0 and fres == 3:
-                f0 = min(f_conductor(1.0, mf[m, _MF_ETA + c], mf[m, _MF_K + c]), 1.0)
-            elif model == 0 and fres == 4:
-                f0 = mf[m, _MF_F0D]
-            elif model == 0 and fres == 5:
-                f0 = mf[m, _MF_SPEC + c]
-            else:
-                f0 = _f0_channel(mi, mf, m, b, metal[i])
-            if model == 0 and fres == 5:
+            f0 = split_sum_f0(b, c)
+            if constant_f:
                 albedo = f0 * dfg2
             else:
                 albedo = dfg1 + f0 * (dfg2 - dfg1)
             ec = 1.0
             if energy_compensation:
-                ec = 1.0 + f0 * (1.0 / max(dfg2, 1e-6) - 1.0)
+                ec = filament_energy_compensation(f0, max(dfg2, 1e-6))
             ec_out[i, c] = ec
             spec = prefiltered[i, c] * albedo * ec
             diff = 0.0
             if diffuse_on:
-                metal_part = metal[i] if not (model == 0 and fres == 4) else 0.0
+                metal_part = 0.0 if exact_dielectric else b.metallic
                 kd = kd_ibl(nov, f0, r, metal_part)
-                if model == 3:
-                    kd *= 0.96
-                diff = b * kd * irradiance[i, c] * _INV_PI
+                if b.model == MODEL_URP_MOBILE:
+                    kd *= 1.0 - URP_DIELECTRIC_F0
+                diff = b.base[c] * kd * irradiance[i, c] * _INV_PI
+            if b.model == MODEL_DISNEY:
+                spec += coat * coat_prefiltered[i, c]
+                diff += b.sheen[c] * sheen * irradiance[i, c]
             out[i, c] = (spec + diff) * occlusion[i]
 
 
@@ -163,8 +269,14 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
                 tables.append(np.asarray(table, dtype=np.float64)[..., :2])
             lut_index[mi] = names.index(name)
         tables = np.ascontiguousarray(np.stack(tables))
-        nov = np.sum(s.n * v, axis=1, keepdims=True)
-        refl = 2.0 * nov * s.n - v
+        mat = np.ascontiguousarray(s.material)
+        n_rows = np.ascontiguousarray(s.n)
+        v_rows = np.ascontiguousarray(v)
+        base_rows = np.ascontiguousarray(s.base_color)
+        refl = np.empty((count, 3))
+        coat_roughness = np.empty(count)
+        _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
+                           coat_roughness)
         levels = len(bake.specular)
         sampler = env.samplers.get(id(bake))
         if sampler is None or sampler[0] is not bake:
@@ -173,6 +285,13 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         sampler = sampler[1]
         lod = np.asarray(level_of_roughness(s.roughness, levels), dtype=np.float64)
         prefiltered = sampler(env.to_env_frame(refl), lod) * env.intensity
+        coat_prefiltered = np.zeros((count, 3))
+        coated = np.flatnonzero(coat_roughness >= 0.0)
+        if coated.size:  # Disney's clear coat: a second lookup at its own roughness, about the unbent normal
+            nov = np.sum(s.n[coated] * v[coated], axis=1, keepdims=True)
+            coat_dir = 2.0 * nov * s.n[coated] - v[coated]
+            coat_prefiltered[coated] = sampler(env.to_env_frame(coat_dir),
+                                               level_of_roughness(coat_roughness[coated], levels)) * env.intensity
         if diffuse == "sh":
             irradiance = irradiance_from_sh(np.asarray(bake.sh), env.to_env_frame(s.n)) * env.intensity
         else:
@@ -181,13 +300,13 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         timings["ibl_lookups"] = t4 - t3
         out = np.empty((count, 3))
         ec = np.empty((count, 3))
-        _ibl_kernel(mat_i, mat_f, np.ascontiguousarray(s.material), lut_index, tables, np.ascontiguousarray(s.n),
-                    np.ascontiguousarray(v), s.roughness, s.metallic, np.ascontiguousarray(s.base_color),
+        _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
-                    np.ascontiguousarray(irradiance, dtype=np.float64), bool(energy_compensation), out, ec)
+                    np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
+                    sheen_albedo_table(), bool(energy_compensation), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
-        out += _punctual(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
+        out += punctual_radiance(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
         out += s.emissive
         radiance[prim.rows] = out
         timings["punctual"] = time.perf_counter() - t5

@@ -37,76 +37,31 @@ import time
 import numba
 import numpy as np
 
-from ..brdf.distributions import alpha_from_roughness
-from ..brdf.fresnel import f_schlick
-from ..core.jit import dual_use, parallel_kernel
-from ..core.vec import orthonormal_basis_xyz
-from ..sampling.random import _path_key, _uniform
-from ..sampling.warps import (
-    pdf_cosine_hemisphere,
-    pdf_ggx_vndf,
-    pdf_light_from_half,
-    warp_cosine_hemisphere,
-    warp_ggx_vndf,
+from ..brdf.bxdf import (
+    P_BASE_COLOR,
+    P_DOUBLE_SIDED,
+    P_EMISSIVE,
+    P_METALLIC,
+    P_ROUGHNESS,
+    bxdf_f,
+    bxdf_pdf,
+    lobe_probabilities,
+    sample_wi,
 )
+from ..core import checks
+from ..core.jit import dual_use, parallel_kernel
+from ..sampling.random import _path_key, _uniform
 from .environment import EnvironmentLight, _env_pdf_texel, _env_sample, _env_texel
 from .geometry import Geometry
 from .lights import light_arrays
+from .materials import hit_bxdf, hit_cosines, material_tables
 from .primary import RenderResult, _primary
-from .primitives import KIND_NONE, KIND_SPHERE, trace_analytic
-from .punctual import _punctual, _punctual_at
-from .shading import (
-    _MF_BASE,
-    _MF_EMIT,
-    _MF_METAL,
-    _MF_ROUGH,
-    _MF_SPEC,
-    _MF_TWO_SIDED,
-    _MI_DIFF,
-    _MI_FRES,
-    _MI_MODEL,
-    _cosines,
-    _f0_channel,
-    brdf_value,
-    material_tables,
-)
+from .primitives import KIND_NONE, KIND_SPHERE, sphere_normal_and_point, trace_analytic
+from .punctual import punctual_at, punctual_radiance
 
 __all__ = [
     "render_reference",
 ]
-
-
-@dual_use
-def _lobe_probability(mi, mf, m, nov, metallic, b0, b1, b2):
-    """Probability of sampling the specular lobe: its albedo estimate (the Fresnel
-    at n.v) against the diffuse colour's, by luminance."""
-    model = mi[m, _MI_MODEL]
-    diffuse_on = model == 2 or model == 3 or mi[m, _MI_DIFF] != 2
-    if model == 0 and mi[m, _MI_FRES] == 5:
-        ws = 0.2126 * mf[m, _MF_SPEC] + 0.7152 * mf[m, _MF_SPEC + 1] + 0.0722 * mf[m, _MF_SPEC + 2]
-    else:
-        ws = (0.2126 * f_schlick(nov, _f0_channel(mi, mf, m, b0, metallic), 1.0)
-              + 0.7152 * f_schlick(nov, _f0_channel(mi, mf, m, b1, metallic), 1.0)
-              + 0.0722 * f_schlick(nov, _f0_channel(mi, mf, m, b2, metallic), 1.0))
-    wd = 0.0
-    if diffuse_on:
-        wd = (0.2126 * b0 + 0.7152 * b1 + 0.0722 * b2) * (1.0 - metallic)
-    if wd <= 0.0:
-        return 1.0
-    if ws <= 0.0:
-        return 0.0
-    return min(max(ws / (ws + wd), 0.1), 0.9)
-
-
-@dual_use
-def _brdf_pdf(p_spec, alpha, nol, nov, noh, voh):
-    """Solid-angle pdf of the BRDF-sampling mixture for direction l."""
-    pdf = 0.0
-    if p_spec > 0.0:
-        pdf += p_spec * pdf_light_from_half(pdf_ggx_vndf(nov, noh, voh, alpha), voh)
-    if p_spec < 1.0:
-        pdf += (1.0 - p_spec) * pdf_cosine_hemisphere(nol)
-    return pdf
 
 
 @dual_use
@@ -125,13 +80,15 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
     """The two samples of one path vertex.  Returns
     (light direction (3), light contribution (3, unshadowed, MIS-weighted),
      BRDF direction (3), BRDF weight f cos / pdf (3), BRDF pdf).
-    ``strategy`` 0 = MIS (environment + BRDF sampling), 1 = BRDF sampling only."""
+    ``strategy`` 0 = MIS (environment + BRDF sampling), 1 = BRDF sampling only.
+    The BRDF, its sampling routine and pdf are the material's BxDF
+    (:mod:`pbrkit.brdf.bxdf`)."""
     z3 = (0.0, 0.0, 0.0)
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, z3, 0.0
-    alpha = alpha_from_roughness(rough)
-    p_spec = _lobe_probability(mi, mf, m, nov, metal, b0, b1, b2)
+    b, t, bt = hit_bxdf(mi, mf, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    p_spec, p_coat = lobe_probabilities(b, nov)
     # --- environment sample
     light_dir = z3
     light_val = z3
@@ -139,27 +96,19 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
         lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, marg, cond, c, s, _uniform(key, 0), _uniform(key, 1))
         light_dir = (lx, ly, lz)
         if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
-            nol, nov_, noh, voh = _cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
-            if nol > 0.0:
-                f = brdf_value(mi, mf, m, nol, nov_, noh, voh, rough, metal, b0, b1, b2, 1.0, 1.0, 1.0)
-                pdf_b = _brdf_pdf(p_spec, alpha, nol, nov_, noh, voh)
-                w = _power_heuristic(pdf_e, pdf_b) * nol / pdf_e
+            cs = hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+            if cs.nol > 0.0:
+                f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
+                pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
+                w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
                 light_val = (f[0] * env[ei, ej, 0] * w, f[1] * env[ei, ej, 1] * w, f[2] * env[ei, ej, 2] * w)
     # --- BRDF sample
-    (tx, ty, tz), (bx, by, bz) = orthonormal_basis_xyz(nx, ny, nz)
-    u1 = _uniform(key, 2)
-    u2 = _uniform(key, 3)
-    if _uniform(key, 4) < p_spec:
-        wox = vx * tx + vy * ty + vz * tz
-        woy = vx * bx + vy * by + vz * bz
-        woz = nov
-        hx, hy, hz = warp_ggx_vndf(u1, u2, wox, woy, woz, alpha)
-        two = 2.0 * (wox * hx + woy * hy + woz * hz)
-        llx = two * hx - wox
-        lly = two * hy - woy
-        llz = two * hz - woz
-    else:
-        llx, lly, llz = warp_cosine_hemisphere(u1, u2)
+    tx, ty, tz = t
+    bx, by, bz = bt
+    wox = vx * tx + vy * ty + vz * tz
+    woy = vx * bx + vy * by + vz * bz
+    llx, lly, llz = sample_wi(b, wox, woy, nov, _uniform(key, 4), _uniform(key, 2), _uniform(key, 3), p_spec,
+                              p_coat)
     lx = llx * tx + lly * bx + llz * nx
     ly = llx * ty + lly * by + llz * ny
     lz = llx * tz + lly * bz + llz * nz
@@ -171,14 +120,14 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
     lz /= norm
     if gx * lx + gy * ly + gz * lz <= 0.0:
         return light_dir, light_val, (lx, ly, lz), z3, 0.0
-    nol, nov_, noh, voh = _cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
-    if nol <= 0.0:
+    cs = hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+    if cs.nol <= 0.0:
         return light_dir, light_val, (lx, ly, lz), z3, 0.0
-    pdf_b = _brdf_pdf(p_spec, alpha, nol, nov_, noh, voh)
+    pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
     if pdf_b <= 0.0:
         return light_dir, light_val, (lx, ly, lz), z3, 0.0
-    f = brdf_value(mi, mf, m, nol, nov_, noh, voh, rough, metal, b0, b1, b2, 1.0, 1.0, 1.0)
-    k = nol / pdf_b
+    f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
+    k = cs.nol / pdf_b
     return light_dir, light_val, (lx, ly, lz), (f[0] * k, f[1] * k, f[2] * k), pdf_b
 
 
@@ -202,24 +151,15 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
     py = oy + t * dy
     pz = oz + t * dz
     if kind == KIND_SPHERE:
-        r = spheres[index, 3]
-        nx = px - spheres[index, 0]
-        ny = py - spheres[index, 1]
-        nz = pz - spheres[index, 2]
-        length = math.sqrt(nx * nx + ny * ny + nz * nz)
-        nx /= length
-        ny /= length
-        nz /= length
-        px = spheres[index, 0] + r * nx
-        py = spheres[index, 1] + r * ny
-        pz = spheres[index, 2] + r * nz
+        nx, ny, nz, px, py, pz = sphere_normal_and_point(spheres[index, 0], spheres[index, 1], spheres[index, 2],
+                                                         spheres[index, 3], px, py, pz)
         m = sphere_mat[index]
     else:
         nx = planes[index, 3]
         ny = planes[index, 4]
         nz = planes[index, 5]
         m = plane_mat[index]
-    if mf[m, _MF_TWO_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
+    if mf[m, P_DOUBLE_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
         nx, ny, nz = -nx, -ny, -nz
     return px, py, pz, nx, ny, nz, m
 
@@ -296,20 +236,21 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
                         break
                     px, py, pz, nx, ny, nz, m = _analytic_surface(hk, hi_, spheres, planes, sphere_mat, plane_mat, mf,
                                                                   ox, oy, oz, bdir[0], bdir[1], bdir[2], th)
-                    x0 += t0 * mf[m, _MF_EMIT]
-                    x1 += t1 * mf[m, _MF_EMIT + 1]
-                    x2 += t2 * mf[m, _MF_EMIT + 2]
+                    x0 += t0 * mf[m, P_EMISSIVE]
+                    x1 += t1 * mf[m, P_EMISSIVE + 1]
+                    x2 += t2 * mf[m, P_EMISSIVE + 2]
                     if bounce == bounces:
                         break
                     gx, gy, gz = nx, ny, nz
                     vx, vy, vz = -bdir[0], -bdir[1], -bdir[2]
-                    r = mf[m, _MF_ROUGH]
-                    me = mf[m, _MF_METAL]
-                    b0, b1, b2 = mf[m, _MF_BASE], mf[m, _MF_BASE + 1], mf[m, _MF_BASE + 2]
+                    r = mf[m, P_ROUGHNESS]
+                    me = mf[m, P_METALLIC]
+                    b0, b1, b2 = mf[m, P_BASE_COLOR], mf[m, P_BASE_COLOR + 1], mf[m, P_BASE_COLOR + 2]
                     if codes.shape[0]:
-                        pr = _punctual_at(mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me, b0, b1,
-                                          b2, 1.0, 1.0, 1.0, codes, values, eps, True, spheres, lo, hi, skip, first,
-                                          count, order, planes)
+                        bh, th_, bth = hit_bxdf(mi, mf, m, r, me, b0, b1, b2, nx, ny, nz)
+                        pr = punctual_at(bh, th_, bth, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, 1.0, 1.0,
+                                         1.0, codes, values, eps, True, spheres, lo, hi, skip, first, count, order,
+                                         planes)
                         x0 += t0 * pr[0]
                         x1 += t1 * pr[1]
                         x2 += t2 * pr[2]
@@ -430,7 +371,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             pix = pix[hit]
             v = -dirs[hit]
             if geometry.lights:
-                np.add.at(x, pix, through * _punctual(geometry, surface, v, mat_i, mat_f))
+                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, mat_i, mat_f))
             surf_p, surf_ng, surf_n = surface.p, surface.ng, surface.n
             surf_mat, surf_r, surf_m, surf_b = surface.material, surface.roughness, surface.metallic, \
                 surface.base_color
@@ -454,10 +395,8 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     ``auto`` (the fused kernel for scenes of spheres and planes only, else the
     wavefront loop with Embree), ``fused`` or ``wavefront``; both give the same
     numbers for the same scene."""
-    if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or not 1 <= spp <= 1 << 20:
-        raise ValueError(f"spp must be an integer in [1, 1048576]; got {spp!r}")
-    if isinstance(bounces, bool) or not isinstance(bounces, (int, np.integer)) or not 0 <= bounces <= 64:
-        raise ValueError(f"bounces must be an integer in [0, 64]; got {bounces!r}")
+    spp = checks.integer(spp, "spp", 1, 1 << 20)
+    bounces = checks.integer(bounces, "bounces", 0, 64)
     if strategy not in ("mis", "brdf"):
         raise ValueError(f"unknown strategy {strategy!r}; use 'mis' or 'brdf'")
     if engine not in ("auto", "fused", "wavefront"):
@@ -480,7 +419,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     base_value = np.zeros((prim.dirs.shape[0], 3))
     base_value[~prim.hit] = env.background(prim.dirs[~prim.hit])
     if prim.rows.size:
-        base_value[prim.rows] = s.emissive + _punctual(geometry, s, v, mat_i, mat_f, None, occlusion)
+        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, occlusion)
     t2 = time.perf_counter()
     code = 0 if strategy == "mis" else 1
     if engine == "fused" and geometry.has_meshes:

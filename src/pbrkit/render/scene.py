@@ -22,12 +22,14 @@ relative to the scene file's folder.  Every key is optional except
     rotation = 0.0                # degrees about +Y (counter-clockwise seen from +Y)
 
     [materials.gold]
-    model = "cook_torrance"       # cook_torrance (default), filament, ue4, urp_mobile
+    model = "cook_torrance"       # cook_torrance (default), filament, ue4, urp_mobile, disney
     base_color = [1.0, 0.78, 0.34]
     metallic = 1.0
     roughness = 0.3               # perceptual roughness, alpha = r^2
     reflectance = 0.5             # dielectric f0 = 0.16 reflectance^2
     emissive = [0.0, 0.0, 0.0]    # emitted radiance (cd / m^2)
+    anisotropy = 0.0              # cook_torrance (ggx, beckmann), filament: [-1, 1]; disney: [0, 1]
+    # disney only: subsurface, specular_tint, sheen, sheen_tint (0.5), clearcoat, clearcoat_gloss (1)
     # cook_torrance only:
     distribution = "ggx"          # ggx, beckmann, blinn-phong
     masking = "height-correlated" # height-correlated, separable, schlick-ggx, schlick-ggx-ue4, kelemen, implicit
@@ -90,9 +92,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..brdf.fresnel import CONDUCTORS, f_conductor
+from ..brdf.bxdf import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS, MODEL_TERMS, MODELS
+from ..brdf.fresnel import CONDUCTORS, f0_conductor
 from ..brdf.material import Material
-from ..brdf.models import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS
+from ..core import checks
 from ..core.errors import InputError
 from .lights import LIGHT_TYPES, Light
 
@@ -114,7 +117,7 @@ __all__ = [
 ]
 
 #: Shading models a scene material may name (those of :mod:`pbrkit.models`).
-SHADING_MODELS = ("cook_torrance", "filament", "ue4", "urp_mobile")
+SHADING_MODELS = MODELS
 BUILTIN_SCENES = ("spheres", "sphere")
 
 
@@ -136,19 +139,13 @@ class Camera:
     def __post_init__(self):
         set_ = object.__setattr__
         for name in ("position", "look_at", "up"):
-            a = np.asarray(getattr(self, name), dtype=float)
-            if a.shape != (3,) or not np.all(np.isfinite(a)):
-                raise ValueError(f"camera.{name} must be 3 finite numbers; got {getattr(self, name)!r}")
-            set_(self, name, tuple(float(x) for x in a))
+            set_(self, name, tuple(float(x) for x in checks.vector(getattr(self, name), f"camera.{name}")))
         fov = float(self.fov)
         if not 0.0 < fov < 180.0:
             raise ValueError(f"camera.fov must be in (0, 180) degrees; got {self.fov!r}")
         set_(self, "fov", fov)
         for name, hi in (("width", 16384), ("height", 16384), ("supersample", 16)):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= hi:
-                raise ValueError(f"camera.{name} must be an integer in [1, {hi}]; got {v!r}")
-            set_(self, name, int(v))
+            set_(self, name, checks.integer(getattr(self, name), f"camera.{name}", 1, hi))
         forward = np.subtract(self.look_at, self.position)
         if np.linalg.norm(forward) == 0.0:
             raise ValueError("camera.look_at must differ from camera.position")
@@ -255,21 +252,24 @@ def bundled_environment():
 
 # --------------------------------------------------------------- materials
 
-_MODEL_FIXED = {
-    # model -> (distribution, masking, fresnel) it implies; cook_torrance chooses them
-    "ue4": ("ggx", "schlick-ggx-ue4", "ue4-sg"),
-    "filament": ("ggx", "height-correlated", "schlick"),
-    "urp_mobile": ("ggx", "height-correlated", "schlick"),
-}
+#: Disney's parameters beyond the metallic-roughness ones, with their defaults.
+DISNEY_PARAMETERS = {"subsurface": 0.0, "specular_tint": 0.0, "sheen": 0.0, "sheen_tint": 0.5, "clearcoat": 0.0,
+                     "clearcoat_gloss": 1.0}
 
 
 @dataclass(frozen=True)
 class MaterialSpec:
     """A scene material: the metallic-roughness parameters of
     :class:`pbrkit.Material`, the shading model and, for ``cook_torrance``, its
-    D, G and F terms by name (:func:`pbrkit.models.cook_torrance`).
+    D, G and F terms by name (:func:`pbrkit.brdf.models.cook_torrance`).
 
     ``fresnel = "none"`` means F = ``specular_color`` (default white).
+    ``anisotropy`` stretches the GGX or Beckmann lobe along the tangent
+    (cook_torrance and filament: [-1, 1], alpha_t = alpha (1 + a); disney:
+    [0, 1], Burley's aspect); the shading frame's tangent follows the
+    parallels about +Y (:func:`pbrkit.brdf.bxdf.tangent_frame`).  ``subsurface``,
+    ``specular_tint``, ``sheen``, ``sheen_tint``, ``clearcoat`` and
+    ``clearcoat_gloss`` are Disney's (model ``disney`` only).
     ``conductor`` names a metal of :data:`pbrkit.fresnel.CONDUCTORS`: it sets
     eta and k, metallic 1 and base_color = the exact Fresnel reflectance at
     normal incidence (as :meth:`pbrkit.Material.conductor`).
@@ -291,6 +291,13 @@ class MaterialSpec:
     specular_color: tuple = (1.0, 1.0, 1.0)
     conductor: str | None = None
     double_sided: bool = True
+    anisotropy: float = 0.0
+    subsurface: float = 0.0
+    specular_tint: float = 0.0
+    sheen: float = 0.0
+    sheen_tint: float = 0.5
+    clearcoat: float = 0.0
+    clearcoat_gloss: float = 1.0
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -305,7 +312,7 @@ class MaterialSpec:
                 raise ValueError(f"material {self.name!r}: unknown {kind} {value!r}; choose one of "
                                  f"{', '.join(choices)}")
         if self.model != "cook_torrance":
-            fixed = _MODEL_FIXED[self.model]
+            fixed = MODEL_TERMS[self.model]
             given = (self.distribution, self.masking, self.fresnel)
             defaults = ("ggx", "height-correlated", "schlick")
             for kind, default, implied, value in zip(("distribution", "masking", "fresnel"), defaults, fixed, given):
@@ -315,8 +322,23 @@ class MaterialSpec:
             set_(self, "distribution", fixed[0])
             set_(self, "masking", fixed[1])
             set_(self, "fresnel", fixed[2])
-            if self.model in ("ue4", "urp_mobile") and self.diffuse != "lambert":
-                raise ValueError(f"material {self.name!r}: model {self.model!r} has Lambert diffuse only")
+            if fixed[3] is not None:
+                if self.diffuse not in ("lambert", fixed[3]):
+                    raise ValueError(f"material {self.name!r}: model {self.model!r} has {fixed[3].capitalize()} "
+                                     "diffuse only")
+                set_(self, "diffuse", fixed[3])
+        if self.model != "disney":
+            for name, default in DISNEY_PARAMETERS.items():
+                if getattr(self, name) != default:
+                    raise ValueError(f"material {self.name!r}: {name} needs model 'disney'")
+        if self.anisotropy != 0.0:
+            if self.model in ("ue4", "urp_mobile"):
+                raise ValueError(f"material {self.name!r}: model {self.model!r} is isotropic (anisotropy must be 0)")
+            if self.distribution == "blinn-phong":
+                raise ValueError(f"material {self.name!r}: the Blinn-Phong distribution is isotropic "
+                                 "(anisotropy needs ggx or beckmann)")
+            if self.model == "disney" and self.anisotropy < 0.0:
+                raise ValueError(f"material {self.name!r}: disney anisotropy must be in [0, 1] (Burley's aspect)")
         if self.conductor is not None:
             if self.conductor not in CONDUCTORS:
                 raise ValueError(f"material {self.name!r}: unknown conductor {self.conductor!r}; "
@@ -327,7 +349,7 @@ class MaterialSpec:
             set_(self, "eta", tuple(eta))
             set_(self, "k", tuple(k))
             set_(self, "metallic", 1.0)
-            set_(self, "base_color", tuple(np.minimum(f_conductor(1.0, eta, k), 1.0)))
+            set_(self, "base_color", tuple(f0_conductor(eta, k)))
         try:
             m = self.material()
         except ValueError as exc:
@@ -336,6 +358,9 @@ class MaterialSpec:
         set_(self, "metallic", float(m.metallic))
         set_(self, "roughness", float(m.roughness))
         set_(self, "reflectance", float(m.reflectance))
+        set_(self, "anisotropy", float(m.anisotropy))
+        for name in DISNEY_PARAMETERS:
+            set_(self, name, float(getattr(m, name)))
         if m.eta is not None:
             set_(self, "eta", tuple(float(x) for x in m.eta))
             set_(self, "k", tuple(float(x) for x in m.k))
@@ -353,7 +378,8 @@ class MaterialSpec:
     def material(self):
         """The :class:`pbrkit.Material` of these parameters (validates them)."""
         return Material(base_color=np.asarray(self.base_color, dtype=float), metallic=self.metallic,
-                        roughness=self.roughness, reflectance=self.reflectance,
+                        roughness=self.roughness, reflectance=self.reflectance, anisotropy=self.anisotropy,
+                        **{name: getattr(self, name) for name in DISNEY_PARAMETERS},
                         eta=None if self.eta is None else np.asarray(self.eta, dtype=float),
                         k=None if self.k is None else np.asarray(self.k, dtype=float))
 
@@ -362,10 +388,7 @@ class MaterialSpec:
 
 
 def _vector(what, value, n=3):
-    a = np.asarray(value, dtype=float)
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"{what} must be {n} finite numbers; got {value!r}")
-    return tuple(float(x) for x in a)
+    return tuple(float(x) for x in checks.vector(value, what, n))
 
 
 @dataclass(frozen=True)
@@ -470,6 +493,7 @@ _SECTIONS = {"camera", "environment", "materials", "objects", "lights"}
 _CAMERA_KEYS = {"position", "look_at", "up", "fov", "width", "height", "supersample"}
 _ENV_KEYS = {"file", "bake", "color", "intensity", "rotation"}
 _MATERIAL_KEYS = {"base_color", "metallic", "roughness", "reflectance", "emissive", "model", "distribution",
+                  "anisotropy", "subsurface", "specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss",
                   "masking", "fresnel", "diffuse", "eta", "k", "specular_color", "conductor"}
 _OBJECT_KEYS = {"sphere": {"type", "center", "radius", "material"},
                 "plane": {"type", "point", "normal", "material"},

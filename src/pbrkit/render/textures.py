@@ -2,9 +2,11 @@
 
 Texture sampling follows the glTF sampler: bilinear (or nearest) filtering of
 linear texel values at texel centres (sRGB texels are decoded before
-filtering, as GPUs do), REPEAT / CLAMP_TO_EDGE / MIRRORED_REPEAT wrapping, UV
-(0, 0) at the first (top-left) texel.  Minification filters and mip maps are
-not used (supersample the camera instead).
+filtering, as GPUs do), REPEAT / CLAMP_TO_EDGE / MIRRORED_REPEAT wrapping
+(texel selection and weights of OpenGL 4.6 sec. 8.14.2,
+:mod:`pbrkit.core.filtering`), UV (0, 0) at the first (top-left) texel.
+Minification filters and mip maps are not used (supersample the camera
+instead).
 """
 
 from __future__ import annotations
@@ -13,6 +15,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.filtering import (
+    CLAMP_TO_EDGE,
+    MIRRORED_REPEAT,
+    REPEAT,
+    floor_int,
+    texel_pair,
+    wrap_texel,
+)
 from .scene import MaterialSpec
 
 __all__ = [
@@ -24,17 +34,9 @@ __all__ = [
 # ================================================================ textures
 
 
-_WRAP_REPEAT, _WRAP_CLAMP, _WRAP_MIRROR = 10497, 33071, 33648
+#: glTF sampler wrap modes: the OpenGL enums of :mod:`pbrkit.core.filtering`.
+_WRAP_REPEAT, _WRAP_CLAMP, _WRAP_MIRROR = REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT
 _FILTER_NEAREST = 9728
-
-
-def _wrap(i, n, mode):
-    if mode == _WRAP_CLAMP:
-        return np.clip(i, 0, n - 1)
-    if mode == _WRAP_MIRROR:
-        m = np.mod(i, 2 * n)
-        return np.where(m < n, m, 2 * n - 1 - m)
-    return np.mod(i, n)
 
 
 @dataclass
@@ -50,26 +52,20 @@ class Texture:
     def sample(self, uv):
         """Filtered texels at texture coordinates uv (N, 2) -> (N, 4).  Texel (row i,
         column j) has its centre at u = (j + 0.5) / W, v = (i + 0.5) / H (glTF: the
-        first texel is the upper left corner of the image)."""
+        first texel is the upper left corner of the image; texel selection and
+        weights: :func:`pbrkit.core.filtering.texel_pair`, nearest:
+        :func:`~pbrkit.core.filtering.wrap_texel`)."""
         h, w = self.texels.shape[:2]
         x = uv[:, 0] * w
         y = uv[:, 1] * h
         if self.mag_filter == _FILTER_NEAREST:
-            j = _wrap(np.floor(x).astype(np.int64), w, self.wrap_s)
-            i = _wrap(np.floor(y).astype(np.int64), h, self.wrap_t)
+            j = wrap_texel(floor_int(x), w, self.wrap_s)
+            i = wrap_texel(floor_int(y), h, self.wrap_t)
             return self.texels[i, j].astype(np.float64)
-        x -= 0.5
-        y -= 0.5
-        x0 = np.floor(x)
-        y0 = np.floor(y)
-        fx = (x - x0)[:, None]
-        fy = (y - y0)[:, None]
-        x0 = x0.astype(np.int64)
-        y0 = y0.astype(np.int64)
-        j0 = _wrap(x0, w, self.wrap_s)
-        j1 = _wrap(x0 + 1, w, self.wrap_s)
-        i0 = _wrap(y0, h, self.wrap_t)
-        i1 = _wrap(y0 + 1, h, self.wrap_t)
+        j0, j1, fx = texel_pair(x - 0.5, w, self.wrap_s)
+        i0, i1, fy = texel_pair(y - 0.5, h, self.wrap_t)
+        fx = fx[:, None]
+        fy = fy[:, None]
         t = self.texels
         return ((t[i0, j0] * (1 - fx) + t[i0, j1] * fx) * (1 - fy)
                 + (t[i1, j0] * (1 - fx) + t[i1, j1] * fx) * fy).astype(np.float64)

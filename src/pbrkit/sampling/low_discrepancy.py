@@ -9,6 +9,8 @@ import math
 
 import numpy as np
 
+from ..core import checks
+
 __all__ = [
     "ONE_MINUS_EPSILON",
     "radical_inverse",
@@ -43,15 +45,6 @@ def _as_indices(index):
     return arr.astype(np.uint64)
 
 
-def _check_base(base):
-    if isinstance(base, (bool, np.bool_)) or not isinstance(base, (int, np.integer)):
-        raise ValueError(f"base must be an integer; got {base!r}")
-    base = int(base)
-    if not 2 <= base <= 2**53:
-        raise ValueError(f"base must be between 2 and 2**53; got {base}")
-    return base
-
-
 def _reverse_bits64(a):
     """Reverse the 64 bits of each uint64 (swap halves, then 16-, 8-, 4-, 2-, 1-bit groups)."""
     a = a.copy()
@@ -75,7 +68,7 @@ def radical_inverse(index, base):
     2^53) and are within a few ulp of the exact value.  Results are clamped to
     1 - 2^-53 so they stay in [0, 1), as in pbrt.
     """
-    base = _check_base(base)
+    base = checks.integer(base, "base", 2, 2**53)
     a = _as_indices(index)
     if base == 2:
         value = _reverse_bits64(a).astype(np.float64) * 2.0**-64
@@ -110,20 +103,14 @@ def radical_inverse(index, base):
 def van_der_corput(n):
     """The first ``n`` points of the base-2 van der Corput sequence phi_2(0), ..., phi_2(n - 1)
     (van der Corput 1935)."""
-    n = _check_count(n, "n")
+    n = checks.integer(n, "n", 0)
     return radical_inverse(np.arange(n, dtype=np.uint64), 2)
-
-
-def _check_count(n, name, minimum=0):
-    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}; got {n!r}")
-    return int(n)
 
 
 def primes(count):
     """The first ``count`` primes (2, 3, 5, ...), by a sieve of Eratosthenes sized with
     Rosser's bound p_n < n (ln n + ln ln n) for n >= 6."""
-    count = _check_count(count, "count")
+    count = checks.integer(count, "count", 0)
     if count == 0:
         return np.zeros(0, dtype=np.int64)
     limit = 15 if count < 6 else int(count * (math.log(count) + math.log(math.log(count)))) + 1
@@ -143,9 +130,9 @@ def halton(n, dim, skip=0):
     Any dimension (primes are generated on demand); high dimensions correlate
     badly without scrambling, as is well known.
     """
-    n = _check_count(n, "n")
-    dim = _check_count(dim, "dim", 1)
-    skip = _check_count(skip, "skip")
+    n = checks.integer(n, "n", 0)
+    dim = checks.integer(dim, "dim", 1)
+    skip = checks.integer(skip, "skip", 0)
     if skip + n > 2**64:
         raise ValueError("skip + n must not exceed 2**64")
     index = np.arange(n, dtype=np.uint64) + np.uint64(skip)
@@ -161,8 +148,8 @@ def hammersley(n, dim=2):
     Hammersley 1960: point i is (i / n, phi_2(i), phi_3(i), ...) with the
     radical inverses in the first dim - 1 primes.
     """
-    n = _check_count(n, "n", 1)
-    dim = _check_count(dim, "dim", 1)
+    n = checks.integer(n, "n", 1)
+    dim = checks.integer(dim, "dim", 1)
     index = np.arange(n, dtype=np.uint64)
     out = np.empty((n, dim))
     out[:, 0] = np.arange(n) / n

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..brdf.distributions import d_beckmann, d_ggx, d_ggx_anisotropic, d_gtr1
 from ..brdf.masking import COS_MIN, g1_smith, lambda_ggx, lambda_ggx_anisotropic
+from ..core import checks
 from ..core.jit import dual_use, select
 
 __all__ = [
@@ -423,11 +424,7 @@ def _alpha(alpha, name="alpha"):
 
 
 def _vector3(w, name):
-    w = np.asarray(w, dtype=np.float64)
-    if w.ndim == 0 or w.shape[-1] != 3:
-        raise ValueError(f"{name} must have 3 components in its last axis; got shape {w.shape}")
-    if not np.all(np.isfinite(w)) or np.any(np.sum(w * w, axis=-1) == 0.0):
-        raise ValueError(f"{name} must be finite and non-zero")
+    w, _ = checks.direction_lengths(w, name)
     return w[..., 0], w[..., 1], w[..., 2]
 
 
