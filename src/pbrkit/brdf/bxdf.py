@@ -106,9 +106,9 @@ __all__ = [
     "P_DIELECTRIC_F0", "P_ETA", "P_K", "P_SPECULAR_COLOR", "P_BASE_COLOR", "P_METALLIC", "P_ROUGHNESS",
     "P_EMISSIVE", "P_DOUBLE_SIDED", "P_ANISOTROPY", "P_SUBSURFACE", "P_SPECULAR_TINT", "P_SHEEN", "P_SHEEN_TINT",
     "P_CLEARCOAT", "P_CLEARCOAT_GLOSS", "PARAM_COLUMNS",
-    "URP_DIELECTRIC_F0", "urp_diffuse_weight", "disney_tint",
+    "URP_DIELECTRIC_F0", "urp_diffuse_weight", "disney_tint", "lobe_alphas", "disney_clearcoat_alpha",
     "combine_lobes", "ue4_specular", "filament_specular", "urp_specular",
-    "BxDF", "Cosines", "cosines", "local_cosines", "make_bxdf", "lobe_bxdf", "specular_visibility", "specular_lobe",
+    "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "make_bxdf", "lobe_bxdf", "specular_visibility", "specular_lobe",
     "bxdf_fresnel", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "tangent_frame",
 ]
 
@@ -200,6 +200,30 @@ def disney_tint(c, luminance):
 
 
 @dual_use
+def lobe_alphas(model, distribution, alpha, anisotropy):
+    """(alpha_x, alpha_y, anisotropic) of a model's specular lobe: Burley's aspect
+    for disney (anisotropy in [0, 1], :func:`pbrkit.brdf.distributions.anisotropic_alphas_burley`),
+    Kulla & Conty's stretch for filament and cook_torrance's GGX and Beckmann
+    (anisotropy in [-1, 1], :func:`pbrkit.brdf.distributions.anisotropic_alphas`);
+    isotropic otherwise (UE4, URP, Blinn-Phong) or for anisotropy 0."""
+    if anisotropy != 0.0:
+        if model == MODEL_DISNEY:
+            ax, ay = anisotropic_alphas_burley(alpha, anisotropy)
+            return ax, ay, True
+        if model == MODEL_FILAMENT or (model == MODEL_COOK_TORRANCE and distribution != DIST_BLINN_PHONG):
+            ax, ay = anisotropic_alphas(alpha, anisotropy)
+            return ax, ay, True
+    return alpha, alpha, False
+
+
+@dual_use
+def disney_clearcoat_alpha(gloss):
+    """The GTR1 width of Disney's clear coat, alpha = mix(0.1, 0.001, clearcoat_gloss)
+    (Burley 2012, App. B; not r^2)."""
+    return 0.1 + (0.001 - 0.1) * gloss
+
+
+@dual_use
 def combine_lobes(nol, nov, diffuse_color, diffuse_factor, specular, fresnel):
     """f = diffuse_color * diffuse_factor + specular * F, zero below the horizon.
 
@@ -277,26 +301,20 @@ class BxDF(NamedTuple):
     clearcoat_alpha: float
 
 
-@dual_use
-def make_bxdf(codes, params, roughness, metallic, b0, b1, b2):
-    """The :class:`BxDF` of a material (code row ``codes``, parameter row
-    ``params``) with the base colour (b0, b1, b2), metallic and perceptual
-    roughness at the shading point (textures applied)."""
-    model = codes[C_MODEL]
-    distribution = codes[C_DISTRIBUTION]
+@dual_use(inline=True)
+def make_bxdf(codes, code_row, params, param_row, roughness, metallic, b0, b1, b2):
+    """The :class:`BxDF` of a material (row ``code_row`` of the code table
+    ``codes``, row ``param_row`` of the parameter table ``params``) with the base
+    colour (b0, b1, b2), metallic and perceptual roughness at the shading point
+    (textures applied).  Tables and row numbers rather than row views: a view
+    per call costs reference counting in the innermost loops."""
+    c = code_row
+    q = param_row
+    model = codes[c, C_MODEL]
+    distribution = codes[c, C_DISTRIBUTION]
     alpha = alpha_from_roughness(roughness)
-    anisotropy = params[P_ANISOTROPY]
-    alpha_x = alpha
-    alpha_y = alpha
-    anisotropic = False
-    if anisotropy != 0.0:
-        if model == MODEL_DISNEY:
-            alpha_x, alpha_y = anisotropic_alphas_burley(alpha, anisotropy)
-            anisotropic = True
-        elif model == MODEL_FILAMENT or (model == MODEL_COOK_TORRANCE and distribution != DIST_BLINN_PHONG):
-            alpha_x, alpha_y = anisotropic_alphas(alpha, anisotropy)
-            anisotropic = True
-    f0d = params[P_DIELECTRIC_F0]
+    alpha_x, alpha_y, anisotropic = lobe_alphas(model, distribution, alpha, params[q, P_ANISOTROPY])
+    f0d = params[q, P_DIELECTRIC_F0]
     sheen = (0.0, 0.0, 0.0)
     if model == MODEL_URP_MOBILE:
         f0 = (f0_metallic(b0, metallic, URP_DIELECTRIC_F0), f0_metallic(b1, metallic, URP_DIELECTRIC_F0),
@@ -307,13 +325,13 @@ def make_bxdf(codes, params, roughness, metallic, b0, b1, b2):
         t0 = disney_tint(b0, lum)
         t1 = disney_tint(b1, lum)
         t2 = disney_tint(b2, lum)
-        st = params[P_SPECULAR_TINT]
+        st = params[q, P_SPECULAR_TINT]
         f0 = (f0_metallic(b0, metallic, f0d * (1.0 + (t0 - 1.0) * st)),
               f0_metallic(b1, metallic, f0d * (1.0 + (t1 - 1.0) * st)),
               f0_metallic(b2, metallic, f0d * (1.0 + (t2 - 1.0) * st)))
         kd = 1.0 - metallic
-        s = params[P_SHEEN]
-        sht = params[P_SHEEN_TINT]
+        s = params[q, P_SHEEN]
+        sht = params[q, P_SHEEN_TINT]
         sheen = (s * (1.0 + (t0 - 1.0) * sht) * kd, s * (1.0 + (t1 - 1.0) * sht) * kd,
                  s * (1.0 + (t2 - 1.0) * sht) * kd)
     else:
@@ -323,13 +341,14 @@ def make_bxdf(codes, params, roughness, metallic, b0, b1, b2):
     clearcoat = 0.0
     clearcoat_alpha = 0.1
     if model == MODEL_DISNEY:
-        clearcoat = 0.25 * params[P_CLEARCOAT]
-        clearcoat_alpha = 0.1 + (0.001 - 0.1) * params[P_CLEARCOAT_GLOSS]
-    return BxDF(model, distribution, codes[C_MASKING], codes[C_FRESNEL], codes[C_DIFFUSE], roughness, alpha,
+        clearcoat = 0.25 * params[q, P_CLEARCOAT]
+        clearcoat_alpha = disney_clearcoat_alpha(params[q, P_CLEARCOAT_GLOSS])
+    return BxDF(model, distribution, codes[c, C_MASKING], codes[c, C_FRESNEL], codes[c, C_DIFFUSE], roughness, alpha,
                 alpha_x, alpha_y, anisotropic, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90,
-                (params[P_ETA], params[P_ETA + 1], params[P_ETA + 2]), (params[P_K], params[P_K + 1], params[P_K + 2]),
-                f0d, (params[P_SPECULAR_COLOR], params[P_SPECULAR_COLOR + 1], params[P_SPECULAR_COLOR + 2]),
-                params[P_SUBSURFACE], sheen, clearcoat, clearcoat_alpha)
+                (params[q, P_ETA], params[q, P_ETA + 1], params[q, P_ETA + 2]),
+                (params[q, P_K], params[q, P_K + 1], params[q, P_K + 2]), f0d,
+                (params[q, P_SPECULAR_COLOR], params[q, P_SPECULAR_COLOR + 1], params[q, P_SPECULAR_COLOR + 2]),
+                params[q, P_SUBSURFACE], sheen, clearcoat, clearcoat_alpha)
 
 
 @dual_use
@@ -364,10 +383,8 @@ class Cosines(NamedTuple):
 
 
 @dual_use
-def cosines(nx, ny, nz, tx, ty, tz, bx, by, bz, vx, vy, vz, lx, ly, lz):
-    """:class:`Cosines` of world directions l and v (unit) in the frame with
-    normal n, tangent t and bitangent b (unit, right-handed).  h = normalize(l +
-    v); where l = -v, h = n (never NaN)."""
+def _half_vector_cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz):
+    # h = normalize(l + v) (n where l = -v) and n.l, n.v, n.h, max(v.h, 0).
     hx = lx + vx
     hy = ly + vy
     hz = lz + vz
@@ -382,9 +399,26 @@ def cosines(nx, ny, nz, tx, ty, tz, bx, by, bz, vx, vy, vz, lx, ly, lz):
     nov = nx * vx + ny * vy + nz * vz
     noh = nx * hx + ny * hy + nz * hz
     voh = max(vx * hx + vy * hy + vz * hz, 0.0)
+    return hx, hy, hz, nol, nov, noh, voh
+
+
+@dual_use
+def cosines(nx, ny, nz, tx, ty, tz, bx, by, bz, vx, vy, vz, lx, ly, lz):
+    """:class:`Cosines` of world directions l and v (unit) in the frame with
+    normal n, tangent t and bitangent b (unit, right-handed).  h = normalize(l +
+    v); where l = -v, h = n (never NaN)."""
+    hx, hy, hz, nol, nov, noh, voh = _half_vector_cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
     return Cosines(nol, nov, noh, voh, tx * lx + ty * ly + tz * lz, bx * lx + by * ly + bz * lz,
                    tx * vx + ty * vy + tz * vz, bx * vx + by * vy + bz * vz, tx * hx + ty * hy + tz * hz,
                    bx * hx + by * hy + bz * hz)
+
+
+@dual_use
+def isotropic_cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz):
+    """:class:`Cosines` without the tangent components (zero): all an isotropic
+    lobe uses."""
+    _, _, _, nol, nov, noh, voh = _half_vector_cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)
+    return Cosines(nol, nov, noh, voh, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @dual_use
@@ -417,7 +451,7 @@ def tangent_frame(nx, ny, nz, anisotropic):
 # -------------------------------------------------------------- the value
 
 
-@dual_use
+@dual_use(inline=True)
 def specular_visibility(b, c):
     """The visibility V = G2 / (4 n.l n.v) of the model's specular lobe, and
     Smith's Lambdas where the model uses them: the masking-shadowing choice of
@@ -468,7 +502,7 @@ def specular_visibility(b, c):
     return visibility(g2, nol, nov)
 
 
-@dual_use
+@dual_use(inline=True)
 def specular_lobe(b, c):
     """The Fresnel-free specular lobe D V of the model (:func:`specular_visibility`;
     D: GGX, Beckmann (both anisotropic when the material is) or Blinn-Phong
@@ -495,14 +529,9 @@ def specular_lobe(b, c):
     return d * specular_visibility(b, c)
 
 
-@dual_use
-def bxdf_fresnel(b, channel, voh):
-    """Fresnel reflectance of one channel at v.h: Schlick with f90 (Filament),
-    UE4's spherical-Gaussian Schlick, URP's constant specular colour, or the
-    cook_torrance choice (Schlick pow5 or pow4, UE4's, the exact conductor
-    with the material's (eta, k), the exact dielectric of IOR from the
-    dielectric f0, or the constant specular colour)."""
-    f0 = b.f0[channel]
+@dual_use(inline=True)
+def _fresnel_channel(b, f0, eta, k, specular, voh):
+    # One channel of bxdf_fresnel, from that channel's f0, eta, k and constant colour.
     model = b.model
     if model == MODEL_FILAMENT:
         return f_schlick(voh, f0, b.f90)
@@ -520,13 +549,25 @@ def bxdf_fresnel(b, channel, voh):
     if fres == FRES_UE4_SG:
         return f_schlick_ue4_sg(voh, f0)
     if fres == FRES_EXACT_CONDUCTOR:
-        return f_conductor(voh, b.eta[channel], b.k[channel])
+        return f_conductor(voh, eta, k)
     if fres == FRES_EXACT_DIELECTRIC:
         return f_conductor(voh, ior_from_f0(b.dielectric_f0), 0.0)
-    return b.specular_color[channel]
+    return specular
 
 
-@dual_use
+@dual_use(inline=True)
+def bxdf_fresnel(b, voh):
+    """Fresnel reflectance (RGB tuple) at v.h: Schlick with f90 (Filament),
+    UE4's spherical-Gaussian Schlick, URP's constant specular colour, or the
+    cook_torrance choice (Schlick pow5 or pow4, UE4's, the exact conductor
+    with the material's (eta, k), the exact dielectric of IOR from the
+    dielectric f0, or the constant specular colour)."""
+    return (_fresnel_channel(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0], voh),
+            _fresnel_channel(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1], voh),
+            _fresnel_channel(b, b.f0[2], b.eta[2], b.k[2], b.specular_color[2], voh))
+
+
+@dual_use(inline=True)
 def _diffuse_factor(b, c):
     # The factor multiplying the diffuse colour: Lambert (UE4, URP, or by choice), Burley, none, or
     # Disney's mix of Burley and its subsurface approximation.
@@ -556,9 +597,10 @@ def bxdf_f(b, c, ec0, ec1, ec2):
     spec = specular_lobe(b, c)
     dfac = _diffuse_factor(b, c)
     voh = c.voh
-    r0 = combine_lobes(nol, nov, b.diffuse_color[0], dfac, spec * ec0, bxdf_fresnel(b, 0, voh))
-    r1 = combine_lobes(nol, nov, b.diffuse_color[1], dfac, spec * ec1, bxdf_fresnel(b, 1, voh))
-    r2 = combine_lobes(nol, nov, b.diffuse_color[2], dfac, spec * ec2, bxdf_fresnel(b, 2, voh))
+    f0, f1, f2 = bxdf_fresnel(b, voh)
+    r0 = combine_lobes(nol, nov, b.diffuse_color[0], dfac, spec * ec0, f0)
+    r1 = combine_lobes(nol, nov, b.diffuse_color[1], dfac, spec * ec1, f1)
+    r2 = combine_lobes(nol, nov, b.diffuse_color[2], dfac, spec * ec2, f2)
     if b.model == MODEL_DISNEY:
         fh = f_schlick(voh, 0.0, 1.0)
         coat = 0.0
@@ -574,7 +616,7 @@ def bxdf_f(b, c, ec0, ec1, ec2):
 # ----------------------------------------------------------------- sampling
 
 
-@dual_use
+@dual_use(inline=True)
 def lobe_probabilities(b, nov):
     """Probabilities (p_specular, p_clearcoat) of sampling the specular and clear-coat
     lobes (the diffuse lobe, with Disney's sheen, takes the rest): the specular
@@ -606,7 +648,7 @@ def lobe_probabilities(b, nov):
     return p_spec, p_coat
 
 
-@dual_use
+@dual_use(inline=True)
 def sample_wi(b, wox, woy, woz, u_lobe, u1, u2, p_spec, p_coat):
     """A light direction (local frame, normal +z, tangent +x; not normalised
     against rounding) for the view wo: with probability p_spec the mirror
@@ -626,7 +668,7 @@ def sample_wi(b, wox, woy, woz, u_lobe, u1, u2, p_spec, p_coat):
     return warp_cosine_hemisphere(u1, u2)
 
 
-@dual_use
+@dual_use(inline=True)
 def bxdf_pdf(b, c, p_spec, p_coat):
     """Solid-angle pdf of :func:`sample_wi` for the light direction of ``c``
     (the view's visible-normal pdf D_v(h) / (4 v.h), the GTR1 pdf

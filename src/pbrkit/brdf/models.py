@@ -55,6 +55,7 @@ from .bxdf import (
     bxdf_f,
     bxdf_pdf,
     cosines,
+    isotropic_cosines,
     lobe_probabilities,
     local_cosines,
     make_bxdf,
@@ -122,7 +123,7 @@ def _check_choice(kind, name, choices):
 
 
 def model_codes(model, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert"):
-    """The integer code row (:data:`pbrkit.brdf.bxdf.CODE_COLUMNS`) of a model and its
+    """The integer codes (1, :data:`pbrkit.brdf.bxdf.CODE_COLUMNS`) of a model and its
     terms by name; a fixed model's own terms replace the ones given."""
     _check_choice("model", model, MODELS)
     _check_choice("distribution", distribution, DISTRIBUTIONS)
@@ -133,12 +134,12 @@ def model_codes(model, distribution="ggx", masking="height-correlated", fresnel=
         fixed = MODEL_TERMS[model]
         distribution, masking, fresnel = fixed[:3]
         diffuse = fixed[3] or diffuse
-    codes = np.zeros(CODE_COLUMNS, dtype=np.int64)
-    codes[C_MODEL] = MODELS.index(model)
-    codes[C_DISTRIBUTION] = DISTRIBUTIONS.index(distribution)
-    codes[C_MASKING] = MASKINGS.index(masking)
-    codes[C_FRESNEL] = FRESNELS.index(fresnel)
-    codes[C_DIFFUSE] = DIFFUSES.index(diffuse)
+    codes = np.zeros((1, CODE_COLUMNS), dtype=np.int64)
+    codes[0, C_MODEL] = MODELS.index(model)
+    codes[0, C_DISTRIBUTION] = DISTRIBUTIONS.index(distribution)
+    codes[0, C_MASKING] = MASKINGS.index(masking)
+    codes[0, C_FRESNEL] = FRESNELS.index(fresnel)
+    codes[0, C_DIFFUSE] = DIFFUSES.index(diffuse)
     return codes
 
 
@@ -187,11 +188,14 @@ def _pack(material: Material, shape):
     put(P_SHEEN_TINT, material.sheen_tint)
     put(P_CLEARCOAT, material.clearcoat)
     put(P_CLEARCOAT_GLOSS, material.clearcoat_gloss)
-    index = np.arange(count, dtype=np.int64) if rows > 1 else np.zeros(count, dtype=np.int64)
+    # the table row of element i is index[i], or row 0 for every element when index has one entry
+    index = np.arange(count, dtype=np.int64) if rows > 1 else np.zeros(1, dtype=np.int64)
 
     def per(value):
-        flat = np.broadcast_to(np.asarray(value, dtype=np.float64), shape).reshape(-1)
-        return np.require(flat, dtype=np.float64, requirements=["C", "W"])
+        value = np.asarray(value, dtype=np.float64)
+        if value.shape != shape:
+            value = np.broadcast_to(value, shape)
+        return np.require(value.reshape(-1), dtype=np.float64, requirements=["C", "W"])
 
     return _Packed(table, index, _rows(material.base_color, shape), per(material.metallic), per(material.roughness))
 
@@ -205,9 +209,12 @@ def _material_shape(material: Material):
 
 
 def _rows(x, shape):
-    # A writable C-contiguous float64 (N, 3) array, so each kernel is compiled for one signature only.
-    flat = np.broadcast_to(np.asarray(x, dtype=np.float64), shape + (3,)).reshape(-1, 3)
-    return np.require(flat, dtype=np.float64, requirements=["C", "W"])
+    # A writable C-contiguous float64 (N, 3) array, so each kernel is compiled for one signature only
+    # (copied only when it has to be broadcast or converted).
+    x = np.asarray(x, dtype=np.float64)
+    if x.shape != shape + (3,):
+        x = np.broadcast_to(x, shape + (3,))
+    return np.require(x.reshape(-1, 3), dtype=np.float64, requirements=["C", "W"])
 
 
 @dual_use
@@ -228,11 +235,16 @@ def _frame(n, t, i, has_tangent):
 
 @parallel_kernel
 def _evaluate_kernel(codes, table, index, base, metallic, roughness, l, v, n, t, has_tangent, out):
+    per_element = index.shape[0] > 1
     for i in numba.prange(l.shape[0]):
-        b = make_bxdf(codes, table[index[i]], roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
-        (tx, ty, tz), (bx, by, bz) = _frame(n, t, i, has_tangent)
-        c = cosines(n[i, 0], n[i, 1], n[i, 2], tx, ty, tz, bx, by, bz, v[i, 0], v[i, 1], v[i, 2], l[i, 0], l[i, 1],
-                    l[i, 2])
+        row = index[i] if per_element else 0
+        b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
+        if b.anisotropic:
+            (tx, ty, tz), (bx, by, bz) = _frame(n, t, i, has_tangent)
+            c = cosines(n[i, 0], n[i, 1], n[i, 2], tx, ty, tz, bx, by, bz, v[i, 0], v[i, 1], v[i, 2], l[i, 0],
+                        l[i, 1], l[i, 2])
+        else:  # isotropic lobes need no tangent frame
+            c = isotropic_cosines(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], l[i, 0], l[i, 1], l[i, 2])
         f = bxdf_f(b, c, 1.0, 1.0, 1.0)
         out[i, 0] = f[0]
         out[i, 1] = f[1]
@@ -247,16 +259,18 @@ def evaluate_rows(codes, params, l, v, n, t=None):
     l, v, n = (np.asarray(x, dtype=np.float64).reshape(-1, 3) for x in (l, v, n))
     shape = (l.shape[0],)
     params = np.ascontiguousarray(np.asarray(params, dtype=np.float64).reshape(-1, PARAM_COLUMNS))
-    index = np.arange(shape[0]) if params.shape[0] > 1 else np.zeros(shape[0], dtype=np.int64)
+    index = np.arange(shape[0]) if params.shape[0] > 1 else np.zeros(1, dtype=np.int64)
     params = np.require(np.broadcast_to(params, (max(params.shape[0], 1), PARAM_COLUMNS)), dtype=np.float64,
                         requirements=["C", "W"])
     out = np.empty((l.shape[0], 3))
     n_rows = _rows(n, shape)
     t_rows = n_rows if t is None else _rows(t, shape)
-    base = _rows(params[index, P_BASE_COLOR:P_BASE_COLOR + 3], shape)
-    metallic = np.ascontiguousarray(params[index, P_METALLIC])
-    roughness = np.ascontiguousarray(params[index, P_ROUGHNESS])
-    _evaluate_kernel(np.asarray(codes, dtype=np.int64), params, index.astype(np.int64), base, metallic, roughness,
+    rows = index if params.shape[0] > 1 else np.zeros(shape[0], dtype=np.int64)
+    base = _rows(params[rows, P_BASE_COLOR:P_BASE_COLOR + 3], shape)
+    metallic = np.ascontiguousarray(params[rows, P_METALLIC])
+    roughness = np.ascontiguousarray(params[rows, P_ROUGHNESS])
+    codes = np.ascontiguousarray(np.asarray(codes, dtype=np.int64).reshape(1, CODE_COLUMNS))
+    _evaluate_kernel(codes, params, index.astype(np.int64), base, metallic, roughness,
                      _rows(l, shape), _rows(v, shape), n_rows, t_rows, t is not None, out)
     return out
 
@@ -369,8 +383,10 @@ def disney(l, v, n, material: Material, t=None):
 
 @parallel_kernel
 def _sample_kernel(codes, table, index, base, metallic, roughness, wo, u, out_wi, out_pdf, out_weight):
+    per_element = index.shape[0] > 1
     for i in numba.prange(wo.shape[0]):
-        b = make_bxdf(codes, table[index[i]], roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
+        row = index[i] if per_element else 0
+        b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
         for a in range(3):
             out_wi[i, a] = 0.0
             out_weight[i, a] = 0.0
@@ -402,8 +418,10 @@ def _sample_kernel(codes, table, index, base, metallic, roughness, wo, u, out_wi
 
 @parallel_kernel
 def _pdf_kernel(codes, table, index, base, metallic, roughness, wo, wi, out):
+    per_element = index.shape[0] > 1
     for i in numba.prange(wo.shape[0]):
-        b = make_bxdf(codes, table[index[i]], roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
+        row = index[i] if per_element else 0
+        b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
         out[i] = 0.0
         if wo[i, 2] <= 0.0 or wi[i, 2] <= 0.0:
             continue

@@ -32,6 +32,7 @@ from ..brdf.bxdf import (
     P_SUBSURFACE,
     PARAM_COLUMNS,
     cosines,
+    isotropic_cosines,
     make_bxdf,
     tangent_frame,
 )
@@ -75,17 +76,20 @@ def material_tables(materials):
     return codes, params
 
 
-@dual_use
+@dual_use(inline=True)
 def hit_bxdf(codes, params, m, roughness, metallic, b0, b1, b2, nx, ny, nz):
     """The BxDF of material ``m`` at a hit with the textured roughness, metallic and
     base colour, and the tangent and bitangent of its shading frame at normal n
     (:func:`pbrkit.brdf.bxdf.tangent_frame`)."""
-    b = make_bxdf(codes[m], params[m], roughness, metallic, b0, b1, b2)
+    b = make_bxdf(codes, m, params, m, roughness, metallic, b0, b1, b2)
     t, bt = tangent_frame(nx, ny, nz, b.anisotropic)
     return b, t, bt
 
 
-@dual_use
-def hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz):
-    """:func:`pbrkit.brdf.bxdf.cosines` in the frame (n, t, bt) of a hit."""
-    return cosines(nx, ny, nz, t[0], t[1], t[2], bt[0], bt[1], bt[2], vx, vy, vz, lx, ly, lz)
+@dual_use(inline=True)
+def hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz):
+    """:func:`pbrkit.brdf.bxdf.cosines` in the frame (n, t, bt) of a hit, without
+    the tangent components for an isotropic BxDF ``b``."""
+    if b.anisotropic:
+        return cosines(nx, ny, nz, t[0], t[1], t[2], bt[0], bt[1], bt[2], vx, vy, vz, lx, ly, lz)
+    return isotropic_cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)

@@ -38,7 +38,7 @@ def _punctual_kernel(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, va
             continue
         b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
                             n[i, 2])
-        c = hit_cosines(n[i, 0], n[i, 1], n[i, 2], t, bt, v[i, 0], v[i, 1], v[i, 2], lx, ly, lz)
+        c = hit_cosines(b, n[i, 0], n[i, 1], n[i, 2], t, bt, v[i, 0], v[i, 1], v[i, 2], lx, ly, lz)
         f = bxdf_f(b, c, ec[i, 0], ec[i, 1], ec[i, 2])
         e = factor * max(c.nol, 0.0)
         out_value[i, 0] = f[0] * lv[0] * e
@@ -104,7 +104,7 @@ def punctual_at(b, t, bt, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, ec0, e
         lx, ly, lz, dist, factor = light_incidence(codes[li, 0], codes[li, 1], values[li], px, py, pz)
         if factor <= 0.0 or gx * lx + gy * ly + gz * lz <= 0.0:
             continue
-        c = hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+        c = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
         f = bxdf_f(b, c, ec0, ec1, ec2)
         if f[0] <= 0.0 and f[1] <= 0.0 and f[2] <= 0.0:
             continue

@@ -38,6 +38,8 @@ import numpy as np
 
 from ..albedo.tables import filament_energy_compensation, table_bilinear
 from ..brdf.bxdf import (
+    C_DISTRIBUTION,
+    C_MODEL,
     DIFF_NONE,
     FRES_EXACT_CONDUCTOR,
     FRES_EXACT_DIELECTRIC,
@@ -47,7 +49,12 @@ from ..brdf.bxdf import (
     MODEL_FILAMENT,
     MODEL_URP_MOBILE,
     P_ANISOTROPY,
+    P_CLEARCOAT,
+    P_CLEARCOAT_GLOSS,
     URP_DIELECTRIC_F0,
+    disney_clearcoat_alpha,
+    lobe_alphas,
+    tangent_frame,
 )
 from ..brdf.diffuse import kd_ibl
 from ..brdf.fresnel import f0_conductor, f_schlick
@@ -141,14 +148,16 @@ def _reflection_kernel(mi, mf, mat, n, v, rough, metal, base, out, coat_out):
     perceptual roughness of Disney's clear coat (sqrt of its GTR1 alpha; -1 without one)."""
     for i in numba.prange(n.shape[0]):
         m = mat[i]
-        b, t, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2])
-        anisotropy = mf[m, P_ANISOTROPY] if b.anisotropic else 0.0
+        model = mi[m, C_MODEL]
+        _, _, anisotropic = lobe_alphas(model, mi[m, C_DISTRIBUTION], 1.0, mf[m, P_ANISOTROPY])
+        anisotropy = mf[m, P_ANISOTROPY] if anisotropic else 0.0
+        t, bt = tangent_frame(n[i, 0], n[i, 1], n[i, 2], anisotropic)
         r = reflection_direction(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], t, bt, anisotropy, rough[i])
         out[i, 0] = r[0]
         out[i, 1] = r[1]
         out[i, 2] = r[2]
-        coat_out[i] = math.sqrt(b.clearcoat_alpha) if b.clearcoat > 0.0 else -1.0
+        coat = model == MODEL_DISNEY and mf[m, P_CLEARCOAT] > 0.0
+        coat_out[i] = math.sqrt(disney_clearcoat_alpha(mf[m, P_CLEARCOAT_GLOSS])) if coat else -1.0
 
 
 @lru_cache(maxsize=1)

@@ -96,7 +96,7 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
         lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, marg, cond, c, s, _uniform(key, 0), _uniform(key, 1))
         light_dir = (lx, ly, lz)
         if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
-            cs = hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
             if cs.nol > 0.0:
                 f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
                 pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
@@ -120,7 +120,7 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
     lz /= norm
     if gx * lx + gy * ly + gz * lz <= 0.0:
         return light_dir, light_val, (lx, ly, lz), z3, 0.0
-    cs = hit_cosines(nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+    cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
     if cs.nol <= 0.0:
         return light_dir, light_val, (lx, ly, lz), z3, 0.0
     pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
