@@ -351,7 +351,7 @@ def make_bxdf(codes, code_row, params, param_row, roughness, metallic, b0, b1, b
                 params[q, P_SUBSURFACE], sheen, clearcoat, clearcoat_alpha)
 
 
-@dual_use
+@dual_use(inline=True)
 def lobe_bxdf(model, masking, alpha):
     """A BxDF that holds only an isotropic GGX specular lobe of width alpha with the
     masking of ``model`` (and ``masking`` for cook_torrance): what the lookup
