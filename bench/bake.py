@@ -19,10 +19,10 @@ Sections:
 5. Accuracy: for every environment in ``../shared/data/env``, the relative
    RMS error sqrt(sum |x - ref|^2 / sum |ref|^2) over 300 random texels of
    every level against the brute-force sum over all texels of the level-0
-   cube (:func:`pbrkit.prefilter.prefilter_reference`), for the bake
+   cube (:func:`pbrkit.ibl.prefilter.prefilter_reference`), for the bake
    (spectral), the bake's ``fis`` method, and plain 1024-sample importance
    sampling of level 0 (Karis 2013); and the irradiance map against
-   :func:`pbrkit.irradiance.irradiance_reference`.
+   :func:`pbrkit.ibl.irradiance.irradiance_reference`.
 6. Filament's cmgen (``cmgen --deploy --size N``), when installed (Debian:
    ``apt-get install libfilament-tools``; not on PyPI).
 """

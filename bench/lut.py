@@ -65,7 +65,7 @@ def hammersley_table(size, samples=1024):
 
 
 def first_call_in_new_process(size, cache_dir=None):
-    code = ("import time; t = time.perf_counter(); from pbrkit.tables import lookup_table; "
+    code = ("import time; t = time.perf_counter(); from pbrkit.albedo.tables import lookup_table; "
             f"lookup_table('dfg', {size}); print(time.perf_counter() - t)")
     env = dict(os.environ)
     if cache_dir is not None:

@@ -102,7 +102,7 @@ def test_white_furnace(tmp_path, method):
     for level in b.specular:
         assert np.abs(level - 1.0).max() < 1e-4
     assert np.abs(b.irradiance - np.pi).max() < 1e-4 * np.pi
-    # exact cell integrals (pbrkit.sh.project_equirect): a constant map is exact to rounding
+    # exact cell integrals (pbrkit.ibl.sh.project_equirect): a constant map is exact to rounding
     assert b.sh[0] == pytest.approx([np.sqrt(4 * np.pi)] * 3, rel=1e-12)
     assert np.abs(b.sh[1:]).max() < 1e-12
 

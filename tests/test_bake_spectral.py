@@ -1,10 +1,10 @@
 """Building blocks of the bake: level <-> roughness mapping, the GGX lobe
 normalisation and its Funk-Hecke coefficients, the spherical-harmonic
-transform (pbrkit.spectral), highlight splitting and the irradiance kernel.
+transform (pbrkit.ibl.spectral), highlight splitting and the irradiance kernel.
 
 Independent references: SciPy quadrature and its real spherical harmonics,
 the clamped-cosine coefficients of Ramamoorthi & Hanrahan 2001 (eq. 9),
-pbrkit.sh (tested on its own) for degree <= 2, and brute-force sums written
+pbrkit.ibl.sh (tested on its own) for degree <= 2, and brute-force sums written
 out here with the GGX formula typed from Walter et al. 2007, eq. 33.
 """
 

@@ -1,4 +1,4 @@
-"""Cube-map geometry, layouts, sampling and pyramids (pbrkit.cubemap).
+"""Cube-map geometry, layouts, sampling and pyramids (pbrkit.ibl.cubemap).
 
 Directions are checked against the OpenGL 4.6 table 8.19 written out here
 independently, solid angles against numerical integration (SciPy), the cross

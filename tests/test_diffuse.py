@@ -1,4 +1,4 @@
-"""Tests of pbrkit.diffuse: Lambert and Burley (Disney) diffuse against closed
+"""Tests of pbrkit.brdf.diffuse: Lambert and Burley (Disney) diffuse against closed
 forms and quadrature (``tests/quadrature.py``).
 
 Burley's albedo at normal view (v = n) has a closed form: there l.h =

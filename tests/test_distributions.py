@@ -1,4 +1,4 @@
-"""Tests of pbrkit.distributions against quadrature, slope-space definitions and limits.
+"""Tests of pbrkit.brdf.distributions against quadrature, slope-space definitions and limits.
 
 Every normal distribution function must satisfy the projected-area
 normalisation integral over the hemisphere of D(h) (n.h) dh = 1

@@ -1,4 +1,4 @@
-"""Environment loading and equirect <-> cube conversion (pbrkit.envmap).
+"""Environment loading and equirect <-> cube conversion (pbrkit.ibl.equirect).
 
 The exact resampler is checked against independent references: an analytic
 linear radiance field (texel means from Arvo's closed-form vector integral

@@ -1,4 +1,4 @@
-"""Tests of pbrkit.fresnel against the Fresnel equations written independently.
+"""Tests of pbrkit.brdf.fresnel against the Fresnel equations written independently.
 
 References written in this file:
 
@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_brdf import fresnel_conductor
 
 from pbrkit.brdf import diffuse
 from pbrkit.brdf import fresnel as fr
@@ -37,17 +38,8 @@ def dielectric_reference(cos_i, eta):
 
 
 def conductor_reference(cos_i, eta, k):
-    c = np.asarray(cos_i, dtype=float)
-    c2 = c * c
-    s2 = 1.0 - c2
-    t0 = eta * eta - k * k - s2
-    a2b2 = np.sqrt(t0 * t0 + 4.0 * eta * eta * k * k)
-    a = np.sqrt(0.5 * (a2b2 + t0))
-    rs = (a2b2 + c2 - 2.0 * a * c) / (a2b2 + c2 + 2.0 * a * c)
-    t1 = a2b2 * c2 + s2 * s2
-    t2 = 2.0 * a * c * s2
-    rp = rs * (t1 - t2) / (t1 + t2)
-    return 0.5 * (rs + rp)
+    """The conductor Fresnel in real arithmetic (tests/reference_brdf.py, Lagarde 2013)."""
+    return fresnel_conductor(np.asarray(cos_i, dtype=float), eta, k)
 
 
 # ---------------------------------------------------------------- exact forms

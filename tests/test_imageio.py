@@ -1,4 +1,4 @@
-"""Image reading and writing (pbrkit.imageio).
+"""Image reading and writing (pbrkit.io.images).
 
 Decoders are checked against hand-built files whose bytes follow the format
 specifications (Radiance RGBE, PFM, PNG), writers by round trips with their

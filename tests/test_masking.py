@@ -1,4 +1,4 @@
-"""Tests of pbrkit.masking: Smith Lambda functions against their definition and
+"""Tests of pbrkit.brdf.masking: Smith Lambda functions against their definition and
 the weak white furnace, the visibility forms, and the Schlick approximations.
 
 Independent references:

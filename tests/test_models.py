@@ -1,4 +1,4 @@
-"""Tests of the shading models in pbrkit.models: analytic albedo anchors,
+"""Tests of the shading models in pbrkit.brdf.models: analytic albedo anchors,
 energy bounds, reciprocity, frame invariance, and argument checks.
 
 Albedos are integrals over the light directions of f(l, v) (n.l), computed with

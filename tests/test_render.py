@@ -232,7 +232,7 @@ def test_environment_rotation_turns_the_map_about_plus_y():
 @pytest.mark.parametrize("masking", ["separable", "height-correlated"])
 def test_furnace_reference_gives_the_directional_albedo(masking):
     """F = 1, constant white environment: each pixel is E(mu) of the lookup-table
-    quadrature (pbrkit.tables.specular_integrals) within 3 standard errors."""
+    quadrature (pbrkit.albedo.tables.specular_integrals) within 3 standard errors."""
     from pbrkit.albedo.tables import specular_integrals
 
     roughness = 0.8
@@ -318,8 +318,8 @@ def test_realtime_mirror_converges_to_reference_in_a_smooth_environment():
 
 def _half_vector_truth(scene, env, material_spec, pixels, n_theta=40, n_phi=40):
     """Integral of f (n.l) L(l) dl per pixel by Gauss quadrature over the half vector
-    (pbrkit.furnace.half_vector_domain, mirrored for the full azimuth), with the NumPy
-    model pbrkit.models.cook_torrance and the environment's own texel lookup."""
+    (pbrkit.albedo.furnace.half_vector_domain, mirrored for the full azimuth), with the NumPy
+    model pbrkit.brdf.models.cook_torrance and the environment's own texel lookup."""
     from pbrkit.albedo.furnace import half_vector_domain
 
     mask, p, v = pixel_geometry(scene)

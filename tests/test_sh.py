@@ -1,6 +1,6 @@
 """Spherical harmonics: basis, projection and irradiance.
 
-References used here are independent of pbrkit.sh: SciPy's complex
+References used here are independent of pbrkit.ibl.sh: SciPy's complex
 spherical harmonics, Gauss-Legendre x uniform-azimuth product quadrature
 (exact for spherical polynomials of low degree), brute-force cosine
 convolution over the hemisphere, and the equirect / cube-map conventions
@@ -188,7 +188,7 @@ def _truncation_check(image, n_normals=300):
 
 def test_irradiance_truncation_error_within_bound_sun_and_sky():
     # For non-negative radiance |E - E_2| <= 3/32 * integral of L dw
-    # (pbrkit.sh module docstring); a tiny sun makes it nearly tight.
+    # (pbrkit.ibl.sh module docstring); a tiny sun makes it nearly tight.
     err, total, brute = _truncation_check(_sun_and_sky(64))
     assert np.all(err <= sh.TRUNCATION_ERROR_BOUND * total * (1 + 1e-9))
     assert err.max() > 0.5 * sh.TRUNCATION_ERROR_BOUND * total.max()  # the bound is near-tight here

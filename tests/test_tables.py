@@ -59,7 +59,7 @@ def test_splitsum_and_dfg_are_one_integral():
 
 def test_dfg2_matches_model_albedo_by_independent_quadrature():
     # DFG2 must be the white-furnace albedo of Filament's F = 1 specular lobe.  The
-    # furnace module integrates the full model (D, V of pbrkit.models) with its own
+    # furnace module integrates the full model (D, V of pbrkit.brdf.models) with its own
     # node placement; agreement to 1e-4 checks both.
     n = 12
     axis = texel_centres(n)

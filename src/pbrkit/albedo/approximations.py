@@ -1,7 +1,7 @@
 """The error of each real-time approximation, as maps over (n.v, roughness).
 
 Every comparison is a difference of *directional albedos* (the integral of
-f (n.l) over the hemisphere, computed by :func:`pbrkit.furnace.albedo_quadrature`
+f (n.l) over the hemisphere, computed by :func:`pbrkit.albedo.furnace.albedo_quadrature`
 or read from the converged tables), so each error is in the units a user sees:
 the fraction of incident light reflected.  ``pbrkit approximations -o DIR``
 writes ``approximations.png`` (heat maps with max / mean absolute error) and

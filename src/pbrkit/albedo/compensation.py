@@ -7,12 +7,12 @@ the tables a runtime would use (bilinear lookups in pbrkit's DFG table):
 
 - ``kulla-conty``: add f_ms = (1 - E(mu_o))(1 - E(mu_i)) / (pi (1 - E_avg))
   times the colour factor F_avg E_avg / (1 - F_avg (1 - E_avg))
-  (:func:`pbrkit.tables.kulla_conty_ms`, :func:`pbrkit.tables.kulla_conty_color`);
+  (:func:`pbrkit.albedo.tables.kulla_conty_ms`, :func:`pbrkit.albedo.tables.kulla_conty_color`);
 - ``filament``: scale the lobe by 1 + F0 (1 / DFG2 - 1) (Filament sec. 4.7.2,
-  :func:`pbrkit.tables.filament_energy_compensation`).
+  :func:`pbrkit.albedo.tables.filament_energy_compensation`).
 
 The single-scattering albedo itself comes from the converged quadrature of
-:func:`pbrkit.tables.specular_integrals` (GGX, height-correlated Smith), so the
+:func:`pbrkit.albedo.tables.specular_integrals` (GGX, height-correlated Smith), so the
 white-furnace result measures exactly what a renderer would get.
 """
 
@@ -61,7 +61,7 @@ def compensated_albedo(method, mu, roughness, f0=1.0, table_size=128, nodes=None
     compensation ``method`` (``none``, ``kulla-conty`` or ``filament``).
 
     ``f0`` is a scalar or an RGB triple.  The single-scattering part is
-    F0 A + B with (A, B) of :func:`pbrkit.tables.specular_integrals`
+    F0 A + B with (A, B) of :func:`pbrkit.albedo.tables.specular_integrals`
     (height-correlated Smith; ``nodes`` as there).  The compensation reads
     E(mu) = DFG2 from a ``table_size`` DFG table by bilinear lookup, as a
     renderer does; at the table's texel centres the lookup is exact.

@@ -165,7 +165,7 @@ def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
 def furnace_lobes():
     """The F = 1 specular lobes the furnace report covers, as ``{name: brdf}``.
 
-    Every D x G combination of :func:`pbrkit.models.cook_torrance` (Fresnel
+    Every D x G combination of :func:`pbrkit.brdf.models.cook_torrance` (Fresnel
     'none', no diffuse) and the models ``ue4``, ``filament`` and
     ``urp_mobile`` with base colour 1 and metallic 1 (so F = 1 and no diffuse).
     Each brdf has the signature ``brdf(l, v, n, roughness)`` of

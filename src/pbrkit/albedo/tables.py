@@ -7,7 +7,7 @@ r = (j + 0.5) / N (texel centres; row 0 = smooth).  GGX lobes use
 alpha = max(r^2, ALPHA_MIN).
 
 The integrals are computed by deterministic quadrature over the half vector
-(the method of :mod:`pbrkit.furnace`, compiled, with the node map, horizon
+(the method of :mod:`pbrkit.albedo.furnace`, compiled, with the node map, horizon
 bounds and segments of :mod:`pbrkit.core.quadrature`): h is parameterised by
 the lobe's own cumulative distribution in theta_h and by the azimuth,
 restricted analytically to the half vectors that reflect v above the
@@ -220,7 +220,7 @@ def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
     Charlie distribution D = (2 + 1 / alpha) sin^(1 / alpha) theta_h / (2 pi)
     (Estevez & Kulla 2017, "Production Friendly Microfacet Sheen BRDF", eq. 2)
     with alpha = r^2 (Filament sec. 4.12.2), Neubelt visibility
-    :func:`pbrkit.masking.v_neubelt`, F = 1; the third channel Filament and
+    :func:`pbrkit.brdf.masking.v_neubelt`, F = 1; the third channel Filament and
     the Khronos IBL sampler bake.  Integrated in h over the Charlie CDF
     s^(2 + 1 / alpha), s = sin theta_h, so D cancels exactly.
     Returns (len(roughness), len(mu)).

@@ -29,7 +29,7 @@ def burley(nol, nov, loh, roughness):
     f = (1 / pi) (1 + (F_D90 - 1)(1 - n.l)^5)(1 + (F_D90 - 1)(1 - n.v)^5) with
     F_D90 = 0.5 + 2 r cos^2 theta_d, theta_d the angle between l and h
     (cos theta_d = l.h), r perceptual roughness.  The (1 - cos)^5 terms are
-    Schlick's (:func:`pbrkit.fresnel.f_schlick` with f0 = 1, f90 = F_D90).
+    Schlick's (:func:`pbrkit.brdf.fresnel.f_schlick` with f0 = 1, f90 = F_D90).
     """
     fd90 = 0.5 + 2.0 * roughness * loh * loh
     return _INV_PI * f_schlick(nol, 1.0, fd90) * f_schlick(nov, 1.0, fd90)
@@ -55,7 +55,7 @@ def burley_subsurface(nol, nov, loh, roughness):
 def kd_ibl(nov, f0, roughness, metallic):
     """Diffuse weight for image-based lighting k_d = (1 - F*)(1 - metallic).
 
-    F* is the roughness-aware Fresnel of :func:`pbrkit.fresnel.f_schlick_roughness`
+    F* is the roughness-aware Fresnel of :func:`pbrkit.brdf.fresnel.f_schlick_roughness`
     (seed 000; Lagarde 2011).  r is perceptual roughness.
     """
     return (1.0 - f_schlick_roughness(nov, f0, roughness)) * (1.0 - metallic)

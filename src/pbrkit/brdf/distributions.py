@@ -9,7 +9,7 @@ distribution, *not* perceptual roughness: the public models map perceptual
 roughness r to alpha = r^2 (:func:`alpha_from_roughness`), following Burley
 2012 and Karis 2013.
 
-All functions are :func:`pbrkit._jit.term` functions: NumPy on arrays of any
+All functions are :func:`pbrkit.core.jit.dual_use` functions: NumPy on arrays of any
 broadcastable shape, and compiled for scalars inside Numba kernels.
 """
 

@@ -5,7 +5,7 @@ Smith's model (Smith 1967) with the Lambda functions derived in Heitz 2014,
 JCGT 3(2) (cited below as Heitz 2014).  Arguments are cosines with the
 normal (``nov = n.v``, ``nol = n.l``), tangent-frame components for
 anisotropic forms (``tov = t.v``, ``bov = b.v``), and the distribution's
-alpha (not perceptual roughness; see :mod:`pbrkit.distributions`).
+alpha (not perceptual roughness; see :mod:`pbrkit.brdf.distributions`).
 
 Direction cosines at or below zero give G = 0 (back-facing directions are
 masked); cosines are clamped to 1e-8 internally so no NaN or Inf appears.

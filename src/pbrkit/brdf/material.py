@@ -6,7 +6,7 @@ parameterisation):
 - ``base_color``: linear RGB (Rec.709 primaries), shape (..., 3), in [0, 1].
 - ``metallic``: in [0, 1].
 - ``roughness``: *perceptual* roughness r in [0, 1]; models use alpha = r^2,
-  clamped at :data:`pbrkit.distributions.ALPHA_MIN` (so r = 0 is a mirror-like
+  clamped at :data:`pbrkit.brdf.distributions.ALPHA_MIN` (so r = 0 is a mirror-like
   but finite lobe, never NaN).
 - ``reflectance``: dielectric specular in [0, 1], f0 = 0.16 reflectance^2
   (Filament); 0.5 gives f0 = 0.04.  UE4's ``Specular`` s maps to
@@ -14,8 +14,8 @@ parameterisation):
 - ``anisotropy``: in [-1, 1], alpha_t = alpha (1 + a), alpha_b = alpha (1 - a)
   (Kulla & Conty 2017; Filament).  Needs a tangent where used.
 - ``eta``, ``k``: optional complex index of refraction (RGB) for the exact
-  conductor Fresnel of :func:`pbrkit.models.cook_torrance`.
-- Disney principled extras (Burley 2012), used by :func:`pbrkit.models.disney`
+  conductor Fresnel of :func:`pbrkit.brdf.models.cook_torrance`.
+- Disney principled extras (Burley 2012), used by :func:`pbrkit.brdf.models.disney`
   only, all in [0, 1]: ``subsurface``, ``specular_tint``, ``sheen``,
   ``sheen_tint`` (default 0.5), ``clearcoat``, ``clearcoat_gloss`` (default 1).
 
@@ -87,7 +87,7 @@ class Material:
 
     @classmethod
     def conductor(cls, name, roughness=0.5, **kwargs):
-        """A metal with the tabulated complex IOR of :data:`pbrkit.fresnel.CONDUCTORS`.
+        """A metal with the tabulated complex IOR of :data:`pbrkit.brdf.fresnel.CONDUCTORS`.
 
         base_color is set to the exact Fresnel f0 of that IOR so that the
         metallic-workflow models show the same metal.

@@ -73,6 +73,7 @@ __all__ = [
     "disney",
     "evaluate",
     "evaluate_rows",
+    "parameter_rows",
     "sample",
     "pdf",
     "model_codes",
@@ -159,15 +160,13 @@ class _Packed(NamedTuple):
     roughness: np.ndarray
 
 
-def _pack(material: Material, shape):
-    """:class:`_Packed` of a material broadcast to ``shape``: one table row when every
-    parameter other than base colour, metallic and roughness is a scalar, else a row
-    per element."""
-    count = int(np.prod(shape))
-    other = [np.shape(getattr(material, name)) for name in _OTHER_FIELDS]
-    if material.eta is not None:
-        other += [material.eta.shape[:-1], material.k.shape[:-1]]
-    rows_shape = shape if any(len(s) for s in other) else ()
+def parameter_rows(material: Material, rows_shape=()):
+    """Parameter rows (prod(rows_shape), PARAM_COLUMNS) of :mod:`pbrkit.brdf.bxdf`
+    for a material broadcast to ``rows_shape``: dielectric f0 (0.16 reflectance^2),
+    eta and k, anisotropy and Disney's extras, and a white specular colour (F = 1
+    for ``fresnel = "none"``).  Base colour, metallic, roughness, emission and
+    sidedness are left 0: the NumPy kernels take the first three per element, and
+    the renderer (:func:`pbrkit.render.materials.material_tables`) fills them."""
     rows = int(np.prod(rows_shape))
     table = np.zeros((rows, PARAM_COLUMNS))
 
@@ -188,8 +187,21 @@ def _pack(material: Material, shape):
     put(P_SHEEN_TINT, material.sheen_tint)
     put(P_CLEARCOAT, material.clearcoat)
     put(P_CLEARCOAT_GLOSS, material.clearcoat_gloss)
+    return table
+
+
+def _pack(material: Material, shape):
+    """:class:`_Packed` of a material broadcast to ``shape``: one table row when every
+    parameter other than base colour, metallic and roughness is a scalar, else a row
+    per element."""
+    count = int(np.prod(shape))
+    other = [np.shape(getattr(material, name)) for name in _OTHER_FIELDS]
+    if material.eta is not None:
+        other += [material.eta.shape[:-1], material.k.shape[:-1]]
+    rows_shape = shape if any(len(s) for s in other) else ()
+    table = parameter_rows(material, rows_shape)
     # the table row of element i is index[i], or row 0 for every element when index has one entry
-    index = np.arange(count, dtype=np.int64) if rows > 1 else np.zeros(1, dtype=np.int64)
+    index = np.arange(count, dtype=np.int64) if table.shape[0] > 1 else np.zeros(1, dtype=np.int64)
 
     def per(value):
         value = np.asarray(value, dtype=np.float64)

@@ -102,15 +102,6 @@ def source_hash(root=_PACKAGE_ROOT):
     return digest.hexdigest()
 
 
-def _version():
-    try:
-        from importlib.metadata import version
-
-        return version("pbrkit")
-    except Exception:  # running from a source tree
-        return "0"
-
-
 @functools.lru_cache(maxsize=1)
 def cache_directory():
     """Where pbrkit's compiled kernels are cached (module docstring)."""
@@ -119,7 +110,9 @@ def cache_directory():
         base = os.path.join(os.environ["NUMBA_CACHE_DIR"], "pbrkit")
     if not base:
         base = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache"), "pbrkit")
-    return os.path.join(base, f"numba-{_version()}-{source_hash()[:16]}")
+    from .. import __version__  # set before any submodule is imported
+
+    return os.path.join(base, f"numba-{__version__}-{source_hash()[:16]}")
 
 
 class _SourceHashLocator(_CacheLocator):

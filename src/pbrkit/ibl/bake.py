@@ -1,28 +1,28 @@
 """Image-based-lighting bakes: everything a real-time renderer needs for the
 split-sum IBL of an HDR environment (``pbrkit bake``).
 
-:func:`bake` computes, from an environment (:func:`pbrkit.envmap.
+:func:`bake` computes, from an environment (:func:`pbrkit.ibl.equirect.
 load_environment`: equirect .hdr/.exr/.pfm/.png/.jpg, cube crosses or six
 faces):
 
-- the GGX-prefiltered specular mip chain (:mod:`pbrkit.prefilter`): level 0
+- the GGX-prefiltered specular mip chain (:mod:`pbrkit.ibl.prefilter`): level 0
   is the environment resampled to ``size`` (exact area-weighted,
-  :meth:`pbrkit.envmap.Environment.to_cube`), level m of M has perceptual
+  :meth:`pbrkit.io.environment.Environment.to_cube`), level m of M has perceptual
   roughness r_m = m / (M - 1) (:func:`roughness_of_level`; a shader samples
   lod = r (M - 1), :func:`level_of_roughness`) and size ``size`` / 2^m down
   to ``min_size``;
-- the irradiance cube map E(n) (:mod:`pbrkit.irradiance`);
-- the 9 radiance SH coefficients (:func:`pbrkit.sh.project_equirect`: the
+- the irradiance cube map E(n) (:mod:`pbrkit.ibl.irradiance`);
+- the 9 radiance SH coefficients (:func:`pbrkit.ibl.sh.project_equirect`: the
   exact integrals of the basis over the input pixels' cells, or
-  :func:`pbrkit.sh.project_cube` for cube input: solid-angle-weighted
+  :func:`pbrkit.ibl.sh.project_cube` for cube input: solid-angle-weighted
   projection; windowing optional, off by default);
-- the split-sum DFG table (:func:`pbrkit.tables.lookup_table` kind ``dfg``:
+- the split-sum DFG table (:func:`pbrkit.albedo.tables.lookup_table` kind ``dfg``:
   Filament's (DFG1, DFG2) with the height-correlated Smith visibility).
 
 Levels 1.. and the irradiance map come from one spherical-harmonic transform
 of the environment's bounded part plus exactly summed highlights
-(:func:`pbrkit.prefilter.prefilter_spectral`); ``method="fis"`` uses
-filtered importance sampling instead (:func:`pbrkit.prefilter.
+(:func:`pbrkit.ibl.prefilter.prefilter_spectral`); ``method="fis"`` uses
+filtered importance sampling instead (:func:`pbrkit.ibl.prefilter.
 prefilter_fis`).
 
 The files of a bake are written and read by :mod:`pbrkit.io.bake_files`.
@@ -150,18 +150,18 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     """Bake an environment (module doc) and return a :class:`Bake`.
 
     ``environment``: a path, a list of six face paths (+X, -X, +Y, -Y, +Z,
-    -Z) or a :class:`pbrkit.envmap.Environment`.  ``size`` (power of two,
+    -Z) or a :class:`pbrkit.io.environment.Environment`.  ``size`` (power of two,
     <= 4096) and ``min_size`` (power of two, smaller) set the specular chain
     (M = log2(size / min_size) + 1 levels); ``irradiance_size`` (<= 1024)
     and ``lut_size`` (<= 1024) the other outputs; ``specular_format``
     ``"rgba16f"`` or ``"b10g11r11"`` for the KTX2/DDS files (recorded in the
     manifest); ``method`` ``"spectral"`` (default) or ``"fis"`` (with
     ``fis_samples`` per level and lod ``fis_bias``); ``sh_window`` None,
-    ``"hanning"`` or ``"lanczos"`` (:func:`pbrkit.sh.sh_window`) applied to
+    ``"hanning"`` or ``"lanczos"`` (:func:`pbrkit.ibl.sh.sh_window`) applied to
     the stored SH; ``fix_nonfinite`` and ``layout`` are passed to
-    :func:`pbrkit.envmap.load_environment`.  ``progress(stage, done,
+    :func:`pbrkit.io.environment.load_environment`.  ``progress(stage, done,
     total)`` is called after each stage.  Bad input raises ValueError
-    (:class:`pbrkit.errors.InputError` for files) with a one-line message.
+    (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
     """
     from ..albedo.tables import lookup_table
     from .sh import apply_window, project_cube, project_equirect
@@ -269,7 +269,7 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
 
 
 def _reduce_rows(image, rows):
-    """``image`` halved (:func:`pbrkit.spectral.halve_equirect`, integral
+    """``image`` halved (:func:`pbrkit.ibl.spectral.halve_equirect`, integral
     preserving) while it has more than ``rows`` rows (and an even count)."""
     from .spectral import halve_equirect
 
@@ -280,7 +280,7 @@ def _reduce_rows(image, rows):
 
 def _analysis_grid(image, lmax, clip=None):
     """The equirect image min(image, clip) to analyse to degree ``lmax``:
-    halved (:func:`pbrkit.spectral.halve_equirect`, integral-preserving,
+    halved (:func:`pbrkit.ibl.spectral.halve_equirect`, integral-preserving,
     clamping band by band) while it keeps at least 4 L rows, or its pixels
     repeated 2^k times (the same piecewise-constant function) until it has
     more than 2 L rows."""

@@ -294,7 +294,7 @@ def _bilinear_add(data, offset, n, face, sc, tc, weight, out):
     stored flat at data[offset:] at face coordinates (sc, tc), clamped to the
     bordered face (:func:`pbrkit.core.filtering.texel_pair`).  Inlined (at
     Numba IR level) into every kernel that calls it (here and in
-    :mod:`pbrkit.prefilter`): a call to a separately compiled function in an
+    :mod:`pbrkit.ibl.prefilter`): a call to a separately compiled function in an
     inner loop costs about as much as the lookup itself."""
     nb = n + 2
     channels = out.shape[0]
@@ -318,7 +318,7 @@ def _trilinear_add(data, offsets, sizes, face, sc, tc, lod, weight, out):
     flat in ``data`` at ``offsets``, sizes ``sizes``) at face coordinates
     (sc, tc) and level of detail ``lod``, clamped to [0, levels - 1]: the
     bilinear samples of levels floor(lod) and floor(lod) + 1 blended linearly.
-    Inlined like :func:`_bilinear_add` (used here and in :mod:`pbrkit.prefilter`)."""
+    Inlined like :func:`_bilinear_add` (used here and in :mod:`pbrkit.ibl.prefilter`)."""
     levels = sizes.shape[0]
     lod = min(max(lod, 0.0), levels - 1.0)
     l0 = int(math.floor(lod))

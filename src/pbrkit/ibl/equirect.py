@@ -10,7 +10,7 @@ written once, as the dual-use helpers :func:`equirect_pixel_angles`,
 :func:`equirect_angles_of_uv`, :func:`equirect_direction`,
 :func:`direction_angles` and :func:`equirect_uv` (NumPy arrays from Python,
 scalars in Numba kernels: the renderer's environment, the spectral
-transforms).  Cube maps follow :mod:`pbrkit.cubemap`.
+transforms).  Cube maps follow :mod:`pbrkit.ibl.cubemap`.
 
 Equirect -> cube (:func:`equirect_to_cube`) is exact area-weighted
 (conservative) remapping: the source is taken as piecewise constant over its
@@ -434,7 +434,7 @@ def equirect_to_cube(image, size):
 
 def cube_to_equirect(cube, height):
     """Equirectangular image (height, 2 height, C) of a cube map by seam-aware
-    bilinear sampling at the pixel centres (:class:`pbrkit.cubemap.CubeSampler`)."""
+    bilinear sampling at the pixel centres (:class:`pbrkit.ibl.cubemap.CubeSampler`)."""
     height = _check_size(height, "equirect height")
     sampler = CubeSampler(_as_cube(cube))
     out = np.empty((height, 2 * height, sampler.channels))

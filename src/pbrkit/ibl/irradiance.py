@@ -10,7 +10,7 @@ A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4, ..., zero for odd l > 1
 Environment Maps", SIGGRAPH 2001, eqs. 8-9).  :func:`irradiance_spectral`
 convolves the bounded part of an environment to the degree of its
 coefficients (the same transform as the specular prefilter,
-:mod:`pbrkit.prefilter`; the A_l decay like l^-5/2, so a degree in the
+:mod:`pbrkit.ibl.prefilter`; the A_l decay like l^-5/2, so a degree in the
 hundreds leaves an error far below 1e-4 of the bounded part's radiance) and
 adds the sparse highlights exactly, each point of energy E_i contributing
 E_i max(0, n.l_i).  :func:`irradiance_reference` is the brute-force sum over
@@ -36,22 +36,22 @@ __all__ = ["cosine_zonal_coefficients", "add_cosine_highlights", "irradiance_spe
 def cosine_zonal_coefficients(lmax):
     """lambda_l = A_l / pi (l = 0..L) of the normalised clamped cosine
     max(0, cos theta) / pi, A_l in closed form (Ramamoorthi & Hanrahan 2001,
-    eqs. 8-9; :func:`pbrkit.sh.cosine_lobe_coefficients`)."""
+    eqs. 8-9; :func:`pbrkit.ibl.sh.cosine_lobe_coefficients`)."""
     return cosine_lobe_coefficients(lmax) / math.pi
 
 
 def add_cosine_highlights(out, directions, points, energies):
     """Add the irradiance of point highlights E_i max(0, n.l_i) at unit
     ``directions`` (K, 3) to ``out`` (K, C) in place
-    (:func:`pbrkit.prefilter.point_lobe_sum`)."""
+    (:func:`pbrkit.ibl.prefilter.point_lobe_sum`)."""
     return point_lobe_sum(out, directions, points, energies, LOBE_COSINE)
 
 
 def irradiance_spectral(coeffs, highlights, size, grid_factor=2.0):
     """Irradiance cube map (6, size, size, C) float32 (module doc) from the
     spherical-harmonic coefficients ``coeffs`` (L + 1, L + 1, C) of the
-    bounded environment (:func:`pbrkit.spectral.analyse_equirect`) and its
-    :class:`pbrkit.prefilter.Highlights` (merged per texel of a 2 size
+    bounded environment (:func:`pbrkit.ibl.spectral.analyse_equirect`) and its
+    :class:`pbrkit.ibl.prefilter.Highlights` (merged per texel of a 2 size
     cube).  The series, cut at L' = min(L, 4 size) (|lambda_l| < 1e-5 beyond
     l = 128), is synthesised on an equirect grid of grid_factor * L' + 2
     rows and interpolated at the texel centres; negative
@@ -73,8 +73,8 @@ def irradiance_spectral(coeffs, highlights, size, grid_factor=2.0):
 def irradiance_reference(cube, directions):
     """Brute-force irradiance sum_i L_i max(0, n.l_i) Omega_i over every
     texel i of ``cube`` (6, N, N, C) (centre directions, exact solid angles
-    :func:`pbrkit.cubemap.cube_texel_solid_angles`) at unit ``directions``
-    (..., 3) -> (..., C), by :func:`pbrkit.prefilter.point_lobe_sum`.
+    :func:`pbrkit.ibl.cubemap.cube_texel_solid_angles`) at unit ``directions``
+    (..., 3) -> (..., C), by :func:`pbrkit.ibl.prefilter.point_lobe_sum`.
     O(directions x 6 N^2)."""
     c = _as_cube(cube).astype(np.float64)
     n = c.shape[1]

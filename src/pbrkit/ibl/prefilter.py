@@ -2,14 +2,14 @@
 
 The split-sum approximation (Karis, "Real Shading in Unreal Engine 4",
 SIGGRAPH 2013 course notes, pp. 4-6) splits the specular IBL integral into a
-lookup table of the BRDF (:mod:`pbrkit.tables`) and the *prefiltered
+lookup table of the BRDF (:mod:`pbrkit.albedo.tables`) and the *prefiltered
 environment*, computed under the assumption n = v = r::
 
     P(n; alpha) = integral of L(l) D(h) (n.l) dl / Z(alpha),
     Z(alpha) = integral of D(h) (n.l) dl,   h = normalize(n + l), n.l > 0,
 
-with the GGX distribution D of :func:`pbrkit.distributions.d_ggx` and
-alpha = r^2 for perceptual roughness r (:func:`pbrkit.distributions.
+with the GGX distribution D of :func:`pbrkit.brdf.distributions.d_ggx` and
+alpha = r^2 for perceptual roughness r (:func:`pbrkit.brdf.distributions.
 alpha_from_roughness`, clamped at ``ALPHA_MIN``).  This is what Karis' sample
 code (``PrefilterEnvMap``: l = reflect(v, h) for h drawn from D(h) (n.h),
 weights n.l, divided by the sum of the weights) converges to: with n = v the
@@ -34,7 +34,7 @@ number of pixels exceed and that is at least 16 times the mean radiance,
 L = min(L, T) + max(L - T, 0).
 
 - The bounded part is convolved *exactly* in the spherical-harmonic domain
-  (:mod:`pbrkit.spectral`): by the Funk-Hecke theorem the coefficients of
+  (:mod:`pbrkit.ibl.spectral`): by the Funk-Hecke theorem the coefficients of
   the convolution are f_lm lambda_l with lambda_l = 2 pi integral k(theta)
   P_l(cos theta) sin(theta) dtheta (:func:`ggx_zonal_coefficients`),
   computed by quadrature.  The series is cut at the degree L where
@@ -48,12 +48,12 @@ L = min(L, T) + max(L - T, 0).
   (:func:`merge_highlights`),
   and summed exactly: each adds E_i D(h_i) (n.l_i) / Z(alpha) to a texel
   (:func:`add_highlights`, by :func:`point_lobe_sum`, which also sums the
-  brute-force references here and in :mod:`pbrkit.irradiance`).
+  brute-force references here and in :mod:`pbrkit.ibl.irradiance`).
 
 The alternative :func:`prefilter_fis` is filtered importance sampling
 (Krivanek & Colbert, "Real-time Shading with Filtered Importance Sampling",
 EGSR 2008; GPU Gems 3, ch. 20, "GPU-Based Importance Sampling", sec. 20.4)
-of a solid-angle-weighted mip pyramid (:func:`pbrkit.cubemap.
+of a solid-angle-weighted mip pyramid (:func:`pbrkit.ibl.cubemap.
 build_mip_pyramid`), with Hammersley points (:func:`pbrkit.sampling.
 hammersley`) warped by GGX NDF sampling (:func:`pbrkit.sampling.
 warp_ggx_ndf`; Walter et al. 2007, eqs. 35-36), each looked up trilinearly at
@@ -195,7 +195,7 @@ def ggx_lobe_normalization(alpha):
 def ggx_prefilter_kernel(theta, alpha):
     """Unnormalised split-sum prefilter kernel D(n.h) (n.l) for l at angle
     theta from n = v: n.h = cos(theta / 2), n.l = cos(theta), zero for
-    theta >= pi / 2 (module doc; D = :func:`pbrkit.distributions.d_ggx`).
+    theta >= pi / 2 (module doc; D = :func:`pbrkit.brdf.distributions.d_ggx`).
     Its integral over the sphere is :func:`ggx_lobe_normalization`."""
     c = np.cos(theta)
     return select(c > 0.0, d_ggx(np.cos(0.5 * theta), alpha) * c, 0.0)
@@ -205,7 +205,7 @@ def ggx_prefilter_kernel(theta, alpha):
 def cube_texel_density(sc, tc):
     """(1 + sc^2 + tc^2)^(-3/2): solid angle per unit area of the face plane
     at face coordinates (sc, tc), the integrand of
-    :func:`pbrkit.cubemap.cube_patch_solid_angle` (R. Driscoll, "Cubemap
+    :func:`pbrkit.ibl.cubemap.cube_patch_solid_angle` (R. Driscoll, "Cubemap
     texel solid angle", 2012).  A texel of an N x N face there subtends
     about (2 / N)^2 times this."""
     q = 1.0 + sc * sc + tc * tc
@@ -215,7 +215,7 @@ def cube_texel_density(sc, tc):
 def ggx_zonal_coefficients(alpha, lmax):
     """Funk-Hecke coefficients lambda_0..lambda_L of the normalised
     prefilter kernel :func:`ggx_prefilter_kernel` / Z (lambda_0 = 1), by
-    :func:`pbrkit.spectral.zonal_coefficients` with panels graded towards
+    :func:`pbrkit.ibl.spectral.zonal_coefficients` with panels graded towards
     the lobe's width 2 alpha.  Returns (lambda, Z by quadrature)."""
     alpha = float(alpha)
     return zonal_coefficients(lambda t: ggx_prefilter_kernel(t, alpha), lmax, theta_max=0.5 * math.pi,
@@ -277,7 +277,7 @@ def equirect_highlights(image, max_count=None, ratio=HIGHLIGHT_RATIO):
     least 16), every pixel whose largest channel exceeds T becomes a point
     at its centre with energy max(L - T, 0) times its exact cell solid
     angle.  The bounded part is min(L, T) (not formed here: a large input
-    is clamped band by band, :func:`pbrkit.spectral.halve_equirect`)."""
+    is clamped band by band, :func:`pbrkit.ibl.spectral.halve_equirect`)."""
     from .equirect import equirect_directions, equirect_solid_angles
 
     img = np.asarray(image)
@@ -345,7 +345,7 @@ def merge_highlights(highlights, size, max_points=4096):
 
 
 #: Zonal lobes k(n.l) of :func:`point_lobe_sum`: the clamped cosine max(0, n.l)
-#: (irradiance, :mod:`pbrkit.irradiance`) and the split-sum GGX kernel
+#: (irradiance, :mod:`pbrkit.ibl.irradiance`) and the split-sum GGX kernel
 #: D(n.h) (n.l) on n.l > 0 with n.h = sqrt((1 + n.l) / 2) (h bisects n = v and l;
 #: :func:`ggx_prefilter_kernel` as a function of n.l).
 LOBE_COSINE = 0
@@ -388,9 +388,9 @@ def point_lobe_sum(out, directions, points, values, lobe, alpha=1.0, scale=1.0, 
     lobe k of :data:`LOBE_COSINE` or :data:`LOBE_GGX` (of ``alpha``); with
     ``normalise``, out[k] (zero on entry) is then divided by sum_i w_i.  The
     exact highlight sums (:func:`add_highlights`,
-    :func:`pbrkit.irradiance.add_cosine_highlights`) and the brute-force
+    :func:`pbrkit.ibl.irradiance.add_cosine_highlights`) and the brute-force
     references (:func:`prefilter_reference`,
-    :func:`pbrkit.irradiance.irradiance_reference`) are this sum."""
+    :func:`pbrkit.ibl.irradiance.irradiance_reference`) are this sum."""
     if points.shape[0]:
         weights = np.ones(points.shape[0]) if weights is None else np.ascontiguousarray(weights, dtype=np.float64)
         _point_lobe_kernel(np.ascontiguousarray(directions, dtype=np.float64), np.ascontiguousarray(points),
@@ -414,7 +414,7 @@ def add_highlights(out, directions, points, energies, alpha):
 def prefilter_spectral(coeffs, highlights, size, levels, grid_factor=2.0, progress=None):
     """Levels 1..M-1 of the prefiltered chain (module doc) from the
     spherical-harmonic coefficients ``coeffs`` (L + 1, L + 1, C) of the
-    bounded environment (:func:`pbrkit.spectral.analyse_equirect`) and its
+    bounded environment (:func:`pbrkit.ibl.spectral.analyse_equirect`) and its
     :class:`Highlights`: level m is (6, size >> m, size >> m, C) float32
     for roughness :func:`roughness_of_level` (m, levels).  Each level's
     series is synthesised on an equirect grid of grid_factor * L + 2 rows
@@ -475,10 +475,10 @@ class SampleSet:
 def sample_set(roughness, count, bias=1.0):
     """The filtered-importance-sampling pattern (module doc) of ``count``
     Hammersley points for perceptual roughness ``roughness``: h from
-    :func:`pbrkit.sampling.warp_ggx_ndf` with alpha = max(r^2, ALPHA_MIN),
-    l = reflect(n, h) (:func:`pbrkit.sampling.reflect_xyz`, v = n = +z), the
-    pdf of l from :func:`pbrkit.sampling.pdf_light_from_half` of
-    :func:`pbrkit.sampling.pdf_ggx_ndf` (D / 4 here) and Omega_s =
+    :func:`pbrkit.sampling.warps.warp_ggx_ndf` with alpha = max(r^2, ALPHA_MIN),
+    l = reflect(n, h) (:func:`pbrkit.sampling.warps.reflect_xyz`, v = n = +z), the
+    pdf of l from :func:`pbrkit.sampling.warps.pdf_light_from_half` of
+    :func:`pbrkit.sampling.warps.pdf_ggx_ndf` (D / 4 here) and Omega_s =
     1 / (count pdf); ``bias`` 1 is Krivanek & Colbert's."""
     count = checks.integer(count, "sample count", 1, 1 << 20)
     roughness = float(roughness)
@@ -508,9 +508,9 @@ def default_sample_counts(levels, first=64):
 @parallel_kernel
 def _fis_kernel(dirs, l, weight, lod_offset, lod_base, data, offsets, sizes, out):
     """out[k] = sum_s w_s L(R_k l_s, lod_s) / sum_s w_s for each texel k with
-    frame R_k = (t, b, n) (:func:`pbrkit.vec.orthonormal_basis_xyz`); L is the
+    frame R_k = (t, b, n) (:func:`pbrkit.core.vec.orthonormal_basis_xyz`); L is the
     trilinear lookup of the bordered pyramid (``data``, ``offsets``, ``sizes``
-    of :class:`pbrkit.cubemap.CubeSampler`, :func:`pbrkit.cubemap._trilinear_add`)
+    of :class:`pbrkit.ibl.cubemap.CubeSampler`, :func:`pbrkit.ibl.cubemap._trilinear_add`)
     and lod_s = lod_offset_s - 0.5 (lod_base + log2 density), i.e.
     0.5 log2(Omega_s / Omega_p) + bias."""
     channels = out.shape[1]
@@ -540,7 +540,7 @@ def _flat_dirs(directions):
 def prefilter_level(sampler, directions, samples):
     """Filtered-importance-sampling estimate (module doc) at unit
     ``directions`` (..., 3) -> (..., C) float64.  ``sampler`` is a
-    :class:`pbrkit.cubemap.CubeSampler` of a mip pyramid whose levels halve
+    :class:`pbrkit.ibl.cubemap.CubeSampler` of a mip pyramid whose levels halve
     from N; ``samples`` a :class:`SampleSet`."""
     dirs, shape = _flat_dirs(directions)
     out = np.empty((dirs.shape[0], sampler.channels))
@@ -593,8 +593,8 @@ def prefilter_reference(cube, directions, roughness):
     """Brute-force prefiltered radiance at ``directions`` (..., 3): the ratio
     of the module doc as a sum over *every* texel i of ``cube``
     (6, N, N, C), with its centre direction l_i and exact solid angle
-    Omega_i (:func:`pbrkit.cubemap.cube_texel_solid_angles`),
-    n.h_i = sqrt((1 + n.l_i) / 2) and D = :func:`pbrkit.distributions.d_ggx`
+    Omega_i (:func:`pbrkit.ibl.cubemap.cube_texel_solid_angles`),
+    n.h_i = sqrt((1 + n.l_i) / 2) and D = :func:`pbrkit.brdf.distributions.d_ggx`
     with alpha = max(r^2, ALPHA_MIN), normalised by the same sum of weights
     (:func:`point_lobe_sum`).  O(directions x 6 N^2); for tests and
     benchmarks.  Returns (..., C)."""

@@ -250,7 +250,7 @@ def project_equirect(image):
     with W = 2 H (or (9,) for (H, W)), the image taken as piecewise constant
     over its pixels' cells (CONVENTIONS.md: row 0 = +Y, cell (i, j) spans
     theta in pi [i, i + 1] / H and phi in 2 pi [j, j + 1] / W - pi; the model
-    of :func:`pbrkit.envmap.equirect_to_cube`).
+    of :func:`pbrkit.ibl.equirect.equirect_to_cube`).
 
     L_lm = sum over cells of L_ij times the exact integral of Y_lm over the
     cell.  With d = (sin theta cos phi, cos theta, sin theta sin phi) every
@@ -295,7 +295,7 @@ def project_cube(cube):
     """Radiance SH coefficients (9, C) of a cube map (6, N, N, C), faces
     +X, -X, +Y, -Y, +Z, -Z (CONVENTIONS.md "Cube maps"), each texel weighted
     by its exact solid angle.  Texel directions and solid angles come from
-    :mod:`pbrkit.cubemap` (``cube_texel_directions``,
+    :mod:`pbrkit.ibl.cubemap` (``cube_texel_directions``,
     ``cube_texel_solid_angles``)."""
     c = np.asarray(cube, dtype=float)
     if c.ndim not in (3, 4) or c.shape[0] != 6 or c.shape[1] != c.shape[2]:

@@ -1,9 +1,9 @@
 """Spherical harmonic transforms of equirectangular images and convolution
 with zonal (rotationally symmetric) kernels, to high degree.
 
-:mod:`pbrkit.sh` holds the 9-coefficient real SH of the conventions; this
+:mod:`pbrkit.ibl.sh` holds the 9-coefficient real SH of the conventions; this
 module is the general machinery behind the specular prefilter
-(:mod:`pbrkit.prefilter`): a band-limited function on the sphere convolved
+(:mod:`pbrkit.ibl.prefilter`): a band-limited function on the sphere convolved
 with a kernel k(n.l) is, by the Funk-Hecke theorem, the function whose
 coefficients are f_lm lambda_l, with lambda_l = 2 pi integral_{-1}^{1} k(t)
 P_l(t) dt (e.g. Ramamoorthi & Hanrahan 2001, eq. 6, for the cosine kernel;
@@ -32,7 +32,7 @@ are below 1e-300).  A real function has f_{l,-m} = (-1)^m conj(f_lm), so
 only m >= 0 is stored: arrays (L + 1, L + 1, C) complex indexed [l, m, c].
 
 Analysis (:func:`analyse_equirect`) treats the image as piecewise constant
-over its cells (as :func:`pbrkit.envmap.equirect_to_cube` does): the integral
+over its cells (as :func:`pbrkit.ibl.equirect.equirect_to_cube` does): the integral
 of e^{-i m phi} over a column is exact (a sinc factor), the integral of
 Pbar_lm over a row band in cos(theta) uses 2-point Gauss-Legendre, exact for
 cubics, with an error of order (l pi / H)^4 / 4320 for degree l on H rows.

@@ -89,7 +89,7 @@ _HEADER_SIZE = 4 + 124 + 20
 
 def dxgi_format_code(dxgi_format):
     """DXGI_FORMAT code of ``dxgi_format``: an int, or a name with or without
-    the ``DXGI_FORMAT_`` prefix.  Raises :class:`~pbrkit.errors.InputError` (a ``ValueError``) for unsupported ones."""
+    the ``DXGI_FORMAT_`` prefix.  Raises :class:`~pbrkit.core.errors.InputError` (a ``ValueError``) for unsupported ones."""
     return format_code(dxgi_format, DXGI_FORMATS, _BY_CODE, "DXGI_FORMAT_", "DXGI format")
 
 
@@ -149,7 +149,7 @@ def dds_bytes(levels, dxgi_format, cube=False):
 def write_dds(path, levels, dxgi_format, cube=False):
     """Write a DDS file (DX10 header) of float texels and return ``path``.
 
-    ``levels`` as in :func:`pbrkit.ktx2.write_ktx2`: level 0 first, (H, W, C)
+    ``levels`` as in :func:`pbrkit.io.ktx2.write_ktx2`: level 0 first, (H, W, C)
     for 2D or (6, N, N, C) for a cube map (+X, -X, +Y, -Y, +Z, -Z).
     ``dxgi_format`` is a code or name from :data:`DXGI_FORMATS` (e.g. 10 or
     "R16G16B16A16_FLOAT"); RGB input gets alpha 1 for RGBA formats.
@@ -255,7 +255,7 @@ def read_dds(path):
     DX10 fields, ``formatName``) and the images as float32 arrays, level 0
     first, (H, W, C) or (6, N, N, C) for a cube map.  Strict: magic, sizes,
     FOURCC, flags and caps, DX10 fields, pitch and the exact file length are
-    checked; a violation raises :class:`~pbrkit.errors.InputError` (a
+    checked; a violation raises :class:`~pbrkit.core.errors.InputError` (a
     ``ValueError``) naming the file.
     """
     return read_container(path, parse_dds)

@@ -51,7 +51,7 @@ class Environment:
     def to_cube(self, size):
         """Cube map (6, size, size, 3): exact area-weighted resampling of an
         equirect source (:func:`equirect_to_cube`), or
-        :func:`pbrkit.cubemap.resample_cube` of a cube source."""
+        :func:`pbrkit.ibl.cubemap.resample_cube` of a cube source."""
         if self.cube is not None:
             return resample_cube(self.cube, size)
         return equirect_to_cube(self.equirect, size)
@@ -150,13 +150,13 @@ def load_environment(path_or_paths, fix_nonfinite=False, layout=None):
 
     ``path_or_paths`` is one image file (equirectangular with W = 2H, or a
     4:3 ``"hcross"`` / 3:4 ``"vcross"`` cube cross, see
-    :mod:`pbrkit.cubemap`), or a sequence of six square face files of equal
+    :mod:`pbrkit.ibl.cubemap`), or a sequence of six square face files of equal
     size in the order +X, -X, +Y, -Y, +Z, -Z (each oriented as a face of the
     cube array: row 0 = t = 0).  ``layout`` forces ``"equirect"``,
     ``"hcross"`` or ``"vcross"`` for a single file instead of deciding by
-    aspect ratio.  Formats: see :mod:`pbrkit.imageio` (LDR files warn).
+    aspect ratio.  Formats: see :mod:`pbrkit.io.images` (LDR files warn).
 
-    Problems raise :class:`pbrkit.errors.InputError` (a ``ValueError``) with a
+    Problems raise :class:`pbrkit.core.errors.InputError` (a ``ValueError``) with a
     one-line message naming the file: unreadable, truncated or corrupt
     files, zero or absurd sizes, an aspect ratio that fits no layout, faces
     of different or non-square sizes, non-finite samples (with their count;

@@ -29,28 +29,6 @@
 
 The relative rounding error of normal numbers is at most 2^-(m+1):
 2^-7 for the 11-bit and 2^-6 for the 10-bit channel.
-
-
-from __future__ import annotations
-
-import math
-import os
-import warnings
-
-import numpy as np
-
-from .errors import InputError
-
-__all__ = [
-    "RangeWarning",
-    "FLOAT16_MAX",
-    "UF11_MAX",
-    "UF10_MAX",
-    "to_float16",
-    "float_to_ufloat",
-    "ufloat_to_float",
-    "pack_b10g11r11",
-    "unpack_b10g11r11",
 """
 
 from __future__ import annotations

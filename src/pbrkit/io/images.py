@@ -1,12 +1,12 @@
 """Reading and writing the image files pbrkit consumes and produces.
 
 Every reader returns linear float32 pixels of shape (H, W, C), row 0 at the
-top, and raises :class:`pbrkit.errors.InputError` (a ``ValueError``) with a
+top, and raises :class:`pbrkit.core.errors.InputError` (a ``ValueError``) with a
 one-line ``"<file>: <problem>"`` message for anything it cannot read: a
 missing, unreadable, truncated or corrupt file, an unknown format, or a size
 that is zero or larger than :data:`MAX_SIDE` on a side (checked from the
 header, before any pixel memory is allocated).  Readers do not judge pixel
-values (NaN, Inf, negatives); :func:`pbrkit.envmap.load_environment` does.
+values (NaN, Inf, negatives); :func:`pbrkit.io.environment.load_environment` does.
 
 Formats
 -------

@@ -104,7 +104,7 @@ _ORIENTATION = "KTXorientation"
 
 def vk_format_code(vk_format):
     """VkFormat code of ``vk_format``: an int, or a name with or without the
-    ``VK_FORMAT_`` prefix.  Raises :class:`~pbrkit.errors.InputError` (a ``ValueError``) for unsupported formats."""
+    ``VK_FORMAT_`` prefix.  Raises :class:`~pbrkit.core.errors.InputError` (a ``ValueError``) for unsupported formats."""
     return format_code(vk_format, VK_FORMATS, _BY_CODE, "VK_FORMAT_", "vkFormat")
 
 
@@ -252,7 +252,7 @@ def write_ktx2(path, levels, vk_format, cube=False, key_values=None):
     ``vk_format`` is a code or name from :data:`VK_FORMATS` (e.g. 97 or
     "R16G16B16A16_SFLOAT"); RGB input gets alpha 1 for RGBA formats.
     Float16 formats round to nearest even and clamp at +-65504 (with a
-    warning), B10G11R11 follows the Vulkan rules (:mod:`pbrkit.halfpack`).
+    warning), B10G11R11 follows the Vulkan rules (:mod:`pbrkit.io.float_packing`).
     ``key_values`` maps extra keys to str (stored as NUL-terminated UTF-8) or
     bytes; keys starting with "KTX"/"ktx" are reserved.  ``KTXorientation``
     = "rd" and ``KTXwriter`` = "pbrkit <version>" are always written.
@@ -497,7 +497,7 @@ def read_ktx2(path):
     The parser is strict: identifier, header consistency, section offsets
     and lengths, DFD contents for the format, key order and padding, level
     order, alignment, zero padding and the exact file length are checked;
-    any violation raises :class:`~pbrkit.errors.InputError` (a
+    any violation raises :class:`~pbrkit.core.errors.InputError` (a
     ``ValueError``) naming the file.
     """
     return read_container(path, parse_ktx2)

@@ -2,7 +2,7 @@
 backdrop, and importance sampling of the piecewise-constant equirect map.
 
 The environment seen by the ground truth is the piecewise-constant
-equirect image (nearest texel, the function :func:`pbrkit.envmap.
+equirect image (nearest texel, the function :func:`pbrkit.ibl.equirect.
 equirect_to_cube` integrates), rotated and scaled as the scene says.
 
 The environment is importance sampled from the piecewise-constant equirect
@@ -124,7 +124,7 @@ class EnvironmentLight:
     ``radiance``: the piecewise-constant equirect (H, 2H, 3) float64, times the
     intensity; ``rotation`` (degrees about +Y).  The luminance distribution for
     importance sampling (module docstring) is built on first use.
-    ``environment``: the :class:`pbrkit.envmap.Environment` to bake (None for a
+    ``environment``: the :class:`pbrkit.io.environment.Environment` to bake (None for a
     bake directory, whose :class:`Bake` is ``bake_data``)."""
 
     def __init__(self, spec, equirect_height=None):
@@ -216,7 +216,7 @@ class EnvironmentLight:
                         axis=-1)
 
     def bake(self, size=256, irradiance_size=32, lut_size=128, **options):
-        """The IBL bake (:func:`pbrkit.bake.bake`) of the un-scaled environment (the
+        """The IBL bake (:func:`pbrkit.ibl.bake.bake`) of the un-scaled environment (the
         renderer multiplies by the intensity), cached.  The chain goes down to
         ``min_size`` = min(16, size / 4) unless given (at least 3 levels)."""
         if self.bake_data is None:

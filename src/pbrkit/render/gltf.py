@@ -59,7 +59,7 @@ class Mesh:
 class GltfAsset:
     meshes: list
     materials: list      # SurfaceMaterial
-    lights: list         # pbrkit.lights.Light
+    lights: list         # pbrkit.render.lights.Light
     notes: list
 
 
@@ -301,7 +301,7 @@ def load_gltf(path, transform=None):
     """Read a glTF 2.0 file into world-space triangle meshes, materials and lights.
 
     ``transform`` (4 x 4) is applied on top of the file's node transforms.
-    Problems raise :class:`pbrkit.errors.InputError` naming the file."""
+    Problems raise :class:`pbrkit.core.errors.InputError` naming the file."""
     reader = _GltfReader(path)
     g = reader.g
     top = np.eye(4) if transform is None else np.asarray(transform, dtype=float)

@@ -14,29 +14,19 @@ from ..brdf.bxdf import (
     FRESNELS,
     MASKINGS,
     MODELS,
-    P_ANISOTROPY,
     P_BASE_COLOR,
-    P_CLEARCOAT,
-    P_CLEARCOAT_GLOSS,
-    P_DIELECTRIC_F0,
     P_DOUBLE_SIDED,
     P_EMISSIVE,
-    P_ETA,
-    P_K,
     P_METALLIC,
     P_ROUGHNESS,
-    P_SHEEN,
-    P_SHEEN_TINT,
     P_SPECULAR_COLOR,
-    P_SPECULAR_TINT,
-    P_SUBSURFACE,
     PARAM_COLUMNS,
     cosines,
     isotropic_cosines,
     make_bxdf,
     tangent_frame,
 )
-from ..brdf.fresnel import f0_from_reflectance
+from ..brdf.models import parameter_rows
 from ..core.jit import dual_use
 
 __all__ = ["material_tables", "hit_bxdf", "hit_cosines"]
@@ -56,23 +46,13 @@ def material_tables(materials):
         s = sm.spec
         codes[i] = (MODELS.index(s.model), DISTRIBUTIONS.index(s.distribution), MASKINGS.index(s.masking),
                     FRESNELS.index(s.fresnel), DIFFUSES.index(s.diffuse))
-        params[i, P_DIELECTRIC_F0] = f0_from_reflectance(s.reflectance)
-        if s.eta is not None:
-            params[i, P_ETA:P_ETA + 3] = s.eta
-            params[i, P_K:P_K + 3] = s.k
+        params[i] = parameter_rows(s.material())[0]
         params[i, P_SPECULAR_COLOR:P_SPECULAR_COLOR + 3] = s.specular_color
         params[i, P_BASE_COLOR:P_BASE_COLOR + 3] = s.base_color
         params[i, P_METALLIC] = s.metallic
         params[i, P_ROUGHNESS] = s.roughness
         params[i, P_EMISSIVE:P_EMISSIVE + 3] = s.emissive
         params[i, P_DOUBLE_SIDED] = 1.0 if s.double_sided else 0.0
-        params[i, P_ANISOTROPY] = s.anisotropy
-        params[i, P_SUBSURFACE] = s.subsurface
-        params[i, P_SPECULAR_TINT] = s.specular_tint
-        params[i, P_SHEEN] = s.sheen
-        params[i, P_SHEEN_TINT] = s.sheen_tint
-        params[i, P_CLEARCOAT] = s.clearcoat
-        params[i, P_CLEARCOAT_GLOSS] = s.clearcoat_gloss
     return codes, params
 
 

@@ -1,12 +1,12 @@
 """Real-time rendering (:func:`render_realtime`) is what an engine does with a bake
-(:mod:`pbrkit.bake`): punctual lights evaluated with the model (with exact
+(:mod:`pbrkit.ibl.bake`): punctual lights evaluated with the model (with exact
 shadow rays, as an ideal shadow map), plus split-sum image-based lighting
 (Karis 2013, "Real Shading in Unreal Engine 4", "Image based lighting"):
 
 - specular: the prefiltered chain sampled trilinearly (seam-aware,
-  :class:`pbrkit.cubemap.CubeSampler`) in the mirror direction
+  :class:`pbrkit.ibl.cubemap.CubeSampler`) in the mirror direction
   R = 2 (n.v) n - v at the fractional level ``level_of_roughness(r, M)``,
-  times the DFG table (:mod:`pbrkit.tables`, texel centres, bilinear, clamp)
+  times the DFG table (:mod:`pbrkit.albedo.tables`, texel centres, bilinear, clamp)
   as lerp(DFG1, DFG2, F0) = DFG1 + F0 (DFG2 - DFG1) (Filament sec. 5.3.4.3;
   f90 = 1).  The table's visibility matches the material's masking
   (height-correlated: the bake's table; separable; Schlick-GGX with
@@ -15,10 +15,10 @@ shadow rays, as an ideal shadow map), plus split-sum image-based lighting
   ``exact-conductor``, the constant colour S for ``fresnel = "none"``, where
   the albedo is S DFG2).  Optional energy compensation multiplies the
   specular lobes by 1 + F0 (1 / DFG2 - 1) (Filament sec. 4.7.2,
-  :func:`pbrkit.tables.filament_energy_compensation`).
+  :func:`pbrkit.albedo.tables.filament_energy_compensation`).
 - diffuse: base_color / pi * E(n) * k_d with k_d = (1 - F*)(1 - metallic)
-  (:func:`pbrkit.diffuse.kd_ibl`; seed 000) and E from the bake's SH
-  (:func:`pbrkit.sh.irradiance_from_sh`) or its irradiance cube.
+  (:func:`pbrkit.brdf.diffuse.kd_ibl`; seed 000) and E from the bake's SH
+  (:func:`pbrkit.ibl.sh.irradiance_from_sh`) or its irradiance cube.
 - the glTF occlusion texture scales both IBL terms; emission is added.
 
 Known approximations of the real-time path (what ``compare`` measures):
@@ -58,6 +58,7 @@ from ..brdf.bxdf import (
 )
 from ..brdf.diffuse import kd_ibl
 from ..brdf.fresnel import f0_conductor, f_schlick
+from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, parallel_kernel
 from ..core.quadrature import gauss_legendre_01
 from .environment import EnvironmentLight
@@ -183,10 +184,9 @@ def sheen_albedo_table(size=64, nodes=64):
 
 @dual_use
 def _sheen_lookup(table, nov):
-    x = min(max(nov * table.shape[0] - 0.5, 0.0), table.shape[0] - 1.0)
-    i0 = min(int(x), table.shape[0] - 2) if table.shape[0] > 1 else 0
-    f = x - i0
-    return table[i0] * (1.0 - f) + table[min(i0 + 1, table.shape[0] - 1)] * f
+    # linear between texel centres, clamp to edge (pbrkit.core.filtering.texel_pair)
+    i0, i1, f = texel_pair(nov * table.shape[0] - 0.5, table.shape[0], CLAMP_TO_EDGE)
+    return table[i0] * (1.0 - f) + table[i1] * f
 
 
 @parallel_kernel

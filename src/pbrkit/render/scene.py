@@ -116,7 +116,7 @@ __all__ = [
     "bundled_environment",
 ]
 
-#: Shading models a scene material may name (those of :mod:`pbrkit.models`).
+#: Shading models a scene material may name (those of :mod:`pbrkit.brdf.models`).
 SHADING_MODELS = MODELS
 BUILTIN_SCENES = ("spheres", "sphere")
 
@@ -270,7 +270,7 @@ class MaterialSpec:
     parallels about +Y (:func:`pbrkit.brdf.bxdf.tangent_frame`).  ``subsurface``,
     ``specular_tint``, ``sheen``, ``sheen_tint``, ``clearcoat`` and
     ``clearcoat_gloss`` are Disney's (model ``disney`` only).
-    ``conductor`` names a metal of :data:`pbrkit.fresnel.CONDUCTORS`: it sets
+    ``conductor`` names a metal of :data:`pbrkit.brdf.fresnel.CONDUCTORS`: it sets
     eta and k, metallic 1 and base_color = the exact Fresnel reflectance at
     normal incidence (as :meth:`pbrkit.Material.conductor`).
     """
@@ -590,7 +590,7 @@ def _kwargs(where, table, allowed):
 
 def load_scene(path):
     """Read a scene file (``.toml`` or ``.json``).  Problems raise
-    :class:`pbrkit.errors.InputError` (a ``ValueError``) with one line naming the file."""
+    :class:`pbrkit.core.errors.InputError` (a ``ValueError``) with one line naming the file."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):

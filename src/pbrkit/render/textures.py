@@ -83,7 +83,7 @@ class TextureRef:
 
 @dataclass
 class SurfaceMaterial:
-    """A material as the renderer uses it: the :class:`pbrkit.scene.MaterialSpec`
+    """A material as the renderer uses it: the :class:`pbrkit.render.scene.MaterialSpec`
     (factors, model and terms) and optional glTF textures."""
 
     spec: MaterialSpec

@@ -1,9 +1,9 @@
 """Warps** from the unit square u = (u1, u2) in [0, 1]^2 to directions, each
   with the solid-angle pdf of the direction it returns.  Directions are in the
-  local shading frame of pbrt-v4 (:mod:`pbrkit.vec`): the normal is +z, x is
+  local shading frame of pbrt-v4 (:mod:`pbrkit.core.vec`): the normal is +z, x is
   the tangent and y the bitangent.
 
-Every warp exists as a :func:`pbrkit._jit.term` core ``warp_*(u1, u2, ...)``
+Every warp exists as a :func:`pbrkit.core.jit.dual_use` core ``warp_*(u1, u2, ...)``
 that takes scalars or arrays and returns a tuple of components (usable inside
 Numba kernels), and as a thin NumPy wrapper ``sample_*(u, ...)`` taking ``u``
 of shape (..., 2) and returning (..., 3) unit vectors (``(..., 2)`` for the
@@ -12,13 +12,13 @@ docstring (cosines, or components for anisotropic lobes).
 
 Roughness: every microfacet warp takes the distribution's alpha, *not*
 perceptual roughness; map r to alpha with
-:func:`pbrkit.distributions.alpha_from_roughness` (alpha = r^2) or the model's
+:func:`pbrkit.brdf.distributions.alpha_from_roughness` (alpha = r^2) or the model's
 own remap.  No remap is applied here.  The pdfs are built from the D and Lambda
-terms of :mod:`pbrkit.distributions` and :mod:`pbrkit.masking`.
+terms of :mod:`pbrkit.brdf.distributions` and :mod:`pbrkit.brdf.masking`.
 
 Degenerate input is guarded: for u anywhere in [0, 1]^2 (including the edges)
 and any view direction, no warp returns NaN or Inf for alpha > 0 up to 1e20,
-and no pdf does for alpha from ``pbrkit.distributions.ALPHA_MIN`` up (the D
+and no pdf does for alpha from ``pbrkit.brdf.distributions.ALPHA_MIN`` up (the D
 terms themselves overflow at the peak for alpha below ~1e-8).
 """
 
@@ -324,14 +324,14 @@ def pdf_cosine_hemisphere(cos_theta):
 @dual_use
 def pdf_ggx_ndf(noh, alpha):
     """pdf of :func:`warp_ggx_ndf` w.r.t. the solid angle of h: D_GGX(h) (n.h)
-    (Walter et al. 2007, eq. 24 with the D of eq. 33, :func:`pbrkit.distributions.d_ggx`)."""
+    (Walter et al. 2007, eq. 24 with the D of eq. 33, :func:`pbrkit.brdf.distributions.d_ggx`)."""
     return d_ggx(noh, alpha) * np.maximum(noh, 0.0)
 
 
 @dual_use
 def pdf_ggx_ndf_anisotropic(hx, hy, hz, alpha_x, alpha_y):
     """pdf of :func:`warp_ggx_ndf_anisotropic`: D_GGX,aniso(h) (n.h) for h = (hx, hy, hz)
-    in the local frame (:func:`pbrkit.distributions.d_ggx_anisotropic`, Heitz 2014 eq. 85)."""
+    in the local frame (:func:`pbrkit.brdf.distributions.d_ggx_anisotropic`, Heitz 2014 eq. 85)."""
     return d_ggx_anisotropic(hz, hx, hy, alpha_x, alpha_y) * np.maximum(hz, 0.0)
 
 
@@ -343,8 +343,8 @@ def pdf_ggx_vndf_anisotropic(wox, woy, woz, hx, hy, hz, alpha_x, alpha_y):
     Sampling Microfacet-Based BSDFs using the Distribution of Visible Normals",
     EGSR 2014; Heitz 2018, eq. 3): D_wo(h) = G1(wo) max(0, wo.h) D(h) / wo.z with the
     exact Smith G1 = 1 / (1 + Lambda(wo)) of
-    :func:`pbrkit.masking.lambda_ggx_anisotropic` and D of
-    :func:`pbrkit.distributions.d_ggx_anisotropic`.  A view with wo.z < 0 is
+    :func:`pbrkit.brdf.masking.lambda_ggx_anisotropic` and D of
+    :func:`pbrkit.brdf.distributions.d_ggx_anisotropic`.  A view with wo.z < 0 is
     mirrored to -wo, matching the sampler.  wo.z is clamped at 1e-8 (the clamp
     Lambda uses), so a grazing view gives the finite limit.
     """
@@ -362,8 +362,8 @@ def pdf_ggx_vndf_anisotropic(wox, woy, woz, hx, hy, hz, alpha_x, alpha_y):
 def pdf_ggx_vndf(nov, noh, voh, alpha):
     """pdf of :func:`warp_ggx_vndf`: D_wo(h) = G1(wo) max(0, wo.h) D(h) / wo.z
     (Heitz 2018, eq. 3) with the exact isotropic Smith G1 (Lambda of
-    :func:`pbrkit.masking.lambda_ggx`, Heitz 2014 eq. 72) and
-    :func:`pbrkit.distributions.d_ggx`.  Arguments are n.wo, n.h and wo.h; a view
+    :func:`pbrkit.brdf.masking.lambda_ggx`, Heitz 2014 eq. 72) and
+    :func:`pbrkit.brdf.distributions.d_ggx`.  Arguments are n.wo, n.h and wo.h; a view
     below the surface (n.wo < 0) is mirrored, matching the sampler."""
     flip = nov < 0.0
     c = np.abs(nov)
@@ -375,14 +375,14 @@ def pdf_ggx_vndf(nov, noh, voh, alpha):
 @dual_use
 def pdf_beckmann_ndf(noh, alpha):
     """pdf of :func:`warp_beckmann_ndf`: D_Beckmann(h) (n.h) (Walter et al. 2007, eqs. 24-25,
-    :func:`pbrkit.distributions.d_beckmann`)."""
+    :func:`pbrkit.brdf.distributions.d_beckmann`)."""
     return d_beckmann(noh, alpha) * np.maximum(noh, 0.0)
 
 
 @dual_use
 def pdf_gtr1_ndf(noh, alpha):
     """pdf of :func:`warp_gtr1_ndf`: D_GTR1(h) (n.h) (Burley 2012, Appendix B.2,
-    :func:`pbrkit.distributions.d_gtr1`)."""
+    :func:`pbrkit.brdf.distributions.d_gtr1`)."""
     return d_gtr1(noh, alpha) * np.maximum(noh, 0.0)
 
 
