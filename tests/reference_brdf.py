@@ -168,10 +168,11 @@ def urp_specular_term(cos_h, sin2_h, loh, alpha):
 # ---------------------------------------------------------------- albedos
 
 
-def _lobe_nodes(mu, r, rule):
+def _lobe_nodes(mu, r, rule, clamp=True):
     """alpha, v, and the light directions l (N, 3), weights (N,) (n.l included) and
-    half vectors h (N, 3) of the nodes that reflect v above the horizon."""
-    alpha = alpha_of(r)
+    half vectors h (N, 3) of the nodes that reflect v above the horizon.  ``clamp``:
+    alpha = max(r^2, ALPHA_MIN) as shading does, else r^2 as the lookup tables do."""
+    alpha = alpha_of(r) if clamp else float(r) ** 2
     v = view_direction(mu)
     l, w = albedo_nodes(v, alpha, **(rule or {}))
     keep = w > 0.0
@@ -194,6 +195,19 @@ def ggx_albedo(mu, r, f0=(), rule=None):
     return float(np.sum(fcos)), np.sum(fresnel_schlick(voh[None, :], f0[:, None]) * fcos, axis=-1)
 
 
+def split_sum_terms(mu, r, rule=None):
+    """(A, B) of Karis' split sum (Schlick-GGX k = alpha / 2) at alpha = r^2 unclamped,
+    the roughness the lookup tables integrate (their row 0 lies below ALPHA_MIN)."""
+    alpha, v, l, w, h = _lobe_nodes(mu, r, rule, clamp=False)
+    nol = l[:, 2]
+    voh = np.clip(h @ v, 0.0, 1.0)
+    k = 0.5 * alpha
+    g = g1_schlick(nol, k) * g1_schlick(mu, k)
+    weight = w * d_ggx(h[:, 2], h[:, 0] ** 2 + h[:, 1] ** 2, alpha) * g / (4.0 * nol * mu)
+    fc = fresnel_schlick(voh, 0.0)
+    return float(np.sum(weight * (1.0 - fc))), float(np.sum(weight * fc))
+
+
 def albedo_terms(mu, r, rule=None):
     """Directional albedos (integral of f (n.l) dl) at n.v = mu, roughness r.
 
@@ -201,7 +215,7 @@ def albedo_terms(mu, r, rule=None):
 
     - ``A``, ``B``: split-sum scale and bias with Schlick-GGX k = alpha / 2
       (Karis 2013), i.e. integral of D G (1 - Fc) / (4 n.v) and of D G Fc / (4 n.v),
-      Fc = (1 - v.h)^5;
+      Fc = (1 - v.h)^5, at the tables' unclamped alpha = r^2 (:func:`split_sum_terms`);
     - ``hc_*``: GGX with height-correlated Smith G2 = 1 / (1 + Lambda_l + Lambda_v)
       (Heitz 2014, eq. 99) and Fresnel ``schlick004`` / ``pow4_004`` / ``sg004``
       (f0 = 0.04), ``dielectric`` (exact, IOR 1.5), ``schlick1`` (f0 = 1),
@@ -227,9 +241,11 @@ def albedo_terms(mu, r, rule=None):
     g_ue4 = g1_schlick(nol, k_ue4) * g1_schlick(mu, k_ue4)
     fc = fresnel_schlick(voh, 0.0)  # (1 - v.h)^5
     hc = base * g_hc
+    a_table, b_table = split_sum_terms(mu, r, rule) if float(r) ** 2 < ALPHA_MIN else (
+        float(np.sum(base * g_ibl * (1.0 - fc))), float(np.sum(base * g_ibl * fc)))
     out = {
-        "A": float(np.sum(base * g_ibl * (1.0 - fc))),
-        "B": float(np.sum(base * g_ibl * fc)),
+        "A": a_table,
+        "B": b_table,
         "hc_schlick1": float(np.sum(hc)),
         "hc_schlick004": float(np.sum(hc * fresnel_schlick(voh, 0.04))),
         "hc_pow4_004": float(np.sum(hc * fresnel_schlick_pow4(voh, 0.04))),

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import needs_shared_data
 from scipy.special import sph_harm_y
 
 from pbrkit.ibl.bake import Bake, bake, preview_strip
@@ -151,7 +152,7 @@ def test_fis_method_beats_plain_importance_sampling_with_a_sun(sun_env):
         assert ours < 0.2 * plain, (m, ours, plain)
 
 
-@pytest.mark.skipif(not ROOITOU.is_file(), reason=f"test environment {ROOITOU} not present (../shared/data)")
+@needs_shared_data("env/rooitou_park_1k.hdr")
 def test_specular_beats_plain_importance_sampling_on_rooitou_park():
     b = bake(ROOITOU, size=64, min_size=8, irradiance_size=4, lut_size=4)
     for m, (ours, plain) in enumerate(_level_errors(b), start=1):  # measured 1.2 %, 0.4 %, 0.3 % vs 19 %, 96 %, 238 %

@@ -44,6 +44,8 @@ CASES = [
     ("disney", "disney", {}, dict(roughness=0.5, metallic=0.3, sheen=0.6, subsurface=0.5), 0.65, 0.25),
     ("disney-coat-aniso", "disney", {}, dict(roughness=0.45, anisotropy=0.8, clearcoat=1.0, clearcoat_gloss=0.3),
      0.5, 0.8),
+    ("gltf", "gltf", {}, dict(roughness=0.4, metallic=0.35), 0.45, 0.6),
+    ("gltf-smooth-grazing", "gltf", {}, dict(roughness=0.15, metallic=0.0), 0.15, 2.2),
 ]
 N_SAMPLES = 200_000
 ALPHA_TEST = chi2.sidak_alpha(FAMILY_ALPHA, len(CASES))
@@ -119,6 +121,7 @@ def _white(model, roughness, **extra):
      0.7),
     ("filament", {}, 0.5, -0.7, 0.3),
     ("disney", {}, 0.7, 0.6, 0.8),
+    ("gltf", {}, 0.35, 0.0, 0.25),
 ])
 def test_white_furnace_with_the_models_own_sampler(model, terms, roughness, anisotropy, mu):
     """E(mu) = integral f cos = mean of the sampler's weights f cos / pdf (a metal with

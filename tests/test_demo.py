@@ -3,17 +3,16 @@
 
 from __future__ import annotations
 
+import html
 import json
 import re
-import shutil
 import subprocess
 from html.parser import HTMLParser
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import CHROMIUM, needs_chromium
 
-CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                   "--disable-component-update", "--disable-sync", "--no-first-run"]
 
@@ -52,8 +51,9 @@ def test_page_is_self_contained_and_complete(demo_dir):
     parser = _Links()
     parser.feed(page)
     assert parser.scripts == 0
-    assert {"realtime.png", "reference.png", "error.png", "furnace/furnace.png", "lut.png",
-            "bake/preview.png"} <= set(parser.images)
+    assert {"realtime.png", "reference.png", "error.png", "furnace/furnace_ggx.png", "furnace/furnace_models.png",
+            "lut.png", "preview/irradiance.png"} <= set(parser.images)
+    assert {"bake/preview.png", "furnace/furnace.png", "relative_error.exr"} <= set(parser.links)
     for ref in parser.images + parser.links:
         assert ref and not re.match(r"^[a-z]+:", ref) and not ref.startswith("/"), ref  # relative links only
         assert (demo_dir / ref).exists(), ref
@@ -68,14 +68,87 @@ def test_page_is_self_contained_and_complete(demo_dir):
     assert (demo_dir / "LICENSE-environment.md").read_text().count("CC0") >= 1
 
 
+def test_page_names_the_environment_and_its_licence(demo_dir):
+    from pbrkit.data import ENVIRONMENT
+
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    for key in ("name", "source_file", "file", "licence"):
+        assert html.escape(ENVIRONMENT[key]) in page, key
+    assert 'href="LICENSE-environment.md"' in page
+
+
+def test_error_map_has_a_colour_bar_on_a_scale_from_the_data(demo_dir):
+    import imageio.v3 as iio
+
+    summary = json.loads((demo_dir / "summary.json").read_text())
+    emap = summary["error_map"]
+    # the 99th percentile rounded up to 1, 2, 2.5 or 5 x 10^k, stated on the page with the maximum
+    assert emap["percentile_99"] <= emap["scale_max"] <= 2.0 * emap["percentile_99"] + 1e-3
+    mantissa = emap["scale_max"] / 10.0 ** np.floor(np.log10(emap["scale_max"]) + 1e-9)
+    assert any(abs(mantissa - m) < 1e-9 for m in (1.0, 2.0, 2.5, 5.0))
+    assert abs(emap["max"] - summary["errors"]["max_relative_error"]) < 1e-9
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    assert "relative luminance error" in page and f"{100.0 * emap['scale_max']:g}%" in page
+    assert f"{100.0 * emap['max']:.1f}%" in page
+    # the figure is taller than wide: the map with the colour bar and its label below
+    height, width = iio.imread(demo_dir / "error.png").shape[:2]
+    assert height > 1.15 * width
+
+
+def test_bake_has_roughness_steps_of_at_most_0_2_and_labelled_crosses(demo_dir):
+    summary = json.loads((demo_dir / "summary.json").read_text())
+    bake = summary["bake"]
+    assert bake["levels"] >= 6 and np.all(np.diff(bake["roughness"]) <= 0.2 + 1e-12)
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    assert "Prefiltered specular chain" in page and "irradiance E(n)" in page
+    for m, r in enumerate(bake["roughness"]):
+        assert f"level {m}: r = {r:.2f}" in page
+        assert (demo_dir / "preview" / f"specular_m{m}.png").is_file()
+
+
+def test_page_shows_timings_with_units_and_the_furnace_check(demo_dir):
+    summary = json.loads((demo_dir / "summary.json").read_text())
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    for value in summary["timings_s"].values():
+        assert f"{value:.3f} s" in page
+    for lobe, entry in summary["furnace"].items():
+        assert f"{100.0 * entry['fraction_within_3_stderr']:.1f}%" in page
+        assert f"{entry['max_abs_mc_minus_quadrature']:.2e}" in page
+    assert "within 3" in page
+
+
+def test_page_says_what_the_ground_truth_includes(demo_dir):
+    summary = json.loads((demo_dir / "summary.json").read_text())
+    assert summary["reference"]["includes"] == {"occlusion": False, "bounces": 0}
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    assert "What the ground truth includes" in page and "inter-object occlusion: <b>no</b>" in page
+    assert "bounces: <b>0</b>" in page
+    for name in summary["realtime"]["approximations"]:
+        assert f"<code>{html.escape(name)}</code>" in page
+
+
+def test_split_table_only_with_a_split():
+    """The table of the error's split by approximation appears when the summary has
+    errors["split"] (either value key), and not otherwise."""
+    from pbrkit.app.demo import _split_table
+
+    assert _split_table({"mean_relative_error": 0.1}) == ""
+    split = {"sh": {"mean_relative_error": 0.0123, "description": "SH irradiance"},
+             "split_sum": {"mean_relative_error": 0.0456, "description": "the split sum"}}
+    table = _split_table({"split": split})
+    assert "Error split by approximation" in table and "0.0123" in table and "the split sum" in table
+    split = {"fstar": {"rms_relative_error": 0.0789, "description": "F* weight"}}
+    assert "0.0789" in _split_table({"split": split})
+
+
 def test_images_have_the_requested_sizes(demo_dir):
     import imageio.v3 as iio
 
-    for name in ("realtime.png", "reference.png", "error.png"):
+    for name in ("realtime.png", "reference.png"):
         assert iio.imread(demo_dir / name).shape == (56, 56, 3)
 
 
-@pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium is not installed (Debian: apt-get install -y chromium)")
+@needs_chromium()
 def test_page_loads_in_headless_chromium(demo_dir, tmp_path):
     # A copy of the page with a checker appended (the product page has no script): after
     # the load event it lists the images that failed to decode into the document title.

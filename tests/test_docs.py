@@ -2,13 +2,19 @@
 
 from pathlib import Path
 
-import pytest
+from conftest import needs_shared
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "CONVENTIONS.md"
 
 
-@pytest.mark.skipif(not SHARED.exists(), reason=f"the shared contract is not beside the checkout ({SHARED})")
+def api_tour():
+    """The ```python block under "## API tour" in README.md."""
+    text = (ROOT / "README.md").read_text()
+    return text.split("## API tour", 1)[1].split("```python", 1)[1].split("```", 1)[0]
+
+
+@needs_shared("CONVENTIONS.md", "the project's contract")
 def test_conventions_copy_is_the_contract():
     assert (ROOT / "docs" / "CONVENTIONS.md").read_text() == SHARED.read_text()
 
@@ -28,8 +34,7 @@ def test_readme_api_tour_imports_and_the_old_dotted_names_work():
 
     import pbrkit
 
-    text = (ROOT / "README.md").read_text()
-    block = text.split("## API tour", 1)[1].split("```python", 1)[1].split("```", 1)[0]
+    block = api_tour()
     imports = [line.split("#")[0].strip() for line in block.splitlines()
                if line.startswith(("import ", "from "))]
     assert any("pbrkit.ibl" in line for line in imports)
@@ -40,3 +45,46 @@ def test_readme_api_tour_imports_and_the_old_dotted_names_work():
         assert importlib.import_module(old) is importlib.import_module(new)
     from pbrkit.bake import bake, level_of_roughness, load_bake, write_bake  # noqa: F401
     assert pbrkit.models.cook_torrance is importlib.import_module("pbrkit.brdf.models").cook_torrance
+
+
+def test_readme_api_tour_runs_as_written(tmp_path, monkeypatch):
+    """The whole API tour runs, as a user would paste it, in an empty folder: every
+    file it reads ships with pbrkit (the bundled environment), and it writes the
+    files the paragraph after it names."""
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "__readme__"}
+    exec(compile(api_tour(), "README.md (API tour)", "exec"), namespace)
+    assert (tmp_path / "bake" / "manifest.json").is_file()
+    assert (tmp_path / "spheres.png").is_file() and (tmp_path / "spheres.stderr.exr").is_file()
+    b, summary = namespace["b"], namespace["summary"]
+    assert b.levels == 4 and list(b.roughness) == [0.0, 1 / 3, 2 / 3, 1.0]
+    assert 0.0 <= summary["errors"]["mean_relative_error"] < 1.0
+    pdf_h, h, wo = namespace["pdf_h"], namespace["h"], namespace["wo"]
+    assert pdf_h.shape == (1024,) and (pdf_h > 0).all() and h.shape == (1024, 3) and wo.shape == (3,)
+
+
+def test_bundled_environment_is_public_and_described():
+    """pbrkit.data.environment_path() is the bundled CC0 map the demo and scenes use,
+    and pbrkit.data.ENVIRONMENT agrees with LICENSE-environment.md beside it."""
+    from pbrkit.data import ENVIRONMENT, environment_licence_path, environment_path
+    from pbrkit.io.images import read_image
+    from pbrkit.render.scene import bundled_environment
+
+    path = environment_path()
+    assert path.name == "environment.hdr" and path.is_file()
+    assert path.samefile(bundled_environment())
+    assert read_image(path).shape == (ENVIRONMENT["resolution"][1], ENVIRONMENT["resolution"][0], 3)
+    licence = environment_licence_path().read_text(encoding="utf-8")
+    for key in ("name", "source_file", "author", "url", "licence_url"):
+        assert ENVIRONMENT[key] in licence, key
+    assert "CC0" in ENVIRONMENT["licence"] and "CC0" in licence
+
+
+def test_package_data_is_declared():
+    """The bundled environment and its licence are package data of pbrkit.data
+    (pyproject.toml), so a wheel (not only an editable install) has them."""
+    import tomllib
+
+    data = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]
+    assert {"environment.hdr", "LICENSE-environment.md"} <= set(data["pbrkit.data"])
+    assert (ROOT / "src" / "pbrkit" / "data" / "__init__.py").is_file()

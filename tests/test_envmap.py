@@ -17,6 +17,7 @@ from pathlib import Path
 import numba
 import numpy as np
 import pytest
+from conftest import needs_shared_data
 
 from pbrkit.core.color import linear_to_srgb, srgb_to_linear
 from pbrkit.core.errors import InputError
@@ -46,7 +47,7 @@ from pbrkit.io.png import write_png
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 ENV = DATA / "env"
-needs_data = pytest.mark.skipif(not ENV.is_dir(), reason=f"shared test data not found at {ENV}")
+needs_data = needs_shared_data("env")
 A = np.array([0.5, -0.3, 0.2])  # gradient of the linear test field L = 1 + A.d
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import needs_shared_data
 
 from pbrkit.core.color import linear_to_srgb, srgb_to_linear
 from pbrkit.core.errors import InputError
@@ -26,7 +27,7 @@ from pbrkit.io.png import write_png
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 ENV = DATA / "env"
-needs_data = pytest.mark.skipif(not ENV.is_dir(), reason=f"shared test data not found at {ENV}")
+needs_data = needs_shared_data("env")
 
 
 def hdr_header(res=b"-Y 2 +X 3", extra=b""):

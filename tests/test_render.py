@@ -236,7 +236,7 @@ def test_furnace_reference_gives_the_directional_albedo(masking):
     from pbrkit.albedo.tables import specular_integrals
 
     roughness = 0.8
-    material = MaterialSpec(name="m", metallic=1.0, roughness=roughness, masking=masking, fresnel="none",
+    material = MaterialSpec(model="cook_torrance", name="m", metallic=1.0, roughness=roughness, masking=masking, fresnel="none",
                             diffuse="none")
     scene = sphere_scene(material, EnvironmentSpec(color=(1.0, 1.0, 1.0)), size=18)
     result = render_reference(scene, spp=1024, seed=1)
@@ -269,7 +269,7 @@ def test_mirror_sphere_reflects_the_conventional_direction(mode):
     """Roughness 0, F = 1: the pixel shows the environment in the mirror direction
     r = 2 (n.v) n - v, looked up with the equirect mapping of CONVENTIONS.md."""
     env = EnvironmentSpec(equirect=equirect_of(_octant_colour, 128))
-    material = MaterialSpec(name="m", metallic=1.0, roughness=0.0, fresnel="none", diffuse="none")
+    material = MaterialSpec(model="cook_torrance", name="m", metallic=1.0, roughness=0.0, fresnel="none", diffuse="none")
     scene = sphere_scene(material, env, size=40, fov=30.0)
     cam = scene.camera
     if mode == "reference":
@@ -362,7 +362,7 @@ def test_compare_reports_the_split_sum_error_against_independent_quadrature():
         lobe = np.maximum(d @ s, 0.0) ** 6
         return 0.15 + np.stack([3.0 * lobe, 2.6 * lobe, 2.0 * lobe], axis=-1)
 
-    spec = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.95, 0.93, 0.88), diffuse="none")
+    spec = MaterialSpec(model="cook_torrance", name="m", metallic=1.0, roughness=0.5, base_color=(0.95, 0.93, 0.88), diffuse="none")
     env_spec = EnvironmentSpec(equirect=equirect_of(sky, 128))
     scene = sphere_scene(spec, env_spec, size=12, fov=28.0)
     env = EnvironmentLight(env_spec)
@@ -392,7 +392,7 @@ def test_bounces_inside_a_closed_emissive_sphere_sum_the_geometric_series(engine
     with B bounces every pixel is Le (1 + rho + ... + rho^(B + 1)) exactly (cosine
     sampling of a Lambertian lobe has zero variance, the walls block the environment)."""
     rho, le = 0.6, 0.5
-    material = MaterialSpec(name="m", base_color=(rho, rho, rho), metallic=0.0, fresnel="none",
+    material = MaterialSpec(model="cook_torrance", name="m", base_color=(rho, rho, rho), metallic=0.0, fresnel="none",
                             specular_color=(0.0, 0.0, 0.0), emissive=(le, le, le))
     cam = Camera(position=(0.0, 0.0, 0.3), look_at=(0.0, 0.0, -1.0), fov=60.0, width=6, height=6)
     scene = Scene(camera=cam, environment=EnvironmentSpec(color=(5.0, 5.0, 5.0)),
@@ -409,7 +409,7 @@ def test_point_and_spot_lights_follow_the_inverse_square_law():
     """A Lambertian floor lit by a point light I at height h: L = rho / pi * I cos / d^2
     (black environment), in both modes; a sphere between them casts a shadow."""
     rho, intensity, height = 0.5, 20.0, 2.0
-    floor = MaterialSpec(name="floor", base_color=(rho, rho, rho), fresnel="none", specular_color=(0, 0, 0))
+    floor = MaterialSpec(model="cook_torrance", name="floor", base_color=(rho, rho, rho), fresnel="none", specular_color=(0, 0, 0))
     cam = Camera(position=(0.0, 6.0, 0.01), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, -1.0), fov=60.0, width=24,
                  height=24)
     env = EnvironmentSpec(color=(0.0, 0.0, 0.0))
@@ -439,7 +439,7 @@ def test_point_and_spot_lights_follow_the_inverse_square_law():
 
 
 def test_spot_cone_and_directional_light():
-    floor = MaterialSpec(name="floor", base_color=(1.0, 1.0, 1.0), fresnel="none", specular_color=(0, 0, 0))
+    floor = MaterialSpec(model="cook_torrance", name="floor", base_color=(1.0, 1.0, 1.0), fresnel="none", specular_color=(0, 0, 0))
     cam = Camera(position=(0.0, 5.0, 0.01), look_at=(0.0, 0.0, 0.0), up=(0.0, 0.0, -1.0), fov=70.0, width=16,
                  height=16)
     env = EnvironmentSpec(color=(0.0, 0.0, 0.0))
@@ -465,7 +465,7 @@ def test_spot_cone_and_directional_light():
 
 def test_energy_compensation_makes_the_realtime_furnace_white():
     """Filament's 1 + F0 (1 / DFG2 - 1) with F = 1 turns the albedo DFG2 into 1."""
-    material = MaterialSpec(name="m", metallic=1.0, roughness=0.9, fresnel="none", diffuse="none")
+    material = MaterialSpec(model="cook_torrance", name="m", metallic=1.0, roughness=0.9, fresnel="none", diffuse="none")
     scene = sphere_scene(material, EnvironmentSpec(color=(1.0, 1.0, 1.0)), size=12)
     plain = render_realtime(scene, bake_size=32)
     comp = render_realtime(scene, bake_size=32, energy_compensation=True)
@@ -670,7 +670,10 @@ def test_scene_file_materials_of_every_model_render(tmp_path, model, extra):
     (dict(model="ue4", anisotropy=0.3), "isotropic"),
     (dict(model="filament", sheen=0.5), "needs model 'disney'"),
     (dict(model="disney", anisotropy=-0.2), "Burley"),
-    (dict(distribution="blinn-phong", anisotropy=0.2), "Blinn-Phong"),
+    (dict(model="cook_torrance", distribution="blinn-phong", anisotropy=0.2), "Blinn-Phong"),
+    (dict(model="gltf", anisotropy=0.2), "isotropic"),
+    (dict(model="gltf", reflectance=0.3), "IOR 1.5"),
+    (dict(distribution="beckmann"), "fixes it"),
     (dict(model="disney", diffuse="none"), "Burley diffuse only"),
 ])
 def test_scene_materials_refuse_options_their_model_lacks(material, fragment):

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import needs_shared_data
 
 from pbrkit.core.color import srgb_to_linear
 from pbrkit.core.errors import InputError
@@ -27,8 +28,7 @@ from pbrkit.render.tangents import mikktspace_tangents
 from pbrkit.render.textures import Texture
 
 MODELS = Path(__file__).resolve().parents[2] / "shared" / "data" / "models"
-needs_models = pytest.mark.skipif(not (MODELS / "NormalTangentTest.glb").exists(),
-                                  reason="../shared/data/models (Khronos sample models) is not available")
+needs_models = needs_shared_data("models/NormalTangentTest.glb")
 
 
 # --------------------------------------------------------------- synthetic files

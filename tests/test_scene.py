@@ -44,6 +44,7 @@ intensity = 2.0
 rotation = 30.0
 
 [materials.gold]
+model = "cook_torrance"
 conductor = "gold"
 roughness = 0.3
 fresnel = "exact-conductor"
@@ -162,7 +163,9 @@ def test_relative_paths_resolve_against_the_scene_folder(tmp_path):
     ("[materials.a]\nroughness = 2\n[[objects]]\ntype = 'sphere'\n", "roughness"),
     ("[materials.a]\nmodel = 'phong'\n[[objects]]\ntype = 'sphere'\n", "unknown model"),
     ("[materials.a]\nmodel = 'ue4'\nmasking = 'separable'\n[[objects]]\ntype = 'sphere'\n", "cook_torrance"),
-    ("[materials.a]\nfresnel = 'exact-conductor'\n[[objects]]\ntype = 'sphere'\n", "eta and k"),
+    ("[materials.a]\nmodel = 'cook_torrance'\nfresnel = 'exact-conductor'\n[[objects]]\ntype = 'sphere'\n",
+     "eta and k"),
+    ("[materials.a]\nfresnel = 'exact-conductor'\n[[objects]]\ntype = 'sphere'\n", "model 'gltf' fixes it"),
     ("[environment]\nfile = 'missing.hdr'\n[[objects]]\ntype = 'sphere'\n", "does not exist"),
     ("[environment]\ncolor = [1, 1, 1]\nbake = 'x'\n[[objects]]\ntype = 'sphere'\n", "does not exist"),
     ("[[objects]]\ntype = 'gltf'\nfile = 'missing.glb'\n", "does not exist"),

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import shared_data_reason
 from quadrature import hemisphere_rule
 from scipy.special import sph_harm_y
 
@@ -200,7 +201,7 @@ def test_irradiance_truncation_error_real_map():
 
     path = pathlib.Path(__file__).resolve().parents[2] / "shared/data/env/venice_sunset_1k.exr"
     if not path.exists():
-        pytest.skip(f"{path} not available")
+        pytest.skip(shared_data_reason("env/venice_sunset_1k.exr"))
     with OpenEXR.File(str(path)) as f:
         rgb = np.asarray(f.channels()["RGB"].pixels, dtype=np.float64)
     assert rgb.shape == (512, 1024, 3)

@@ -30,8 +30,8 @@ def dfg64():
 def test_mirror_limit():
     # r -> 0: the lobe is a delta at the mirror direction with G = 1 and v.h = n.v,
     # so A = 1 - (1 - n.v)^5 and B = (1 - n.v)^5 (Karis 2013).
-    # alpha is clamped at ALPHA_MIN = 1e-3; exact Smith G is then 1 within 1e-5 for
-    # n.v >= 0.2, while Schlick-GGX (k = alpha / 2) converges more slowly in n.v.
+    # The tables do not clamp alpha (r = 0.01: alpha = 1e-4); exact Smith G is then 1 within
+    # 1e-5 for n.v >= 0.2, while Schlick-GGX (k = alpha / 2) converges more slowly in n.v.
     for vis, mu_min in (("schlick-ggx", 0.5), ("separable", 0.2), ("height-correlated", 0.2)):
         mu = np.linspace(mu_min, 1.0, 17)
         ab = specular_integrals(mu, [0.0, 0.01], vis)
@@ -205,3 +205,32 @@ def test_sample_table_rejects_bad_input():
 def test_bad_options(bad):
     with pytest.raises(ValueError):
         lookup_table(**bad)
+
+
+def test_row_zero_integrates_the_stated_roughness():
+    # Row 0 states r = 0.5 / N, so alpha = 0.25 / N^2 (far below the shading clamp 1e-3 for
+    # N = 64): check it against an independent quadrature (tests/quadrature.py) of the GGX
+    # lobe with height-correlated Smith at exactly that alpha, and check that the clamped
+    # alpha would have failed (so the test can fail).
+    from quadrature import directional_albedo
+    from reference_brdf import d_ggx, lambda_ggx
+
+    n = 64
+    table = lookup_table("dfg", n)[0]
+    mu_axis = texel_centres(n)
+
+    def dfg2(mu, alpha):
+        def lobe(l, v):
+            h = l + v
+            h /= np.linalg.norm(h, axis=-1, keepdims=True)
+            g2 = 1.0 / (1.0 + lambda_ggx(l[:, 2], alpha) + lambda_ggx(v[2], alpha))
+            return d_ggx(h[:, 2], h[:, 0] ** 2 + h[:, 1] ** 2, alpha) * g2 / (4.0 * l[:, 2] * v[2])
+
+        return directional_albedo(lobe, np.array([np.sqrt(1.0 - mu * mu), 0.0, mu]), alpha)
+
+    worst_clamped = 0.0
+    for i in (0, 1, 3, 10, 40, 63):
+        exact = dfg2(mu_axis[i], (0.5 / n) ** 2)
+        assert abs(table[0, i, 1] - exact) < 2e-4, (i, table[0, i, 1], exact)
+        worst_clamped = max(worst_clamped, abs(dfg2(mu_axis[i], 1e-3) - exact))
+    assert worst_clamped > 1e-3

@@ -23,27 +23,63 @@ The names of the README's API tour are importable from here: ``Material``,
 and the modules ``models``, ``distributions``, ``masking``, ``fresnel``,
 ``diffuse``, ``sampling`` and ``tables``; ``pbrkit.bake`` is
 :mod:`pbrkit.ibl` (``bake``, ``write_bake``, ``load_bake``,
-``level_of_roughness``).
+``level_of_roughness``).  They are imported on first use, as are the
+subpackages, so that ``import pbrkit`` and ``pbrkit --help`` do not load
+NumPy and Numba.
 """
 
 import importlib
 import importlib.abc
 import importlib.util
 import sys
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("pbrkit")
-except PackageNotFoundError:  # running from a source tree
-    __version__ = "0.0.0+unknown"
-
-from . import sampling  # noqa: E402
-from .albedo import tables  # noqa: E402
-from .brdf import diffuse, distributions, fresnel, masking, models  # noqa: E402
-from .brdf.material import Material  # noqa: E402
 
 __all__ = ["Material", "__version__", "models", "distributions", "masking", "fresnel", "diffuse", "sampling",
            "tables"]
+
+#: The names of the API tour, imported on first use (PEP 562) so that ``import
+#: pbrkit`` (and ``pbrkit --help``) does not pay for NumPy and Numba.
+_LAZY = {
+    "sampling": ("pbrkit.sampling", None),
+    "tables": ("pbrkit.albedo.tables", None),
+    "diffuse": ("pbrkit.brdf.diffuse", None),
+    "distributions": ("pbrkit.brdf.distributions", None),
+    "fresnel": ("pbrkit.brdf.fresnel", None),
+    "masking": ("pbrkit.brdf.masking", None),
+    "models": ("pbrkit.brdf.models", None),
+    "Material": ("pbrkit.brdf.material", "Material"),
+}
+
+_SUBPACKAGES = {"core", "brdf", "sampling", "albedo", "ibl", "io", "render", "app"}
+
+
+def _package_version():
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("pbrkit")
+    except PackageNotFoundError:  # running from a source tree
+        return "0.0.0+unknown"
+
+
+def __getattr__(name):
+    if name == "__version__":
+        value = _package_version()
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module(f"pbrkit.{name}")
+    elif name in _LAZY:
+        module, attribute = _LAZY[name]
+        value = importlib.import_module(module)
+        if attribute is not None:
+            value = getattr(value, attribute)
+    else:
+        raise AttributeError(f"module 'pbrkit' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
 
 #: Dotted names kept importable (``import pbrkit.models``, ``from pbrkit.bake import bake``).
 _ALIASES = {

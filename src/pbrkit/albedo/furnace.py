@@ -17,11 +17,14 @@ seed 002).  Two independent estimators:
   is smooth, and a Gauss-Legendre rule converges to better than 1e-5 at the
   defaults.
 - :func:`albedo_monte_carlo`, importance sampling of visible normals
-  (Heitz 2018) with a seeded generator, returning the estimate and its
-  standard error.
+  (Heitz 2018), stratified toward the lobe's tail, with a seeded generator,
+  returning the estimate and its standard error; :func:`agreement` is the
+  fraction of cells where the two agree within 3 standard errors.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -35,7 +38,7 @@ from ..core.quadrature import (
 )
 from ..sampling.warps import reflect
 
-__all__ = ["albedo_quadrature", "albedo_monte_carlo", "view_direction", "half_vector_domain"]
+__all__ = ["albedo_quadrature", "albedo_monte_carlo", "agreement", "tail_strata", "view_direction", "half_vector_domain"]
 
 
 def view_direction(mu):
@@ -124,39 +127,95 @@ def albedo_quadrature(brdf, mu, roughness, n_theta=None, n_phi=None):
     return np.einsum("mrtp,mrtp->mr", f, g)
 
 
+def tail_strata(alpha, n_samples, min_per_stratum=4, margin=5):
+    """Boundaries of the strata of the visible-normal sampler's radial number u1
+    used by :func:`albedo_monte_carlo`: [0, 1/2), [1/2, 3/4), ..., each half as
+    wide as the one before (1 - u1 = 2^-k), the last ending at 1.
+
+    In Heitz's sampler u1 is the squared radius of the point on the projected
+    disk, so 1 - u1 ~ cos^2 of the stretched normal's tilt ~ alpha^2 / tan^2
+    theta_h: the half vectors that reflect v below the horizon (theta_h beyond
+    about (pi / 2 - theta_v) / 2) lie at 1 - u1 of order alpha^2 and below.
+    The strata reach 2^-margin below alpha^2, with at least ``min_per_stratum``
+    samples each (fewer strata when ``n_samples`` is small)."""
+    depth = int(math.ceil(math.log2(1.0 / (alpha * alpha)))) + margin
+    count = max(2, min(depth, n_samples // min_per_stratum))
+    return np.concatenate([[0.0], 1.0 - 2.0 ** -np.arange(1.0, count), [1.0]])
+
+
 def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
-    """Directional albedo by importance sampling visible GGX normals (Heitz 2018).
+    """Directional albedo by importance sampling visible GGX normals (Heitz 2018),
+    stratified in the tail of the lobe.
 
     Returns ``(estimate, standard_error)`` with shape (len(mu), len(roughness)) (+ (C,)).
-    Each (mu, r) cell uses ``n_samples`` independent samples from
-    ``numpy.random.default_rng(seed)``; estimator f (n.l) / p(l) with
-    p(l) = D_v(h) / (4 v.h).
+    The estimator is f (n.l) / p(l) with p(l) = D_v(h) / (4 v.h) and zero for
+    directions reflected below the horizon.
+
+    Why stratified: for a smooth lobe seen at a grazing angle almost every
+    sample has weight G2 / G1(v) ~ 1 and a few, of total probability ~1 - E,
+    reflect below the horizon and weigh 0.  With 256 plain samples per cell
+    such a run usually sees none of them: the mean is biased high for that run
+    and, worse, the sample variance says the error is 3e-5 when it is 3e-3 (at
+    n.v = 0.0156, r = 0 the plain estimator gave 0.99896 +- 0.00003 against
+    0.99772).  The weights are fine; the standard error is not.  Here u1,
+    the sampler's radial number, is stratified geometrically toward the rim of
+    the disk (:func:`tail_strata`), where those directions are, with an equal
+    number of samples per stratum (a stratified estimator: sum of width x mean;
+    variance sum of width^2 s^2 / n per stratum), so the rare directions are
+    sampled in every run and the standard error is honest: >= 97 % of cells
+    agree with the quadrature within 3 standard errors (tests/test_furnace.py).
+    Each roughness column draws from ``numpy.random.default_rng(seed)`` in turn.
     """
     from ..sampling.warps import pdf_ggx_vndf, pdf_light_from_half, sample_ggx_vndf
 
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     roughness = np.atleast_1d(np.asarray(roughness, dtype=float))
+    n_samples = int(n_samples)
+    if n_samples < 4:
+        raise ValueError(f"n_samples must be at least 4; got {n_samples}")
     rng = np.random.default_rng(seed)
     alpha = alpha_from_roughness(roughness)
-    shape = (mu.size, roughness.size, n_samples)
-    u = rng.random(shape + (2,))
-    v = np.broadcast_to(view_direction(mu)[:, None, None, :], shape + (3,))
-    a = np.broadcast_to(alpha[None, :, None], shape)
-    h = sample_ggx_vndf(u, v, a)
-    voh = np.sum(v * h, axis=-1)
-    l = reflect(v, h)
-    pdf_l = pdf_light_from_half(pdf_ggx_vndf(v[..., 2], h[..., 2], voh, a), voh)
     n = np.array([0.0, 0.0, 1.0])
-    r = np.broadcast_to(roughness[None, :, None], shape)
-    f = np.asarray(brdf(l, v, n, r))
-    valid = (l[..., 2] > 0.0) & (pdf_l > 0.0)
-    w = np.where(valid, np.maximum(l[..., 2], 0.0) / np.where(valid, pdf_l, 1.0), 0.0)
-    if f.ndim == w.ndim + 1:
-        w = w[..., None]
-    x = f * w
-    mean = x.mean(axis=2)
-    stderr = x.std(axis=2, ddof=1) / np.sqrt(n_samples)
-    return mean, stderr
+    means, variances = [], []
+    for j in range(roughness.size):
+        bounds = tail_strata(float(alpha[j]), n_samples)
+        strata = bounds.size - 1
+        counts = np.full(strata, n_samples // strata)
+        counts[: n_samples - counts.sum()] += 1
+        which = np.repeat(np.arange(strata), counts)
+        u = rng.random((mu.size, n_samples, 2))
+        u[..., 0] = bounds[which] + (bounds[which + 1] - bounds[which]) * u[..., 0]
+        shape = (mu.size, n_samples)
+        v = np.broadcast_to(view_direction(mu)[:, None, :], shape + (3,))
+        h = sample_ggx_vndf(u, v, alpha[j])
+        voh = np.sum(v * h, axis=-1)
+        l = reflect(v, h)
+        pdf_l = pdf_light_from_half(pdf_ggx_vndf(v[..., 2], h[..., 2], voh, alpha[j]), voh)
+        f = np.asarray(brdf(l, v, n, np.full(shape, roughness[j])))
+        valid = (l[..., 2] > 0.0) & (pdf_l > 0.0)
+        w = np.where(valid, np.maximum(l[..., 2], 0.0) / np.where(valid, pdf_l, 1.0), 0.0)
+        x = f * (w[..., None] if f.ndim == w.ndim + 1 else w)
+        width = np.diff(bounds)
+        mean = 0.0
+        variance = 0.0
+        start = 0
+        for k in range(strata):
+            xs = x[:, start:start + counts[k]]
+            start += counts[k]
+            mean = mean + width[k] * xs.mean(axis=1)
+            variance = variance + width[k] ** 2 * xs.var(axis=1, ddof=1) / counts[k]
+        means.append(mean)
+        variances.append(variance)
+    return np.stack(means, axis=1), np.sqrt(np.stack(variances, axis=1))
+
+
+def agreement(quadrature, estimate, standard_error, k=3.0, atol=1e-9):
+    """Fraction of cells where a Monte Carlo ``estimate`` lies within ``k``
+    standard errors (plus ``atol``, for cells whose error is pure rounding) of
+    the ``quadrature``: about 99.7 % for an unbiased estimator with an honest
+    standard error and k = 3."""
+    quadrature, estimate, standard_error = np.broadcast_arrays(quadrature, estimate, standard_error)
+    return float(np.mean(np.abs(quadrature - estimate) <= k * standard_error + atol))
 
 
 # ----------------------------------------------------------------- the report

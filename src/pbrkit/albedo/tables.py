@@ -4,7 +4,12 @@ energy compensation.
 Layout (``CONVENTIONS.md``): an array (N, N, C) float32 indexed [j, i, c] with
 column i at n.v = (i + 0.5) / N and row j at perceptual roughness
 r = (j + 0.5) / N (texel centres; row 0 = smooth).  GGX lobes use
-alpha = max(r^2, ALPHA_MIN).
+alpha = r^2 exactly, with no clamp: row 0 (r = 0.5 / N, alpha = 0.25 / N^2,
+below the shading clamp ALPHA_MIN = 1e-3 for N > 16) is the integral of the
+roughness it states.  The clamp belongs to shading (a renderer clamps alpha
+before it evaluates D; its table lookup at r < 0.5 / N reads row 0 by
+clamp-to-edge); clamping in the table moved row 0 by up to 4e-2 at grazing
+n.v.  (:func:`table_alpha`.)
 
 The integrals are computed by deterministic quadrature over the half vector
 (the method of :mod:`pbrkit.albedo.furnace`, compiled, with the node map, horizon
@@ -36,7 +41,6 @@ from ..brdf.bxdf import (
     lobe_bxdf,
     specular_visibility,
 )
-from ..brdf.distributions import ALPHA_MIN, alpha_from_roughness
 from ..brdf.fresnel import f_conductor, f_schlick
 from ..brdf.masking import (
     v_neubelt,
@@ -57,6 +61,7 @@ __all__ = [
     "VISIBILITIES",
     "TableSpec",
     "texel_centres",
+    "table_alpha",
     "specular_integrals",
     "sheen_albedo",
     "splitsum_table",
@@ -198,6 +203,13 @@ def _run(mu, alpha, lobe, vis_code, nodes=DEFAULT_NODES):
     return out
 
 
+def table_alpha(roughness):
+    """alpha = r^2 of the tables' rows, unclamped (module docstring); r = 0 (only
+    reachable through the functions' own arguments, never a texel centre) is
+    lifted to 1e-12 so the half-vector map stays finite."""
+    return np.maximum(np.square(np.asarray(roughness, dtype=float)), 1e-12)
+
+
 def specular_integrals(mu, roughness, visibility="height-correlated", nodes=DEFAULT_NODES):
     """(A, B) = (integral of f (1 - Fc) (n.l) dl, integral of f Fc (n.l) dl) for the
     Fresnel-free GGX lobe f = D V and Fc = (1 - v.h)^5, so that the specular
@@ -211,7 +223,7 @@ def specular_integrals(mu, roughness, visibility="height-correlated", nodes=DEFA
     if visibility not in VISIBILITIES:
         raise ValueError(f"unknown visibility {visibility!r}; choose one of {', '.join(VISIBILITIES)}")
     mu, roughness = _check_axes(mu, roughness)
-    return _run(mu, alpha_from_roughness(roughness), _LOBE_GGX, VISIBILITIES[visibility], nodes)
+    return _run(mu, table_alpha(roughness), _LOBE_GGX, VISIBILITIES[visibility], nodes)
 
 
 def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
@@ -226,7 +238,7 @@ def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
     Returns (len(roughness), len(mu)).
     """
     mu, roughness = _check_axes(mu, roughness)
-    out = _run(mu, alpha_from_roughness(roughness), _LOBE_CHARLIE, _NEUBELT, nodes)
+    out = _run(mu, table_alpha(roughness), _LOBE_CHARLIE, _NEUBELT, nodes)
     return out.sum(axis=-1)
 
 
@@ -276,7 +288,7 @@ class TableSpec:
                 "column i": "n.v = (i + 0.5) / N",
                 "row j": "perceptual roughness r = (j + 0.5) / N (row 0 = smooth)",
             },
-            "distribution": "GGX, alpha = max(r^2, %g)" % ALPHA_MIN,
+            "distribution": "GGX, alpha = r^2 (unclamped; shading clamps alpha at 1e-3, the table does not)",
             "visibility": self.visibility,
             "integration": {
                 "method": "deterministic Gauss-Legendre quadrature over the half vector "

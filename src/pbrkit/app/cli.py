@@ -1,82 +1,441 @@
-"""The ``pbrkit`` command line (Typer + Rich)."""
+"""The ``pbrkit`` command line (Typer + Rich).
+
+What a user sees:
+
+- every refusal is one line on stderr, ``pbrkit: error: <file>: <problem>``,
+  exit status 1 (bad options included), nothing on stdout and no output
+  left behind; Ctrl-C gives ``pbrkit: error: interrupted`` (130) and SIGTERM
+  ``pbrkit: error: terminated (SIGTERM)`` (143), after the same clean-up;
+- progress by stage on stderr: a Rich bar on a terminal, one plain line per
+  stage (``pbrkit render: reference (3/4)``) when stderr is not a terminal,
+  nothing with ``--quiet``;
+- ``--help`` lists the choices of every option with a fixed set of values
+  (``[realtime|reference|compare]``) and answers without importing NumPy or
+  Numba: the commands import what they need in their bodies.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import functools
+import signal
 import sys
+import warnings
 from pathlib import Path
 from typing import Optional
 
 import typer
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from typer.core import TyperCommand, TyperGroup
 
-from .. import __version__
-from ..core import checks
+try:  # typer >= 0.2x vendors its own click
+    from typer import _click as _click
+except ImportError:  # pragma: no cover - a typer built on click itself
+    import click as _click
+
+# The choices of the options with a fixed set of values, written here so that
+# `pbrkit --help` needs no heavy import; tests/test_bad_inputs.py checks them
+# against the library's own lists.
+MODES = ("realtime", "reference", "compare")                        # pbrkit.render.run.MODES
+TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")   # pbrkit.core.color.TONEMAPS
+DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.render.realtime
+LUT_KINDS = ("splitsum", "dfg")                                     # pbrkit.albedo.tables.lookup_table
+VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")    # pbrkit.albedo.tables.VISIBILITIES
+KTX2_FORMATS = ("float16", "float32")                               # pbrkit.io.lut_files.write_lut
+BAKE_FORMATS = ("rgba16f", "b10g11r11")                             # pbrkit.ibl.bake.SPECULAR_FORMATS
+BAKE_METHODS = ("spectral", "fis")                                  # pbrkit.ibl.bake.METHODS
+SH_WINDOWS = ("hanning", "lanczos")                                 # pbrkit.ibl.sh.sh_window
+LAYOUTS = ("equirect", "hcross", "vcross")                          # pbrkit.io.environment.load_environment
+COMPENSATIONS = ("kulla-conty", "filament")                         # pbrkit.app.report.compensation_report
+LOBES = tuple(f"{d}/{g}" for d in ("ggx", "beckmann", "blinn-phong")   # pbrkit.albedo.furnace.furnace_lobes
+              for g in ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4", "kelemen",
+                        "implicit")) + ("ue4", "filament", "urp_mobile")
+
+SEED_MAX = 2 ** 64 - 1  # the renderer's counter-based generator takes a uint64; NumPy's default_rng any int >= 0
+EXPOSURE_LIMIT = 64.0   # |EV|: 2^64 is far beyond any useful exposure and still finite in float32 arithmetic
+
+#: The stages render_scene reports (progress(stage) as each starts), per mode.
+# ----------------------------------------------------------------- errors
+
+
+def _one_line(text):
+    return " ".join(str(text).split())
+
+
+def _isatty(stream):
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError, OSError):
+        return False
+
+
+def _console():
+    from rich.console import Console
+
+    return Console(stderr=True, soft_wrap=True, highlight=False)
+
+
+class _StderrConsole:
+    """``_err``: a Rich console on stderr, created when first used (``pbrkit --help``
+    does not import Rich's console)."""
+
+    def __getattr__(self, name):
+        return getattr(_console(), name)
+
+
+_err = _StderrConsole()
+
+
+def _say(kind, message, style):
+    """One line ``pbrkit: <kind>: <message>`` on stderr (coloured on a terminal)."""
+    from rich.text import Text
+
+    _console().print(Text.assemble((f"pbrkit: {kind}:", style), " ", _one_line(message)))
+
+
+def _is_library_error(exc):
+    """Exceptions of the image libraries that mean bad input or a failed write, not a bug."""
+    return type(exc).__module__.split(".")[0] in ("OpenEXR",)
+
+
+@contextlib.contextmanager
+def _interruptible():
+    """SIGTERM raises :class:`pbrkit.core.errors.Terminated` (a KeyboardInterrupt) and
+    SIGINT KeyboardInterrupt, once each, while a command runs, so that the clean-up
+    of partial output runs for both; a second signal during the clean-up is ignored."""
+    from ..core.errors import Terminated
+
+    def on_signal(signum, frame):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+    try:
+        previous = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    except (ValueError, OSError):  # not the main thread: leave the handlers alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def user_errors(fn):
+    """Turn expected failures into one line ``pbrkit: error: ...`` on stderr and an
+    exit status: bad input, bad options and I/O (ValueError, OSError, OpenEXR's
+    errors; 1), running out of memory (1), Ctrl-C (``interrupted``, 130) and SIGTERM
+    (``terminated (SIGTERM)``, 143).  Anything else is a bug and propagates with its
+    traceback.  Warnings (UserWarning and its subclasses) are printed as
+    ``pbrkit: warning: ...`` lines once the command has succeeded."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from ..core.errors import Terminated
+
+        code = None
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            try:
+                with _interruptible():
+                    result = fn(*args, **kwargs)
+            except Terminated:
+                _say("error", "terminated (SIGTERM)", "bold red")
+                code = 143
+            except KeyboardInterrupt:
+                _say("error", "interrupted", "bold red")
+                code = 130
+            except MemoryError as exc:
+                _say("error", f"out of memory{f' ({exc})' if str(exc) else ''}; try smaller sizes", "bold red")
+                code = 1
+            except (ValueError, OSError) as exc:
+                _say("error", exc, "bold red")
+                code = 1
+            except Exception as exc:
+                if not _is_library_error(exc):
+                    raise
+                _say("error", exc, "bold red")
+                code = 1
+        if code is not None:
+            raise typer.Exit(code)
+        seen = set()
+        for w in caught:
+            text = _one_line(w.message)
+            if issubclass(w.category, UserWarning) and not issubclass(w.category, DeprecationWarning) \
+                    and text not in seen:
+                seen.add(text)
+                _say("warning", text, "yellow")
+        return result
+
+    return wrapper
+
+
+# ------------------------------------------------------- commands and help
+
+
+def _help_option_without_type(command, ctx, base):
+    option = base.get_help_option(command, ctx)
+    if option is not None and option.metavar is None:
+        option.metavar = ""  # no "<bool>" beside -h/--help
+    return option
+
+
+class _Command(TyperCommand):
+    """A command whose --help shows no Python type (``<bool>``, ``<list[Path]>``):
+    options carry metavars, arguments their name and their help."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        for param in self.params:
+            if param.param_type_name == "argument":
+                param.display_type_rich = lambda ctx: None
+
+    def get_help_option(self, ctx):
+        return _help_option_without_type(self, ctx, TyperCommand)
+
+
+class _Group(TyperGroup):
+    """The ``pbrkit`` group: usage errors (unknown options, bad or missing values)
+    become one line ``pbrkit: error: ...`` and exit status 1, like every other
+    refusal."""
+
+    def get_help_option(self, ctx):
+        return _help_option_without_type(self, ctx, TyperGroup)
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        if not standalone_mode:
+            return super().main(args=args, prog_name=prog_name, complete_var=complete_var,
+                                standalone_mode=False, **extra)
+        try:
+            rv = super().main(args=args, prog_name=prog_name, complete_var=complete_var,
+                              standalone_mode=False, **extra)
+        except _click.exceptions.ClickException as exc:
+            if type(exc).__name__ == "NoArgsIsHelpError":  # `pbrkit` alone: the help was shown
+                sys.exit(exc.exit_code)
+            message = exc.format_message()
+            param = getattr(exc, "param", None)
+            if isinstance(exc, _click.exceptions.BadParameter) and getattr(param, "opts", None) and exc.message \
+                    and not isinstance(exc, _click.exceptions.MissingParameter):
+                message = f"{max(param.opts, key=len)}: {exc.message}"
+            ctx = getattr(exc, "ctx", None)
+            if isinstance(exc, _click.exceptions.UsageError) and ctx is not None:
+                message = f"{message} (see '{ctx.command_path} --help')"
+            _say("error", message, "bold red")
+            sys.exit(1)
+        except typer.Abort:
+            _say("error", "aborted", "bold red")
+            sys.exit(1)
+        sys.exit(rv if isinstance(rv, int) and not isinstance(rv, bool) else 0)
+
 
 app = typer.Typer(
-    help="pbrkit: physically based shading for real-time rendering.",
+    cls=_Group,
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
-_err = Console(stderr=True)
 
 
 def _version_callback(value: bool):
     if value:
+        from .. import __version__
+
         print(f"pbrkit {__version__}")
         raise typer.Exit()
 
 
 @app.callback()
 def main(
-    version: bool = typer.Option(False, "--version", callback=_version_callback, is_eager=True,
+    version: bool = typer.Option(False, "--version", callback=_version_callback, is_eager=True, metavar="",
                                  help="Print the version and exit."),
 ):
-    """pbrkit: physically based shading for real-time rendering."""
+    """pbrkit: physically based shading for real-time rendering.
+
+    Every command refuses bad input or options with one line on stderr
+    (pbrkit: error: FILE: problem), exit status 1 and no output left behind;
+    shows its progress by stage on stderr (a bar on a terminal, plain lines
+    otherwise; -q/--quiet: none, and no summary); and gives the same bytes for
+    the same input, options and --seed (default 0 everywhere)."""
 
 
-def user_errors(fn):
-    """Turn expected failures (bad input, bad options, I/O) into one-line errors and exit status 1."""
-
-    @functools.wraps(fn)
-    def wrapper(*args, **kwargs):
-        try:
-            return fn(*args, **kwargs)
-        except (ValueError, OSError) as exc:
-            _err.print(f"[bold red]pbrkit: error:[/] {exc}", highlight=False, soft_wrap=True)
-            raise typer.Exit(1) from None
-
-    return wrapper
+# ------------------------------------------------------------- options
 
 
-def progress_bar(quiet: bool, total: int, description: str):
-    """A Rich progress bar on a terminal; silent with ``quiet`` or when stderr is not a terminal."""
-    return Progress(
-        TextColumn("[progress.description]{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        console=_err,
-        disable=quiet or not sys.stderr.isatty(),
-        transient=False,
-    )
+def _choice_check(noun, choices):
+    def check(value):
+        values = value if isinstance(value, (list, tuple)) else [value]
+        for v in values:
+            if v is not None and v not in choices:
+                raise typer.BadParameter(f"unknown {noun} {v!r}; choose one of {', '.join(choices)}")
+        return value
+
+    return check
 
 
-@app.command()
+def _choice(default, flag, choices, noun, help_text):
+    """An option with a fixed set of values: --help shows ``[a|b|c]``; anything else
+    is refused as ``--flag: unknown <noun> 'x'; choose one of a, b, c``."""
+    return typer.Option(default, flag, metavar="[" + "|".join(choices) + "]", callback=_choice_check(noun, choices),
+                        help=help_text)
+
+
+def _check_seed(value):
+    if value is not None and not 0 <= value <= SEED_MAX:
+        raise typer.BadParameter(f"the seed must be an integer in [0, 2^64 - 1] = [0, {SEED_MAX}]; got {value}")
+    return value
+
+
+def _seed_option(help_text):
+    return typer.Option(0, "--seed", metavar="SEED", callback=_check_seed,
+                        help=f"{help_text} An integer in [0, 2^64 - 1]; the same seed gives the same bytes.")
+
+
+def _check_exposure(value):
+    import math
+
+    if not math.isfinite(value) or abs(value) > EXPOSURE_LIMIT:
+        raise typer.BadParameter(f"exposure must be a finite number of EV in [-{EXPOSURE_LIMIT:g}, "
+                                 f"{EXPOSURE_LIMIT:g}]; got {value}")
+    return value
+
+
+def _quiet_option():
+    return typer.Option(False, "--quiet", "-q", metavar="",
+                        help="No progress and no summary (warnings and errors still print).")
+
+
+def _flag(default, decls, help_text, **kwargs):
+    return typer.Option(default, *decls, metavar="", help=help_text, **kwargs)
+
+
+# ------------------------------------------------------------- progress
+
+
+class _Stages:
+    """Progress of one command by stage, on stderr: a Rich bar on a terminal
+    (transient: it disappears when the command ends), one plain line per stage
+    otherwise (``pbrkit render: reference (3/4)``), nothing with ``quiet``.
+    :meth:`start` is called as each stage starts.
+
+    The first stage's line waits until that stage has run for
+    :data:`FIRST_LINE_DELAY` seconds or the next one starts, and is dropped if
+    the command fails before: bad input, found while loading it, is then
+    refused with its one error line alone."""
+
+    FIRST_LINE_DELAY = 1.0
+
+    def __init__(self, command, quiet, total):
+        self.command = command
+        self.total = max(1, int(total))
+        self.number = 0
+        self.mode = "off" if quiet else ("bar" if _isatty(sys.stderr) else "lines")
+        self._bar = None
+        self._task = None
+        self._pending = None
+        self._timer = None
+        self._lock = None
+        self._fd = None
+
+    def __enter__(self):
+        if self.mode == "bar":
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self._bar = Progress(TextColumn(f"pbrkit {self.command}: " + "{task.description}"), BarColumn(),
+                                 TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                                 console=_console(), transient=True)
+            self._bar.start()
+            self._task = self._bar.add_task("starting", total=self.total)
+        elif self.mode == "lines":
+            import os
+            import threading
+
+            self._lock = threading.Lock()
+            try:  # lines go to the real stderr even while a native library's output is captured
+                self._fd = os.dup(sys.stderr.fileno())
+            except (AttributeError, ValueError, OSError):  # not a file (e.g. a test runner's buffer)
+                self._fd = None
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if self._bar is not None:
+            self._bar.stop()
+        if self._lock is not None:
+            if self._timer is not None:
+                self._timer.cancel()
+            with self._lock:
+                if exc_type is None:
+                    self._print_pending()
+                self._pending = None
+                if self._fd is not None:
+                    import os
+
+                    os.close(self._fd)
+                    self._fd = None
+        return False
+
+    def _write(self, line):
+        if self._fd is None:
+            print(line, file=sys.stderr, flush=True)
+            return
+        import os
+
+        with contextlib.suppress(Exception):
+            sys.stderr.flush()
+        with contextlib.suppress(OSError):
+            os.write(self._fd, (line + "\n").encode("utf-8", errors="replace"))
+
+    def _print_pending(self):
+        if self._pending is not None:
+            self._write(self._pending)
+            self._pending = None
+
+    def _timed_out(self):
+        with self._lock:
+            self._print_pending()
+
+    def start(self, name, number=None, total=None):
+        """Stage ``name`` starts: ``number`` (from 1; counted here if None) of ``total``."""
+        first = self.number == 0
+        self.number = self.number + 1 if number is None else int(number)
+        if total is not None:
+            self.total = int(total)
+        self.total = max(self.total, self.number)
+        if self.mode == "lines":
+            import threading
+
+            line = f"pbrkit {self.command}: {name} ({self.number}/{self.total})"
+            with self._lock:
+                self._print_pending()
+                if first:
+                    self._pending = line
+                    self._timer = threading.Timer(self.FIRST_LINE_DELAY, self._timed_out)
+                    self._timer.daemon = True
+                    self._timer.start()
+                else:
+                    self._write(line)
+        elif self._bar is not None:
+            self._bar.update(self._task, description=str(name), completed=self.number - 1, total=self.total)
+
+
+# ------------------------------------------------------------- commands
+
+
+@app.command(cls=_Command)
 @user_errors
 def furnace(
-    out: Path = typer.Option(..., "-o", "--out", help="Output folder."),
-    mu_count: int = typer.Option(32, "--mu", help="Number of mu = n.v values (texel centres)."),
-    roughness_count: int = typer.Option(11, "--roughness", help="Number of roughness values in [0, 1]."),
-    samples: int = typer.Option(256, "--samples", help="Monte Carlo samples per (mu, roughness) cell."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the Monte Carlo generator."),
-    lobe: Optional[list[str]] = typer.Option(None, "--lobe", help="Only these lobes (repeatable)."),
-    compensation: Optional[str] = typer.Option(
-        None, "--compensation",
-        help="Also show multiple-scattering compensation: kulla-conty or filament (compensation.*)."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or summary."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder."),
+    mu_count: int = typer.Option(32, "--mu", metavar="N", help="Number of mu = n.v values (texel centres)."),
+    roughness_count: int = typer.Option(11, "--roughness", metavar="N", help="Number of roughness values in [0, 1]."),
+    samples: int = typer.Option(256, "--samples", metavar="N", help="Monte Carlo samples per (mu, roughness) cell."),
+    seed: int = _seed_option("Seed of the Monte Carlo generator (lobe k uses seed + k)."),
+    lobe: Optional[list[str]] = typer.Option(
+        None, "--lobe", metavar="LOBE", callback=_choice_check("lobe", LOBES),
+        help="Only this lobe (repeatable); default: all.  One of " + ", ".join(LOBES) + "."),
+    compensation: Optional[str] = _choice(
+        None, "--compensation", COMPENSATIONS, "compensation",
+        "Also show multiple-scattering compensation (compensation.*)."),
+    quiet: bool = _quiet_option(),
 ):
     """White-furnace albedo E(mu) of every D x G combination and model (F = 1).
 
@@ -86,19 +445,29 @@ def furnace(
     """
     import numpy as np
 
-    from ..albedo.furnace import furnace_lobes
+    from ..core import checks
     from .report import furnace_report
 
     checks.integer(roughness_count, "--roughness", 2, 1024)
-    if compensation is not None and compensation not in ("kulla-conty", "filament"):
-        raise ValueError(f"--compensation must be kulla-conty or filament; got {compensation!r}")
-    names = lobe or list(furnace_lobes())
-    with progress_bar(quiet, len(names), "furnace") as bar:
-        task = bar.add_task("furnace", total=len(names))
+    checks.integer(mu_count, "--mu", 2, 4096)
+    checks.integer(samples, "--samples", 2, 1 << 20)
+    names = list(lobe or LOBES)
+    with _Stages("furnace", quiet, len(names) + 1 + (compensation is not None)) as stages:
+        stages.start(f"lobe {names[0]}")
+
+        def finished(name):
+            k = stages.number
+            stages.start(f"lobe {names[k]}" if k < len(names) else "figures")
+
         summary, timings = furnace_report(out, n_mu=mu_count, roughness=np.linspace(0.0, 1.0, roughness_count),
-                                 samples=samples, seed=seed, lobes=names,
-                                 progress=lambda name: bar.advance(task))
+                                          samples=samples, seed=seed, lobes=names, progress=finished)
+        if compensation is not None:
+            from .report import compensation_report
+
+            stages.start("compensation")
+            comp = compensation_report(out, compensation)
     if not quiet:
+        from rich.console import Console
         from rich.table import Table
 
         table = Table(title="Single-scattering albedo with F = 1 (quadrature)")
@@ -108,13 +477,10 @@ def furnace(
             table.add_row(name, f"{s['min_albedo']:.4f}", f"{s['max_albedo']:.4f}",
                           f"{s['max_abs_mc_minus_quadrature']:.2e}", f"{100 * s['fraction_within_3_stderr']:.0f}%",
                           f"{timings[name]['quadrature_s']:.2f}", f"{timings[name]['monte_carlo_s']:.2f}")
-        Console(width=max(110, _err.width)).print(table)
+        Console(width=max(110, _console().width)).print(table)
         print(f"wrote {out}/furnace.csv, furnace.npy, furnace.json, furnace.png")
-    if compensation is not None:
-        from .report import compensation_report
-
-        s = compensation_report(out, compensation)
-        if not quiet:
+        if compensation is not None:
+            s = comp
             print(f"{compensation} compensation, F = 1 GGX: max |E - 1| = {s['max_abs_error_on_texel_grid']:.1e} "
                   f"on the {s['table_size']}^2 table's texel grid (without: energy loss up to "
                   f"{s['max_energy_loss_without_compensation']:.3f}); between texels (bilinear) max "
@@ -122,62 +488,67 @@ def furnace(
             print(f"wrote {out}/compensation.csv, compensation.npy, compensation.json, compensation.png")
 
 
-@app.command()
+@app.command(cls=_Command)
 @user_errors
 def lut(
-    out: Path = typer.Option(..., "-o", "--out",
-                             help="Output file: .npy, .exr, .png (16-bit), .h (C header, float16) or .ktx2."),
-    kind: str = typer.Option("dfg", "--kind", help="splitsum (UE4: A, B) or dfg (Filament: DFG1, DFG2)."),
-    size: int = typer.Option(128, "--size", help="Table size N (N x N texels)."),
-    cloth: bool = typer.Option(False, "--cloth", help="Add the Charlie / Neubelt sheen albedo channel."),
-    visibility: Optional[str] = typer.Option(
-        None, "--visibility",
-        help="schlick-ggx (splitsum default), separable or height-correlated (dfg default)."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="FILE",
+                             help="Output file: .npy, .exr, .png (16-bit), .h (C header, float16) or .ktx2; "
+                                  "FILE.json beside it describes the table."),
+    kind: str = _choice("dfg", "--kind", LUT_KINDS, "table kind",
+                        "splitsum (UE4: A, B) or dfg (Filament: DFG1, DFG2)."),
+    size: int = typer.Option(128, "--size", metavar="N", help="Table size N (N x N texels)."),
+    cloth: bool = _flag(False, ("--cloth",), "Add the Charlie / Neubelt sheen albedo channel."),
+    visibility: Optional[str] = _choice(
+        None, "--visibility", VISIBILITIES, "visibility",
+        "Masking-shadowing term; default: schlick-ggx for splitsum, height-correlated for dfg."),
     samples: Optional[int] = typer.Option(
-        None, "--samples",
+        None, "--samples", metavar="N",
         help="Quadrature nodes per texel (theta x phi); default: the converged rule (144 nodes, 288 at grazing)."),
-    ktx2_format: str = typer.Option("float16", "--ktx2-format", help="float16 or float32 texels in .ktx2."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing on success."),
+    ktx2_format: str = _choice("float16", "--ktx2-format", KTX2_FORMATS, "KTX2 format", "Texel type in .ktx2 output."),
+    quiet: bool = _quiet_option(),
 ):
     """Split-sum (A, B) or DFG (DFG1, DFG2[, cloth]) lookup table with its JSON description."""
-    import warnings
-
     from ..albedo.tables import DEFAULT_NODES, lookup_table
-    from ..io.lut_files import LUT_SUFFIXES, QuantisationWarning, write_lut
+    from ..core import checks
+    from ..io.lut_files import LUT_SUFFIXES, write_lut
 
     if out.suffix.lower() not in LUT_SUFFIXES:
         raise ValueError(f"{out}: unsupported table format {out.suffix!r}; use one of {', '.join(LUT_SUFFIXES)}")
+    checks.integer(size, "--size", 2, 4096)
     nodes = DEFAULT_NODES
     if samples is not None:
         checks.integer(samples, "--samples", 8, 1 << 20)
         # Split the budget as the default rule does: 2 theta segments x n_theta x n_phi, n_phi = n_theta / 2.
         n_theta = max(2, int(round(samples ** 0.5)))
         nodes = (n_theta, 2 * n_theta, max(2, n_theta // 2))
-    table, spec = lookup_table(kind, size, visibility, cloth, nodes)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", QuantisationWarning)
+    with _Stages("lut", quiet, 2) as stages:
+        stages.start("integrate")
+        table, spec = lookup_table(kind, size, visibility, cloth, nodes)
+        stages.start("write")
         written = write_lut(out, table, spec, ktx2_format)
-    for w in caught:
-        _err.print(f"[yellow]pbrkit: warning:[/] {w.message}", highlight=False, soft_wrap=True)
     if not quiet:
         print(f"wrote {written[0]} ({kind}, {size} x {size}, {table.shape[2]} channels, "
               f"visibility {spec.visibility}) and {written[1].name}")
 
 
-@app.command()
+@app.command(cls=_Command, short_help="Error heat maps of real-time approximations as directional-albedo differences.")
 @user_errors
 def approximations(
-    out: Path = typer.Option(..., "-o", "--out", help="Output folder."),
-    size: int = typer.Option(32, "--size", help="Grid size N over (n.v, roughness)."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing on success."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder."),
+    size: int = typer.Option(32, "--size", metavar="N", help="Grid size N over (n.v, roughness)."),
+    quiet: bool = _quiet_option(),
 ):
     """Error heat maps of real-time approximations (Karis' fit, Fresnel and masking
     shortcuts, URP mobile, compensation) as directional-albedo differences."""
     from ..albedo.approximations import approximations_report
+    from ..core import checks
 
     checks.integer(size, "--size", 4, 256)
-    summary = approximations_report(out, size)
+    with _Stages("approximations", quiet, 1) as stages:
+        stages.start("albedo differences and figure")
+        summary = approximations_report(out, size)
     if not quiet:
+        from rich.console import Console
         from rich.table import Table
 
         table = Table(title="Albedo error of real-time approximations")
@@ -186,85 +557,123 @@ def approximations(
         for name, s in summary["comparisons"].items():
             table.add_row(name, f"{s['max_abs_error']:.2e}", f"{s['mean_abs_error']:.2e}",
                           f"{s['at']['nv']:.3f}", f"{s['at']['roughness']:.3f}")
-        Console(width=max(100, _err.width)).print(table)
+        Console(width=max(100, _console().width)).print(table)
         print(f"wrote {out}/approximations.png and approximations.json")
 
 
-@app.command()
+@app.command(cls=_Command, short_help="Render a scene in real time, as Monte Carlo ground truth, or both (compare).")
 @user_errors
 def render(
-    scene: str = typer.Argument(..., help="Scene file (.toml or .json) or a built-in scene: spheres, sphere."),
-    out: Path = typer.Option(..., "-o", "--out",
+    scene: str = typer.Argument(..., metavar="SCENE",
+                                help="Scene file (.toml or .json) or a built-in scene: spheres, sphere."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="FILE",
                              help="Output image: .exr (linear float32) or .png (tone-mapped, sRGB)."),
-    mode: str = typer.Option("realtime", "--mode", help="realtime, reference (Monte Carlo) or compare (both)."),
-    spp: int = typer.Option(64, "--spp", help="Ground-truth samples per pixel."),
-    bounces: int = typer.Option(0, "--bounces", help="Ground-truth bounces after the first hit (0: direct light)."),
-    tonemap_name: str = typer.Option("aces", "--tonemap", help="aces, khronos-neutral, agx, reinhard or none."),
-    exposure: float = typer.Option(0.0, "--exposure", help="Exposure in EV applied before tone mapping (PNG)."),
-    width: Optional[int] = typer.Option(None, "--width", help="Image width (overrides the scene's camera)."),
-    height: Optional[int] = typer.Option(None, "--height", help="Image height (overrides the scene's camera)."),
-    env: Optional[Path] = typer.Option(None, "--env", help="Environment map replacing the scene's."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the ground truth's random numbers."),
-    diffuse: str = typer.Option("sh", "--diffuse", help="Real-time diffuse IBL: sh or cube (irradiance cube)."),
-    energy_compensation: bool = typer.Option(False, "--energy-compensation/--no-energy-compensation",
-                                             help="Real time: Filament's multiple-scattering compensation."),
-    bake_size: int = typer.Option(256, "--bake-size", help="Real time: size of the bake's specular cube."),
-    no_occlusion: bool = typer.Option(False, "--no-occlusion",
-                                      help="Ground truth: objects do not occlude one another (as real-time IBL)."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing on success."),
+    mode: str = _choice("realtime", "--mode", MODES, "mode",
+                        "realtime (split-sum IBL), reference (Monte Carlo ground truth) or compare (both)."),
+    spp: int = typer.Option(64, "--spp", metavar="N", help="Ground-truth samples per pixel."),
+    bounces: int = typer.Option(0, "--bounces", metavar="N",
+                                help="Ground-truth bounces after the first hit (0: direct light; more turns "
+                                     "occlusion on unless --no-occlusion, which then is refused)."),
+    tonemap_name: str = _choice("aces", "--tonemap", TONEMAPS, "tone mapper", "Tone mapper of .png output."),
+    exposure: float = typer.Option(0.0, "--exposure", metavar="EV", callback=_check_exposure,
+                                   help=f"Exposure in EV applied before tone mapping (.png), within "
+                                        f"+-{EXPOSURE_LIMIT:g}."),
+    width: Optional[int] = typer.Option(None, "--width", metavar="PIXELS",
+                                        help="Image width (overrides the scene's camera)."),
+    height: Optional[int] = typer.Option(None, "--height", metavar="PIXELS",
+                                         help="Image height (overrides the scene's camera)."),
+    env: Optional[Path] = typer.Option(None, "--env", metavar="FILE|DIR",
+                                       help="Environment map, or a bake folder (pbrkit bake), replacing the "
+                                            "scene's."),
+    seed: int = _seed_option("Seed of the ground truth's random numbers."),
+    diffuse: str = _choice("sh", "--diffuse", DIFFUSE_MODES, "diffuse mode",
+                           "Real-time diffuse IBL: sh (9 coefficients) or cube (irradiance cube)."),
+    energy_compensation: bool = _flag(False, ("--energy-compensation/--no-energy-compensation",),
+                                      "Real time: Filament's multiple-scattering compensation."),
+    bake_size: int = typer.Option(256, "--bake-size", metavar="N",
+                                  help="Real time: size of the bake's specular cube (power of two)."),
+    fix_nonfinite: bool = _flag(False, ("--fix-nonfinite",),
+                                "Replace NaN/Inf pixels of the environment map by the mean of their finite "
+                                "neighbours (as bake --fix-nonfinite); without it they are refused."),
+    occlusion: Optional[bool] = typer.Option(
+        None, "--occlusion/--no-occlusion", show_default=False, metavar="",
+        help="Ground truth: objects occlude one another's environment light.  Default: on for reference "
+             "(the scene's ground truth), off for compare (like for like: real-time IBL has no occlusion, "
+             "so compare's error measures the approximations only)."),
+    quiet: bool = _quiet_option(),
 ):
     """Render a scene in real time (split-sum IBL + punctual lights), as Monte Carlo
     ground truth, or both side by side with an error heat map (compare)."""
-    from ..render.run import output_suffix_ok, render_scene
+    from rich.markup import escape
+
+    from ..core import checks
+    from ..render.run import STAGES, output_suffix_ok, render_scene
     from ..render.scene import EnvironmentSpec, resolve_scene
 
     output_suffix_ok(out)
+    if mode != "realtime":
+        checks.integer(spp, "--spp", 1, 1 << 20)
+    if mode != "reference":
+        checks.power_of_two(bake_size, "--bake-size", 2, 4096)
     environment = None
     if env is not None:
         if not env.exists():
             raise ValueError(f"{env}: environment file not found")
-        environment = EnvironmentSpec(file=str(env))
+        environment = EnvironmentSpec(bake=str(env)) if env.is_dir() else EnvironmentSpec(file=str(env))
     scene_obj = resolve_scene(scene, width, height, environment)
-    summary = render_scene(scene_obj, out, mode=mode, spp=spp, bounces=bounces, seed=seed, tonemap_name=tonemap_name,
-                           exposure=exposure, diffuse=diffuse, energy_compensation=energy_compensation,
-                           bake_size=bake_size, occlusion=not no_occlusion)
+    if fix_nonfinite:
+        scene_obj = dataclasses.replace(scene_obj, environment=dataclasses.replace(scene_obj.environment,
+                                                                                   fix_nonfinite=True))
+    with _Stages("render", quiet, len(STAGES[mode])) as stages:
+        summary = render_scene(scene_obj, out, mode=mode, spp=spp, bounces=bounces, seed=seed,
+                               tonemap_name=tonemap_name, exposure=exposure, diffuse=diffuse,
+                               energy_compensation=energy_compensation, bake_size=bake_size, occlusion=occlusion,
+                               progress=stages.start)
     if quiet:
         return
     for note in summary["notes"]:
-        _err.print(f"[yellow]pbrkit: note:[/] {note}", highlight=False, soft_wrap=True)
+        _err.print(f"[yellow]pbrkit: note:[/] {escape(str(note))}", highlight=False, soft_wrap=True)
     if "realtime" in summary:
         print(f"real time: {summary['realtime']['timings']['total']:.3f} s")
     if "reference" in summary:
         r = summary["reference"]
         print(f"ground truth: {r['spp']} spp, {r['surface_paths']} paths on surfaces in "
               f"{r['timings']['sampling']:.3f} s ({r['paths_per_second'] / 1e6:.2f} M paths/s)")
-    if "errors" in summary:
-        e = summary["errors"]
-        print(f"real time vs ground truth: mean relative error {e['mean_relative_error']:.4f}, "
-              f"max relative error {e['max_relative_error']:.4f}, FLIP {e['flip']:.4f} "
-              f"(ground-truth noise {e.get('mean_relative_stderr', 0.0):.4f})")
+    from ..render.run import comparison_lines
+
+    for line in comparison_lines(summary):
+        print(line)
     print("wrote " + ", ".join(summary["outputs"]))
 
 
-@app.command()
+@app.command(cls=_Command, short_help="Bake, render, compare and plot the bundled scene into OUT/index.html.")
 @user_errors
 def demo(
-    out: Path = typer.Option(..., "-o", "--out", help="Output folder (index.html and its images)."),
-    size: int = typer.Option(384, "--size", help="Side of the sphere-grid images in pixels."),
-    spp: int = typer.Option(192, "--spp", help="Ground-truth samples per pixel."),
-    bake_size: int = typer.Option(128, "--bake-size", help="Size of the bake's specular cube (power of two)."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the random numbers."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or summary."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder (index.html and its images)."),
+    size: int = typer.Option(384, "--size", metavar="PIXELS", help="Side of the sphere-grid images in pixels."),
+    spp: int = typer.Option(192, "--spp", metavar="N",
+                            help="Ground-truth samples per pixel (more than render's 64: the page shows the "
+                                 "ground truth's noise beside the error)."),
+    bake_size: int = typer.Option(128, "--bake-size", metavar="N",
+                                  help="Size of the bake's specular cube (power of two >= 32; smaller than "
+                                       "render's 256 to keep the demo quick)."),
+    seed: int = _seed_option("Seed of the random numbers (ground truth and furnace)."),
+    quiet: bool = _quiet_option(),
 ):
     """Bake the bundled environment, render the sphere grid in real time and as ground
     truth, plot the furnace test and the lookup table, and write OUT/index.html."""
     from .demo import run_demo
 
     steps = ("bake", "realtime", "reference", "images", "furnace", "lut", "page")
-    with progress_bar(quiet, len(steps), "demo") as bar:
-        task = bar.add_task("demo", total=len(steps))
-        summary = run_demo(out, size=size, spp=spp, bake_size=bake_size, seed=seed,
-                           progress=lambda name: bar.advance(task))
+    with _Stages("demo", quiet, len(steps)) as stages:
+        stages.start(steps[0])
+
+        def finished(name):
+            k = steps.index(name) + 1 if name in steps else stages.number
+            if k < len(steps):
+                stages.start(steps[k], k + 1)
+
+        summary = run_demo(out, size=size, spp=spp, bake_size=bake_size, seed=seed, progress=finished)
     if not quiet:
         e = summary["errors"]
         print(f"mean relative error {e['mean_relative_error']:.4f}, FLIP {e.get('flip', float('nan')):.4f}; "
@@ -272,52 +681,55 @@ def demo(
         print(f"wrote {out / 'index.html'}")
 
 
-@app.command()
+@app.command(cls=_Command, short_help="Bake an HDR environment for split-sum IBL into a folder.")
 @user_errors
 def bake(
-    env: list[Path] = typer.Argument(..., help="Environment: one equirect (.hdr, .exr, .pfm, .png, .jpg) or cube-cross "
-                                           "image, or six face files in the order +X -X +Y -Y +Z -Z."),
-    out: Path = typer.Option(..., "-o", "--out", help="Output folder (must be absent or empty unless --force)."),
-    size: int = typer.Option(256, "--size", help="Specular cube size (power of two, <= 4096)."),
-    min_size: int = typer.Option(16, "--min-size", help="Size of the last (roughest) specular level."),
-    irradiance_size: int = typer.Option(32, "--irradiance-size", help="Irradiance cube size."),
-    lut_size: int = typer.Option(128, "--lut-size", help="DFG lookup-table size."),
-    fmt: str = typer.Option("rgba16f", "--format", help="KTX2/DDS texel format: rgba16f or b10g11r11."),
-    method: str = typer.Option("spectral", "--method",
-                               help="spectral (exact SH-domain convolution) or fis (filtered importance sampling)."),
-    sh_window: Optional[str] = typer.Option(None, "--sh-window", help="Window the stored SH: hanning or lanczos."),
-    layout: Optional[str] = typer.Option(None, "--layout", help="Force equirect, hcross or vcross for one file."),
-    fix_nonfinite: bool = typer.Option(False, "--fix-nonfinite",
-                                       help="Replace NaN/Inf pixels by the mean of their finite neighbours."),
-    force: bool = typer.Option(False, "--force", help="Replace a non-empty output folder."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or summary."),
+    env: list[Path] = typer.Argument(..., metavar="ENV",
+                                     help="Environment: one equirect (.hdr, .exr, .pfm, .png, .jpg) or cube-cross "
+                                          "image, or six face files in the order +X -X +Y -Y +Z -Z."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
+                             help="Output folder (must be absent or empty unless --force)."),
+    size: int = typer.Option(256, "--size", metavar="N", help="Specular cube size (power of two, <= 4096)."),
+    min_size: int = typer.Option(16, "--min-size", metavar="N", help="Size of the last (roughest) specular level."),
+    irradiance_size: int = typer.Option(32, "--irradiance-size", metavar="N", help="Irradiance cube size."),
+    lut_size: int = typer.Option(128, "--lut-size", metavar="N", help="DFG lookup-table size."),
+    fmt: str = _choice("rgba16f", "--format", BAKE_FORMATS, "format", "KTX2/DDS texel format."),
+    method: str = _choice("spectral", "--method", BAKE_METHODS, "method",
+                          "spectral (exact SH-domain convolution) or fis (filtered importance sampling)."),
+    sh_window: Optional[str] = _choice(None, "--sh-window", SH_WINDOWS, "SH window",
+                                       "Window the stored SH (default: none)."),
+    layout: Optional[str] = _choice(None, "--layout", LAYOUTS, "layout",
+                                    "Force the layout of a single file (default: by aspect ratio)."),
+    fix_nonfinite: bool = _flag(False, ("--fix-nonfinite",),
+                                "Replace NaN/Inf pixels by the mean of their finite neighbours (refused when more "
+                                "than half of an image is NaN/Inf); without it they are refused."),
+    force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
+    quiet: bool = _quiet_option(),
 ):
     """Bake an HDR environment for split-sum IBL: prefiltered specular chain, irradiance
     cube, SH9, DFG table, faces, preview and manifest.json in OUT."""
-    import warnings
-
     from ..core.atomic import check_output_directory
     from ..ibl.bake import bake as bake_environment
-    from ..io.bake_files import write_bake
+    from ..io.bake_files import WRITE_STEPS, write_bake
 
     if len(env) not in (1, 6):
         raise ValueError(f"give one environment file or six face files, got {len(env)}")
     check_output_directory(out, force)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        with progress_bar(quiet, 1, "bake") as bar:
-            task = bar.add_task("bake", total=None)
+    with _Stages("bake", quiet, 1) as stages:
+        baking = [1]
 
-            def step(name, done, total):
-                bar.update(task, description=name, completed=done, total=total)
+        def bake_stage(name, number, total):
+            baking[0] = total
+            stages.start(name, number, total + len(WRITE_STEPS))
 
-            result = bake_environment(env[0] if len(env) == 1 else env, size=size, min_size=min_size,
-                                      irradiance_size=irradiance_size, lut_size=lut_size, specular_format=fmt,
-                                      method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
-                                      layout=layout, progress=step)
-            write_bake(result, out, force=force, progress=step)
-    for w in caught:
-        _err.print(f"[yellow]pbrkit: warning:[/] {w.message}", highlight=False, soft_wrap=True)
+        def write_stage(name, number, total):
+            stages.start(name, baking[0] + number, baking[0] + total)
+
+        result = bake_environment(env[0] if len(env) == 1 else env, size=size, min_size=min_size,
+                                  irradiance_size=irradiance_size, lut_size=lut_size, specular_format=fmt,
+                                  method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
+                                  layout=layout, started=bake_stage)
+        write_bake(result, out, force=force, started=write_stage)
     if not quiet:
         levels = ", ".join(f"{r:g}" for r in result.roughness)
         print(f"wrote {out}: specular {size}^2, {result.levels} levels (roughness {levels}), "
@@ -327,4 +739,4 @@ def bake(
 
 
 if __name__ == "__main__":  # pragma: no cover
-    app()
+    app(prog_name="pbrkit")

@@ -4,10 +4,18 @@ time and as Monte Carlo ground truth, and write one self-contained web page
 
 The page uses relative links only and no script, so it opens from the file
 system without a server.  The ground truth of the demo is rendered without
-occlusion between the spheres (``render_reference(..., occlusion=False)``):
-each sphere sees the whole environment, as real-time IBL assumes, so the
-error map shows the shading approximations (split sum, diffuse weight, SH)
-rather than the missing inter-object shadows; the page says so.
+occlusion between the spheres and with direct light only
+(``render_reference(..., occlusion=False)``): each sphere sees the whole
+environment, as real-time IBL assumes, so the error map shows the shading
+approximations (:data:`pbrkit.render.realtime.APPROXIMATIONS`) rather than
+the missing inter-object shadows; the page says what the ground truth
+includes (``summary["reference"]["includes"]``).
+
+The bake has :data:`DEMO_LEVELS` specular levels (roughness steps of 0.2),
+the error map its colour bar on a scale taken from the data (the 99th
+percentile rounded up, :func:`pbrkit.app.figures.error_scale`), and where
+:mod:`pbrkit.render.run` offers ``approximation_split`` the error's split by
+approximation is measured and tabulated (``summary["errors"]["split"]``).
 """
 
 from __future__ import annotations
@@ -24,12 +32,17 @@ from ..core.atomic import write_text
 from ..core.color import linear_to_srgb
 from ..io.exr import write_exr
 from ..io.png import write_png
-from .figures import new_figure, save_figure
+from .figures import error_scale, new_figure, plot_error_map, save_figure
 
-__all__ = ["run_demo", "FURNACE_LOBES"]
+__all__ = ["run_demo", "FURNACE_LOBES", "DEMO_LEVELS", "ERROR_QUANTITY"]
 
 #: The furnace lobes the demo plots (the models, and GGX with three masking terms).
 FURNACE_LOBES = ("ggx/height-correlated", "ggx/separable", "ggx/schlick-ggx", "ue4", "filament", "urp_mobile")
+#: Specular levels of the demo's bake: level m has roughness m / (M - 1), steps of 0.2.
+DEMO_LEVELS = 6
+#: What the error map shows (its colour bar's label).
+ERROR_QUANTITY = "relative luminance error |Y_rt - Y_ref| / Y_ref"
+_ERROR_LABEL = r"relative luminance error $|Y_\mathrm{rt} - Y_\mathrm{ref}|\,/\,Y_\mathrm{ref}$"
 
 
 def _lut_plot(path, table, spec):
@@ -56,42 +69,74 @@ def _fmt(x, digits=4):
     return f"{x:.{digits}g}" if isinstance(x, float) else str(x)
 
 
-def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11, 128), progress=None):
+def _seconds(x):
+    """Every timing of the page: seconds with three decimals and the unit."""
+    return f"{float(x):.3f} s"
+
+
+def _write_previews(out, baked, face_size=64, gap=4):
+    """The bake's preview crosses (:func:`pbrkit.ibl.bake.preview_strip`, one exposure
+    for all) as one PNG each: ``preview/specular_m{m}.png`` per specular level and
+    ``preview/irradiance.png``; returns their paths relative to ``out``."""
+    from ..ibl.bake import preview_strip
+
+    strip = preview_strip(baked, face_size=face_size, gap=gap)
+    width = 4 * face_size
+    names = [f"preview/specular_m{m}.png" for m in range(len(baked.specular))] + ["preview/irradiance.png"]
+    (out / "preview").mkdir(parents=True, exist_ok=True)
+    for k, name in enumerate(names):
+        x = k * (width + gap)
+        write_png(out / name, strip[:, x:x + width], bits=8, srgb=True)
+    return names
+
+
+def _model_description(scene):
+    spec = scene.materials[scene.objects[0].material]
+    terms = f"{spec.distribution} D, {spec.masking} Smith, {spec.fresnel} Fresnel, {spec.diffuse} diffuse"
+    return {"model": spec.model, "terms": terms}
+
+
+def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11, 256), progress=None):
     """Run the demo into ``out_dir`` and return its summary (also in ``summary.json``).
 
     ``size``: the sphere grid's image side in pixels; ``spp``: ground-truth samples
-    per pixel; ``bake_size``: the specular cube's level-0 size; ``furnace``: the
-    furnace report's (n.v values, roughness values, Monte Carlo samples).
-    ``progress(step)`` is called with the name of each finished step."""
+    per pixel; ``bake_size``: the specular cube's level-0 size (a power of two
+    >= 32: the chain has :data:`DEMO_LEVELS` levels down to ``bake_size / 32``);
+    ``furnace``: the furnace report's (n.v values, roughness values, Monte Carlo
+    samples).  ``progress(step)`` is called with the name of each finished step."""
     from .. import __version__
     from ..albedo.furnace import furnace_lobes
     from ..albedo.tables import lookup_table
+    from ..data import ENVIRONMENT, environment_licence_path, environment_path
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import write_bake
     from ..io.environment import load_environment
-    from ..render.compare import compare_images, error_heatmap
+    from ..render import realtime as realtime_module
+    from ..render import run as run_module
+    from ..render.compare import compare_images, relative_error_pixels
     from ..render.environment import EnvironmentLight
     from ..render.geometry import Geometry
     from ..render.realtime import render_realtime
     from ..render.reference import render_reference
-    from ..render.scene import EnvironmentSpec, builtin_scene, bundled_environment
-    from .report import furnace_report
+    from ..render.scene import EnvironmentSpec, builtin_scene
+    from .report import albedo_families, furnace_report
 
     size = checks.integer(size, "size", 16, 4096)
     spp = checks.integer(spp, "spp", 1, 1 << 16)
-    bake_size = checks.power_of_two(bake_size, "bake_size", 16, 2048)
+    bake_size = checks.power_of_two(bake_size, "bake_size", 1 << (DEMO_LEVELS - 1), 2048)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     step = progress or (lambda name: None)
     timings = {}
     t_start = time.perf_counter()
 
-    # 1. bake the bundled environment
-    env_path = bundled_environment()
+    # 1. bake the bundled environment, with roughness steps of 1 / (DEMO_LEVELS - 1) = 0.2
+    env_path = environment_path()
     t = time.perf_counter()
     environment = load_environment(env_path)
-    baked = bake_environment(environment, size=bake_size)
+    baked = bake_environment(environment, size=bake_size, min_size=bake_size >> (DEMO_LEVELS - 1))
     write_bake(baked, out / "bake", force=True)
+    previews = _write_previews(out, baked)
     timings["bake (incl. writing)"] = time.perf_counter() - t
     step("bake")
 
@@ -107,16 +152,27 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     timings["ground-truth render"] = ref.stats["timings"]["total"]
     step("reference")
     t = time.perf_counter()
-    metrics = compare_images(rt.image, ref.image, rt.mask & ref.mask, ref.stderr, flip=True)
-    heat = error_heatmap(metrics.pop("relative_error_map"), rt.mask & ref.mask)
+    mask = rt.mask & ref.mask
+    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
+    rel = metrics.pop("relative_error_map")
+    valid = relative_error_pixels(ref.image, mask)
+    scale, p99, peak = error_scale(rel[valid])
     per_sphere = _per_sphere_errors(scene, rt, ref)
     timings["errors (incl. FLIP)"] = time.perf_counter() - t
+    # --- the error split by approximation (summary["errors"]["split"], rendered by _split_table);
+    # measured here where pbrkit.render.run provides it (each entry: a value and a description)
+    split = getattr(run_module, "approximation_split", None)
+    if split is not None:
+        t = time.perf_counter()
+        metrics["split"] = split(scene, geometry, env, baked, rt.image, ref.image, ref.stderr, mask)
+        timings["error split by approximation"] = time.perf_counter() - t
     _png(out / "realtime.png", rt.image)
     _png(out / "reference.png", ref.image)
-    write_png(out / "error.png", heat, srgb=False)
+    plot_error_map(out / "error.png", rel, valid, scale, _ERROR_LABEL)
     write_exr(out / "realtime.exr", rt.image.astype(np.float32))
     write_exr(out / "reference.exr", ref.image.astype(np.float32))
     write_exr(out / "reference_stderr.exr", ref.stderr.astype(np.float32))
+    write_exr(out / "relative_error.exr", np.where(valid, rel, 0.0).astype(np.float32))
     step("images")
 
     # 3. furnace and lookup-table plots
@@ -125,6 +181,9 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     n_mu, n_rough, samples = furnace
     furnace_summary, _ = furnace_report(out / "furnace", n_mu=n_mu, roughness=np.linspace(0.0, 1.0, n_rough),
                                         samples=samples, seed=seed, lobes=lobes)
+    families = albedo_families(lobes)
+    furnace_figures = ([f"furnace/furnace_{family}.png" for family in families] if len(families) > 1
+                       else ["furnace/furnace.png"])
     timings["furnace report"] = time.perf_counter() - t
     step("furnace")
     t = time.perf_counter()
@@ -135,24 +194,32 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
 
     manifest_path = out / "bake" / "manifest.json"
     manifest = json.loads(manifest_path.read_text()) if manifest_path.exists() else dict(baked.manifest)
-    previews = sorted(p.relative_to(out).as_posix() for p in (out / "bake").rglob("*.png"))
     timings["total"] = time.perf_counter() - t_start
     summary = {
         "pbrkit": __version__,
-        "environment": {"file": env_path.name, "licence": "CC0 (Poly Haven), see LICENSE-environment.md"},
-        "image": {"width": size, "height": size, "spheres": len(scene.objects)},
-        "bake": {"size": bake_size, "levels": len(baked.specular)},
-        "realtime": {"diffuse": rt.stats["diffuse"], "timings": rt.stats["timings"]},
-        "reference": {k: ref.stats[k] for k in ("spp", "bounces", "seed", "strategy", "occlusion", "paths",
-                                                "surface_paths", "paths_per_second", "engine")},
+        "environment": dict(ENVIRONMENT),
+        "image": {"width": size, "height": size, "spheres": len(scene.objects), **_model_description(scene)},
+        "bake": {"size": bake_size, "min_size": bake_size >> (DEMO_LEVELS - 1), "levels": len(baked.specular),
+                 "roughness": [float(r) for r in baked.roughness],
+                 "irradiance_size": int(np.asarray(baked.irradiance).shape[1]), "previews": previews},
+        "realtime": {"diffuse": rt.stats["diffuse"], "timings": rt.stats["timings"],
+                     "approximations": dict(getattr(realtime_module, "APPROXIMATIONS", {}))},
+        "reference": {**{k: ref.stats[k] for k in ("spp", "bounces", "seed", "strategy", "occlusion", "paths",
+                                                   "surface_paths", "paths_per_second", "engine")},
+                      "includes": {"occlusion": bool(ref.stats["occlusion"]), "bounces": int(ref.stats["bounces"])}},
         "errors": metrics,
+        "error_map": {"quantity": ERROR_QUANTITY, "colour_map": "magma", "scale_max": scale,
+                      "scale_rule": "99th percentile of the compared pixels, rounded up to 1, 2, 2.5 or 5 x 10^k",
+                      "percentile_99": p99, "max": peak, "pixels_above_scale": int(np.count_nonzero(rel[valid] > scale))},
         "per_sphere_signed_relative_error": per_sphere,
         "furnace": {name: furnace_summary["per_lobe"][name] for name in lobes},
+        "furnace_options": {"mu": n_mu, "roughness": n_rough, "samples": samples,
+                            "monte_carlo": furnace_summary.get("monte_carlo", ""), "figures": furnace_figures},
         "timings_s": timings,
     }
     write_text(out / "summary.json", json.dumps(summary, indent=2, default=float) + "\n")
-    _copy_licence(out)
-    write_text(out / "index.html", _page(summary, manifest, previews))
+    write_text(out / ENVIRONMENT["licence_file"], environment_licence_path().read_text(encoding="utf-8"))
+    write_text(out / "index.html", _page(summary, manifest))
     step("page")
     return summary
 
@@ -181,56 +248,138 @@ def _per_sphere_errors(scene, rt, ref):
     return out
 
 
-def _copy_licence(out):
-    src = Path(__file__).resolve().parent.parent / "data" / "LICENSE-environment.md"
-    if src.exists():
-        write_text(out / "LICENSE-environment.md", src.read_text(encoding="utf-8"))
-
-
 _CSS = """
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em; }
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em;
+       line-height: 1.45; }
 h1 { font-size: 1.6em; } h2 { font-size: 1.25em; margin-top: 1.8em; border-bottom: 1px solid #ddd; }
+h3 { font-size: 1.05em; margin-top: 1.4em; }
 figure { display: inline-block; margin: 0.4em; vertical-align: top; text-align: center; }
 figure img { max-width: 100%; border: 1px solid #ccc; image-rendering: auto; }
-.grid img { width: 360px; } figcaption { font-size: 0.85em; color: #555; }
+.grid figure { width: 360px; } .grid img { width: 360px; }
+.crosses figure { width: 176px; margin: 0.3em; } .crosses img { width: 176px; image-rendering: pixelated; }
+figure.wide { display: block; margin: 0.6em 0; } figure.wide img { width: 100%; max-width: 1150px; }
+figcaption { font-size: 0.85em; color: #444; }
 table { border-collapse: collapse; margin: 0.6em 0; } td, th { border: 1px solid #ccc; padding: 0.25em 0.6em; }
 th { background: #f3f3f3; text-align: left; } td.num { text-align: right; font-variant-numeric: tabular-nums; }
 pre { background: #f7f7f7; border: 1px solid #ddd; padding: 0.8em; overflow: auto; max-height: 28em; font-size: 0.8em; }
-.note { color: #555; font-size: 0.9em; }
+.note { color: #444; font-size: 0.9em; }
+.box { background: #f6f8fb; border: 1px solid #d8dee8; padding: 0.5em 1em; margin: 0.8em 0; font-size: 0.92em; }
+.box h3 { margin: 0.3em 0; font-size: 1em; } .box ul { margin: 0.3em 0; padding-left: 1.4em; }
 """
 
 
 def _rows(pairs):
+    """Table rows: a header cell and a right-aligned value; a str value is shown as it is
+    (the caller formats numbers with units), a number through :func:`_fmt`."""
     return "\n".join(f"<tr><th>{html.escape(str(k))}</th><td class=\"num\">{html.escape(_fmt(v))}</td></tr>"
                      for k, v in pairs)
 
 
-def _page(summary, manifest, previews):
+def _percent(x, digits=1):
+    return f"{100.0 * x:.{digits}f}%"
+
+
+def _includes_box(summary):
+    """What the ground truth includes (``summary["reference"]["includes"]``) and what the
+    real-time path approximates (``summary["realtime"]["approximations"]``)."""
+    ref = summary["reference"]
+    includes = ref.get("includes")
+    parts = []
+    if includes is not None:
+        occluded, bounces = bool(includes.get("occlusion", False)), int(includes.get("bounces", 0))
+        occ = ("inter-object occlusion: <b>yes</b> (the spheres block one another's environment light)" if occluded
+               else "inter-object occlusion: <b>no</b> (each sphere sees the whole environment, as real-time IBL "
+                    "assumes)")
+        bnc = (f"bounces: <b>{bounces}</b> (direct light only)" if bounces == 0
+               else f"bounces: <b>{bounces}</b> (light reflected between the spheres)")
+        verdict = ("like for like with the real-time path, so the error below is that of its approximations "
+                   "(plus the ground truth's Monte Carlo noise, reported beside it)" if not occluded and bounces == 0
+                   else "more than the real-time path computes, so the error below includes what real time leaves "
+                        "out, not only its approximations")
+        parts.append(f"<h3>What the ground truth includes</h3><ul><li>{occ}</li><li>{bnc}</li>"
+                     f"<li>the same BRDF, evaluated exactly, with {html.escape(str(ref['spp']))} Monte Carlo "
+                     f"samples per pixel ({html.escape(str(ref['strategy']))})</li></ul>"
+                     f"<p>That is {verdict}.</p>")
+    approximations = summary["realtime"].get("approximations") or {}
+    if approximations:
+        items = "".join(f"<li><code>{html.escape(name)}</code>: {html.escape(text)}</li>"
+                        for name, text in approximations.items())
+        parts.append(f"<h3>What the real-time path approximates</h3><ul>{items}</ul>")
+    return f'<div class="box">{"".join(parts)}</div>' if parts else ""
+
+
+def _split_table(errors):
+    """The error split by approximation, ``errors["split"]``: {name: {value key: float,
+    "description": str}} (:func:`pbrkit.render.run.approximation_split`); empty without it."""
+    split = errors.get("split")
+    if not split:
+        return ""
+    keys = [k for k in ("rms_relative_error", "mean_relative_error")
+            if all(isinstance(entry.get(k), (int, float)) for entry in split.values())]
+    titles = {"rms_relative_error": "RMS relative error", "mean_relative_error": "mean relative error"}
+    head = "".join(f"<th>{titles[k]}</th>" for k in keys)
+    rows = "\n".join(
+        f"<tr><th><code>{html.escape(name)}</code></th>"
+        + "".join(f'<td class="num">{entry[k]:.4f}</td>' for k in keys)
+        + f"<td>{html.escape(str(entry.get('description', '')))}</td></tr>"
+        for name, entry in split.items())
+    return f"""<h3>Error split by approximation</h3>
+<p class="note">Each approximation of the real-time path swapped, one at a time, for an exact computation; the
+value is the relative luminance error that swap removes. Errors of opposite sign partly cancel in the total,
+so the shares need not add up to it.</p>
+<table><tr><th>approximation</th>{head}<th>what it replaces</th></tr>
+{rows}
+</table>"""
+
+
+def _page(summary, manifest):
     e = summary["errors"]
     ref = summary["reference"]
-    error_rows = [("mean relative error (luminance)", e["mean_relative_error"]),
-                  ("max relative error (luminance)", e["max_relative_error"]),
-                  ("HDR-FLIP (mean)", e.get("flip", float("nan"))),
-                  ("ground-truth noise: mean relative standard error", e.get("mean_relative_stderr", float("nan"))),
-                  ("pixels compared", e["pixels"])]
+    env = summary["environment"]
+    bake = summary["bake"]
+    emap = summary["error_map"]
+    error_rows = []
+    if "rms_relative_error_noise_removed" in e:
+        error_rows.append(("RMS relative error, ground-truth noise removed (headline)",
+                           e["rms_relative_error_noise_removed"]))
+    error_rows += [("RMS relative error", e.get("rms_relative_error", float("nan"))),
+                   ("mean relative error (luminance)", e["mean_relative_error"]),
+                   ("max relative error (luminance)", e["max_relative_error"]),
+                   ("HDR-FLIP (mean)", e.get("flip", float("nan"))),
+                   ("ground-truth noise: mean relative standard error", e.get("mean_relative_stderr", float("nan"))),
+                   ("pixels compared", e["pixels"])]
     sample_rows = [("samples per pixel", ref["spp"]), ("paths (all pixels)", ref["paths"]),
                    ("paths on surfaces", ref["surface_paths"]),
-                   ("paths per second", float(ref["paths_per_second"])), ("strategy", ref["strategy"]),
-                   ("bounces", ref["bounces"]), ("engine", ref["engine"])]
-    timing_rows = [(k, float(v)) for k, v in summary["timings_s"].items()]
-    rt_rows = [(k, float(v)) for k, v in summary["realtime"]["timings"].items()]
+                   ("paths on surfaces per second", f"{float(ref['paths_per_second']):,.0f} /s"),
+                   ("strategy", ref["strategy"]), ("bounces", ref["bounces"]),
+                   ("inter-object occlusion", "yes" if ref["occlusion"] else "no"), ("engine", ref["engine"])]
+    timing_rows = [(k, _seconds(v)) for k, v in summary["timings_s"].items()]
+    rt_rows = [(k, _seconds(v)) for k, v in summary["realtime"]["timings"].items()]
     grid = summary["per_sphere_signed_relative_error"]
     grid_rows = "\n".join(
         "<tr><th>metallic " + f"{i / max(len(grid) - 1, 1):.2f}</th>"
         + "".join(f"<td class=\"num\">{100.0 * v:+.1f}%</td>" for v in row) + "</tr>"
         for i, row in enumerate(grid))
     grid_head = "".join(f"<th>r = {j / max(len(grid[0]) - 1, 1):.2f}</th>" for j in range(len(grid[0])))
+    fo = summary["furnace_options"]
     furnace_rows = "\n".join(
         f"<tr><th>{html.escape(name)}</th><td class=\"num\">{s['min_albedo']:.4f}</td>"
-        f"<td class=\"num\">{s['max_albedo']:.4f}</td><td class=\"num\">{s['max_energy_loss']:.4f}</td></tr>"
+        f"<td class=\"num\">{s['max_albedo']:.4f}</td><td class=\"num\">{s['max_energy_loss']:.4f}</td>"
+        f"<td class=\"num\">{_percent(s['fraction_within_3_stderr'])}</td>"
+        f"<td class=\"num\">{s['max_abs_mc_minus_quadrature']:.2e}</td></tr>"
         for name, s in summary["furnace"].items())
-    preview_figs = "\n".join(f'<figure><img src="{html.escape(p)}" alt="bake preview {html.escape(p)}">'
-                             f"<figcaption>{html.escape(p)}</figcaption></figure>" for p in previews)
+    furnace_figs = "\n".join(
+        f'<figure class="wide"><img src="{html.escape(p)}" alt="white furnace plot {html.escape(p)}">'
+        f"<figcaption>E(mu) against mu = n.v, one curve per roughness "
+        f'(<a href="{html.escape(p)}">full size</a>)</figcaption></figure>' for p in fo["figures"])
+    levels = bake["levels"]
+    crosses = "\n".join(
+        f'<figure><img src="{html.escape(p)}" alt="specular level {m}, roughness {r:.2f}">'
+        f"<figcaption><b>level {m}: r = {r:.2f}</b><br>{max(bake['size'] >> m, 1)}&sup2; texels per face"
+        + (" (the environment itself)" if m == 0 else "") + "</figcaption></figure>"
+        for m, (p, r) in enumerate(zip(bake["previews"][:levels], bake["roughness"])))
+    irradiance = bake["previews"][levels]
+    steps = 1.0 / max(levels - 1, 1)
     size = summary["image"]
     return f"""<!DOCTYPE html>
 <html lang="en">
@@ -241,31 +390,39 @@ def _page(summary, manifest, previews):
 </head>
 <body>
 <h1>pbrkit demo: real-time shading against Monte Carlo ground truth</h1>
-<p>pbrkit {html.escape(str(summary["pbrkit"]))}. Environment: <code>{html.escape(summary["environment"]["file"])}</code>
-(CC0, Poly Haven: <a href="LICENSE-environment.md">licence</a>),
-baked at {summary["bake"]["size"]}&sup2; with {summary["bake"]["levels"]} specular levels.</p>
+<p>pbrkit {html.escape(str(summary["pbrkit"]))}. Environment: <b>{html.escape(env["name"])}</b>
+(<code>{html.escape(env["source_file"])}</code> by {html.escape(env["author"])},
+{html.escape(env["licence"])}: <a href="{html.escape(env["licence_file"])}">licence and source</a>),
+bundled as <code>{html.escape(env["file"])}</code>, {env["resolution"][0]} &times; {env["resolution"][1]}
+equirectangular. Baked at {bake["size"]}&sup2; with {levels} specular levels (roughness steps of {steps:.2f}).</p>
 
 <h2>Sphere grid</h2>
 <p class="note">{size["spheres"]} spheres, {size["width"]} &times; {size["height"]} pixels: perceptual roughness
-0 to 1 from left to right, metallic 0 to 1 from top to bottom (cook_torrance: GGX, height-correlated Smith,
-Schlick Fresnel, Lambert). Real time: split-sum IBL from the bake (prefiltered chain, DFG table, SH diffuse with
-k<sub>d</sub> = (1 - F*)(1 - metallic)). Ground truth: Monte Carlo with environment importance sampling, GGX
-visible-normal sampling and multiple importance sampling; the spheres do not occlude one another here, so the
-error map isolates the shading approximations. Tone mapping: ACES (Hill's fit); the error map shows
-|Y<sub>rt</sub> - Y<sub>ref</sub>| / Y<sub>ref</sub> from 0 (black) to 20% or more (yellow), magma colour map.</p>
+0 to 1 from left to right, metallic 0 to 1 from top to bottom; model <code>{html.escape(size["model"])}</code>
+({html.escape(size["terms"])}). Real time: split-sum image-based lighting from the bake (prefiltered specular
+chain, DFG table, {html.escape(str(summary["realtime"]["diffuse"]).upper())} irradiance for the diffuse). Ground
+truth: Monte Carlo with environment importance sampling, visible-normal GGX sampling and multiple importance
+sampling. Tone mapping: ACES (Hill's fit).</p>
+{_includes_box(summary)}
 <div class="grid">
 <figure><img src="realtime.png" alt="real-time render">
 <figcaption>real time (<a href="realtime.exr">EXR</a>)</figcaption></figure>
 <figure><img src="reference.png" alt="ground-truth render"><figcaption>ground truth, {ref["spp"]} spp
 (<a href="reference.exr">EXR</a>, <a href="reference_stderr.exr">standard error</a>)</figcaption></figure>
-<figure><img src="error.png" alt="relative error heat map"><figcaption>relative error</figcaption></figure>
+<figure><img src="error.png" alt="relative luminance error map with its colour bar">
+<figcaption>{html.escape(emap["quantity"])}: colour scale 0 to {100.0 * emap["scale_max"]:g}%
+(the 99th percentile of the compared pixels, {_percent(emap["percentile_99"])}, rounded up);
+maximum {_percent(emap["max"])}; {emap["pixels_above_scale"]} pixels above the scale show its top colour;
+grey: not compared (<a href="relative_error.exr">EXR</a>)</figcaption></figure>
 </div>
 <h3>Errors (real time against ground truth)</h3>
 <table>{_rows(error_rows)}</table>
+<!-- error split by approximation: summary["errors"]["split"] (pbrkit.render.run.approximation_split);
+     the table appears only when the summary has it -->
+{_split_table(e)}
 <h3>Mean signed error per sphere</h3>
-<p class="note">(Y<sub>rt</sub> - Y<sub>ref</sub>) / Y<sub>ref</sub> over the inner 80% of each sphere. The
-partly metallic rows are darker in real time: k<sub>d</sub> = (1 - F*)(1 - metallic) takes F* from an F0 that
-already mixes in the metal's colour, while the model's Lambert lobe is not weighted by 1 - F.</p>
+<p class="note">(Y<sub>rt</sub> - Y<sub>ref</sub>) / Y<sub>ref</sub> over the inner 80% of each sphere:
+positive where real time is brighter than the ground truth.</p>
 <table><tr><th></th>{grid_head}</tr>
 {grid_rows}
 </table>
@@ -273,12 +430,16 @@ already mixes in the metal's colour, while the model's Lambert lobe is not weigh
 <table>{_rows(sample_rows)}</table>
 
 <h2>White furnace</h2>
-<p class="note">Directional albedo E(mu) with F = 1 of single-scattering specular lobes (quadrature; the energy
-lost to multiple scattering is 1 - E). <a href="furnace/furnace.csv">CSV</a>,
-<a href="furnace/furnace.json">JSON</a>.</p>
-<figure><img src="furnace/furnace.png" alt="white furnace plot">
-<figcaption>E(mu) per lobe and roughness</figcaption></figure>
-<table><tr><th>lobe</th><th>min E</th><th>max E</th><th>max energy loss</th></tr>
+<p class="note">Directional albedo E(mu) with F = 1 of single-scattering specular lobes, by quadrature (the energy
+lost to multiple scattering is 1 - E), on {fo["mu"]} values of mu = n.v &times; {fo["roughness"]} roughness values.
+Monte Carlo check: {html.escape(str(fo["monte_carlo"]))}; the table gives, per lobe, the fraction of cells where
+the Monte Carlo estimate lies within 3 of its standard errors of the quadrature (about 99.7% for an unbiased
+estimator with honest error bars) and the largest |MC - quadrature|.
+<a href="furnace/furnace.csv">CSV</a>, <a href="furnace/furnace.json">JSON</a>,
+<a href="furnace/furnace.png">all lobes in one figure</a>.</p>
+{furnace_figs}
+<table><tr><th>lobe</th><th>min E</th><th>max E</th><th>max energy loss</th>
+<th>MC within 3 std. errors</th><th>max |MC - quadrature|</th></tr>
 {furnace_rows}
 </table>
 
@@ -287,8 +448,19 @@ lost to multiple scattering is 1 - E). <a href="furnace/furnace.csv">CSV</a>,
 <figcaption>DFG1 and DFG2 (texel centres; row 0 = smooth)</figcaption></figure>
 
 <h2>Bake</h2>
-{preview_figs}
-<p class="note">Files in <a href="bake/">bake/</a>; the manifest:</p>
+<p class="note">Every cube map as a horizontal cross (+Y above, -X +Z +X -Z across, -Y below), tone-mapped with one
+exposure. Files in <a href="bake/">bake/</a>; <a href="bake/preview.png">bake/preview.png</a> has the same crosses
+in one strip.</p>
+<h3>Prefiltered specular chain (GGX): level m of {levels} has roughness r = m / {levels - 1}</h3>
+<div class="crosses">
+{crosses}
+</div>
+<h3>Irradiance (diffuse)</h3>
+<div class="crosses">
+<figure><img src="{html.escape(irradiance)}" alt="irradiance cube map">
+<figcaption><b>irradiance E(n) / &pi;</b><br>{bake["irradiance_size"]}&sup2; texels per face</figcaption></figure>
+</div>
+<p class="note">The manifest:</p>
 <pre>{html.escape(json.dumps(manifest, indent=2, default=str))}</pre>
 
 <h2>Timings</h2>

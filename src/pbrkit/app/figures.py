@@ -5,6 +5,8 @@ backend (no display needed); :func:`save_figure` writes it atomically
 (:func:`pbrkit.core.atomic.atomic_path`) without the "Software" text chunk
 that would record Matplotlib's version, so the same data give the same
 bytes, and closes it.  Matplotlib is imported only when a figure is made.
+:func:`plot_error_map` draws an error map with its colour bar on a scale
+chosen from the data (:func:`error_scale`, :func:`nice_ceiling`).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import numpy as np
 
 from ..core.atomic import atomic_path
 
-__all__ = ["pyplot", "new_figure", "colors", "save_figure"]
+__all__ = ["pyplot", "new_figure", "colors", "save_figure", "nice_ceiling", "error_scale", "plot_error_map"]
 
 
 def pyplot():
@@ -47,3 +49,64 @@ def save_figure(fig, path, dpi):
             fig.savefig(tmp, dpi=dpi, format="png", metadata={"Software": None})
     finally:
         pyplot().close(fig)
+
+
+def nice_ceiling(x):
+    """The smallest number 1, 2, 2.5 or 5 times a power of ten that is >= ``x`` (> 0)."""
+    x = float(x)
+    if not (x > 0.0 and np.isfinite(x)):
+        raise ValueError(f"nice_ceiling needs a finite positive number; got {x!r}")
+    power = 10.0 ** np.floor(np.log10(x))
+    for step in (1.0, 2.0, 2.5, 5.0, 10.0):
+        if step * power >= x * (1.0 - 1e-12):
+            return float(step * power)
+    return float(10.0 * power)  # not reached
+
+
+def error_scale(values, percentile=99.0, floor=1e-3):
+    """Upper end of an error map's colour scale: the ``percentile`` of ``values``
+    rounded up by :func:`nice_ceiling` (at least ``floor``), so that at most
+    100 - ``percentile`` % of the pixels saturate.  Returns ``(scale, percentile
+    value, maximum)``."""
+    values = np.asarray(values, dtype=float).ravel()
+    if values.size == 0:
+        return floor, 0.0, 0.0
+    p = float(np.percentile(values, percentile))
+    return nice_ceiling(max(p, floor)), p, float(values.max())
+
+
+def plot_error_map(path, error, valid, scale, quantity, title=None, percent=True, dpi=100):
+    """Write the error map ``error`` (H, W) as a figure: the pixels ``valid`` through
+    the 'magma' colour map from 0 to ``scale`` (pixels above it at the top colour,
+    marked by the colour bar's arrow), the others light grey, and below the image a
+    horizontal colour bar with its numbers (percentages with ``percent``) and
+    ``quantity`` as its label.  The image spans the figure's width: 4 inches at
+    ``dpi`` (400 pixels at the default 100)."""
+    import matplotlib
+    from matplotlib.ticker import PercentFormatter
+
+    error = np.ma.masked_array(np.asarray(error, dtype=float), mask=~np.asarray(valid, dtype=bool))
+    cmap = matplotlib.colormaps["magma"].with_extremes(bad="0.86")
+    height, width = error.shape
+    fig_w = 4.0
+    img_w = 3.96
+    img_h = img_w * height / width
+    bar_h = 1.15 + (0.3 if title else 0.0)
+    fig_h = img_h + bar_h
+    with matplotlib.rc_context({"font.size": 10}):
+        fig = pyplot().figure(figsize=(fig_w, fig_h))
+        ax = fig.add_axes(((fig_w - img_w) / 2 / fig_w, (fig_h - img_h - (0.3 if title else 0.04)) / fig_h,
+                           img_w / fig_w, img_h / fig_h))
+        im = ax.imshow(error, cmap=cmap, vmin=0.0, vmax=scale, interpolation="nearest")
+        ax.set_axis_off()
+        if title:
+            ax.set_title(title, fontsize=10)
+        cax = fig.add_axes((0.08, 0.62 / fig_h, 0.84, 0.16 / fig_h))
+        extend = "max" if bool(np.any(error.filled(0.0) > scale)) else "neither"
+        bar = fig.colorbar(im, cax=cax, orientation="horizontal", extend=extend)
+        if percent:
+            decimals = 0 if scale >= 0.1 else 1 if scale >= 0.01 else 2
+            bar.ax.xaxis.set_major_formatter(PercentFormatter(xmax=1.0, decimals=decimals))
+        bar.set_label(quantity, fontsize=10)
+        bar.ax.tick_params(labelsize=9)
+        save_figure(fig, path, dpi=dpi)

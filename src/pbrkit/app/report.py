@@ -10,13 +10,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..albedo.furnace import albedo_monte_carlo, albedo_quadrature, furnace_lobes
+from ..albedo.furnace import (
+    agreement,
+    albedo_monte_carlo,
+    albedo_quadrature,
+    furnace_lobes,
+)
 from ..albedo.tables import texel_centres
 from ..core import checks
 from ..core.atomic import write_bytes, write_text
 from .figures import colors, new_figure, save_figure
 
-__all__ = ["furnace_report", "compensation_report"]
+__all__ = ["furnace_report", "compensation_report", "plot_albedo", "albedo_families", "curve_roughness"]
 
 
 def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=None, progress=None):
@@ -26,8 +31,11 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
     ``furnace.npy`` is float64 of shape (lobes, mu, roughness, 3) holding the
     quadrature value, the Monte Carlo estimate and its standard error; the
     axes are listed in ``furnace.json``.  ``progress(name)`` is called per lobe.
-    Returns the summary dictionary written to ``furnace.json`` (which holds no
-    timings, so that the same options give the same bytes) and the timings.
+    With lobes of more than one family (:func:`albedo_families`) it also writes one
+    figure per family, ``furnace_<family>.png`` (``furnace_ggx.png``,
+    ``furnace_models.png`` ...).  Returns the summary dictionary written to
+    ``furnace.json`` (which holds no timings, so that the same options give the
+    same bytes) and the timings.
     """
     out_dir = Path(out_dir)
     n_mu = checks.integer(n_mu, "n_mu", 2, 4096)
@@ -51,10 +59,6 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
         if progress is not None:
             progress(name)
 
-    # Fraction of cells where MC lies within 3 standard errors of the quadrature.  Below
-    # 99.7 % is expected at small sample counts: GGX tails reflect rare samples below the
-    # horizon (weight 0), so a short run that misses them understates its own error.
-    within = np.abs(data[..., 0] - data[..., 1]) <= 3.0 * data[..., 2] + 1e-9
     summary = {
         "description": "White-furnace directional albedo E(mu, r) = integral of f (n.l) dl with F = 1",
         "lobes": names,
@@ -69,7 +73,8 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
                 "max_albedo": float(data[k, ..., 0].max()),
                 "max_energy_loss": float(1.0 - data[k, ..., 0].min()),
                 "max_abs_mc_minus_quadrature": float(np.abs(data[k, ..., 0] - data[k, ..., 1]).max()),
-                "fraction_within_3_stderr": float(within[k].mean()),
+                # ~99.7 % for an unbiased estimator with an honest standard error
+                "fraction_within_3_stderr": agreement(data[k, ..., 0], data[k, ..., 1], data[k, ..., 2]),
             }
             for k, name in enumerate(names)
         },
@@ -88,36 +93,89 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
     np.save(npy, data)
     write_bytes(out_dir / "furnace.npy", npy.getvalue())
     write_text(out_dir / "furnace.json", json.dumps(summary, indent=2) + "\n")
-    plot_albedo(out_dir / "furnace.png", names, mu, roughness, data[..., 0],
-                title="White furnace: single-scattering albedo E(mu) with F = 1")
+    title = "White furnace: single-scattering albedo E(mu), F = 1"
+    plot_albedo(out_dir / "furnace.png", names, mu, roughness, data[..., 0], title=title)
+    families = albedo_families(names)
+    if len(families) > 1:
+        for family, members in families.items():
+            rows = [names.index(name) for name in members]
+            plot_albedo(out_dir / f"furnace_{family}.png", members, mu, roughness, data[rows, ..., 0],
+                        title=f"{title}: {FAMILY_TITLES.get(family, family)}")
     return summary, timings
 
 
-def plot_albedo(path, names, mu, roughness, albedo, title):
-    """One panel per lobe, E against mu, one curve per roughness (viridis)."""
-    cols = min(6, len(names))
+#: Titles of the furnace figures, one per family of lobes (:func:`albedo_families`).
+FAMILY_TITLES = {
+    "ggx": "GGX D, each masking term",
+    "beckmann": "Beckmann D, each masking term",
+    "blinn-phong": "Blinn-Phong D, each masking term",
+    "models": "the engines' models",
+}
+
+
+def albedo_families(names):
+    """The furnace lobes grouped into the families their figures show, in order of first
+    appearance: ``cook_torrance`` lobes ``"D/G"`` by distribution D (``ggx``,
+    ``beckmann``, ``blinn-phong``), the models (``ue4``, ``filament``, ...) under ``models``."""
+    families = {}
+    for name in names:
+        families.setdefault(name.split("/", 1)[0] if "/" in name else "models", []).append(name)
+    return families
+
+
+def curve_roughness(roughness, curves=6):
+    """Indices of at most ``curves`` roughness values, evenly spread over ``roughness``
+    (first and last included): the curves a furnace panel draws."""
+    roughness = np.asarray(roughness, dtype=float)
+    if roughness.size <= curves:
+        return np.arange(roughness.size)
+    targets = np.linspace(roughness.min(), roughness.max(), curves)
+    return np.unique([int(np.argmin(np.abs(roughness - t))) for t in targets])
+
+
+def plot_albedo(path, names, mu, roughness, albedo, title, curves=6):
+    """One figure: a panel per lobe (at most 3 across, legible at a web page's
+    width), E(mu) against mu = n.v with one curve per roughness for at most
+    ``curves`` roughness values (:func:`curve_roughness`), all panels on the same
+    axes, and one legend below them giving the roughness of each curve."""
+    import matplotlib
+
+    picks = curve_roughness(roughness, curves)
+    cols = min(3, len(names))
     rows = (len(names) + cols - 1) // cols
-    fig, axes = new_figure(rows, cols, figsize=(2.6 * cols, 2.3 * rows), sharex=True, sharey=True, squeeze=False)
-    palette = colors(len(roughness))
-    for k, name in enumerate(names):
-        ax = axes.flat[k]
-        for j, r in enumerate(roughness):
-            ax.plot(mu, albedo[k, :, j], color=palette[j], lw=1.2, label=f"r={r:.2f}")
-        ax.set_title(name, fontsize=8)
-        ax.set_ylim(0.0, max(1.05, float(np.nanmax(albedo)) * 1.02))
-        ax.axhline(1.0, color="0.6", lw=0.6, ls="--")
-        ax.grid(alpha=0.3)
-    for ax in axes.flat[len(names):]:
-        ax.axis("off")
-    for ax in axes[-1]:
-        ax.set_xlabel("mu = n.v", fontsize=8)
-    for ax in axes[:, 0]:
-        ax.set_ylabel("E(mu)", fontsize=8)
-    handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower right", fontsize=7, ncol=2)
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path, dpi=110)
+    top = max(1.05, float(np.nanmax(albedo[..., picks])) * 1.04)
+    style = {"font.size": 11, "axes.titlesize": 12, "axes.labelsize": 11, "xtick.labelsize": 10,
+             "ytick.labelsize": 10, "legend.fontsize": 11, "legend.title_fontsize": 11, "figure.titlesize": 13}
+    with matplotlib.rc_context(style):
+        fig, axes = new_figure(rows, cols, figsize=(max(3.8 * cols, 6.4), 2.9 * rows + 1.3), sharex=True, sharey=True,
+                               squeeze=False, layout="constrained")
+        palette = colors(len(picks), "viridis")
+        for k, name in enumerate(names):
+            ax = axes.flat[k]
+            ax.axhline(1.0, color="0.55", lw=0.9, ls="--")
+            for c, j in zip(palette, picks):
+                ax.plot(mu, albedo[k, :, j], color=c, lw=2.0, label=f"{roughness[j]:.2g}")
+            ax.set_title(name.replace("/", " / "))
+            ax.set_xlim(0.0, 1.0)
+            ax.set_ylim(0.0, top)
+            ax.grid(alpha=0.3)
+        for ax in axes.flat[len(names):]:
+            ax.axis("off")
+        for k in range(len(names)):
+            ax = axes.flat[k]
+            if k + cols >= len(names):  # lowest panel of its column
+                ax.set_xlabel("mu = n.v")
+                ax.xaxis.set_tick_params(labelbottom=True)
+            if k % cols == 0:
+                ax.set_ylabel("E(mu)")
+        handles, labels = axes.flat[0].get_legend_handles_labels()
+        handles.append(matplotlib.lines.Line2D([], [], color="0.55", lw=0.9, ls="--"))
+        labels.append("E = 1 (no loss)")
+        fig.legend(handles, labels, loc="outside lower center", ncol=len(labels) if cols > 1 else 4,
+                   title="perceptual roughness r of each curve", frameon=False, handlelength=1.6,
+                   columnspacing=1.2)
+        fig.suptitle(title)
+        save_figure(fig, path, dpi=100)
 
 
 def compensation_report(out_dir, method, table_size=128):

@@ -71,6 +71,7 @@ from .distributions import (
     phong_exponent_from_beckmann_alpha,
 )
 from .fresnel import (
+    f0_from_ior,
     f0_metallic,
     f90_filament,
     f_conductor,
@@ -96,7 +97,7 @@ from .masking import (
 
 __all__ = [
     "MODELS", "DISTRIBUTIONS", "MASKINGS", "FRESNELS", "DIFFUSES", "MODEL_TERMS",
-    "MODEL_COOK_TORRANCE", "MODEL_FILAMENT", "MODEL_UE4", "MODEL_URP_MOBILE", "MODEL_DISNEY",
+    "MODEL_COOK_TORRANCE", "MODEL_FILAMENT", "MODEL_UE4", "MODEL_URP_MOBILE", "MODEL_DISNEY", "MODEL_GLTF",
     "DIST_GGX", "DIST_BECKMANN", "DIST_BLINN_PHONG",
     "MASK_HEIGHT_CORRELATED", "MASK_SEPARABLE", "MASK_SCHLICK_GGX", "MASK_SCHLICK_GGX_UE4", "MASK_KELEMEN",
     "MASK_IMPLICIT",
@@ -106,7 +107,7 @@ __all__ = [
     "P_DIELECTRIC_F0", "P_ETA", "P_K", "P_SPECULAR_COLOR", "P_BASE_COLOR", "P_METALLIC", "P_ROUGHNESS",
     "P_EMISSIVE", "P_DOUBLE_SIDED", "P_ANISOTROPY", "P_SUBSURFACE", "P_SPECULAR_TINT", "P_SHEEN", "P_SHEEN_TINT",
     "P_CLEARCOAT", "P_CLEARCOAT_GLOSS", "PARAM_COLUMNS",
-    "URP_DIELECTRIC_F0", "urp_diffuse_weight", "disney_tint", "lobe_alphas", "disney_clearcoat_alpha",
+    "URP_DIELECTRIC_F0", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "urp_diffuse_weight", "disney_tint", "lobe_alphas", "disney_clearcoat_alpha",
     "combine_lobes", "ue4_specular", "filament_specular", "urp_specular",
     "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "make_bxdf", "lobe_bxdf", "specular_visibility", "specular_lobe",
     "bxdf_fresnel", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "tangent_frame",
@@ -115,7 +116,7 @@ __all__ = [
 # ------------------------------------------------------------------ choices
 
 #: Shading models, by name (the scene files' ``model`` key).
-MODELS = ("cook_torrance", "filament", "ue4", "urp_mobile", "disney")
+MODELS = ("cook_torrance", "filament", "ue4", "urp_mobile", "disney", "gltf")
 #: cook_torrance's choices of D, G (or V), F and diffuse lobe.
 DISTRIBUTIONS = ("ggx", "beckmann", "blinn-phong")
 MASKINGS = ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4", "kelemen", "implicit")
@@ -128,6 +129,7 @@ MODEL_TERMS = {
     "filament": ("ggx", "height-correlated", "schlick", None),
     "urp_mobile": ("ggx", "height-correlated", "schlick", "lambert"),
     "disney": ("ggx", "separable", "schlick", "burley"),
+    "gltf": ("ggx", "separable", "schlick", "lambert"),
 }
 
 MODEL_COOK_TORRANCE = MODELS.index("cook_torrance")
@@ -135,6 +137,7 @@ MODEL_FILAMENT = MODELS.index("filament")
 MODEL_UE4 = MODELS.index("ue4")
 MODEL_URP_MOBILE = MODELS.index("urp_mobile")
 MODEL_DISNEY = MODELS.index("disney")
+MODEL_GLTF = MODELS.index("gltf")
 DIST_GGX = DISTRIBUTIONS.index("ggx")
 DIST_BECKMANN = DISTRIBUTIONS.index("beckmann")
 DIST_BLINN_PHONG = DISTRIBUTIONS.index("blinn-phong")
@@ -182,6 +185,25 @@ _INV_PI = 1.0 / math.pi
 
 #: URP's dielectric specular colour ``kDielectricSpec.rgb`` (URP ``BRDF.hlsl``).
 URP_DIELECTRIC_F0 = 0.04
+#: The glTF 2.0 dielectric's normal reflectance, from its fixed IOR 1.5 (glTF 2.0
+#: specification, Appendix B.3.4, ``fresnel_mix(ior = 1.5, ...)``): ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
+GLTF_DIELECTRIC_F0 = f0_from_ior(1.5)
+
+
+@dual_use
+def gltf_fresnel_mix_weight(voh):
+    """The weight 1 - F(v.h) that the glTF 2.0 metallic-roughness BRDF gives its
+    diffuse base under the specular layer: ``fresnel_mix(ior = 1.5, base, layer)
+    = mix(base, layer, F)`` with F = f0 + (1 - f0)(1 - |v.h|)^5, f0 = 0.04
+    (glTF 2.0 specification, Appendix B.3.4 and B.3.5).  The whole model is
+
+        material = mix(fresnel_mix(1.5, diffuse_brdf(base_color), specular_brdf(r^2)),
+                       conductor_fresnel(base_color, specular_brdf(r^2)), metallic)
+
+    so f = (1 - metallic)(1 - F_0.04(v.h)) base_color / pi + D V F_f0(v.h) with
+    f0 = mix(0.04, base_color, metallic) (Schlick's F is linear in f0), D GGX
+    and V the separable Smith-GGX visibility of Appendix B.3.2, alpha = r^2."""
+    return 1.0 - f_schlick(voh, GLTF_DIELECTRIC_F0, 1.0)
 
 
 @dual_use
@@ -335,6 +357,8 @@ def make_bxdf(codes, code_row, params, param_row, roughness, metallic, b0, b1, b
         sheen = (s * (1.0 + (t0 - 1.0) * sht) * kd, s * (1.0 + (t1 - 1.0) * sht) * kd,
                  s * (1.0 + (t2 - 1.0) * sht) * kd)
     else:
+        if model == MODEL_GLTF:
+            f0d = GLTF_DIELECTRIC_F0
         f0 = (f0_metallic(b0, metallic, f0d), f0_metallic(b1, metallic, f0d), f0_metallic(b2, metallic, f0d))
         kd = 1.0 - metallic
     f90 = f90_filament(f0[0] + f0[1] + f0[2]) if model == MODEL_FILAMENT else 1.0
@@ -471,7 +495,7 @@ def specular_visibility(b, c):
     mask = b.masking
     if model == MODEL_FILAMENT:
         mask = MASK_HEIGHT_CORRELATED
-    elif model == MODEL_DISNEY:
+    elif model == MODEL_DISNEY or model == MODEL_GLTF:
         mask = MASK_SEPARABLE
     if mask == MASK_HEIGHT_CORRELATED or mask == MASK_SEPARABLE:
         if b.anisotropic:
@@ -539,7 +563,7 @@ def _fresnel_channel(b, f0, eta, k, specular, voh):
         return f_schlick_ue4_sg(voh, f0)
     if model == MODEL_URP_MOBILE:
         return f0
-    if model == MODEL_DISNEY:
+    if model == MODEL_DISNEY or model == MODEL_GLTF:
         return f_schlick(voh, f0, 1.0)
     fres = b.fresnel
     if fres == FRES_SCHLICK:
@@ -576,6 +600,8 @@ def _diffuse_factor(b, c):
     if b.model == MODEL_DISNEY:
         return (burley(c.nol, c.nov, c.voh, b.roughness) * (1.0 - b.subsurface)
                 + burley_subsurface(c.nol, c.nov, c.voh, b.roughness) * b.subsurface)
+    if b.model == MODEL_GLTF:
+        return lambert(c.nol) * gltf_fresnel_mix_weight(c.voh)
     if b.model == MODEL_UE4 or b.diffuse == DIFF_LAMBERT:
         return lambert(c.nol)
     if b.diffuse == DIFF_BURLEY:

@@ -1,5 +1,6 @@
 """The shading models as NumPy functions: UE4, Filament, Unity URP mobile, a
-generic Cook-Torrance with every term by name, and Disney's principled BRDF.
+generic Cook-Torrance with every term by name, Disney's principled BRDF and
+the glTF 2.0 metallic-roughness BRDF (Appendix B).
 
 Every model is a function ``model(l, v, n, material, ...)`` of unit directions
 in the last axis of arrays (l toward the light, v toward the eye, n the
@@ -71,6 +72,7 @@ __all__ = [
     "urp_mobile",
     "cook_torrance",
     "disney",
+    "gltf",
     "evaluate",
     "evaluate_rows",
     "parameter_rows",
@@ -339,6 +341,23 @@ def urp_mobile(l, v, n, material: Material):
     is URP's fixed 0.04 (``material.reflectance`` is not used).
     """
     return evaluate("urp_mobile", l, v, n, material)
+
+
+def gltf(l, v, n, material: Material):
+    """The glTF 2.0 metallic-roughness BRDF exactly as the glTF 2.0 specification's
+    Appendix B defines it: mix(fresnel_mix(ior = 1.5, diffuse_brdf(base_color),
+    specular_brdf(alpha)), conductor_fresnel(f0 = base_color,
+    specular_brdf(alpha)), metallic), i.e.
+
+        f = (1 - metallic)(1 - F_0.04(v.h)) base_color / pi + D V F_f0(v.h),
+        f0 = mix(0.04, base_color, metallic),
+
+    with D GGX, V the separable Smith-GGX visibility G1(l) G1(v) / (4 n.l n.v)
+    (Appendix B.3.2), Schlick's F of v.h, alpha = r^2 (B.2.2), and the
+    dielectric f0 0.04 of IOR 1.5 (``material.reflectance`` is not used).
+    :func:`pbrkit.brdf.bxdf.gltf_fresnel_mix_weight` is the diffuse weight.
+    """
+    return evaluate("gltf", l, v, n, material)
 
 
 def cook_torrance(l, v, n, material: Material, distribution="ggx", masking="height-correlated",

@@ -43,7 +43,6 @@ from ..brdf.distributions import alpha_from_roughness
 from ..core import checks
 from ..core.atomic import check_output_directory as check_output_dir
 from ..core.color import luminance, tonemap_reinhard
-from ..io.environment import Environment, load_environment
 from .cubemap import FACE_NAMES, cube_texel_solid_angles, cube_to_cross, resample_cube
 from .equirect import cube_to_equirect
 from .irradiance import irradiance_spectral
@@ -146,7 +145,7 @@ def _stage_names(levels):
 
 def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *, specular_format="rgba16f",
          method="spectral", sh_window=None, sh_window_width=3.0, fis_samples=None, fis_bias=1.0,
-         fix_nonfinite=False, layout=None, progress=None):
+         fix_nonfinite=False, layout=None, progress=None, started=None):
     """Bake an environment (module doc) and return a :class:`Bake`.
 
     ``environment``: a path, a list of six face paths (+X, -X, +Y, -Y, +Z,
@@ -160,10 +159,12 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     ``"hanning"`` or ``"lanczos"`` (:func:`pbrkit.ibl.sh.sh_window`) applied to
     the stored SH; ``fix_nonfinite`` and ``layout`` are passed to
     :func:`pbrkit.io.environment.load_environment`.  ``progress(stage, done,
-    total)`` is called after each stage.  Bad input raises ValueError
+    total)`` is called after each stage, ``started(stage, number, total)``
+    before each (number counts from 1).  Bad input raises ValueError
     (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
     """
     from ..albedo.tables import lookup_table
+    from ..io.environment import Environment, load_environment  # here: io.environment imports pbrkit.ibl
     from .sh import apply_window, project_cube, project_equirect
     from .spectral import analyse_equirect
 
@@ -180,6 +181,11 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
         clock[0] = now
         if progress is not None:
             progress(stage, len(timings), len(stages))
+        if started is not None and len(timings) < len(stages):
+            started(stages[len(timings)], len(timings) + 1, len(stages))
+
+    if started is not None:
+        started(stages[0], 1, len(stages))
 
     if isinstance(environment, Environment):
         env = environment

@@ -22,13 +22,15 @@ from pathlib import Path
 import numpy as np
 
 from ..core.atomic import atomic_directory
-from ..ibl.bake import (
-    FACE_FILE_NAMES,
-    FORMAT,
-    SPECULAR_FORMATS,
-    Bake,
-    preview_strip,
-)
+
+# pbrkit.ibl.bake is imported inside the functions: pbrkit.ibl imports this module.
+
+
+def preview_strip(bake_result, *args, **kwargs):
+    """:func:`pbrkit.ibl.bake.preview_strip` (imported when called)."""
+    from ..ibl.bake import preview_strip as strip
+
+    return strip(bake_result, *args, **kwargs)
 
 __all__ = [
     "write_bake",
@@ -39,12 +41,19 @@ __all__ = [
 
 
 def _face_path(kind, face, level=None):
+    from ..ibl.bake import FACE_FILE_NAMES
+
     name = FACE_FILE_NAMES[face]
     return f"faces/specular_m{level}_{name}.exr" if kind == "specular" else f"faces/irradiance_{name}.exr"
 
 
-def _write_all(root, b, progress):
+#: The groups of files :func:`write_bake` writes, in order (its progress stages).
+WRITE_STEPS = ("specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "faces", "preview", "manifest")
+
+
+def _write_all(root, b, progress, started=None):
     from ..albedo.tables import TableSpec
+    from ..ibl.bake import SPECULAR_FORMATS
     from .dds import write_dds
     from .exr import write_exr
     from .ktx2 import write_ktx2
@@ -54,13 +63,18 @@ def _write_all(root, b, progress):
     manifest = b.manifest
     fmt = manifest["options"]["format"]
     ktx_format, dds_format = SPECULAR_FORMATS[fmt]
-    steps = ["specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "faces", "preview", "manifest"]
+    steps = WRITE_STEPS
     count = [0]
 
     def step(name):
         count[0] += 1
         if progress is not None:
             progress(f"write {name}", count[0], len(steps))
+        if started is not None and count[0] < len(steps):
+            started(f"write {steps[count[0]]}", count[0] + 1, len(steps))
+
+    if started is not None:
+        started(f"write {steps[0]}", 1, len(steps))
 
     roughness = [float(r) for r in b.roughness]
     key = {"pbrkit.bake": json.dumps({"roughness": roughness, "roughness_of_level": "r = m / (M - 1)",
@@ -94,7 +108,7 @@ def _write_all(root, b, progress):
     step("manifest")
 
 
-def write_bake(bake_result, out_dir, force=False, progress=None):
+def write_bake(bake_result, out_dir, force=False, progress=None, started=None):
     """Write ``bake_result`` to the directory ``out_dir`` (module doc).
 
     The files are written into a temporary directory beside ``out_dir``,
@@ -102,14 +116,47 @@ def write_bake(bake_result, out_dir, force=False, progress=None):
     failure removes it (and any parent directories this call created), so
     no partial output remains (:func:`pbrkit.core.atomic.atomic_directory`).
     An existing non-empty ``out_dir`` is refused unless ``force``, which
-    replaces it.  ``progress(step, done, total)`` after each group of files.
-    Returns the output path."""
+    replaces it; when another process fills an empty ``out_dir`` meanwhile,
+    this one fails instead of replacing its output.  ``progress(step, done,
+    total)`` after each group of files (:data:`WRITE_STEPS`), ``started(step,
+    number, total)`` before each.  Returns the output path."""
     with atomic_directory(out_dir, force) as tmp:
-        _write_all(tmp, bake_result, progress)
+        _write_all(tmp, bake_result, progress, started)
     return Path(out_dir)
 
 
 # ----------------------------------------------------------------------- load
+
+
+_MISSING = object()
+
+
+def _entry(manifest, path, dotted, check=None, what=None):
+    """``manifest[a][b]...`` for ``dotted`` = "a.b..."; a missing key, or a
+    value that fails ``check``, raises :class:`InputError` naming ``path``
+    (the manifest) and the key."""
+    from ..core.errors import InputError
+
+    value = manifest
+    keys = dotted.split(".")
+    for depth, key in enumerate(keys):
+        if not isinstance(value, dict):
+            raise InputError(f"{'.'.join(keys[:depth])!r} must be a JSON object; got {value!r:.80}", path)
+        value = value.get(key, _MISSING)
+        if value is _MISSING:
+            raise InputError(f"missing {'.'.join(keys[:depth + 1])!r}", path)
+    if check is not None:
+        try:
+            ok = check(value)
+        except (TypeError, ValueError, OverflowError):
+            ok = False
+        if not ok:
+            raise InputError(f"{dotted!r} must be {what}; got {value!r:.80}", path)
+    return value
+
+
+def _positive_int(value):
+    return isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 1 << 16
 
 
 def load_bake(out_dir, prefer="exr"):
@@ -118,26 +165,46 @@ def load_bake(out_dir, prefer="exr"):
     ``prefer`` ``"exr"`` reads the float32 face files (exactly what was
     baked); ``"ktx2"`` reads specular.ktx2 / irradiance.ktx2 (float16 or
     B10G11R11, as written).  The SH come from the manifest and the table from
-    brdf_lut.npy.  Missing or inconsistent files raise ValueError."""
+    brdf_lut.npy.  Missing or inconsistent files, and manifests without a key
+    they need (``DIR/manifest.json: missing 'outputs'``), raise
+    :class:`~pbrkit.core.errors.InputError` (a ValueError) naming the file."""
     from ..core.errors import InputError
+    from ..ibl.bake import FORMAT, Bake
     from .images import read_image
     from .ktx2 import read_ktx2
 
     root = Path(out_dir)
     if prefer not in ("exr", "ktx2"):
         raise ValueError(f"prefer must be 'exr' or 'ktx2', got {prefer!r}")
+    if not root.is_dir():
+        raise InputError("not a bake directory (no such directory)" if not root.exists()
+                         else "not a bake directory (a file)", root)
     path = root / "manifest.json"
     try:
         manifest = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError("not a bake directory (no manifest.json)", path) from None
     except OSError as exc:
         raise InputError(f"cannot read the manifest ({exc.strerror or exc})", path) from None
+    except UnicodeDecodeError:
+        raise InputError("manifest is not UTF-8 text", path) from None
     except json.JSONDecodeError as exc:
         raise InputError(f"manifest is not valid JSON ({exc.msg} at line {exc.lineno})", path) from None
+    if not isinstance(manifest, dict):
+        raise InputError(f"manifest must be a JSON object; got {type(manifest).__name__}", path)
     if manifest.get("format") != FORMAT:
         raise InputError(f"not a pbrkit bake manifest (format {manifest.get('format')!r})", path)
-    spec_out = manifest["outputs"]["specular"]
-    levels, size = int(spec_out["levels"]), int(spec_out["size"])
-    irr_size = int(manifest["outputs"]["irradiance"]["size"])
+    levels = _entry(manifest, path, "outputs.specular.levels", _positive_int, "a positive integer")
+    size = _entry(manifest, path, "outputs.specular.size", _positive_int, "a positive integer")
+    irr_size = _entry(manifest, path, "outputs.irradiance.size", _positive_int, "a positive integer")
+    roughness = _entry(manifest, path, "outputs.specular.roughness",
+                       lambda r: np.asarray(r, dtype=np.float64).shape == (levels,)
+                       and np.all(np.isfinite(np.asarray(r, dtype=np.float64))),
+                       f"a list of {levels} finite numbers")
+    sh = _entry(manifest, path, "sh", lambda v: np.asarray(v, dtype=np.float64).shape == (9, 3),
+                "9 rows of 3 numbers (SH9, RGB)")
+    if size >> (levels - 1) < 1:
+        raise InputError(f"'outputs.specular.levels' {levels} is too many for size {size}", path)
     if prefer == "exr":
         specular = [np.stack([read_image(root / _face_path("specular", f, m)) for f in range(6)])
                     for m in range(levels)]
@@ -155,15 +222,18 @@ def load_bake(out_dir, prefer="exr"):
             raise InputError(f"specular level {m} has shape {level.shape}, expected {(6, n, n, 3)}", root)
     if irradiance.shape != (6, irr_size, irr_size, 3):
         raise InputError(f"irradiance has shape {irradiance.shape}, expected {(6, irr_size, irr_size, 3)}", root)
+    lut_path = root / "brdf_lut.npy"
     try:
-        lut = np.load(root / "brdf_lut.npy", allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read the table ({exc})", root / "brdf_lut.npy") from None
-    sh = np.asarray(manifest["sh"], dtype=np.float64)
-    if sh.shape != (9, 3):
-        raise InputError(f"'sh' has shape {sh.shape}, expected (9, 3)", path)
+        lut = np.load(lut_path, allow_pickle=False)
+    except FileNotFoundError:
+        raise InputError("missing (the DFG table of the bake)", lut_path) from None
+    except (OSError, ValueError, EOFError) as exc:
+        raise InputError(f"cannot read the table ({exc})", lut_path) from None
+    if not isinstance(lut, np.ndarray) or lut.dtype.kind not in "fiu":
+        raise InputError("not a numeric .npy array", lut_path)
+    if lut.ndim != 3 or lut.shape[0] != lut.shape[1] or lut.shape[2] not in (2, 3) or lut.shape[0] < 2:
+        raise InputError(f"table has shape {lut.shape}, expected (N, N, 2)", lut_path)
     return Bake(specular=[np.asarray(s, dtype=np.float32) for s in specular],
-                roughness=np.asarray(spec_out["roughness"], dtype=np.float64),
-                irradiance=np.asarray(irradiance, dtype=np.float32), sh=sh, lut=np.asarray(lut, dtype=np.float32),
-                manifest=manifest)
-
+                roughness=np.asarray(roughness, dtype=np.float64),
+                irradiance=np.asarray(irradiance, dtype=np.float32), sh=np.asarray(sh, dtype=np.float64),
+                lut=np.asarray(lut, dtype=np.float32), manifest=manifest)

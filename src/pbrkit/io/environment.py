@@ -20,7 +20,11 @@ __all__ = [
     "Environment",
     "load_environment",
     "fix_nonfinite_pixels",
+    "MAX_NONFINITE_FRACTION",
 ]
+
+_FACES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
+
 
 class NegativeRadianceWarning(UserWarning):
     """Negative radiance samples were clamped to zero while loading."""
@@ -112,16 +116,34 @@ def fix_nonfinite_pixels(image, wrap=False):
     return (img[..., 0] if arr.ndim == 2 else img), count
 
 
+#: With ``fix_nonfinite``, an image (or cube face) with more than this fraction
+#: of non-finite samples is refused: there is too little left to fill from.
+MAX_NONFINITE_FRACTION = 0.5
+
 def _validate_pixels(images, path, fix_nonfinite, notes, wrap):
     """Check (and with ``fix_nonfinite`` repair) freshly read images
     (K, H, W, C), which this function may modify in place; negatives are
-    clamped to 0 with a warning.  Counts are over all K images."""
+    clamped to 0 with a warning.  Counts are over all K images; an image
+    with more than :data:`MAX_NONFINITE_FRACTION` non-finite samples is
+    refused even with ``fix_nonfinite``."""
     bad = ~np.isfinite(images)
     count = int(np.count_nonzero(bad))
     if count:
         if not fix_nonfinite:
-            raise InputError(f"{count} non-finite (NaN or Inf) sample(s); pass fix_nonfinite=True to replace "
-                             "them with the mean of their finite neighbours", path)
+            raise InputError(f"{count} non-finite (NaN or Inf) sample(s) of {images.size}; use --fix-nonfinite "
+                             "(Python: fix_nonfinite=True) to replace them with the mean of their finite "
+                             "neighbours", path)
+        for k in range(images.shape[0]):
+            bad_k = int(np.count_nonzero(bad[k]))
+            if bad_k > MAX_NONFINITE_FRACTION * bad[k].size:
+                where = f"face {_FACES[k]}: " if images.shape[0] == 6 else ""
+                if bad_k == bad[k].size:
+                    raise InputError(f"{where}all {bad_k} samples are non-finite (NaN or Inf); --fix-nonfinite has "
+                                     "no finite samples to fill them from", path)
+                raise InputError(f"{where}{bad_k} of {bad[k].size} samples ({100.0 * bad_k / bad[k].size:.0f}%) are "
+                                 "non-finite (NaN or Inf): too few finite samples for --fix-nonfinite to fill them "
+                                 f"from (it repairs images with at most {MAX_NONFINITE_FRACTION:.0%} bad samples)",
+                                 path)
         for k in range(images.shape[0]):
             if bad[k].any():
                 images[k][bad[k]] = _neighbour_mean(images[k], bad[k], wrap)
@@ -161,7 +183,8 @@ def load_environment(path_or_paths, fix_nonfinite=False, layout=None):
     files, zero or absurd sizes, an aspect ratio that fits no layout, faces
     of different or non-square sizes, non-finite samples (with their count;
     ``fix_nonfinite=True`` replaces each by the mean of the finite samples of
-    the same channel among its 8 neighbours, 0 if none, and records a note).
+    the same channel among its 8 neighbours, 0 if none, and records a note;
+    an image with more than half its samples non-finite is refused even so).
     Negative samples are clamped to 0 with a :class:`NegativeRadianceWarning`
     naming the count.  Grey images are replicated to RGB; alpha is dropped.
     """

@@ -11,11 +11,14 @@ from ..core.errors import InputError
 
 __all__ = [
     "MAX_SIDE",
+    "MAX_PIXELS",
     "LDRInputWarning",
     "image_format",
 ]
 
 MAX_SIDE = 32768
+#: Largest image read, in pixels: a 32768 x 16384 equirect (6 GiB as float32 RGB).
+MAX_PIXELS = 32768 * 16384
 
 
 class LDRInputWarning(UserWarning):
@@ -44,6 +47,9 @@ def _check_size(path, height, width):
     if height > MAX_SIDE or width > MAX_SIDE:
         raise InputError(f"image size {width}x{height} exceeds the {MAX_SIDE}-pixel limit on a side "
                          "(corrupt header or absurd size)", path)
+    if height * width > MAX_PIXELS:
+        raise InputError(f"image size {width}x{height} ({height * width:,} pixels) exceeds the limit of "
+                         f"{MAX_PIXELS:,} pixels (corrupt header or absurd size)", path)
 
 
 def _read_bytes(path):

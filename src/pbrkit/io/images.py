@@ -4,8 +4,8 @@ Every reader returns linear float32 pixels of shape (H, W, C), row 0 at the
 top, and raises :class:`pbrkit.core.errors.InputError` (a ``ValueError``) with a
 one-line ``"<file>: <problem>"`` message for anything it cannot read: a
 missing, unreadable, truncated or corrupt file, an unknown format, or a size
-that is zero or larger than :data:`MAX_SIDE` on a side (checked from the
-header, before any pixel memory is allocated).  Readers do not judge pixel
+that is zero or larger than :data:`MAX_SIDE` on a side or :data:`MAX_PIXELS`
+in all (checked from the header, before any pixel memory is allocated).  Readers do not judge pixel
 values (NaN, Inf, negatives); :func:`pbrkit.io.environment.load_environment` does.
 
 Formats
@@ -38,8 +38,11 @@ Formats
 
 Writers (:func:`write_hdr`, :func:`write_exr`, :func:`write_pfm`,
 :func:`write_png`, :func:`write_image`) are atomic (temporary file in the
-destination folder, then ``os.replace``) and deterministic: the same pixels
-and options give the same bytes.
+destination folder, then ``os.replace``; :mod:`pbrkit.core.atomic`) and
+deterministic: the same pixels and options give the same bytes.  A failed
+write (a full disk, a read-only folder) raises
+:class:`pbrkit.core.errors.OutputError`, an ``OSError`` naming the file asked
+for.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Writing and reading lookup-table files (``pbrkit lut``).
 
 Every table file ``NAME.ext`` is written atomically together with its
-description ``NAME.ext.json`` (:meth:`pbrkit.albedo.tables.TableSpec.description`);
+description ``NAME.ext.json`` (both or neither) (:meth:`pbrkit.albedo.tables.TableSpec.description`);
 KTX2 files also embed it under the key ``pbrkit.lut`` and C headers in a
 comment.  Formats by suffix:
 
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.atomic import write_bytes, write_text
+from ..core.atomic import atomic_group
 
 __all__ = ["LUT_SUFFIXES", "write_lut", "header_text", "parse_header", "QuantisationWarning"]
 
@@ -106,8 +106,10 @@ def parse_header(text):
 def write_lut(path, table, spec, ktx2_format="float16"):
     """Write ``table`` (N, N, C) by the suffix of ``path`` and its ``.json`` description.
 
-    ``ktx2_format``: ``float16`` or ``float32`` for KTX2 output.
-    Returns the list of paths written.
+    ``ktx2_format``: ``float16`` or ``float32`` for KTX2 output.  The two
+    files are committed together (:func:`pbrkit.core.atomic.atomic_group`):
+    if either cannot be written, neither is (an existing pair is left as it
+    was).  Returns the list of paths written.
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -123,30 +125,40 @@ def write_lut(path, table, spec, ktx2_format="float16"):
     if suffix == ".npy":
         buffer = io.BytesIO()
         np.save(buffer, table)
-        write_bytes(path, buffer.getvalue())
+        data = buffer.getvalue()
     elif suffix == ".exr":
-        from .exr import write_exr
+        from .exr import exr_bytes
 
-        write_exr(path, _rgb(table))
+        try:
+            data = exr_bytes(_rgb(table))
+        except TypeError:  # an OpenEXR without stream output: written to the file below
+            data = None
         description["exr_channels"] = "R, G" + (", B" if table.shape[2] == 3 else " (B = 0)")
     elif suffix == ".png":
-        from .png import write_png
+        from .png import png_bytes16
 
         warnings.warn(f"{path}: 16-bit PNG quantises the table to steps of 1/65535 "
                       "(use .exr, .npy or .ktx2 for float data)", QuantisationWarning, stacklevel=2)
-        write_png(path, _rgb(table), bits=16, srgb=False)
+        data = png_bytes16(_rgb(table), srgb=False)
         description["png"] = "16-bit, linear (no sRGB curve), value = code / 65535"
     elif suffix == ".h":
-        write_text(path, header_text(table, spec))
+        data = header_text(table, spec).encode("utf-8")
     else:
-        from .ktx2 import write_ktx2
+        from .ktx2 import ktx2_bytes
 
         if table.shape[2] == 2:
             vk_format = "R16G16_SFLOAT" if ktx2_format == "float16" else "R32G32_SFLOAT"
         else:
             vk_format = "R16G16B16A16_SFLOAT" if ktx2_format == "float16" else "R32G32B32A32_SFLOAT"
         description["vk_format"] = vk_format
-        write_ktx2(path, [table], vk_format, key_values={"pbrkit.lut": json.dumps(description)})
+        data = ktx2_bytes([table], vk_format, key_values={"pbrkit.lut": json.dumps(description)})
     sidecar = path.with_name(path.name + ".json")
-    write_text(sidecar, json.dumps(description, indent=2) + "\n")
+    with atomic_group([path, sidecar]) as (table_tmp, sidecar_tmp):
+        if data is None:
+            from .exr import write_exr
+
+            write_exr(table_tmp, _rgb(table))
+        else:
+            table_tmp.write_bytes(data)
+        sidecar_tmp.write_text(json.dumps(description, indent=2) + "\n", encoding="utf-8")
     return [path, sidecar]

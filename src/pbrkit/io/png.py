@@ -22,6 +22,7 @@ from .image_checks import (
 
 __all__ = [
     "read_ldr",
+    "png_bytes16",
     "write_png",
 ]
 
@@ -159,6 +160,22 @@ def _png_bytes16(a, srgb):
             + chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)) + chunk(b"IEND", b""))
 
 
+def _quantised(image, bits, srgb):
+    a = _finite_float(image, "image").astype(np.float64)
+    if bits not in (8, 16):
+        raise ValueError(f"PNG bits must be 8 or 16, got {bits}")
+    if srgb:
+        colour = a.shape[2] if a.shape[2] in (1, 3) else a.shape[2] - 1
+        a = a.copy()
+        a[..., :colour] = linear_to_srgb(np.clip(a[..., :colour], 0.0, 1.0))
+    return np.rint(np.clip(a, 0.0, 1.0) * ((1 << bits) - 1))
+
+
+def png_bytes16(image, srgb=True):
+    """The bytes of the 16-bit PNG :func:`write_png` writes with ``bits=16``."""
+    return _png_bytes16(_quantised(image, 16, srgb).astype(np.uint16), srgb)
+
+
 def write_png(path, image, bits=8, srgb=True):
     """Write float ``image`` (H, W), (H, W, 1..4) in [0, 1] as an 8- or 16-bit
     PNG, atomically.  With ``srgb`` (the default, CONVENTIONS "Colour") colour
@@ -167,22 +184,17 @@ def write_png(path, image, bits=8, srgb=True):
     8-bit files go through imageio (Pillow); 16-bit ones, which Pillow cannot
     write in colour, are encoded here (PNG spec: filter 0, zlib level 6, an
     sRGB chunk when ``srgb``).  Note that :func:`read_image` decodes every
-    PNG as sRGB: linear PNGs are for other consumers (e.g. lookup tables)."""
-    a = _finite_float(image, "image").astype(np.float64)
-    if bits not in (8, 16):
-        raise ValueError(f"PNG bits must be 8 or 16, got {bits}")
-    if srgb:
-        colour = a.shape[2] if a.shape[2] in (1, 3) else a.shape[2] - 1
-        a = a.copy()
-        a[..., :colour] = linear_to_srgb(np.clip(a[..., :colour], 0.0, 1.0))
-    q = np.rint(np.clip(a, 0.0, 1.0) * ((1 << bits) - 1))
+    PNG as sRGB: linear PNGs are for other consumers (e.g. lookup tables).
+    Write failures raise :class:`~pbrkit.core.errors.OutputError` naming ``path``."""
+    q = _quantised(image, bits, srgb)
+    if bits == 16:
+        data = _png_bytes16(q.astype(np.uint16), srgb)
+    else:
+        import imageio.v3 as iio
+
+        q8 = q.astype(np.uint8)
+        # encoded in memory: the file is written here, so a full disk is one OSError (Pillow
+        # writing the file itself fails again when imageio closes it, as an "ignored" exception)
+        data = iio.imwrite("<bytes>", q8[..., 0] if q8.shape[2] == 1 else q8, extension=".png")
     with atomic_path(path, suffix=".png") as tmp:
-        if bits == 16:
-            tmp.write_bytes(_png_bytes16(q.astype(np.uint16), srgb))
-        else:
-            import imageio.v3 as iio
-
-            q8 = q.astype(np.uint8)
-            iio.imwrite(tmp, q8[..., 0] if q8.shape[2] == 1 else q8, extension=".png")
-
-
+        tmp.write_bytes(data)

@@ -9,30 +9,62 @@ from ..core.color import luminance
 
 __all__ = [
     "compare_images",
+    "relative_error_pixels",
+    "rms_relative_error",
+    "error_heatmap",
 ]
 
 # ================================================================== compare
 
 
-def compare_images(realtime, reference, mask, stderr=None, flip=True):
-    """Errors of ``realtime`` against ``reference`` (H, W, 3) over the surface pixels
-    ``mask``: relative luminance error |Y_rt - Y_ref| / Y_ref (over the pixels
-    with Y_ref above 1e-3 of its mean), its mean and maximum, the mean reference standard
-    error relative to Y_ref (the noise floor), and HDR-FLIP (Andersson et al.,
-    "FLIP: A Difference Evaluator for Alternating Images", HPG 2020; HDR-FLIP,
-    2021) of the whole images via the ``flip-evaluator`` package."""
-    y_rt = luminance(realtime)
+def relative_error_pixels(reference, mask):
+    """The pixels a comparison measures: ``mask`` where the reference luminance is
+    above 1e-3 of its mean over ``mask`` (relative errors of black pixels mean nothing)."""
     y_ref = luminance(reference)
     floor = 1e-3 * max(float(y_ref[mask].mean()) if mask.any() else 0.0, 1e-12)
-    valid = mask & (y_ref > floor)
+    return mask & (y_ref > floor)
+
+
+def rms_relative_error(image, reference, valid, stderr=None):
+    """Root-mean-square relative luminance difference sqrt(mean(((Y - Y_ref) / Y_ref)^2))
+    over the pixels ``valid``; with the reference's per-pixel standard error
+    ``stderr`` its variance is subtracted first, sqrt(max(mean((d^2 - se^2) / Y_ref^2), 0)):
+    E[d^2] = bias^2 + se^2 for an unbiased reference, so this estimates the error of
+    ``image`` against the noise-free ground truth (what the approximations cost), not
+    the Monte Carlo noise."""
+    if not valid.any():
+        return 0.0
+    y_ref = luminance(reference)[valid]
+    d2 = (luminance(image)[valid] - y_ref) ** 2
+    if stderr is not None:
+        d2 = d2 - luminance(stderr)[valid] ** 2
+    return float(np.sqrt(max(float(np.mean(d2 / (y_ref * y_ref))), 0.0)))
+
+
+def compare_images(realtime, reference, mask, stderr=None, flip=True):
+    """Errors of ``realtime`` against ``reference`` (H, W, 3) over the surface pixels
+    ``mask`` with a reference luminance above 1e-3 of its mean
+    (:func:`relative_error_pixels`): the relative luminance error
+    |Y_rt - Y_ref| / Y_ref, its mean and maximum; the RMS relative error and, given
+    the reference's standard error ``stderr``, the RMS relative error with the
+    reference's variance removed (:func:`rms_relative_error`: the approximation
+    error without the Monte Carlo noise) and the mean standard error relative to
+    Y_ref (the noise floor); and HDR-FLIP (Andersson et al., "FLIP: A Difference
+    Evaluator for Alternating Images", HPG 2020; HDR-FLIP, 2021) of the whole
+    images via the ``flip-evaluator`` package."""
+    y_rt = luminance(realtime)
+    y_ref = luminance(reference)
+    valid = relative_error_pixels(reference, mask)
     rel = np.zeros(y_ref.shape)
     rel[valid] = np.abs(y_rt[valid] - y_ref[valid]) / y_ref[valid]
     out = {"pixels": int(valid.sum()),
            "mean_relative_error": float(rel[valid].mean()) if valid.any() else 0.0,
            "max_relative_error": float(rel[valid].max()) if valid.any() else 0.0,
+           "rms_relative_error": rms_relative_error(realtime, reference, valid),
            "relative_error_map": rel}
     if stderr is not None and valid.any():
         out["mean_relative_stderr"] = float((luminance(stderr)[valid] / y_ref[valid]).mean())
+        out["rms_relative_error_noise_removed"] = rms_relative_error(realtime, reference, valid, stderr)
     if flip:
         import flip_evaluator
 

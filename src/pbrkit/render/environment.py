@@ -154,7 +154,7 @@ class EnvironmentLight:
             self.source = "array"
         else:
             path = spec.file or str(bundled_environment())
-            self.environment = load_environment(path)
+            self.environment = load_environment(path, fix_nonfinite=bool(spec.fix_nonfinite))
             if self.environment.equirect is not None:
                 base = np.asarray(self.environment.equirect, dtype=np.float64)
             else:

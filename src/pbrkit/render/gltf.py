@@ -1,38 +1,81 @@
 """glTF 2.0 scenes as world-space triangle meshes, materials and lights.
 
 glTF 2.0 files (``.gltf`` with external or data-URI buffers, and ``.glb``)
-are read with ``pygltflib`` following the glTF 2.0 specification
-(Khronos, 2021): the default scene's node hierarchy with matrix or TRS
-transforms (normals by the inverse transpose; the determinant's sign flips
-the tangent handedness), triangle, strip and fan primitives, accessors with
-byte strides, normalised integers and sparse substitution, flat normals
-when NORMAL is absent, and the metallic-roughness material with all its
-textures: baseColor (sRGB, times baseColorFactor), metallicRoughness
-(G = roughness, B = metallic, times the factors), normal (tangent space,
-+X right, +Y up, scaled by ``normalTexture.scale``), occlusion (R, applied
-as 1 + strength (R - 1)) and emissive (sRGB, times emissiveFactor and
+are read following the glTF 2.0 specification (Khronos, 2021): the default
+scene's node hierarchy with matrix or TRS transforms (normals by the
+inverse transpose; the determinant's sign flips the tangent handedness),
+triangle, strip and fan primitives, accessors with byte strides, normalised
+integers and sparse substitution, flat normals when NORMAL is absent, and
+the metallic-roughness material with all its textures: baseColor (sRGB,
+times baseColorFactor), metallicRoughness (G = roughness, B = metallic,
+times the factors), normal (tangent space, +X right, +Y up, scaled by
+``normalTexture.scale``), occlusion (R, applied as 1 + strength (R - 1))
+and emissive (sRGB, times emissiveFactor and
 ``KHR_materials_emissive_strength``).  ``KHR_lights_punctual`` lights are
 read too.  Texture sampling follows the glTF sampler: bilinear (or
 nearest) filtering of linear texel values at texel centres (sRGB texels are
 decoded before filtering, as GPUs do), REPEAT / CLAMP_TO_EDGE /
-MIRRORED_REPEAT wrapping, UV (0, 0) at the first (top-left) texel.  Minification filters and mip
-maps are not used (supersample the camera instead).
+MIRRORED_REPEAT wrapping, UV (0, 0) at the first (top-left) texel.
+Minification filters and mip maps are not used (supersample the camera
+instead).
+
+Every file is checked before any of its data is used, so a broken file is
+refused with :class:`pbrkit.core.errors.InputError` (one line naming the
+file and the JSON location of the problem) instead of a traceback, a
+warning or an empty image:
+
+- the container: an empty or truncated ``.glb``, a wrong magic or container
+  version, a JSON chunk that is not UTF-8 JSON, JSON that is not an object;
+- ``asset.version`` must be 2.x (and ``asset.minVersion``, if given, 2.0);
+- every index (scene, node, mesh, accessor, bufferView, buffer, material,
+  texture, image, sampler, camera, skin, light, animation sampler) must be an
+  integer (not a bool or a float) within its array; the node hierarchy must
+  be a forest (no cycles, no node with two parents, scene roots are roots);
+- enumerations (componentType, type, mode, sampler filters and wraps,
+  alphaMode, light type) and numbers (finite, in the specification's
+  ranges) are checked, and every accessor and bufferView must lie inside its
+  bufferView and buffer;
+- the attributes pbrkit reads must have the specification's formats
+  (POSITION and NORMAL VEC3 FLOAT, TANGENT VEC4 FLOAT, TEXCOORD_n VEC2 FLOAT
+  or normalised UNSIGNED_BYTE / UNSIGNED_SHORT, indices SCALAR unsigned),
+  finite values, one count per primitive, and indices below that count;
+- a file whose default scene holds no triangle mesh (and no light) is
+  refused: there is nothing to render.
 """
 
 from __future__ import annotations
 
-import base64
+import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from urllib.parse import unquote
 
 import numpy as np
 
 from ..core.color import srgb_to_linear
 from ..core.errors import InputError
+from ..io.gltf_document import (
+    _COMPONENT,
+    _COMPONENT_NAMES,
+    _FLOAT,
+    _NCOMP,
+    _UBYTE,
+    _UINT,
+    _USHORT,
+    data_uri_bytes,
+    read_gltf_document,
+    validate_gltf_document,
+)
 from .lights import Light
 from .scene import MaterialSpec, trs_matrix
 from .tangents import mikktspace_tangents
-from .textures import _WRAP_REPEAT, SurfaceMaterial, Texture, TextureRef
+from .textures import (
+    _WRAP_REPEAT,
+    SurfaceMaterial,
+    Texture,
+    TextureRef,
+)
 
 __all__ = [
     "Mesh",
@@ -63,178 +106,297 @@ class GltfAsset:
     notes: list
 
 
-_COMPONENT = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
-_NCOMP = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 _SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength"}
+
+#: Formats of the attributes pbrkit reads (glTF 2.0 sec. 3.7.2.1; "indices": sec. 3.7.2.2):
+#: (accessor types, component types, whether integer components must be normalised).
+_FORMATS = {
+    "POSITION": (("VEC3",), (_FLOAT,), False),
+    "NORMAL": (("VEC3",), (_FLOAT,), False),
+    "TANGENT": (("VEC4",), (_FLOAT,), False),
+    "TEXCOORD": (("VEC2",), (_FLOAT, _UBYTE, _USHORT), True),
+    "indices": (("SCALAR",), (_UBYTE, _USHORT, _UINT), False),
+}
+#: Largest texture coordinate accepted (beyond it texel addressing loses all precision).
+_MAX_TEXCOORD = 1e6
+
+# ============================================================ reading data
 
 
 class _GltfReader:
-    def __init__(self, path):
-        import pygltflib
+    """A checked glTF document (module docstring) and the bytes, images and textures it refers to."""
 
+    def __init__(self, path):
         self.path = Path(path)
         try:
-            self.g = pygltflib.GLTF2().load(str(path))
-        except Exception as exc:  # pygltflib raises many kinds on corrupt files
-            raise InputError(f"cannot read glTF file: {' '.join(str(exc).split()) or type(exc).__name__}",
-                             path) from None
-        if self.g is None:
-            raise InputError("cannot read glTF file", path)
+            self.doc, self.blob = read_gltf_document(self.path)
+            validate_gltf_document(self.doc)
+        except ValueError as exc:
+            raise InputError(str(exc), path) from None
         self._buffers = {}
         self._images = {}
         self.notes = []
-        required = set(self.g.extensionsRequired or [])
+        required = set(self.doc.get("extensionsRequired") or [])
         unsupported = sorted(required - _SUPPORTED_REQUIRED)
         if unsupported:
             raise InputError(f"requires unsupported glTF extension(s): {', '.join(unsupported)}", path)
-        used = sorted(set(self.g.extensionsUsed or []) - _SUPPORTED_REQUIRED)
+        used = sorted(set(self.doc.get("extensionsUsed") or []) - _SUPPORTED_REQUIRED)
         if used:
             self.notes.append(f"ignored optional extension(s): {', '.join(used)}")
 
     def fail(self, problem):
         raise InputError(problem, self.path)
 
-    def _uri_bytes(self, uri):
-        if uri.startswith("data:"):
-            head, _, data = uri.partition(",")
-            if not head.endswith(";base64"):
-                self.fail("data URIs must be base64-encoded")
-            return base64.b64decode(data)
-        from urllib.parse import unquote
+    def items(self, name):
+        """The top-level array ``name`` ([] when absent)."""
+        return self.doc.get(name) or []
 
-        p = self.path.parent / unquote(uri)
+    def _uri_bytes(self, uri, where):
+        if uri.startswith("data:"):
+            try:
+                return data_uri_bytes(uri)
+            except ValueError as exc:
+                self.fail(f"{where}: {exc}")
+        if re.match(r"[A-Za-z][A-Za-z0-9+.-]*://", uri):
+            self.fail(f"{where} {uri!r}: only relative file paths and data: URIs are supported")
         try:
-            return p.read_bytes()
+            return (self.path.parent / unquote(uri)).read_bytes()
         except OSError as exc:
-            self.fail(f"cannot read referenced file {uri!r}: {exc.strerror or exc}")
+            self.fail(f"{where}: cannot read {uri!r} (relative to the glTF file): {exc.strerror or exc}")
 
     def buffer(self, index):
+        """The bytes of buffers[index], exactly its byteLength."""
         if index not in self._buffers:
-            b = self.g.buffers[index]
-            if b.uri is None:
-                data = self.g.binary_blob()
-                if data is None:
-                    self.fail(f"buffer {index} has no uri and the file has no binary chunk")
+            b = self.items("buffers")[index]
+            where = f"buffers[{index}]"
+            if b.get("uri") is None:
+                if index != 0 or self.blob is None:
+                    self.fail(f"{where} has no uri and is not the binary chunk of a .glb (only buffers[0] of a "
+                              ".glb may omit its uri)")
+                data = self.blob
             else:
-                data = self._uri_bytes(b.uri)
-            if len(data) < b.byteLength:
-                self.fail(f"buffer {index} holds {len(data)} bytes, fewer than its byteLength {b.byteLength}")
-            self._buffers[index] = data
+                data = self._uri_bytes(b["uri"], f"{where}.uri")
+            if len(data) < b["byteLength"]:
+                self.fail(f"{where} holds {len(data)} bytes, fewer than its byteLength {b['byteLength']} "
+                          "(truncated file?)")
+            self._buffers[index] = data[:b["byteLength"]]
         return self._buffers[index]
 
     def view_bytes(self, index):
-        v = self.g.bufferViews[index]
-        data = self.buffer(v.buffer)
-        start = v.byteOffset or 0
-        if start + v.byteLength > len(data):
-            self.fail(f"bufferView {index} runs past the end of buffer {v.buffer}")
-        return data[start:start + v.byteLength], v.byteStride
+        v = self.items("bufferViews")[index]
+        data = self.buffer(v["buffer"])
+        start = v.get("byteOffset") or 0
+        return data[start:start + v["byteLength"]], v.get("byteStride")
 
     def _read_view(self, view, offset, count, dtype, ncomp):
+        """(count, ncomp) elements of ``dtype`` from a bufferView (ranges checked by validation)."""
         raw, stride = self.view_bytes(view)
         item = np.dtype(dtype).itemsize * ncomp
         stride = stride or item
-        need = offset + (count - 1) * stride + item if count else 0
-        if need > len(raw):
-            self.fail(f"accessor data runs past the end of bufferView {view}")
-        buf = np.frombuffer(raw, dtype=np.uint8, count=need - offset, offset=offset) if count else np.zeros(0,
-                                                                                                            np.uint8)
+        need = offset + (count - 1) * stride + item
+        buf = np.frombuffer(raw, dtype=np.uint8, count=need - offset, offset=offset)
         if stride == item:
             return np.frombuffer(buf.tobytes(), dtype=dtype).reshape(count, ncomp)
         rows = np.lib.stride_tricks.as_strided(buf, shape=(count, item), strides=(stride, 1))
         return np.frombuffer(np.ascontiguousarray(rows).tobytes(), dtype=dtype).reshape(count, ncomp)
 
+    def _zeros(self, index, count, ncomp, dtype):
+        """The all-zero data of an accessor without a bufferView, if memory allows."""
+        from .budget import available_memory
+
+        need = count * ncomp * (np.dtype(dtype).itemsize + 8)
+        free = available_memory()
+        if free is not None and need > free:
+            self.fail(f"accessors[{index}] (count {count}, no bufferView) would need {need / 2**30:.1f} GiB of "
+                      f"memory; this machine has {free / 2**30:.1f} GiB available")
+        return np.zeros((count, ncomp), dtype=dtype)
+
     def accessor(self, index, normalize_ints=True):
         """Accessor data as float64 (or int64 for index data with ``normalize_ints=False``),
         shape (count, components); glTF 2.0 sec. 3.6 (normalised integers by sec. 3.11)."""
-        a = self.g.accessors[index]
-        dtype = _COMPONENT.get(a.componentType)
-        if dtype is None or a.type not in _NCOMP:
-            self.fail(f"accessor {index} has an unsupported component type {a.componentType} or type {a.type}")
-        ncomp = _NCOMP[a.type]
-        if a.bufferView is not None:
-            data = self._read_view(a.bufferView, a.byteOffset or 0, a.count, dtype, ncomp)
+        a = self.items("accessors")[index]
+        dtype = _COMPONENT[a["componentType"]]
+        ncomp = _NCOMP[a["type"]]
+        if a.get("bufferView") is not None:
+            data = self._read_view(a["bufferView"], a.get("byteOffset") or 0, a["count"], dtype, ncomp)
         else:
-            data = np.zeros((a.count, ncomp), dtype=dtype)
-        if a.sparse is not None:
-            s = a.sparse
-            idx_type = _COMPONENT[s.indices.componentType]
-            idx = self._read_view(s.indices.bufferView, s.indices.byteOffset or 0, s.count, idx_type, 1)[:, 0]
-            vals = self._read_view(s.values.bufferView, s.values.byteOffset or 0, s.count, dtype, ncomp)
-            data = data.copy()
-            if np.any(idx.astype(np.int64) >= a.count):
-                self.fail(f"accessor {index} has sparse indices out of range")
-            data[idx.astype(np.int64)] = vals
+            data = self._zeros(index, a["count"], ncomp, dtype)
+        if a.get("sparse") is not None:
+            data = self._apply_sparse(index, a, data, dtype, ncomp)
         if not normalize_ints:
             return data.astype(np.int64)
         out = data.astype(np.float64)
-        if a.normalized and dtype != np.float32:
+        if a.get("normalized") and dtype != np.float32:
             info = np.iinfo(dtype)
             out = out / info.max if info.min == 0 else np.maximum(out / info.max, -1.0)
         return out
+
+    def _apply_sparse(self, index, a, data, dtype, ncomp):
+        """``data`` with the sparse substitution of accessors[index] (glTF 2.0 sec. 3.6.2.3)."""
+        s = a["sparse"]
+        idx_type = _COMPONENT[s["indices"]["componentType"]]
+        idx = self._read_view(s["indices"]["bufferView"], s["indices"].get("byteOffset") or 0, s["count"],
+                              idx_type, 1)[:, 0].astype(np.int64)
+        if np.any(idx >= a["count"]):
+            self.fail(f"accessors[{index}].sparse has index {int(idx.max())}, past the accessor's count {a['count']}")
+        if np.any(np.diff(idx) <= 0):
+            self.fail(f"accessors[{index}].sparse indices must be strictly increasing")
+        vals = self._read_view(s["values"]["bufferView"], s["values"].get("byteOffset") or 0, s["count"], dtype,
+                               ncomp)
+        data = data.copy()
+        data[idx] = vals
+        return data
+
+    def attribute(self, index, semantic, where):
+        """Accessor ``index`` used as ``semantic`` (a key of ``_FORMATS``): format, count and values checked."""
+        a = self.items("accessors")[index]
+        types, components, normalized = _FORMATS[semantic]
+        component = a["componentType"]
+        if a["type"] not in types or component not in components or (
+                normalized and component != _FLOAT and not a.get("normalized")):
+            want = " or ".join(f"{types[0]} {_COMPONENT_NAMES[c]}" + (" (normalized)" if normalized and c != _FLOAT
+                                                                        else "") for c in components)
+            self.fail(f"{where} (accessors[{index}]) must be {want}; it is {a['type']} {_COMPONENT_NAMES[component]}")
+        if semantic == "indices":
+            return self.accessor(index, normalize_ints=False)[:, 0]
+        data = self.accessor(index)
+        limit = _MAX_TEXCOORD if semantic == "TEXCOORD" else np.finfo(np.float32).max
+        bad = ~np.isfinite(data) | (np.abs(data) > limit)
+        if np.any(bad):
+            self.fail(f"{where} (accessors[{index}]) has {int(bad.sum())} non-finite or out-of-range value(s)")
+        return data
 
     def image(self, index, srgb):
         """Texels (H, W, 4) float32 of image ``index``, sRGB-decoded when ``srgb``."""
         key = (index, srgb)
         if key not in self._images:
-            import imageio.v3 as iio
-
-            im = self.g.images[index]
-            if im.bufferView is not None:
-                data = self.view_bytes(im.bufferView)[0]
-            elif im.uri:
-                data = self._uri_bytes(im.uri)
-            else:
-                self.fail(f"image {index} has neither bufferView nor uri")
-            try:
-                pixels = np.asarray(iio.imread(data))
-            except Exception as exc:
-                self.fail(f"cannot decode image {index}: {' '.join(str(exc).split()) or type(exc).__name__}")
-            if pixels.dtype == np.uint8:
-                values = pixels.astype(np.float32) / 255.0
-            elif pixels.dtype == np.uint16:
-                values = pixels.astype(np.float32) / 65535.0
-            else:
-                values = pixels.astype(np.float32)
-            if values.ndim == 2:
-                values = values[..., None]
-            c = values.shape[2]
-            rgba = np.ones(values.shape[:2] + (4,), dtype=np.float32)
-            if c in (1, 2):
-                rgba[..., :3] = values[..., :1]
-                if c == 2:
-                    rgba[..., 3] = values[..., 1]
-            else:
-                rgba[..., :3] = values[..., :3]
-                if c == 4:
-                    rgba[..., 3] = values[..., 3]
-            if srgb:
-                rgba[..., :3] = srgb_to_linear(rgba[..., :3]).astype(np.float32)
-            self._images[key] = rgba
+            self._images[key] = self._decode_image(index, srgb)
         return self._images[key]
+
+    def _decode_image(self, index, srgb):
+        import imageio.v3 as iio
+
+        im = self.items("images")[index]
+        where = f"images[{index}]"
+        if im.get("bufferView") is not None:
+            data = self.view_bytes(im["bufferView"])[0]
+        else:
+            data = self._uri_bytes(im["uri"], f"{where}.uri")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                pixels = np.asarray(iio.imread(data))
+        except Exception as exc:  # decoders raise many kinds on corrupt data
+            detail = " ".join(str(exc).split()) or type(exc).__name__
+            self.fail(f"cannot decode {where} (not an image file pbrkit can read, such as PNG or JPEG): {detail}")
+        if pixels.ndim == 2:
+            pixels = pixels[..., None]
+        if pixels.ndim != 3 or not 1 <= pixels.shape[2] <= 4 or 0 in pixels.shape:
+            self.fail(f"{where} has shape {pixels.shape}; expected a 2D image with 1 to 4 channels")
+        if pixels.dtype == np.uint8:
+            values = pixels.astype(np.float32) / 255.0
+        elif pixels.dtype == np.uint16:
+            values = pixels.astype(np.float32) / 65535.0
+        else:
+            values = pixels.astype(np.float32)
+        if not np.all(np.isfinite(values)):
+            self.fail(f"{where} has non-finite texels")
+        return _rgba(values, srgb)
 
     def texture(self, index, srgb, cache):
         key = (index, srgb)
         if key not in cache:
-            t = self.g.textures[index]
-            if t.source is None:
-                self.fail(f"texture {index} has no source image")
+            t = self.items("textures")[index]
+            if t.get("source") is None:
+                self.fail(f"textures[{index}] has no source image (texture extensions are not supported)")
             wrap_s = wrap_t = _WRAP_REPEAT
             mag = None
-            if t.sampler is not None:
-                s = self.g.samplers[t.sampler]
-                wrap_s = s.wrapS or _WRAP_REPEAT
-                wrap_t = s.wrapT or _WRAP_REPEAT
-                mag = s.magFilter
-            cache[key] = (len(cache), Texture(self.image(t.source, srgb), wrap_s, wrap_t, mag))
+            if t.get("sampler") is not None:
+                s = self.items("samplers")[t["sampler"]]
+                wrap_s = s.get("wrapS") or _WRAP_REPEAT
+                wrap_t = s.get("wrapT") or _WRAP_REPEAT
+                mag = s.get("magFilter")
+            cache[key] = (len(cache), Texture(self.image(t["source"], srgb), wrap_s, wrap_t, mag))
         return cache[key][0]
 
 
+def _rgba(values, srgb):
+    """(H, W, C) texel values in [0, 1] -> (H, W, 4) float32 RGBA (grey and grey-alpha expanded)."""
+    c = values.shape[2]
+    rgba = np.ones(values.shape[:2] + (4,), dtype=np.float32)
+    if c in (1, 2):
+        rgba[..., :3] = values[..., :1]
+        if c == 2:
+            rgba[..., 3] = values[..., 1]
+    else:
+        rgba[..., :3] = values[..., :3]
+        if c == 4:
+            rgba[..., 3] = values[..., 3]
+    if srgb:
+        rgba[..., :3] = srgb_to_linear(rgba[..., :3]).astype(np.float32)
+    return rgba
+
+
+# ============================================================ materials
+
+
+def _texture_ref(reader, info, srgb, cache, strength_key=None):
+    """A :class:`TextureRef` for a glTF textureInfo (None when absent)."""
+    if info is None:
+        return None
+    ref = TextureRef(reader.texture(info["index"], srgb, cache), info.get("texCoord") or 0)
+    if strength_key is not None:
+        value = info.get(strength_key)
+        ref = TextureRef(ref.texture, ref.texcoord, 1.0 if value is None else float(value))
+    return ref
+
+
+def _gltf_material(reader, index, cache):
+    if index is None:
+        return SurfaceMaterial(MaterialSpec(name="gltf-default", base_color=(1.0, 1.0, 1.0), metallic=1.0,
+                                            roughness=1.0))
+    m = reader.items("materials")[index]
+    pbr = m.get("pbrMetallicRoughness") or {}
+    bc = pbr.get("baseColorFactor") or (1.0, 1.0, 1.0, 1.0)
+    metallic = 1.0 if pbr.get("metallicFactor") is None else pbr["metallicFactor"]
+    roughness = 1.0 if pbr.get("roughnessFactor") is None else pbr["roughnessFactor"]
+    bct = _texture_ref(reader, pbr.get("baseColorTexture"), True, cache)
+    mrt = _texture_ref(reader, pbr.get("metallicRoughnessTexture"), False, cache)
+    nt = _texture_ref(reader, m.get("normalTexture"), False, cache, "scale")
+    ot = _texture_ref(reader, m.get("occlusionTexture"), False, cache, "strength")
+    et = _texture_ref(reader, m.get("emissiveTexture"), True, cache)
+    emissive = np.asarray(m.get("emissiveFactor") or (0.0, 0.0, 0.0), dtype=float)
+    strength = ((m.get("extensions") or {}).get("KHR_materials_emissive_strength") or {}).get("emissiveStrength")
+    strength = 1.0 if strength is None else float(strength)
+    if (m.get("alphaMode") or "OPAQUE") != "OPAQUE":
+        reader.notes.append(f"material {index}: alphaMode {m['alphaMode']} rendered as OPAQUE")
+    name = m.get("name") if isinstance(m.get("name"), str) and m.get("name") else f"gltf-material-{index}"
+    try:
+        spec = MaterialSpec(name=name, base_color=tuple(float(x) for x in bc[:3]), metallic=float(metallic),
+                            roughness=float(roughness), emissive=tuple(emissive * strength),
+                            double_sided=bool(m.get("doubleSided")))
+    except ValueError as exc:
+        reader.fail(f"materials[{index}]: {exc}")
+    return SurfaceMaterial(spec, bct, mrt, nt, ot, et)
+
+
+def _texture_refs(material):
+    """(name, TextureRef) of the textures a material uses."""
+    names = ("baseColorTexture", "metallicRoughnessTexture", "normalTexture", "occlusionTexture", "emissiveTexture")
+    refs = (material.base_color_texture, material.metallic_roughness_texture, material.normal_texture,
+            material.occlusion_texture, material.emissive_texture)
+    return [(n, r) for n, r in zip(names, refs) if r is not None]
+
+
+# ============================================================ geometry
+
+
 def _node_matrix(node):
-    if node.matrix is not None:
-        return np.asarray(node.matrix, dtype=float).reshape(4, 4).T  # column-major in glTF
-    return trs_matrix(node.translation or (0.0, 0.0, 0.0), node.rotation or (0.0, 0.0, 0.0, 1.0),
-                      node.scale or (1.0, 1.0, 1.0))
+    if node.get("matrix") is not None:
+        return np.asarray(node["matrix"], dtype=float).reshape(4, 4).T  # column-major in glTF
+    q = np.asarray(node.get("rotation") or (0.0, 0.0, 0.0, 1.0), dtype=float)
+    return trs_matrix(node.get("translation") or (0.0, 0.0, 0.0), q / np.linalg.norm(q),
+                      node.get("scale") or (1.0, 1.0, 1.0))
 
 
 def _triangles(mode, idx):
@@ -255,170 +417,193 @@ def _triangles(mode, idx):
     return None
 
 
-def _gltf_material(reader, index, cache):
-    g = reader.g
-    if index is None:
-        return SurfaceMaterial(MaterialSpec(name="gltf-default", base_color=(1.0, 1.0, 1.0), metallic=1.0,
-                                            roughness=1.0))
-    m = g.materials[index]
-    pbr = m.pbrMetallicRoughness
-    bc = (1.0, 1.0, 1.0, 1.0)
-    metallic = roughness = 1.0
-    bct = mrt = None
-    if pbr is not None:
-        bc = pbr.baseColorFactor if pbr.baseColorFactor is not None else bc
-        metallic = 1.0 if pbr.metallicFactor is None else pbr.metallicFactor
-        roughness = 1.0 if pbr.roughnessFactor is None else pbr.roughnessFactor
-        if pbr.baseColorTexture is not None:
-            bct = TextureRef(reader.texture(pbr.baseColorTexture.index, True, cache),
-                             pbr.baseColorTexture.texCoord or 0)
-        if pbr.metallicRoughnessTexture is not None:
-            mrt = TextureRef(reader.texture(pbr.metallicRoughnessTexture.index, False, cache),
-                             pbr.metallicRoughnessTexture.texCoord or 0)
-    nt = ot = et = None
-    if m.normalTexture is not None:
-        nt = TextureRef(reader.texture(m.normalTexture.index, False, cache), m.normalTexture.texCoord or 0,
-                        1.0 if m.normalTexture.scale is None else m.normalTexture.scale)
-    if m.occlusionTexture is not None:
-        ot = TextureRef(reader.texture(m.occlusionTexture.index, False, cache), m.occlusionTexture.texCoord or 0,
-                        1.0 if m.occlusionTexture.strength is None else m.occlusionTexture.strength)
-    if m.emissiveTexture is not None:
-        et = TextureRef(reader.texture(m.emissiveTexture.index, True, cache), m.emissiveTexture.texCoord or 0)
-    emissive = np.asarray(m.emissiveFactor if m.emissiveFactor is not None else (0.0, 0.0, 0.0), dtype=float)
-    strength = (m.extensions or {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
-    if (m.alphaMode or "OPAQUE") != "OPAQUE":
-        reader.notes.append(f"material {index}: alphaMode {m.alphaMode} rendered as OPAQUE")
-    name = m.name or f"gltf-material-{index}"
+@dataclass
+class _Primitive:
+    """One primitive's data in its node's space."""
+
+    positions: np.ndarray
+    normals: np.ndarray | None
+    tangents: np.ndarray | None
+    texcoords: list
+    triangles: np.ndarray
+
+
+def _read_primitive(reader, prim, where):
+    """The checked data of a triangle primitive, or None (with a note) for points and lines."""
+    attrs = prim["attributes"]
+    if attrs.get("POSITION") is None:
+        reader.fail(f"{where} has no POSITION attribute")
+    pos = reader.attribute(attrs["POSITION"], "POSITION", f"{where}.attributes.POSITION")
+    count = pos.shape[0]
+    if prim.get("indices") is not None:
+        idx = reader.attribute(prim["indices"], "indices", f"{where}.indices")
+        if idx.size and idx.max() >= count:
+            reader.fail(f"{where}.indices has index {int(idx.max())}, but POSITION has only {count} vertices")
+    else:
+        idx = np.arange(count, dtype=np.int64)
     try:
-        spec = MaterialSpec(name=name, base_color=tuple(bc[:3]), metallic=metallic, roughness=roughness,
-                            emissive=tuple(emissive * float(strength)), double_sided=bool(m.doubleSided))
+        tri = _triangles(prim.get("mode"), idx)
     except ValueError as exc:
-        reader.fail(str(exc))
-    return SurfaceMaterial(spec, bct, mrt, nt, ot, et)
+        reader.fail(f"{where}: {exc}")
+    if tri is None:
+        reader.notes.append(f"{where}: mode {prim.get('mode')} (points/lines) skipped")
+        return None
+
+    def read(name, semantic, width):
+        if attrs.get(name) is None:
+            return None
+        data = reader.attribute(attrs[name], semantic, f"{where}.attributes.{name}")
+        if data.shape[0] != count:
+            reader.fail(f"{where}.attributes.{name} has {data.shape[0]} elements, POSITION has {count} (every "
+                        "attribute of a primitive has the same count)")
+        return data[:, :width]
+
+    texcoords = []
+    while attrs.get(f"TEXCOORD_{len(texcoords)}") is not None:
+        texcoords.append(read(f"TEXCOORD_{len(texcoords)}", "TEXCOORD", 2))
+    return _Primitive(pos, read("NORMAL", "NORMAL", 3), read("TANGENT", "TANGENT", 4), texcoords, tri)
+
+
+def _flat_shaded(p):
+    """glTF 2.0 sec. 3.7.2.1: flat normals when NORMAL is absent -> unshared vertices."""
+    corners = p.triangles.reshape(-1)
+    pos = p.positions[corners]
+    tri = np.arange(pos.shape[0], dtype=np.int64).reshape(-1, 3)
+    fn = np.cross(pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]])
+    fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
+    return _Primitive(pos, np.repeat(fn, 3, axis=0), None if p.tangents is None else p.tangents[corners],
+                      [t[corners] for t in p.texcoords], tri)
+
+
+def _world_mesh(p, world, material_index):
+    """A :class:`Mesh` of primitive data ``p`` under the 4 x 4 transform ``world``."""
+    m3 = world[:3, :3]
+    det = float(np.linalg.det(m3))
+    normal_matrix = np.linalg.inv(m3).T
+    wpos = p.positions @ m3.T + world[:3, 3]
+    wn = p.normals @ normal_matrix.T
+    wn /= np.maximum(np.linalg.norm(wn, axis=1, keepdims=True), 1e-300)
+    wt = None
+    if p.tangents is not None:
+        t3 = p.tangents[:, :3] @ m3.T
+        t3 /= np.maximum(np.linalg.norm(t3, axis=1, keepdims=True), 1e-300)
+        w = np.where(p.tangents[:, 3] < 0.0, -1.0, 1.0) * (1.0 if det > 0 else -1.0)
+        wt = np.concatenate([t3, w[:, None]], axis=1)
+    return Mesh(wpos, wn, p.triangles.astype(np.int64), material_index, tuple(p.texcoords), wt)
+
+
+def _scene_roots(reader):
+    """The root nodes of the default scene (scene 0 without ``scene``; every parentless
+    node when the file has no scenes) and a phrase naming where they come from."""
+    scenes = reader.items("scenes")
+    nodes = reader.items("nodes")
+    if scenes:
+        k = reader.doc.get("scene") or 0
+        return list(scenes[k].get("nodes") or []), f"scene {k}"
+    children = {c for n in nodes for c in (n.get("children") or [])}
+    return [i for i in range(len(nodes)) if i not in children], "the file's root nodes"
 
 
 def load_gltf(path, transform=None):
     """Read a glTF 2.0 file into world-space triangle meshes, materials and lights.
 
     ``transform`` (4 x 4) is applied on top of the file's node transforms.
-    Problems raise :class:`pbrkit.core.errors.InputError` naming the file."""
+    Problems (module docstring) raise :class:`pbrkit.core.errors.InputError`
+    naming the file."""
     reader = _GltfReader(path)
-    g = reader.g
-    top = np.eye(4) if transform is None else np.asarray(transform, dtype=float)
+    try:
+        with np.errstate(all="ignore"):  # overflows and the like are detected and reported by _load
+            return _load(reader, np.eye(4) if transform is None else np.asarray(transform, dtype=float))
+    except MemoryError:
+        raise InputError("not enough memory to load this glTF file", path) from None
+
+
+def _load(reader, top):
     texture_cache = {}
-    materials = [_gltf_material(reader, i, texture_cache) for i in range(len(g.materials or []))]
-    default_material = None
+    materials = [_gltf_material(reader, i, texture_cache) for i in range(len(reader.items("materials")))]
+    state = {"default_material": None}
     meshes = []
     lights = []
-    light_defs = ((g.extensions or {}).get("KHR_lights_punctual") or {}).get("lights", [])
-    if g.scenes:
-        roots = g.scenes[g.scene or 0].nodes or []
-    else:
-        children = {c for n in g.nodes for c in (n.children or [])}
-        roots = [i for i in range(len(g.nodes)) if i not in children]
+    light_defs = ((reader.doc.get("extensions") or {}).get("KHR_lights_punctual") or {}).get("lights") or []
+    roots, origin = _scene_roots(reader)
     stack = [(i, top) for i in roots]
-    visited = 0
     while stack:
         ni, parent = stack.pop()
-        visited += 1
-        if visited > 1_000_000:
-            reader.fail("node hierarchy has a cycle")
-        node = g.nodes[ni]
+        node = reader.items("nodes")[ni]
         world = parent @ _node_matrix(node)
-        stack.extend((c, world) for c in (node.children or []))
-        ext = (node.extensions or {}).get("KHR_lights_punctual")
-        if ext is not None and "light" in ext:
+        if not np.all(np.isfinite(world)):
+            reader.fail(f"nodes[{ni}]: its transform (with its parents') is not finite")
+        stack.extend((c, world) for c in (node.get("children") or []))
+        ext = (node.get("extensions") or {}).get("KHR_lights_punctual")
+        if ext is not None:
             lights.append(_gltf_light(reader, light_defs, ext["light"], world))
-        if node.mesh is None:
-            continue
-        m3 = world[:3, :3]
-        det = float(np.linalg.det(m3))
-        if det == 0.0:
-            reader.notes.append(f"node {ni}: singular transform, mesh skipped")
-            continue
-        normal_matrix = np.linalg.inv(m3).T
-        for pi, prim in enumerate(g.meshes[node.mesh].primitives):
-            attrs = prim.attributes
-            if attrs.POSITION is None:
-                reader.fail(f"mesh {node.mesh} primitive {pi} has no POSITION")
-            pos = reader.accessor(attrs.POSITION)
-            if prim.indices is not None:
-                idx = reader.accessor(prim.indices, normalize_ints=False)[:, 0]
-            else:
-                idx = np.arange(pos.shape[0], dtype=np.int64)
-            try:
-                tri = _triangles(prim.mode, idx)
-            except ValueError as exc:
-                reader.fail(f"mesh {node.mesh} primitive {pi}: {exc}")
-            if tri is None:
-                reader.notes.append(f"mesh {node.mesh} primitive {pi}: mode {prim.mode} (points/lines) skipped")
-                continue
-            if tri.size and (tri.max() >= pos.shape[0] or tri.min() < 0):
-                reader.fail(f"mesh {node.mesh} primitive {pi} has indices out of range")
-            if prim.targets:
-                reader.notes.append(f"mesh {node.mesh}: morph targets ignored (base shape rendered)")
-            texcoords = []
-            for name in ("TEXCOORD_0", "TEXCOORD_1"):
-                acc = getattr(attrs, name, None)
-                if acc is None:
-                    break
-                texcoords.append(reader.accessor(acc)[:, :2])
-            normals = reader.accessor(attrs.NORMAL)[:, :3] if attrs.NORMAL is not None else None
-            tangents = reader.accessor(attrs.TANGENT)[:, :4] if attrs.TANGENT is not None else None
-            if normals is None:
-                # glTF 2.0 sec. 3.7.2.1: flat normals when NORMAL is absent -> unshared vertices
-                pos = pos[tri.reshape(-1)]
-                texcoords = [t[tri.reshape(-1)] for t in texcoords]
-                tangents = None if tangents is None else tangents[tri.reshape(-1)]
-                tri = np.arange(pos.shape[0], dtype=np.int64).reshape(-1, 3)
-                e1 = pos[tri[:, 1]] - pos[tri[:, 0]]
-                e2 = pos[tri[:, 2]] - pos[tri[:, 0]]
-                fn = np.cross(e1, e2)
-                fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
-                normals = np.repeat(fn, 3, axis=0)
-            mat_index = prim.material
-            if mat_index is None:
-                if default_material is None:
-                    materials.append(_gltf_material(reader, None, texture_cache))
-                    default_material = len(materials) - 1
-                mat_index = default_material
-            material = materials[mat_index]
-            if material.normal_texture is not None and tangents is None:
-                tc = material.normal_texture.texcoord
-                if tc >= len(texcoords):
-                    reader.fail(f"mesh {node.mesh} primitive {pi}: normal texture uses TEXCOORD_{tc}, "
-                                "which the primitive lacks")
-                tangents = mikktspace_tangents(pos, normals, texcoords[tc], tri)
-            wpos = pos @ world[:3, :3].T + world[:3, 3]
-            wn = normals @ normal_matrix.T
-            wn /= np.maximum(np.linalg.norm(wn, axis=1, keepdims=True), 1e-300)
-            wt = None
-            if tangents is not None:
-                t3 = tangents[:, :3] @ m3.T
-                t3 /= np.maximum(np.linalg.norm(t3, axis=1, keepdims=True), 1e-300)
-                w = np.where(tangents[:, 3] < 0.0, -1.0, 1.0) * (1.0 if det > 0 else -1.0)
-                wt = np.concatenate([t3, w[:, None]], axis=1)
-            meshes.append(Mesh(wpos, wn, tri.astype(np.int64), mat_index, tuple(texcoords), wt))
+        if node.get("mesh") is not None:
+            meshes.extend(_node_meshes(reader, ni, node["mesh"], world, materials, texture_cache, state))
+    if not meshes and not lights:
+        reader.fail(_nothing_to_render(reader, origin))
     textures = [t for _, t in sorted(texture_cache.values(), key=lambda e: e[0])]
     for m in materials:
         m.textures = textures
     return GltfAsset(meshes, materials, lights, reader.notes)
 
 
+def _nothing_to_render(reader, origin):
+    """Why a file gave no meshes (and no lights)."""
+    if not reader.items("meshes"):
+        return "no meshes to render (the file has no meshes)"
+    return f"no meshes to render: no node of {origin} holds a mesh with triangles"
+
+
+def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
+    """The world-space meshes of the primitives of meshes[mesh_index], placed by nodes[ni]."""
+    m3 = world[:3, :3]
+    if float(np.linalg.det(m3)) == 0.0:
+        reader.notes.append(f"node {ni}: singular transform, mesh skipped")
+        return []
+    out = []
+    for pi, prim in enumerate(reader.items("meshes")[mesh_index]["primitives"]):
+        where = f"meshes[{mesh_index}].primitives[{pi}]"
+        p = _read_primitive(reader, prim, where)
+        if p is None:
+            continue
+        if p.triangles.shape[0] == 0:
+            reader.notes.append(f"{where}: no triangles, skipped")
+            continue
+        if prim.get("targets"):
+            reader.notes.append(f"mesh {mesh_index}: morph targets ignored (base shape rendered)")
+        if p.normals is None:
+            p = _flat_shaded(p)
+        mat_index = prim.get("material")
+        if mat_index is None:
+            if state["default_material"] is None:
+                materials.append(_gltf_material(reader, None, cache))
+                state["default_material"] = len(materials) - 1
+            mat_index = state["default_material"]
+        material = materials[mat_index]
+        for name, ref in _texture_refs(material):
+            if ref.texcoord >= len(p.texcoords):
+                reader.fail(f"{where}: materials[{mat_index}].{name} uses TEXCOORD_{ref.texcoord}, which the "
+                            "primitive lacks")
+        if material.normal_texture is not None and p.tangents is None:
+            p.tangents = mikktspace_tangents(p.positions, p.normals, p.texcoords[material.normal_texture.texcoord],
+                                             p.triangles)
+        mesh = _world_mesh(p, world, mat_index)
+        if not np.all(np.isfinite(mesh.positions)) or np.abs(mesh.positions).max() > np.finfo(np.float32).max:
+            reader.fail(f"{where}: its vertices placed by nodes[{ni}] are not finite")
+        out.append(mesh)
+    return out
+
+
 def _gltf_light(reader, defs, index, world):
-    if not isinstance(index, int) or not 0 <= index < len(defs):
-        reader.fail(f"KHR_lights_punctual light index {index!r} out of range")
     d = defs[index]
-    kind = d.get("type")
     position = world[:3, 3]
     direction = world[:3, :3] @ np.array([0.0, 0.0, -1.0])
-    spot = d.get("spot", {}) or {}
+    spot = d.get("spot") or {}
     try:
-        return Light(type=kind, color=tuple(d.get("color", (1.0, 1.0, 1.0))), intensity=d.get("intensity", 1.0),
+        return Light(type=d["type"], color=tuple(d.get("color") or (1.0, 1.0, 1.0)),
+                     intensity=1.0 if d.get("intensity") is None else d["intensity"],
                      position=tuple(position), direction=tuple(direction), range=d.get("range"),
-                     inner_cone_angle=spot.get("innerConeAngle", 0.0),
-                     outer_cone_angle=spot.get("outerConeAngle", np.pi / 4.0))
+                     inner_cone_angle=0.0 if spot.get("innerConeAngle") is None else spot["innerConeAngle"],
+                     outer_cone_angle=np.pi / 4.0 if spot.get("outerConeAngle") is None else spot["outerConeAngle"])
     except (TypeError, ValueError) as exc:
         reader.fail(f"KHR_lights_punctual light {index}: {exc}")
-
-

@@ -16,15 +16,24 @@ shadow rays, as an ideal shadow map), plus split-sum image-based lighting
   the albedo is S DFG2).  Optional energy compensation multiplies the
   specular lobes by 1 + F0 (1 / DFG2 - 1) (Filament sec. 4.7.2,
   :func:`pbrkit.albedo.tables.filament_energy_compensation`).
-- diffuse: base_color / pi * E(n) * k_d with k_d = (1 - F*)(1 - metallic)
-  (:func:`pbrkit.brdf.diffuse.kd_ibl`; seed 000) and E from the bake's SH
-  (:func:`pbrkit.ibl.sh.irradiance_from_sh`) or its irradiance cube.
+- diffuse: the model's own diffuse colour (base_color (1 - metallic), URP's
+  0.96 (1 - metallic)) / pi * E(n) * w, with E from the bake's SH
+  (:func:`pbrkit.ibl.sh.irradiance_from_sh`) or its irradiance cube, and w
+  the model's diffuse weighting (:func:`diffuse_ibl_weight`): 1 for the models
+  whose diffuse lobe has none, and for ``gltf``, whose diffuse is weighted by
+  1 - F(v.h) (``fresnel_mix``), Lagarde's 1 - F*(n.v, 0.04, r)
+  (:func:`pbrkit.brdf.diffuse.kd_ibl`; seed 000), or with
+  ``diffuse_weight="exact"`` the exact directional albedo of that weight
+  (:func:`fresnel_mix_albedo_table`), which is what a constant environment
+  gives.
 - the glTF occlusion texture scales both IBL terms; emission is added.
 
-Known approximations of the real-time path (what ``compare`` measures):
-the split sum itself (n = v = r in the prefilter, the lobe's shape), the
-(1 - F*) factor on the diffuse, Lambert in place of Burley and GGX in place
-of Beckmann / Blinn-Phong for the IBL, and the SH truncation.
+Known approximations of the real-time path (what ``compare`` measures,
+:data:`APPROXIMATIONS`): the split sum itself (n = v = r in the prefilter,
+the lobe's shape, the levels and the table's texels), the F* diffuse weight
+(``gltf``), the SH truncation of the irradiance, and for the other models
+Lambert in place of Burley and GGX in place of Beckmann / Blinn-Phong for the
+IBL.
 """
 
 from __future__ import annotations
@@ -44,15 +53,16 @@ from ..brdf.bxdf import (
     FRES_EXACT_CONDUCTOR,
     FRES_EXACT_DIELECTRIC,
     FRES_NONE,
+    GLTF_DIELECTRIC_F0,
     MODEL_COOK_TORRANCE,
     MODEL_DISNEY,
     MODEL_FILAMENT,
-    MODEL_URP_MOBILE,
+    MODEL_GLTF,
     P_ANISOTROPY,
     P_CLEARCOAT,
     P_CLEARCOAT_GLOSS,
-    URP_DIELECTRIC_F0,
     disney_clearcoat_alpha,
+    gltf_fresnel_mix_weight,
     lobe_alphas,
     tangent_frame,
 )
@@ -72,7 +82,23 @@ __all__ = [
     "split_sum_f0",
     "reflection_direction",
     "sheen_albedo_table",
+    "fresnel_mix_albedo_table",
+    "diffuse_ibl_weight",
+    "DIFFUSE_WEIGHTS",
+    "APPROXIMATIONS",
 ]
+
+#: How the real-time path weights the ``gltf`` diffuse (:func:`diffuse_ibl_weight`).
+DIFFUSE_WEIGHTS = ("fstar", "exact")
+
+#: The approximations of the real-time path, in the order ``compare`` swaps them for
+#: exact computations (:func:`pbrkit.render.run.approximation_split`).
+APPROXIMATIONS = {
+    "sh": "irradiance from 9 SH coefficients instead of the exact irradiance cube (diffuse)",
+    "fstar": "diffuse weight 1 - F*(n.v, 0.04, r) instead of the exact albedo of 1 - F(v.h) (glTF diffuse)",
+    "split_sum": "prefiltered environment (n = v = r) x DFG table instead of the integral of the lobe "
+                 "against the environment (specular), with what remains",
+}
 
 _INV_PI = 1.0 / math.pi
 
@@ -161,13 +187,11 @@ def _reflection_kernel(mi, mf, mat, n, v, rough, metal, base, out, coat_out):
         coat_out[i] = math.sqrt(disney_clearcoat_alpha(mf[m, P_CLEARCOAT_GLOSS])) if coat else -1.0
 
 
-@lru_cache(maxsize=1)
-def sheen_albedo_table(size=64, nodes=64):
-    """Directional albedo of Disney's sheen lobe per unit sheen colour,
-    S(mu) = integral of (1 - l.h)^5 (n.l) dl over the upper hemisphere (Burley
-    2012, App. B), at mu = n.v = (i + 0.5) / size, by a Gauss-Legendre product
-    rule in (cos theta_l, phi) (the integrand is smooth: a polynomial in the
-    direction's components under a square root); a shader looks it up linearly."""
+def _view_albedo_table(weight_of_loh, size, nodes):
+    """integral of g(l.h) (n.l) dl over the upper hemisphere at mu = n.v = (i + 0.5) / size,
+    for a factor g of l.h = v.h alone (no roughness), by a Gauss-Legendre product rule in
+    (cos theta_l, phi) (the integrand is smooth: a function of the direction's components
+    under a square root)."""
     x, w = gauss_legendre_01(nodes)
     phi = np.pi * x  # symmetric in phi: integrate over [0, pi] and double
     mu_v = (np.arange(size) + 0.5) / size
@@ -178,12 +202,48 @@ def sheen_albedo_table(size=64, nodes=64):
     h = l + v
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     loh = np.sum(l * h, axis=-1)
-    integrand = f_schlick(loh, 0.0, 1.0) * ml[None]
+    integrand = weight_of_loh(loh) * ml[None]
     return 2.0 * np.pi * np.einsum("mtp,t,p->m", integrand, w, w)
 
 
+@lru_cache(maxsize=1)
+def sheen_albedo_table(size=64, nodes=64):
+    """Directional albedo of Disney's sheen lobe per unit sheen colour,
+    S(mu) = integral of (1 - l.h)^5 (n.l) dl over the upper hemisphere (Burley
+    2012, App. B), at mu = n.v = (i + 0.5) / size (:func:`_view_albedo_table`);
+    a shader looks it up linearly."""
+    return _view_albedo_table(lambda loh: f_schlick(loh, 0.0, 1.0), size, nodes)
+
+
+@lru_cache(maxsize=1)
+def fresnel_mix_albedo_table(size=64, nodes=64):
+    """The exact directional albedo of the glTF diffuse lobe per unit diffuse colour,
+    W(mu) = integral of (1 - F_0.04(v.h)) (n.l) / pi dl over the upper hemisphere
+    (:func:`pbrkit.brdf.bxdf.gltf_fresnel_mix_weight`), at mu = n.v = (i + 0.5) / size
+    (:func:`_view_albedo_table`).  No roughness: the diffuse lobe has none.  Under a
+    constant environment the diffuse radiance is W(n.v) E / pi exactly; the
+    real-time F* weight approximates it."""
+    return _view_albedo_table(gltf_fresnel_mix_weight, size, nodes) / math.pi
+
+
 @dual_use
-def _sheen_lookup(table, nov):
+def diffuse_ibl_weight(b, nov, exact, table):
+    """The weight w on the diffuse colour's IBL term diffuse_color E(n) / pi that
+    the real-time path gives a model's diffuse lobe: 1 for the models whose
+    diffuse has no Fresnel weighting; for ``gltf`` (diffuse weighted by
+    1 - F(v.h)) Lagarde's 1 - F*(n.v, 0.04, r) (:func:`pbrkit.brdf.diffuse.kd_ibl`
+    with metallic 0: the diffuse colour already carries 1 - metallic), or with
+    ``exact`` the exact albedo W(n.v) of :func:`fresnel_mix_albedo_table` (linear
+    between texel centres, clamp to edge)."""
+    if b.model != MODEL_GLTF:
+        return 1.0
+    if exact:
+        return _view_table_lookup(table, nov)
+    return kd_ibl(nov, GLTF_DIELECTRIC_F0, b.roughness, 0.0)
+
+
+@dual_use
+def _view_table_lookup(table, nov):
     # linear between texel centres, clamp to edge (pbrkit.core.filtering.texel_pair)
     i0, i1, f = texel_pair(nov * table.shape[0] - 0.5, table.shape[0], CLAMP_TO_EDGE)
     return table[i0] * (1.0 - f) + table[i1] * f
@@ -191,7 +251,8 @@ def _sheen_lookup(table, nov):
 
 @parallel_kernel
 def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
-                coat_prefiltered, coat_roughness, sheen_table, energy_compensation, out, ec_out):
+                coat_prefiltered, coat_roughness, sheen_table, diffuse_table, exact_diffuse, energy_compensation,
+                out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
     energy-compensation factor (for the punctual lights)."""
     for i in numba.prange(n.shape[0]):
@@ -204,7 +265,7 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
         diffuse_on = not ((b.model == MODEL_COOK_TORRANCE or b.model == MODEL_FILAMENT) and b.diffuse == DIFF_NONE)
-        exact_dielectric = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_EXACT_DIELECTRIC
+        diffuse_weight = diffuse_ibl_weight(b, nov, exact_diffuse, diffuse_table) * _INV_PI
         constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE
         coat = 0.0
         sheen = 0.0
@@ -213,7 +274,7 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
                 c1 = table_bilinear(tables, t, nov, coat_roughness[i], 0)
                 c2 = table_bilinear(tables, t, nov, coat_roughness[i], 1)
                 coat = b.clearcoat * (c1 + 0.04 * (c2 - c1))
-            sheen = _sheen_lookup(sheen_table, nov) * _INV_PI
+            sheen = _view_table_lookup(sheen_table, nov) * _INV_PI
         for c in range(3):
             f0 = split_sum_f0(b, c)
             if constant_f:
@@ -227,11 +288,7 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
             spec = prefiltered[i, c] * albedo * ec
             diff = 0.0
             if diffuse_on:
-                metal_part = 0.0 if exact_dielectric else b.metallic
-                kd = kd_ibl(nov, f0, r, metal_part)
-                if b.model == MODEL_URP_MOBILE:
-                    kd *= 1.0 - URP_DIELECTRIC_F0
-                diff = b.base[c] * kd * irradiance[i, c] * _INV_PI
+                diff = b.diffuse_color[c] * diffuse_weight * irradiance[i, c]
             if b.model == MODEL_DISNEY:
                 spec += coat * coat_prefiltered[i, c]
                 diff += b.sheen[c] * sheen * irradiance[i, c]
@@ -239,9 +296,10 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
 
 
 def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", energy_compensation=False,
-                    shadows=True, bake_size=256, bake_options=None):
+                    shadows=True, bake_size=256, bake_options=None, diffuse_weight="fstar"):
     """Real-time shading of ``scene`` (module docstring).  ``diffuse``: ``sh`` (the
-    bake's 9 SH coefficients) or ``cube`` (its irradiance cube).  Returns a
+    bake's 9 SH coefficients) or ``cube`` (its irradiance cube); ``diffuse_weight``:
+    ``fstar`` (what engines do) or ``exact`` (:func:`diffuse_ibl_weight`).  Returns a
     :class:`RenderResult`; ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
     from ..ibl.prefilter import level_of_roughness
@@ -249,6 +307,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
 
     if diffuse not in ("sh", "cube"):
         raise ValueError(f"unknown diffuse source {diffuse!r}; use 'sh' or 'cube'")
+    if diffuse_weight not in DIFFUSE_WEIGHTS:
+        raise ValueError(f"unknown diffuse weight {diffuse_weight!r}; use one of {', '.join(DIFFUSE_WEIGHTS)}")
     timings = {}
     t0 = time.perf_counter()
     geometry = geometry or Geometry(scene)
@@ -312,7 +372,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                     np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                    sheen_albedo_table(), bool(energy_compensation), out, ec)
+                    sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
+                    bool(energy_compensation), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
         out += punctual_radiance(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
@@ -324,6 +385,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     stats = {"mode": "realtime", "timings": timings, "bake_levels": len(bake.specular),
              "bake_size": int(np.asarray(bake.specular[0]).shape[1]), "diffuse": diffuse,
              "energy_compensation": bool(energy_compensation), "shadows": bool(shadows),
+             "diffuse_weight": diffuse_weight,
              "pixels": int(scene.camera.width * scene.camera.height)}
     return RenderResult(image, mask, None, stats)
 

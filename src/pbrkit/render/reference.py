@@ -22,7 +22,9 @@ ch. 9):
 - visibility is traced, so the glTF occlusion texture (a real-time stand-in
   for it) is not applied; ``occlusion=False`` instead lets every surface see
   the whole environment unblocked by the other objects, as real-time IBL
-  assumes, to isolate the shading approximations in a comparison.
+  assumes, to isolate the shading approximations in a comparison.  Punctual
+  lights cast shadows either way (exact shadow rays, as the real-time path's
+  ideal shadow map), so both modes light a point the same way.
 - scenes of spheres and planes run in one fused kernel per pixel (all
   samples, ray casting included); scenes with triangle meshes run as a
   wavefront loop over the samples, casting with Embree; the two give the
@@ -388,9 +390,10 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     """Monte Carlo ground truth of ``scene`` (module docstring) with ``spp`` samples per
     pixel.  ``strategy``: ``mis`` (environment + BRDF sampling, power heuristic) or
     ``brdf`` (BRDF sampling only, for comparison).  ``occlusion=False`` lets every
-    surface see the whole environment and every light, unblocked by the other
-    objects (the assumption of real-time IBL; bounces must then be 0), so that a
-    comparison isolates the shading approximations.  Returns a
+    surface see the whole environment, unblocked by the other objects (the
+    assumption of real-time IBL; bounces must then be 0; punctual lights keep
+    their exact shadows, as in the real-time path), so that a comparison
+    isolates the shading approximations.  Returns a
     :class:`RenderResult` with the per-pixel standard error of the mean.  ``engine``:
     ``auto`` (the fused kernel for scenes of spheres and planes only, else the
     wavefront loop with Embree), ``fused`` or ``wavefront``; both give the same
@@ -419,7 +422,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     base_value = np.zeros((prim.dirs.shape[0], 3))
     base_value[~prim.hit] = env.background(prim.dirs[~prim.hit])
     if prim.rows.size:
-        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, occlusion)
+        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, True)
     t2 = time.perf_counter()
     code = 0 if strategy == "mis" else 1
     if engine == "fused" and geometry.has_meshes:

@@ -8,7 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core import checks
 from ..core.color import TONEMAPS, tonemap
+from .budget import check_render_memory
 from .compare import compare_images, error_heatmap
 from .environment import EnvironmentLight
 from .geometry import Geometry
@@ -17,10 +19,19 @@ from .reference import render_reference
 
 __all__ = [
     "MODES",
+    "STAGES",
     "render_scene",
+    "approximation_split",
+    "comparison_lines",
 ]
 
 MODES = ("realtime", "reference", "compare")
+#: The stages :func:`render_scene` reports to its ``progress`` callback, per mode.
+STAGES = {
+    "realtime": ("load", "bake", "realtime", "write"),
+    "reference": ("load", "reference", "write"),
+    "compare": ("load", "bake", "realtime", "reference", "compare", "split", "write"),
+}
 
 
 # ============================================================ the command
@@ -42,6 +53,17 @@ def _write_outputs(out, panels, tonemap_name, exposure):
         write_png(out, np.concatenate(pieces, axis=1), srgb=False)
 
 
+def _write_pair(out, panels, stderr_path, stderr, tonemap_name, exposure):
+    """The image and its standard-error EXR, committed together (both or neither,
+    :func:`pbrkit.core.atomic.atomic_group`)."""
+    from ..core.atomic import atomic_group
+    from ..io.exr import write_exr
+
+    with atomic_group([out, stderr_path]) as (out_tmp, stderr_tmp):
+        write_exr(stderr_tmp, stderr.astype(np.float32))
+        _write_outputs(out_tmp, panels, tonemap_name, exposure)
+
+
 def output_suffix_ok(out):
     suffix = Path(out).suffix.lower()
     if suffix not in (".exr", ".png"):
@@ -49,11 +71,66 @@ def output_suffix_ok(out):
                          f"{suffix or 'no suffix'!r}")
 
 
+def approximation_split(scene, geometry, env, bake, full, reference, stderr, mask, diffuse="sh",
+                        energy_compensation=False):
+    """The real-time error split by approximation (:data:`pbrkit.render.realtime.APPROXIMATIONS`),
+    by swapping one approximation at a time for an exact computation, in order:
+    the SH irradiance for the irradiance cube (an exact convolution), then the
+    F* diffuse weight for the exact albedo of the model's diffuse weighting;
+    what remains against the reference is the split sum.  Each entry is the RMS
+    relative luminance difference the swap makes
+    (:func:`pbrkit.render.compare.rms_relative_error`, over the pixels the
+    headline measures; the last one against the reference with its variance
+    removed), the measure of the headline
+    ``rms_relative_error_noise_removed``; errors of opposite sign partly cancel
+    in the headline, so the shares need not add up to it."""
+    from .compare import relative_error_pixels, rms_relative_error
+    from .realtime import APPROXIMATIONS
+
+    valid = relative_error_pixels(reference, mask)
+
+    def share(a, b):
+        return _rms_between(a, b, reference, valid)
+
+    options = dict(energy_compensation=energy_compensation)
+    split = {}
+    current = full
+    if diffuse == "sh":
+        cube = render_realtime(scene, geometry, env, bake=bake, diffuse="cube", **options).image
+        split["sh"] = share(current, cube)
+        current = cube
+    exact = render_realtime(scene, geometry, env, bake=bake, diffuse="cube", diffuse_weight="exact", **options).image
+    split["fstar"] = share(current, exact)
+    split["split_sum"] = rms_relative_error(exact, reference, valid, stderr)
+    return {name: {"rms_relative_error": value, "description": APPROXIMATIONS[name]} for name, value in split.items()}
+
+
+def _rms_between(a, b, reference, valid):
+    """sqrt(mean(((Y_a - Y_b) / Y_ref)^2)) over ``valid``."""
+    from ..core.color import luminance
+
+    if not valid.any():
+        return 0.0
+    d = (luminance(a) - luminance(b))[valid] / luminance(reference)[valid]
+    return float(np.sqrt(np.mean(d * d)))
+
+
 def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
-                 diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=True):
+                 diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=None,
+                 split=True, progress=None):
     """Render ``scene`` in ``mode`` and write ``out`` (.exr or .png); reference and
-    compare modes also write ``<out stem>.stderr.exr``.  Nothing is written unless
-    rendering succeeds.  Returns a summary dict (timings, sample counts, errors)."""
+    compare modes also write ``<out stem>.stderr.exr``, committed together with
+    ``out``.  Nothing is written unless rendering succeeds.  Returns a summary
+    dict (timings, sample counts, errors).
+
+    ``occlusion`` (objects blocking the environment in the ground truth)
+    defaults to on for ``reference`` (the scene's ground truth) and off for
+    ``compare`` (on when ``bounces`` > 0, which need it).  ``compare`` with its
+    defaults thus compares like with like: the same BRDF, the same unoccluded
+    environment, the same shadowed punctual lights, direct light only, so that
+    its error measures the real-time approximations only (split sum, F*, SH;
+    with ``split`` each one's share, :func:`approximation_split`).  ``progress(stage)`` is called with each
+    stage's name as it starts."""
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
     if tonemap_name not in TONEMAPS:
@@ -61,34 +138,87 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     if not math.isfinite(float(exposure)):
         raise ValueError(f"exposure must be finite; got {exposure!r}")
     output_suffix_ok(out)
-    from ..io.exr import write_exr
+    spp = checks.integer(spp, "--spp", 1, 1 << 20)
+    bounces = checks.integer(bounces, "--bounces", 0, 64)
+    check_render_memory(scene, mode, spp, bounces, bake_size)
 
+    def stage(name):
+        if progress is not None:
+            progress(name)
+
+    if occlusion is None:  # bounces need rays that hit the other objects
+        occlusion = mode == "reference" or int(bounces) > 0
     out = Path(out)
+    stage("load")
     geometry = Geometry(scene)
     env = EnvironmentLight(scene.environment)
     summary = {"scene": scene.source, "mode": mode, "environment": env.source,
                "width": scene.camera.width, "height": scene.camera.height, "notes": list(geometry.notes)}
     rt = ref = None
     if mode in ("realtime", "compare"):
-        rt = render_realtime(scene, geometry, env, diffuse=diffuse, energy_compensation=energy_compensation,
-                             bake_size=bake_size)
+        stage("bake")
+        bake = env.bake(size=bake_size)
+        stage("realtime")
+        rt = render_realtime(scene, geometry, env, bake=bake, diffuse=diffuse,
+                             energy_compensation=energy_compensation, bake_size=bake_size)
         summary["realtime"] = rt.stats
     if mode in ("reference", "compare"):
+        stage("reference")
         ref = render_reference(scene, spp=spp, bounces=bounces, seed=seed, geometry=geometry, env=env,
                                strategy=strategy, occlusion=occlusion)
         summary["reference"] = ref.stats
+        summary["reference"]["includes"] = {"occlusion": bool(occlusion), "bounces": int(bounces)}
     stderr_path = out.with_name(out.stem + ".stderr.exr")
     if mode == "realtime":
+        stage("write")
         _write_outputs(out, [(rt.image, "linear")], tonemap_name, exposure)
     elif mode == "reference":
-        write_exr(stderr_path, ref.stderr.astype(np.float32))
-        _write_outputs(out, [(ref.image, "linear")], tonemap_name, exposure)
+        stage("write")
+        _write_pair(out, [(ref.image, "linear")], stderr_path, ref.stderr, tonemap_name, exposure)
     else:
-        metrics = compare_images(rt.image, ref.image, rt.mask & ref.mask, ref.stderr, flip=flip)
-        heat = error_heatmap(metrics.pop("relative_error_map"), rt.mask & ref.mask)
-        write_exr(stderr_path, ref.stderr.astype(np.float32))
-        _write_outputs(out, [(rt.image, "linear"), (ref.image, "linear"), (heat, "srgb")], tonemap_name, exposure)
+        stage("compare")
+        mask = rt.mask & ref.mask
+        metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=flip)
+        if split:
+            stage("split")
+            metrics["split"] = approximation_split(scene, geometry, env, bake, rt.image, ref.image, ref.stderr,
+                                                   mask, diffuse=diffuse, energy_compensation=energy_compensation)
+        heat = error_heatmap(metrics.pop("relative_error_map"), mask)
+        stage("write")
+        _write_pair(out, [(rt.image, "linear"), (ref.image, "linear"), (heat, "srgb")], stderr_path, ref.stderr,
+                     tonemap_name, exposure)
         summary["errors"] = metrics
     summary["outputs"] = [str(out)] + ([str(stderr_path)] if mode != "realtime" else [])
     return summary
 
+
+def comparison_lines(summary):
+    """What ``pbrkit render --mode compare`` prints about its comparison: what the
+    ground truth includes, the headline error (the RMS relative error with the
+    ground truth's noise removed: the approximations only, when the ground
+    truth has neither occlusion nor bounces) and its split by approximation."""
+    errors = summary.get("errors")
+    if errors is None:
+        return []
+    includes = summary["reference"].get("includes", {})
+    occluded, bounces = includes.get("occlusion", False), includes.get("bounces", 0)
+    like = not occluded and bounces == 0
+    if like:
+        lines = ["ground truth: the same BRDF by Monte Carlo, the environment unoccluded, direct light only "
+                 "(as the real-time path); punctual lights shadowed in both"]
+    else:
+        lines = [f"ground truth: the same BRDF by Monte Carlo with "
+                 f"{'inter-object occlusion' if occluded else 'no occlusion'} and {bounces} "
+                 f"bounce{'s' if bounces != 1 else ''}: the error includes what the real-time path leaves out"]
+    label = "approximation error" if like else "error"
+    headline = errors.get("rms_relative_error_noise_removed", errors["rms_relative_error"])
+    lines.append(f"real time vs ground truth, {label}: RMS relative error {headline:.4f} (ground-truth noise "
+                 f"removed); mean relative error {errors['mean_relative_error']:.4f}, max "
+                 f"{errors['max_relative_error']:.4f}, FLIP {errors.get('flip', float('nan')):.4f}, "
+                 f"ground-truth noise {errors.get('mean_relative_stderr', 0.0):.4f}")
+    split = errors.get("split", {})
+    if split:
+        lines.append("split by approximation (RMS relative error each swap removes):")
+        for name, entry in split.items():
+            lines.append(f"  {name:<10} {entry['rms_relative_error']:.4f}  {entry['description']}")
+    return lines

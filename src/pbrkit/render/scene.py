@@ -22,7 +22,8 @@ relative to the scene file's folder.  Every key is optional except
     rotation = 0.0                # degrees about +Y (counter-clockwise seen from +Y)
 
     [materials.gold]
-    model = "cook_torrance"       # cook_torrance (default), filament, ue4, urp_mobile, disney
+    model = "gltf"                # gltf (default: glTF 2.0 Appendix B), cook_torrance, filament, ue4,
+                                  # urp_mobile, disney
     base_color = [1.0, 0.78, 0.34]
     metallic = 1.0
     roughness = 0.3               # perceptual roughness, alpha = r^2
@@ -213,7 +214,9 @@ class EnvironmentSpec:
     (an in-memory (H, 2H, 3) array); none of them means the bundled map.
     ``intensity`` multiplies the radiance; ``rotation`` (degrees) turns the
     environment about +Y: the radiance arriving from world direction d is the
-    map's radiance at R_y(-rotation) d."""
+    map's radiance at R_y(-rotation) d.  ``fix_nonfinite`` repairs NaN / Inf
+    pixels of ``file`` (:func:`pbrkit.io.environment.load_environment`; the
+    ``--fix-nonfinite`` flag) instead of refusing them."""
 
     file: str | None = None
     bake: str | None = None
@@ -221,6 +224,7 @@ class EnvironmentSpec:
     equirect: np.ndarray | None = field(default=None, compare=False, repr=False)
     intensity: float = 1.0
     rotation: float = 0.0
+    fix_nonfinite: bool = False
 
     def __post_init__(self):
         given = [k for k in ("file", "bake", "color", "equirect") if getattr(self, k) is not None]
@@ -281,7 +285,7 @@ class MaterialSpec:
     roughness: float = 0.5
     reflectance: float = 0.5
     emissive: tuple = (0.0, 0.0, 0.0)
-    model: str = "cook_torrance"
+    model: str = "gltf"
     distribution: str = "ggx"
     masking: str = "height-correlated"
     fresnel: str = "schlick"
@@ -327,12 +331,15 @@ class MaterialSpec:
                     raise ValueError(f"material {self.name!r}: model {self.model!r} has {fixed[3].capitalize()} "
                                      "diffuse only")
                 set_(self, "diffuse", fixed[3])
+        if self.model == "gltf" and self.reflectance != 0.5:
+            raise ValueError(f"material {self.name!r}: model 'gltf' has the dielectric f0 of IOR 1.5 "
+                             "(reflectance 0.5); choose another model to set reflectance")
         if self.model != "disney":
             for name, default in DISNEY_PARAMETERS.items():
                 if getattr(self, name) != default:
                     raise ValueError(f"material {self.name!r}: {name} needs model 'disney'")
         if self.anisotropy != 0.0:
-            if self.model in ("ue4", "urp_mobile"):
+            if self.model in ("ue4", "urp_mobile", "gltf"):
                 raise ValueError(f"material {self.name!r}: model {self.model!r} is isotropic (anisotropy must be 0)")
             if self.distribution == "blinn-phong":
                 raise ValueError(f"material {self.name!r}: the Blinn-Phong distribution is isotropic "
@@ -489,6 +496,117 @@ class Scene:
         return replace(self, camera=replace(self.camera, **changes))
 
 
+# ------------------------------------------------------------ value checks
+# A scene file's values are checked for type and range before anything is built
+# from them, so that a string, a bool, a list of the wrong length, NaN or an
+# absurd size is refused with its key (float("0.5") and float(True) would pass).
+
+#: Largest coordinate, radius or light range in a scene file: beyond it the
+#: single-precision ray casting of meshes (Embree) loses all precision.
+MAX_COORDINATE = 1e6
+#: Largest intensity or emitted radiance (the sun's luminance is about 1.6e9 cd / m^2).
+MAX_INTENSITY = 1e12
+
+
+@dataclass(frozen=True)
+class _Check:
+    """A test of one value and the phrase that says what it must be."""
+
+    ok: object      # value -> bool
+    phrase: str
+
+
+def _is_number(value):
+    """A finite real number; ``true``/``false`` are not numbers (bool is an int in Python)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # an integer beyond the float range
+        return False
+
+
+def _in_range(x, lo, hi, lo_open=False):
+    return (lo is None or (x > lo if lo_open else x >= lo)) and (hi is None or x <= hi)
+
+
+def _range_text(lo, hi, lo_open=False):
+    if lo is not None and hi is not None:
+        return f" in {'(' if lo_open else '['}{lo:g}, {hi:g}]"
+    if lo is not None:
+        return f" {'>' if lo_open else '>='} {lo:g}"
+    return f" <= {hi:g}" if hi is not None else ""
+
+
+def _number(lo=None, hi=None, lo_open=False, none_ok=False):
+    """A finite number in [lo, hi] (``lo_open``: (lo, hi]); ``none_ok``: JSON null allowed."""
+    return _Check(lambda v: (none_ok and v is None) or (_is_number(v) and _in_range(v, lo, hi, lo_open)),
+                  "a number" + _range_text(lo, hi, lo_open))
+
+
+def _integer(lo, hi):
+    return _Check(lambda v: isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi,
+                  f"an integer in [{lo}, {hi}]")
+
+
+def _numbers(n, lo=None, hi=None, nonzero=False):
+    """A list of ``n`` finite numbers in [lo, hi] (``nonzero``: not all zero)."""
+    def ok(v):
+        return (isinstance(v, list) and len(v) == n and all(_is_number(x) and _in_range(x, lo, hi) for x in v)
+                and not (nonzero and not any(v)))
+
+    return _Check(ok, f"a list of {n} numbers" + _range_text(lo, hi) + (", not all zero" if nonzero else ""))
+
+
+def _scale_check():
+    """glTF object scale: one number or three, non-zero, at most MAX_COORDINATE in size."""
+    one = _number(-MAX_COORDINATE, MAX_COORDINATE)
+    three = _numbers(3, -MAX_COORDINATE, MAX_COORDINATE)
+    return _Check(lambda v: (one.ok(v) and v != 0) or (three.ok(v) and all(v)),
+                  f"a non-zero number or a list of 3 non-zero numbers in [{-MAX_COORDINATE:g}, {MAX_COORDINATE:g}]")
+
+
+_STRING = _Check(lambda v: isinstance(v, str) and v != "", "a non-empty string")
+_POINT = _numbers(3, -MAX_COORDINATE, MAX_COORDINATE)
+_DIRECTION = _numbers(3, nonzero=True)
+_UNIT = _number(0.0, 1.0)
+_COLOR = _numbers(3, 0.0, 1.0)
+_RADIANCE = _numbers(3, 0.0, MAX_INTENSITY)
+
+_FOV = _Check(lambda v: _is_number(v) and 0.0 < v < 180.0, "a number of degrees in (0, 180)")
+_CAMERA_VALUES = {"position": _POINT, "look_at": _POINT, "up": _DIRECTION, "fov": _FOV,
+                  "width": _integer(1, 16384), "height": _integer(1, 16384), "supersample": _integer(1, 16)}
+_ENV_VALUES = {"file": _STRING, "bake": _STRING, "color": _RADIANCE, "intensity": _number(0.0, MAX_INTENSITY),
+               "rotation": _number()}
+_MATERIAL_VALUES = {"base_color": _COLOR, "metallic": _UNIT, "roughness": _UNIT, "reflectance": _UNIT,
+                    "emissive": _RADIANCE, "model": _STRING, "distribution": _STRING, "masking": _STRING,
+                    "fresnel": _STRING, "diffuse": _STRING, "conductor": _STRING, "anisotropy": _number(-1.0, 1.0),
+                    "eta": _numbers(3, 1e-6, 1e3), "k": _numbers(3, 0.0, 1e3), "specular_color": _COLOR,
+                    **{name: _UNIT for name in DISNEY_PARAMETERS}}
+_OBJECT_VALUES = {"type": _STRING, "material": _STRING, "center": _POINT, "radius": _number(0.0, MAX_COORDINATE, True),
+                  "point": _POINT, "normal": _DIRECTION, "file": _STRING, "translation": _POINT,
+                  "rotation": _numbers(4, nonzero=True), "scale": _scale_check()}
+_LIGHT_VALUES = {"type": _STRING, "falloff": _STRING, "color": _numbers(3, 0.0, MAX_INTENSITY),
+                 "intensity": _number(0.0, MAX_INTENSITY), "position": _POINT, "direction": _DIRECTION,
+                 "range": _number(0.0, MAX_COORDINATE, True, none_ok=True),
+                 "inner_cone_angle": _number(0.0, math.pi / 2.0), "outer_cone_angle": _number(0.0, math.pi / 2.0)}
+
+
+def _show(value):
+    """A value as the file wrote it, kept short: true, '0.5' (a string), [1, 2]."""
+    text = json.dumps(value) if isinstance(value, bool) or value is None else repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _check_values(table, checks, label):
+    """ValueError ``"<label(key)> must be <phrase>, got <value>"`` for the first value of
+    ``table`` that fails its check in ``checks``."""
+    for key, value in table.items():
+        check = checks.get(key)
+        if check is not None and not check.ok(value):
+            raise ValueError(f"{label(key)} must be {check.phrase}, got {_show(value)}")
+
+
 _SECTIONS = {"camera", "environment", "materials", "objects", "lights"}
 _CAMERA_KEYS = {"position", "look_at", "up", "fov", "width", "height", "supersample"}
 _ENV_KEYS = {"file", "bake", "color", "intensity", "rotation"}
@@ -523,69 +641,85 @@ def _resolve(base_dir, path, what):
 
 def scene_from_dict(data, base_dir=None, source="<scene>"):
     """Build and validate a :class:`Scene` from the parsed content of a scene file.
-    Raises ``ValueError`` with a one-line message naming the problem."""
+    Raises ``ValueError`` with a one-line message naming the problem (and the key)."""
     _check_keys("scene", data, _SECTIONS)
-    camera = Camera(**_kwargs("camera", data.get("camera", {}), _CAMERA_KEYS))
-    env = data.get("environment", {})
-    _check_keys("environment", env, _ENV_KEYS)
-    env = dict(env)
-    if "file" in env:
-        env["file"] = _resolve(base_dir, env["file"], "environment.file")
-    if "bake" in env:
-        env["bake"] = _resolve(base_dir, env["bake"], "environment.bake")
-    environment = EnvironmentSpec(**env)
-    materials = {"default": MaterialSpec()}
-    mats = data.get("materials", {})
-    if not isinstance(mats, dict):
+    return Scene(camera=_camera_from(data.get("camera", {})),
+                 environment=_environment_from(data.get("environment", {}), base_dir),
+                 materials=_materials_from(data.get("materials", {})),
+                 objects=_objects_from(data.get("objects", []), base_dir),
+                 lights=_lights_from(data.get("lights", [])), source=source)
+
+
+def _camera_from(table):
+    _check_keys("camera", table, _CAMERA_KEYS)
+    _check_values(table, _CAMERA_VALUES, lambda key: f"camera.{key}")
+    return Camera(**table)
+
+
+def _environment_from(table, base_dir):
+    _check_keys("environment", table, _ENV_KEYS)
+    _check_values(table, _ENV_VALUES, lambda key: f"environment.{key}")
+    env = dict(table)
+    for key in ("file", "bake"):
+        if key in env:
+            env[key] = _resolve(base_dir, env[key], f"environment.{key}")
+    return EnvironmentSpec(**env)
+
+
+def _materials_from(table):
+    if not isinstance(table, dict):
         raise ValueError("materials must be a table of named materials")
-    for name, spec in mats.items():
+    materials = {"default": MaterialSpec()}
+    for name, spec in table.items():
         _check_keys(f"materials.{name}", spec, _MATERIAL_KEYS)
+        _check_values(spec, _MATERIAL_VALUES, lambda key, name=name: f"material {name!r}: {key}")
         materials[name] = MaterialSpec(name=name, **spec)
-    objects = []
-    objs = data.get("objects", [])
-    if not isinstance(objs, list):
+    return materials
+
+
+_OBJECT_TYPES = {"sphere": Sphere, "plane": Plane, "gltf": GltfObject}
+
+
+def _objects_from(items, base_dir):
+    if not isinstance(items, list):
         raise ValueError("objects must be an array of tables")
-    for index, obj in enumerate(objs):
-        where = f"objects[{index}]"
-        if not isinstance(obj, dict) or "type" not in obj:
-            raise ValueError(f"{where} needs a type ({', '.join(_OBJECT_KEYS)})")
-        kind = obj["type"]
-        if kind not in _OBJECT_KEYS:
-            raise ValueError(f"{where}: unknown type {kind!r}; choose one of {', '.join(_OBJECT_KEYS)}")
-        _check_keys(where, obj, _OBJECT_KEYS[kind])
-        args = {k: v for k, v in obj.items() if k != "type"}
-        try:
-            if kind == "sphere":
-                objects.append(Sphere(**args))
-            elif kind == "plane":
-                objects.append(Plane(**args))
-            else:
-                if "file" not in args:
-                    raise ValueError("gltf needs a file")
-                args["file"] = _resolve(base_dir, args["file"], "gltf file")
-                objects.append(GltfObject(**args))
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{where}: {exc}") from None
-    lights = []
-    lts = data.get("lights", [])
-    if not isinstance(lts, list):
+    return tuple(_object_from(obj, f"objects[{index}]", base_dir) for index, obj in enumerate(items))
+
+
+def _object_from(obj, where, base_dir):
+    if not isinstance(obj, dict) or "type" not in obj:
+        raise ValueError(f"{where} needs a type ({', '.join(_OBJECT_KEYS)})")
+    kind = obj["type"]
+    if not isinstance(kind, str) or kind not in _OBJECT_KEYS:
+        raise ValueError(f"{where}: unknown type {_show(kind)}; choose one of {', '.join(_OBJECT_KEYS)}")
+    _check_keys(where, obj, _OBJECT_KEYS[kind])
+    _check_values(obj, _OBJECT_VALUES, lambda key: f"{where} ({kind}): {key}")
+    args = {k: v for k, v in obj.items() if k != "type"}
+    if kind == "gltf":
+        if "file" not in args:
+            raise ValueError(f"{where} (gltf) needs a file")
+        args["file"] = _resolve(base_dir, args["file"], f"{where} (gltf): file")
+    try:
+        return _OBJECT_TYPES[kind](**args)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: {exc}") from None
+
+
+def _lights_from(items):
+    if not isinstance(items, list):
         raise ValueError("lights must be an array of tables")
-    for index, light in enumerate(lts):
+    lights = []
+    for index, light in enumerate(items):
         where = f"lights[{index}]"
         _check_keys(where, light, _LIGHT_KEYS)
         if "type" not in light:
             raise ValueError(f"{where} needs a type ({', '.join(LIGHT_TYPES)})")
+        _check_values(light, _LIGHT_VALUES, lambda key, where=where: f"{where}: {key}")
         try:
             lights.append(Light(**light))
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{where}: {exc}") from None
-    return Scene(camera=camera, environment=environment, materials=materials, objects=tuple(objects),
-                 lights=tuple(lights), source=source)
-
-
-def _kwargs(where, table, allowed):
-    _check_keys(where, table, allowed)
-    return dict(table)
+    return tuple(lights)
 
 
 def load_scene(path):
@@ -594,14 +728,16 @@ def load_scene(path):
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):
-        raise InputError(f"scene files must be .toml or .json; got {suffix or 'no suffix'!r}", path)
+        hint = (" (a glTF file is placed by a scene file: [[objects]] type = \"gltf\", file = ...)"
+                if suffix in (".gltf", ".glb") else "")
+        raise InputError(f"scene files must be .toml or .json; got {suffix or 'no suffix'!r}{hint}", path)
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read scene file: {exc}", path) from None
     try:
         data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
-    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+    except (ValueError, RecursionError) as exc:  # decode errors, huge integers, deep nesting
         raise InputError(f"invalid {suffix[1:].upper()}: {exc}", path) from None
     try:
         return scene_from_dict(data, base_dir=path.parent, source=str(path))
