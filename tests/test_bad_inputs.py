@@ -102,10 +102,11 @@ def exr_with_window(x1, y1, h=4, w=8):
     return data[:i] + struct.pack("<4i", 0, 0, x1, y1) + data[i + 16:]
 
 
-@pytest.fixture
-def full_disk(monkeypatch):
-    """Every temporary file pbrkit.core.atomic creates is a link to /dev/full, so that
-    writing it fails with ENOSPC as on a full disk (folders stay real)."""
+def fill_disk(monkeypatch, names=None):
+    """Temporary files pbrkit.core.atomic creates are links to /dev/full, so that
+    writing them fails with ENOSPC as on a full disk (folders stay real): every
+    one, or with ``names`` only those of outputs with these file names (the disk
+    fills up part-way through a command)."""
     dev = Path("/dev/full")
     if not dev.exists() or not stat.S_ISCHR(dev.stat().st_mode):
         pytest.skip("no /dev/full")
@@ -117,6 +118,8 @@ def full_disk(monkeypatch):
         @staticmethod
         def mkstemp(*args, **kwargs):
             fd, name = real.mkstemp(*args, **kwargs)
+            if names is not None and not any(Path(name).name.startswith(f".{n}.") for n in names):
+                return fd, name
             os.close(fd)
             os.unlink(name)
             os.symlink(dev, name)
@@ -130,6 +133,12 @@ def full_disk(monkeypatch):
 
     monkeypatch.setattr(atomic, "tempfile", FullDiskTempfile)
     monkeypatch.setattr(os, "chmod", chmod)
+
+
+@pytest.fixture
+def full_disk(monkeypatch):
+    """Every temporary file pbrkit.core.atomic creates is a link to /dev/full (:func:`fill_disk`)."""
+    fill_disk(monkeypatch)
 
 
 # ============================================================ image files
@@ -336,6 +345,87 @@ def test_nonfinite_messages_name_the_flag_and_render_takes_it(tmp_path):
                     "-q")
     assert result.exit_code == 0, result.output
     assert (tmp_path / "r.png").is_file()
+
+
+# ============================================================ reports: committed together
+
+FURNACE_SMALL = ["--mu", "4", "--roughness", "3", "--samples", "16", "--lobe", "ggx/height-correlated"]
+DEMO_SMALL = ["--size", "32", "--spp", "2", "--bake-size", "32"]
+
+
+def test_furnace_writes_all_of_its_files_or_none(tmp_path, monkeypatch):
+    out = tmp_path / "f"
+    fill_disk(monkeypatch, ["furnace.png"])  # the disk fills up at the last file, the figure
+    assert_refused(invoke("furnace", "-o", out, *FURNACE_SMALL), tmp_path, [], out / "furnace.png",
+                   "cannot write: [Errno 28] No space left on device", alone=False)
+    # an earlier run's files stay as they were
+    monkeypatch.undo()
+    assert invoke("furnace", "-o", out, *FURNACE_SMALL, "-q").exit_code == 0
+    old = {name: (out / name).read_bytes() for name in listing(out)}
+    assert set(old) == {"furnace.csv", "furnace.npy", "furnace.json", "furnace.png"}
+    fill_disk(monkeypatch, ["furnace.png"])
+    assert_refused(invoke("furnace", "-o", out, *FURNACE_SMALL, "--seed", "1"), tmp_path, listing(tmp_path),
+                   out / "furnace.png", "[Errno 28]", alone=False)
+    assert {name: (out / name).read_bytes() for name in listing(out)} == old
+
+
+def test_compensation_writes_all_of_its_files_or_none(tmp_path, monkeypatch):
+    from pbrkit.app.report import compensation_report
+
+    fill_disk(monkeypatch, ["compensation.png"])
+    with pytest.raises(OutputError) as caught:
+        compensation_report(tmp_path / "c", "kulla-conty", table_size=8)
+    expected = f"{tmp_path / 'c' / 'compensation.png'}: cannot write: [Errno 28] No space left on device"
+    assert str(caught.value) == expected
+    assert listing(tmp_path) == []
+
+
+def test_approximations_write_both_files_or_none(tmp_path, monkeypatch):
+    out = tmp_path / "a"
+    out.mkdir()
+    fill_disk(monkeypatch, ["approximations.json"])  # the figure is written, then the disk is full
+    assert_refused(invoke("approximations", "-o", out, "--size", "4"), tmp_path, ["a"],
+                   out / "approximations.json", "[Errno 28]", alone=False)
+
+
+def test_demo_commits_its_folder_as_a_whole(tmp_path, monkeypatch):
+    out = tmp_path / "site"
+    out.mkdir()
+    (out / "index.html").write_text("an earlier demo")  # a previous demo's folder is replaced as a whole ...
+    before = listing(tmp_path)
+    fill_disk(monkeypatch, ["index.html"])  # ... and left as it was when the page, written last, fails
+    assert_refused(invoke("demo", "-o", out, *DEMO_SMALL), tmp_path, before, out / "index.html",
+                   "cannot write: [Errno 28] No space left on device", alone=False)
+    assert (out / "index.html").read_text() == "an earlier demo"
+
+
+def test_demo_refuses_a_folder_with_other_files_and_too_little_memory_up_front(tmp_path, monkeypatch):
+    import pbrkit.render.budget as budget
+
+    out = tmp_path / "site"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    assert_refused(invoke("demo", "-o", out, *DEMO_SMALL), tmp_path, ["site", "site/notes.txt"], out,
+                   "other than a previous demo's (notes.txt)")
+    monkeypatch.setattr(budget, "available_memory", lambda: 1 << 20)
+    assert_refused(invoke("demo", "-o", tmp_path / "new", *DEMO_SMALL), tmp_path, ["site", "site/notes.txt"],
+                   "", "of memory", "has 1 MiB available")
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["demo", "-o", "{d}/d", "--bake-size", "16"], "--bake-size must be a power of two in [32, 2048]; got 16"),
+    (["demo", "-o", "{d}/d", "--size", "8"], "--size must be an integer in [16, 4096]; got 8"),
+    (["bake", "{d}/sky.pfm", "-o", "{d}/o", "--size", "3", "--min-size", "7"],
+     "--size must be a power of two in [2, 4096]; got 3"),
+    (["bake", "{d}/sky.pfm", "-o", "{d}/o", "--size", "16", "--min-size", "7"],
+     "--min-size must be a power of two in [1, 4096]; got 7"),
+    (["bake", "{d}/sky.pfm", "-o", "{d}/o", "--size", "16", "--min-size", "32"],
+     "--min-size must be smaller than --size"),
+])
+def test_size_refusals_name_the_flags(tmp_path, env, args, fragment):
+    before = listing(tmp_path)
+    message = assert_refused(invoke(*[a.format(d=tmp_path) for a in args]), tmp_path, before, "", fragment)
+    assert "bake_size" not in message and "min size must" not in message
 
 
 # ============================================================ lut + sidecar

@@ -193,3 +193,20 @@ window.addEventListener("load", function () {
     pixels = iio.imread(shot)
     assert pixels.shape[:2] == (1800, 1280) and pixels.std() > 10  # not a blank page
     assert not [line for line in run.stderr.splitlines() if "CONSOLE" in line or "Failed to load" in line]
+
+
+def test_demo_replaces_a_previous_demo_as_a_whole(demo_dir):
+    """Run again into a previous demo's folder: allowed, and the new folder replaces it
+    as a whole (a stale file of the old one is gone; nothing is left beside it)."""
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+
+    stale = demo_dir / "preview" / "specular_m9.png"
+    stale.write_bytes(b"stale")
+    siblings = sorted(p.name for p in demo_dir.parent.iterdir())
+    result = CliRunner().invoke(app, ["demo", "-o", str(demo_dir), "--size", "56", "--spp", "8", "--bake-size",
+                                      "32", "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert not stale.exists() and (demo_dir / "index.html").is_file()
+    assert sorted(p.name for p in demo_dir.parent.iterdir()) == siblings

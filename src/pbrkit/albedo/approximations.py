@@ -5,7 +5,8 @@ f (n.l) over the hemisphere, computed by :func:`pbrkit.albedo.furnace.albedo_qua
 or read from the converged tables), so each error is in the units a user sees:
 the fraction of incident light reflected.  ``pbrkit approximations -o DIR``
 writes ``approximations.png`` (heat maps with max / mean absolute error) and
-``approximations.json``.
+``approximations.json``, together (all of them or none,
+:func:`pbrkit.app.report.write_files`).
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ import numpy as np
 
 from ..brdf.material import Material
 from ..brdf.models import cook_torrance, urp_mobile
-from ..core.atomic import write_text
 from .furnace import albedo_quadrature
 
 __all__ = ["Comparison", "COMPARISONS", "approximation_errors", "approximations_report"]
@@ -128,7 +128,10 @@ def approximation_errors(n=32):
 
 
 def approximations_report(out_dir, n=32):
-    """Write ``approximations.png`` and ``approximations.json``; return the summary."""
+    """Write ``approximations.png`` and ``approximations.json`` together (the
+    figure is rendered in memory first; a failure leaves neither); return the
+    summary."""
+    from ..app.report import write_files
     from .tables import texel_centres
 
     errors = approximation_errors(n)
@@ -149,15 +152,15 @@ def approximations_report(out_dir, n=32):
             "signed_error_at_max": float(e[j, i]),
             "at": {"nv": float(axis[i]), "roughness": float(axis[j])},
         }
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    write_text(out_dir / "approximations.json", json.dumps(summary, indent=2) + "\n")
-    _plot(out_dir / "approximations.png", errors, summary)
+    files = {"approximations.png": _plot(errors, summary),
+             "approximations.json": (json.dumps(summary, indent=2) + "\n").encode("utf-8")}
+    write_files(Path(out_dir), files)
     return summary
 
 
-def _plot(path, errors, summary):
-    from ..app.figures import new_figure, save_figure
+def _plot(errors, summary):
+    """The heat maps as PNG bytes."""
+    from ..app.figures import figure_png, new_figure
 
     cols = 4
     rows = (len(COMPARISONS) + cols - 1) // cols
@@ -176,4 +179,4 @@ def _plot(path, errors, summary):
         ax.axis("off")
     fig.suptitle("Albedo error of real-time approximations (approximation minus reference)", fontsize=11)
     fig.tight_layout()
-    save_figure(fig, path, dpi=100)
+    return figure_png(fig, dpi=100)

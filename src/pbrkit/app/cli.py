@@ -446,7 +446,7 @@ def furnace(
     import numpy as np
 
     from ..core import checks
-    from .report import furnace_report
+    from .report import compensation_files, furnace_files, write_files
 
     checks.integer(roughness_count, "--roughness", 2, 1024)
     checks.integer(mu_count, "--mu", 2, 4096)
@@ -459,13 +459,13 @@ def furnace(
             k = stages.number
             stages.start(f"lobe {names[k]}" if k < len(names) else "figures")
 
-        summary, timings = furnace_report(out, n_mu=mu_count, roughness=np.linspace(0.0, 1.0, roughness_count),
-                                          samples=samples, seed=seed, lobes=names, progress=finished)
+        summary, timings, files = furnace_files(n_mu=mu_count, roughness=np.linspace(0.0, 1.0, roughness_count),
+                                                samples=samples, seed=seed, lobes=names, progress=finished)
         if compensation is not None:
-            from .report import compensation_report
-
             stages.start("compensation")
-            comp = compensation_report(out, compensation)
+            comp, comp_files = compensation_files(compensation)
+            files.update(comp_files)
+        write_files(out, files)  # the furnace's and the compensation's files together: all or none
     if not quiet:
         from rich.console import Console
         from rich.table import Table
@@ -478,14 +478,13 @@ def furnace(
                           f"{s['max_abs_mc_minus_quadrature']:.2e}", f"{100 * s['fraction_within_3_stderr']:.0f}%",
                           f"{timings[name]['quadrature_s']:.2f}", f"{timings[name]['monte_carlo_s']:.2f}")
         Console(width=max(110, _console().width)).print(table)
-        print(f"wrote {out}/furnace.csv, furnace.npy, furnace.json, furnace.png")
         if compensation is not None:
             s = comp
             print(f"{compensation} compensation, F = 1 GGX: max |E - 1| = {s['max_abs_error_on_texel_grid']:.1e} "
                   f"on the {s['table_size']}^2 table's texel grid (without: energy loss up to "
                   f"{s['max_energy_loss_without_compensation']:.3f}); between texels (bilinear) max "
                   f"{s['between_texels']['max_abs_error']:.1e}, median {s['between_texels']['median_abs_error']:.1e}")
-            print(f"wrote {out}/compensation.csv, compensation.npy, compensation.json, compensation.png")
+        print(f"wrote {out}: " + ", ".join(files))
 
 
 @app.command(cls=_Command)

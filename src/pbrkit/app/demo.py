@@ -28,13 +28,13 @@ from pathlib import Path
 import numpy as np
 
 from ..core import checks
-from ..core.atomic import write_text
+from ..core.atomic import atomic_directory, write_text
 from ..core.color import linear_to_srgb
 from ..io.exr import write_exr
 from ..io.png import write_png
 from .figures import error_scale, new_figure, plot_error_map, save_figure
 
-__all__ = ["run_demo", "FURNACE_LOBES", "DEMO_LEVELS", "ERROR_QUANTITY"]
+__all__ = ["run_demo", "FURNACE_LOBES", "DEMO_LEVELS", "DEMO_ENTRIES", "ERROR_QUANTITY"]
 
 #: The furnace lobes the demo plots (the models, and GGX with three masking terms).
 FURNACE_LOBES = ("ggx/height-correlated", "ggx/separable", "ggx/schlick-ggx", "ue4", "filament", "urp_mobile")
@@ -103,11 +103,80 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     per pixel; ``bake_size``: the specular cube's level-0 size (a power of two
     >= 32: the chain has :data:`DEMO_LEVELS` levels down to ``bake_size / 32``);
     ``furnace``: the furnace report's (n.v values, roughness values, Monte Carlo
-    samples).  ``progress(step)`` is called with the name of each finished step."""
+    samples).  ``progress(step)`` is called with the name of each finished step.
+
+    The outputs are committed together: everything is written into a temporary
+    folder beside ``out_dir`` that becomes ``out_dir`` only when the page is
+    written (:func:`pbrkit.core.atomic.atomic_directory`), so a failure or an
+    interruption leaves ``out_dir`` as it was.  ``out_dir`` must be absent,
+    empty, or a previous demo's folder (only names the demo writes,
+    :data:`DEMO_ENTRIES`), which is then replaced as a whole; a folder holding
+    anything else is refused before any work.  The memory the comparison needs
+    is checked up front (:func:`pbrkit.render.budget.check_render_memory`)."""
+    from ..data import environment_path
+    from ..render.budget import check_render_memory
+    from ..render.scene import EnvironmentSpec, builtin_scene
+
+    size = checks.integer(size, "--size", 16, 4096)
+    spp = checks.integer(spp, "--spp", 1, 1 << 16)
+    bake_size = checks.power_of_two(bake_size, "--bake-size", 1 << (DEMO_LEVELS - 1), 2048)
+    out = Path(out_dir)
+    replace = _check_demo_folder(out)
+    env_path = environment_path()
+    scene = builtin_scene("spheres", size, size, EnvironmentSpec(file=str(env_path)))
+    check_render_memory(scene, "compare", spp, bake_size=bake_size)
+    # Every file is written into a temporary folder beside OUT, renamed to OUT when all are there.
+    with atomic_directory(out, force=replace) as tmp:
+        summary = _run_demo(tmp, scene, env_path, size, spp, bake_size, seed, furnace, progress)
+        foreign = _foreign_entries(out)
+        if foreign:
+            raise ValueError(f"{out}: files other than a demo's appeared meanwhile ({', '.join(foreign)}); "
+                             "nothing written")
+    return summary
+
+
+#: What the demo writes at the top of its folder: a folder holding only these (a
+#: previous demo's) is replaced as a whole; one holding anything else is refused.
+DEMO_ENTRIES = frozenset({"index.html", "summary.json", "realtime.png", "reference.png", "error.png", "lut.png",
+                          "realtime.exr", "reference.exr", "reference_stderr.exr", "relative_error.exr", "bake",
+                          "preview", "furnace"})
+
+
+def _demo_entries():
+    from ..data import ENVIRONMENT
+
+    return DEMO_ENTRIES | {ENVIRONMENT["licence_file"]}
+
+
+def _foreign_entries(out):
+    """Names in the folder ``out`` (if it is one) that the demo does not write, sorted."""
+    if not out.is_dir():
+        return []
+    return sorted(entry.name for entry in out.iterdir() if entry.name not in _demo_entries())
+
+
+def _check_demo_folder(out):
+    """Whether ``out`` holds a previous demo to replace: False if it is absent or
+    empty; True if every entry is one the demo writes (:data:`DEMO_ENTRIES`);
+    ValueError if it is not a folder or holds anything else (never deleted)."""
+    if not (out.exists() or out.is_symlink()):
+        return False
+    if not out.is_dir():
+        raise ValueError(f"{out}: exists and is not a directory")
+    foreign = _foreign_entries(out)
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
+        raise ValueError(f"{out}: directory holds files other than a previous demo's ({shown}); give a new or "
+                         "empty folder")
+    return any(out.iterdir())
+
+
+def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progress):
+    """The demo's work, written into the folder ``out`` (run_demo's temporary folder)."""
     from .. import __version__
     from ..albedo.furnace import furnace_lobes
     from ..albedo.tables import lookup_table
-    from ..data import ENVIRONMENT, environment_licence_path, environment_path
+    from ..data import ENVIRONMENT, environment_licence_path
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import write_bake
     from ..io.environment import load_environment
@@ -118,20 +187,13 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     from ..render.geometry import Geometry
     from ..render.realtime import render_realtime
     from ..render.reference import render_reference
-    from ..render.scene import EnvironmentSpec, builtin_scene
     from .report import albedo_families, furnace_report
 
-    size = checks.integer(size, "size", 16, 4096)
-    spp = checks.integer(spp, "spp", 1, 1 << 16)
-    bake_size = checks.power_of_two(bake_size, "bake_size", 1 << (DEMO_LEVELS - 1), 2048)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     step = progress or (lambda name: None)
     timings = {}
     t_start = time.perf_counter()
 
     # 1. bake the bundled environment, with roughness steps of 1 / (DEMO_LEVELS - 1) = 0.2
-    env_path = environment_path()
     t = time.perf_counter()
     environment = load_environment(env_path)
     baked = bake_environment(environment, size=bake_size, min_size=bake_size >> (DEMO_LEVELS - 1))
@@ -141,7 +203,6 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     step("bake")
 
     # 2. the sphere grid, real time and ground truth
-    scene = builtin_scene("spheres", size, size, EnvironmentSpec(file=str(env_path)))
     geometry = Geometry(scene)
     env = EnvironmentLight(scene.environment)
     env.bake_data = baked

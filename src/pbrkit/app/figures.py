@@ -1,10 +1,14 @@
 """Matplotlib figures of the reports and the demo, saved as deterministic PNGs.
 
 :func:`new_figure` makes a figure with Matplotlib's non-interactive Agg
-backend (no display needed); :func:`save_figure` writes it atomically
-(:func:`pbrkit.core.atomic.atomic_path`) without the "Software" text chunk
-that would record Matplotlib's version, so the same data give the same
-bytes, and closes it.  Matplotlib is imported only when a figure is made.
+backend (no display needed); :func:`figure_png` renders it to PNG bytes in memory
+without the "Software" text chunk that would record Matplotlib's version, so
+the same data give the same bytes, and closes it; :func:`save_figure` writes
+those bytes atomically (:func:`pbrkit.core.atomic.write_bytes`).  Matplotlib
+never writes to disk itself, so a full disk is one clean error naming the
+file (no "Exception ignored" noise from a half-written PNG), and reports that
+commit several files together (:func:`pbrkit.core.atomic.atomic_group`) can
+render every figure before they write anything.  Matplotlib is imported only when a figure is made.
 :func:`plot_error_map` draws an error map with its colour bar on a scale
 chosen from the data (:func:`error_scale`, :func:`nice_ceiling`).
 """
@@ -13,9 +17,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.atomic import atomic_path
+import io
 
-__all__ = ["pyplot", "new_figure", "colors", "save_figure", "nice_ceiling", "error_scale", "plot_error_map"]
+from ..core.atomic import write_bytes
+
+__all__ = ["pyplot", "new_figure", "colors", "figure_png", "save_figure", "nice_ceiling", "error_scale",
+           "plot_error_map"]
 
 
 def pyplot():
@@ -41,14 +48,26 @@ def colors(n, name="viridis"):
     return matplotlib.colormaps[name](np.linspace(0.0, 1.0, n))
 
 
-def save_figure(fig, path, dpi):
-    """Write ``fig`` to ``path`` as a PNG at ``dpi`` atomically, with no
-    "Software" metadata (deterministic bytes), and close it."""
+def figure_png(fig, dpi):
+    """``fig`` as PNG bytes at ``dpi``, rendered in memory with no "Software"
+    metadata (deterministic bytes); the figure is closed."""
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format="png", metadata={"Software": None})
+        buffer = io.BytesIO()
+        fig.savefig(buffer, dpi=dpi, format="png", metadata={"Software": None})
+        return buffer.getvalue()
     finally:
         pyplot().close(fig)
+
+
+def save_figure(fig, path, dpi):
+    """Write ``fig`` to ``path`` as a PNG at ``dpi`` (:func:`figure_png`)
+    atomically, and close it.  With ``path`` None nothing is written and the
+    PNG bytes are returned."""
+    data = figure_png(fig, dpi)
+    if path is None:
+        return data
+    write_bytes(path, data)
+    return None
 
 
 def nice_ceiling(x):
@@ -81,7 +100,8 @@ def plot_error_map(path, error, valid, scale, quantity, title=None, percent=True
     marked by the colour bar's arrow), the others light grey, and below the image a
     horizontal colour bar with its numbers (percentages with ``percent``) and
     ``quantity`` as its label.  The image spans the figure's width: 4 inches at
-    ``dpi`` (400 pixels at the default 100)."""
+    ``dpi`` (400 pixels at the default 100).  With ``path`` None the PNG bytes
+    are returned instead (:func:`save_figure`)."""
     import matplotlib
     from matplotlib.ticker import PercentFormatter
 
@@ -109,4 +129,4 @@ def plot_error_map(path, error, valid, scale, quantity, title=None, percent=True
             bar.ax.xaxis.set_major_formatter(PercentFormatter(xmax=1.0, decimals=decimals))
         bar.set_label(quantity, fontsize=10)
         bar.ax.tick_params(labelsize=9)
-        save_figure(fig, path, dpi=dpi)
+        return save_figure(fig, path, dpi=dpi)

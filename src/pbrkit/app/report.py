@@ -1,4 +1,13 @@
-"""Reports users run from the command line: the white-furnace albedo (``pbrkit furnace``)."""
+"""Reports users run from the command line: the white-furnace albedo (``pbrkit furnace``).
+
+Each report computes everything first, renders its figures to PNG bytes in
+memory, and only then writes its files, all in one
+:func:`pbrkit.core.atomic.atomic_group` (:func:`write_files`): a failure
+part-way (a full disk, Ctrl-C, SIGTERM) leaves none of them, and files of an
+earlier run are left as they were.  :func:`furnace_files` and
+:func:`compensation_files` return the files without writing them, so that a
+caller can commit the furnace and the compensation outputs as one group.
+"""
 
 from __future__ import annotations
 
@@ -18,15 +27,40 @@ from ..albedo.furnace import (
 )
 from ..albedo.tables import texel_centres
 from ..core import checks
-from ..core.atomic import write_bytes, write_text
+from ..core.atomic import atomic_group
+from ..core.errors import OutputError
 from .figures import colors, new_figure, save_figure
 
-__all__ = ["furnace_report", "compensation_report", "plot_albedo", "albedo_families", "curve_roughness"]
+__all__ = ["furnace_report", "furnace_files", "compensation_report", "compensation_files", "write_files",
+           "plot_albedo", "albedo_families", "curve_roughness"]
+
+
+def write_files(out_dir, files):
+    """Write ``files`` ({name: bytes}, names relative to ``out_dir``) together:
+    all of them or none (:func:`pbrkit.core.atomic.atomic_group`; the folder is
+    created if needed and removed again on failure).  Returns the paths written."""
+    out_dir = Path(out_dir)
+    paths = [out_dir / name for name in files]
+    with atomic_group(paths) as temps:
+        for path, tmp, data in zip(paths, temps, files.values()):
+            try:
+                with open(tmp, "wb") as f:
+                    f.write(data)
+            except OSError as exc:  # a failed write() names no file: name the one asked for
+                raise OutputError.from_os_error(exc, path) from None
+    return paths
+
+
+def _npy_bytes(array):
+    buffer = io.BytesIO()
+    np.save(buffer, array)
+    return buffer.getvalue()
 
 
 def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=None, progress=None):
     """Compute E(mu, r) for every furnace lobe by quadrature and Monte Carlo and
-    write ``furnace.csv``, ``furnace.npy``, ``furnace.json`` and ``furnace.png``.
+    write ``furnace.csv``, ``furnace.npy``, ``furnace.json`` and ``furnace.png``
+    together (:func:`write_files`: all of them or none).
 
     ``furnace.npy`` is float64 of shape (lobes, mu, roughness, 3) holding the
     quadrature value, the Monte Carlo estimate and its standard error; the
@@ -37,7 +71,14 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
     ``furnace.json`` (which holds no timings, so that the same options give the
     same bytes) and the timings.
     """
-    out_dir = Path(out_dir)
+    summary, timings, files = furnace_files(n_mu, roughness, samples, seed, lobes, progress)
+    write_files(out_dir, files)
+    return summary, timings
+
+
+def furnace_files(n_mu=32, roughness=None, samples=256, seed=0, lobes=None, progress=None):
+    """What :func:`furnace_report` writes, without writing it: ``(summary,
+    timings, files)`` with ``files`` {file name: bytes} for :func:`write_files`."""
     n_mu = checks.integer(n_mu, "n_mu", 2, 4096)
     samples = checks.integer(samples, "samples", 2, 1 << 20)
     mu = texel_centres(n_mu)
@@ -79,7 +120,6 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
             for k, name in enumerate(names)
         },
     }
-    out_dir.mkdir(parents=True, exist_ok=True)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(["lobe", "mu", "roughness", "albedo_quadrature", "albedo_monte_carlo", "monte_carlo_stderr"])
@@ -88,20 +128,18 @@ def furnace_report(out_dir, n_mu=32, roughness=None, samples=256, seed=0, lobes=
             for j, r in enumerate(roughness):
                 q, mc, se = data[k, i, j]
                 writer.writerow([name, f"{m:.6f}", f"{r:.6f}", f"{q:.8f}", f"{mc:.8f}", f"{se:.8f}"])
-    write_text(out_dir / "furnace.csv", buffer.getvalue())
-    npy = io.BytesIO()
-    np.save(npy, data)
-    write_bytes(out_dir / "furnace.npy", npy.getvalue())
-    write_text(out_dir / "furnace.json", json.dumps(summary, indent=2) + "\n")
+    files = {"furnace.csv": buffer.getvalue().encode("utf-8"),
+             "furnace.npy": _npy_bytes(data),
+             "furnace.json": (json.dumps(summary, indent=2) + "\n").encode("utf-8")}
     title = "White furnace: single-scattering albedo E(mu), F = 1"
-    plot_albedo(out_dir / "furnace.png", names, mu, roughness, data[..., 0], title=title)
+    files["furnace.png"] = plot_albedo(None, names, mu, roughness, data[..., 0], title=title)
     families = albedo_families(names)
     if len(families) > 1:
         for family, members in families.items():
             rows = [names.index(name) for name in members]
-            plot_albedo(out_dir / f"furnace_{family}.png", members, mu, roughness, data[rows, ..., 0],
-                        title=f"{title}: {FAMILY_TITLES.get(family, family)}")
-    return summary, timings
+            files[f"furnace_{family}.png"] = plot_albedo(None, members, mu, roughness, data[rows, ..., 0],
+                                                         title=f"{title}: {FAMILY_TITLES.get(family, family)}")
+    return summary, timings, files
 
 
 #: Titles of the furnace figures, one per family of lobes (:func:`albedo_families`).
@@ -137,7 +175,8 @@ def plot_albedo(path, names, mu, roughness, albedo, title, curves=6):
     """One figure: a panel per lobe (at most 3 across, legible at a web page's
     width), E(mu) against mu = n.v with one curve per roughness for at most
     ``curves`` roughness values (:func:`curve_roughness`), all panels on the same
-    axes, and one legend below them giving the roughness of each curve."""
+    axes, and one legend below them giving the roughness of each curve.  With
+    ``path`` None the PNG bytes are returned instead of written."""
     import matplotlib
 
     picks = curve_roughness(roughness, curves)
@@ -175,24 +214,32 @@ def plot_albedo(path, names, mu, roughness, albedo, title, curves=6):
                    title="perceptual roughness r of each curve", frameon=False, handlelength=1.6,
                    columnspacing=1.2)
         fig.suptitle(title)
-        save_figure(fig, path, dpi=100)
+        return save_figure(fig, path, dpi=100)
 
 
 def compensation_report(out_dir, method, table_size=128):
     """White furnace with multiple-scattering compensation, and coloured metals.
 
-    Writes ``compensation.csv`` / ``.npy`` / ``.json`` / ``.png`` to ``out_dir``:
-    the F = 1 GGX (height-correlated) albedo without and with ``method``
-    compensation on the texel grid of a ``table_size`` DFG table (where the
+    Writes ``compensation.csv`` / ``.npy`` / ``.json`` / ``.png`` to ``out_dir``
+    together (:func:`write_files`: all of them or none): the F = 1 GGX
+    (height-correlated) albedo without and with ``method`` compensation on
+    the texel grid of a ``table_size`` DFG table (where the
     runtime lookup is exact), the error of bilinear lookups between texels,
     and the RGB albedo and saturation of gold and copper against roughness.
     Returns the summary written to ``compensation.json``.
     """
+    summary, files = compensation_files(method, table_size)
+    write_files(out_dir, files)
+    return summary
+
+
+def compensation_files(method, table_size=128):
+    """What :func:`compensation_report` writes, without writing it: ``(summary,
+    files)`` with ``files`` {file name: bytes} for :func:`write_files`."""
     from ..albedo.compensation import compensated_albedo, white_furnace_compensated
     from ..albedo.tables import DEFAULT_NODES
     from ..brdf.fresnel import CONDUCTORS, f_conductor
 
-    out_dir = Path(out_dir)
     fine = tuple(4 * x for x in DEFAULT_NODES)
     grid = texel_centres(table_size)
     single = white_furnace_compensated("none", grid, grid, table_size, fine)
@@ -227,20 +274,17 @@ def compensation_report(out_dir, method, table_size=128):
             for name, d in metals.items()
         },
     }
-    out_dir.mkdir(parents=True, exist_ok=True)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(["nv", "roughness", "albedo_single_scattering", f"albedo_{method}"])
     for i, m in enumerate(grid):
         for j, r in enumerate(grid):
             writer.writerow([f"{m:.6f}", f"{r:.6f}", f"{single[i, j]:.8f}", f"{comp[i, j]:.8f}"])
-    write_text(out_dir / "compensation.csv", buffer.getvalue())
-    npy = io.BytesIO()
-    np.save(npy, np.stack([single, comp]))
-    write_bytes(out_dir / "compensation.npy", npy.getvalue())
-    write_text(out_dir / "compensation.json", json.dumps(summary, indent=2) + "\n")
-    _plot_compensation(out_dir / "compensation.png", method, grid, single, comp, roughness, metals)
-    return summary
+    files = {"compensation.csv": buffer.getvalue().encode("utf-8"),
+             "compensation.npy": _npy_bytes(np.stack([single, comp])),
+             "compensation.json": (json.dumps(summary, indent=2) + "\n").encode("utf-8"),
+             "compensation.png": _plot_compensation(method, grid, single, comp, roughness, metals)}
+    return summary, files
 
 
 def _saturation(rgb):
@@ -249,7 +293,8 @@ def _saturation(rgb):
     return (top - rgb.min(axis=-1)) / np.maximum(top, 1e-12)
 
 
-def _plot_compensation(path, method, grid, single, comp, roughness, metals):
+def _plot_compensation(method, grid, single, comp, roughness, metals):
+    """The compensation figure as PNG bytes."""
     fig, axes = new_figure(1, 4, figsize=(17, 4))
     picks = np.linspace(0, grid.size - 1, 6).astype(int)
     for c, j in zip(colors(picks.size), picks):
@@ -279,4 +324,4 @@ def _plot_compensation(path, method, grid, single, comp, roughness, metals):
     for ax in axes:
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    save_figure(fig, path, dpi=100)
+    return save_figure(fig, None, dpi=100)

@@ -20,9 +20,23 @@ ones: a count given as ``2.0`` is a mistake worth reporting.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["integer", "power_of_two", "vector", "directions", "direction_lengths"]
+__all__ = ["integer", "power_of_two", "vector", "directions", "direction_lengths", "is_finite_number"]
+
+
+def is_finite_number(value):
+    """A finite real number as parsed from JSON or TOML: an int or a float, not a
+    bool (Python counts ``True`` as 1), not NaN or Inf, and not an integer beyond
+    the float range."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # an integer beyond the float range
+        return False
 
 
 def _is_integer(value):

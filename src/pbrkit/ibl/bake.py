@@ -112,10 +112,12 @@ class Bake:
 
 
 def _check_options(size, min_size, irradiance_size, lut_size, specular_format, method, sh_window):
-    size = checks.power_of_two(size, "size", 2, MAX_SIZE)
-    min_size = checks.power_of_two(min_size, "min size", 1, MAX_SIZE)
+    # named by the command line's flags (pbrkit bake --size / --min-size), as the refusals are printed
+    size = checks.power_of_two(size, "--size", 2, MAX_SIZE)
+    min_size = checks.power_of_two(min_size, "--min-size", 1, MAX_SIZE)
     if min_size >= size:
-        raise ValueError(f"min size ({min_size}) must be smaller than size ({size}): the chain needs 2 levels")
+        raise ValueError(f"--min-size must be smaller than --size: the specular chain needs 2 levels; "
+                         f"got min size {min_size}, size {size}")
     irradiance_size = checks.integer(irradiance_size, "irradiance size", 1, 1024)
     lut_size = checks.integer(lut_size, "LUT size", 2, 1024)
     if specular_format not in SPECULAR_FORMATS:

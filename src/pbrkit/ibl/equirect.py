@@ -404,7 +404,8 @@ def equirect_to_cube(image, size):
     if a.dtype not in (np.float32, np.float64):
         a = a.astype(np.float64)
     if not np.all(np.isfinite(a)):
-        raise ValueError("equirect image has non-finite pixels; see load_environment(fix_nonfinite=True)")
+        raise ValueError("equirect image has non-finite pixels; repair them first (--fix-nonfinite on the "
+                         "command line, pbrkit.io.environment.fix_nonfinite_pixels in Python)")
     a = np.ascontiguousarray(a)
     h, w, channels = a.shape
     edges = np.arange(h + 1) * (np.pi / h)

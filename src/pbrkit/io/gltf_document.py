@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.checks import is_finite_number
 from ..core.filtering import CLAMP_TO_EDGE as _WRAP_CLAMP
 from ..core.filtering import MIRRORED_REPEAT as _WRAP_MIRROR
 from ..core.filtering import REPEAT as _WRAP_REPEAT
@@ -141,16 +142,6 @@ def _is_int(value):
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-def _is_number(value):
-    """A finite JSON number (not a bool, not an integer beyond the float range)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return False
-    try:
-        return math.isfinite(value)
-    except OverflowError:  # an integer beyond the float range
-        return False
-
-
 def _object(value, where):
     if not isinstance(value, dict):
         raise ValueError(f"{where} must be a JSON object; got {_json_kind(value)}")
@@ -174,7 +165,7 @@ def _integer(value, where, lo=0, hi=None):
 
 
 def _number(value, where, lo=None, hi=None):
-    if not _is_number(value) or (lo is not None and value < lo) or (hi is not None and value > hi):
+    if not is_finite_number(value) or (lo is not None and value < lo) or (hi is not None and value > hi):
         bound = f" in [{lo}, {hi}]" if lo is not None and hi is not None else (
             f" >= {lo}" if lo is not None else "")
         raise ValueError(f"{where} must be a finite number{bound}; got {value!r}")
@@ -182,7 +173,7 @@ def _number(value, where, lo=None, hi=None):
 
 
 def _numbers(value, where, n, lo=None, hi=None):
-    if not isinstance(value, list) or len(value) != n or not all(_is_number(x) for x in value) or (
+    if not isinstance(value, list) or len(value) != n or not all(is_finite_number(x) for x in value) or (
             lo is not None and min(value) < lo) or (hi is not None and max(value) > hi):
         bound = f" in [{lo}, {hi}]" if lo is not None and hi is not None else (
             f" >= {lo}" if lo is not None else "")

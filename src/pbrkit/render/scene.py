@@ -250,8 +250,10 @@ class EnvironmentSpec:
 
 
 def bundled_environment():
-    """Path of the CC0 environment map shipped with pbrkit (see data/LICENSE-environment.md)."""
-    return Path(__file__).resolve().parent.parent / "data" / "environment.hdr"
+    """Path of the CC0 environment map shipped with pbrkit (:func:`pbrkit.data.environment_path`)."""
+    from ..data import environment_path
+
+    return environment_path()
 
 
 # --------------------------------------------------------------- materials
@@ -516,16 +518,6 @@ class _Check:
     phrase: str
 
 
-def _is_number(value):
-    """A finite real number; ``true``/``false`` are not numbers (bool is an int in Python)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return False
-    try:
-        return math.isfinite(value)
-    except OverflowError:  # an integer beyond the float range
-        return False
-
-
 def _in_range(x, lo, hi, lo_open=False):
     return (lo is None or (x > lo if lo_open else x >= lo)) and (hi is None or x <= hi)
 
@@ -540,7 +532,7 @@ def _range_text(lo, hi, lo_open=False):
 
 def _number(lo=None, hi=None, lo_open=False, none_ok=False):
     """A finite number in [lo, hi] (``lo_open``: (lo, hi]); ``none_ok``: JSON null allowed."""
-    return _Check(lambda v: (none_ok and v is None) or (_is_number(v) and _in_range(v, lo, hi, lo_open)),
+    return _Check(lambda v: (none_ok and v is None) or (checks.is_finite_number(v) and _in_range(v, lo, hi, lo_open)),
                   "a number" + _range_text(lo, hi, lo_open))
 
 
@@ -552,7 +544,7 @@ def _integer(lo, hi):
 def _numbers(n, lo=None, hi=None, nonzero=False):
     """A list of ``n`` finite numbers in [lo, hi] (``nonzero``: not all zero)."""
     def ok(v):
-        return (isinstance(v, list) and len(v) == n and all(_is_number(x) and _in_range(x, lo, hi) for x in v)
+        return (isinstance(v, list) and len(v) == n and all(checks.is_finite_number(x) and _in_range(x, lo, hi) for x in v)
                 and not (nonzero and not any(v)))
 
     return _Check(ok, f"a list of {n} numbers" + _range_text(lo, hi) + (", not all zero" if nonzero else ""))
@@ -573,7 +565,7 @@ _UNIT = _number(0.0, 1.0)
 _COLOR = _numbers(3, 0.0, 1.0)
 _RADIANCE = _numbers(3, 0.0, MAX_INTENSITY)
 
-_FOV = _Check(lambda v: _is_number(v) and 0.0 < v < 180.0, "a number of degrees in (0, 180)")
+_FOV = _Check(lambda v: checks.is_finite_number(v) and 0.0 < v < 180.0, "a number of degrees in (0, 180)")
 _CAMERA_VALUES = {"position": _POINT, "look_at": _POINT, "up": _DIRECTION, "fov": _FOV,
                   "width": _integer(1, 16384), "height": _integer(1, 16384), "supersample": _integer(1, 16)}
 _ENV_VALUES = {"file": _STRING, "bake": _STRING, "color": _RADIANCE, "intensity": _number(0.0, MAX_INTENSITY),
