@@ -703,13 +703,19 @@ def bake(
                                 "Replace NaN/Inf pixels by the mean of their finite neighbours (refused when more "
                                 "than half of an image is NaN/Inf); without it they are refused."),
     force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
+    target: Optional[list[str]] = typer.Option(
+        None, "--target", metavar="[generic|khronos|all]",
+        help="Also write the files of an engine, in OUT/<target>/ (repeatable, or a comma-separated list; "
+             "generic, pbrkit's own files at the top of OUT, is always written)."),
     quiet: bool = _quiet_option(),
 ):
     """Bake an HDR environment for split-sum IBL: prefiltered specular chain, irradiance
     cube, SH9, DFG table, faces, preview and manifest.json in OUT."""
     from ..core.atomic import check_output_directory
     from ..ibl.bake import bake as bake_environment
-    from ..io.bake_files import WRITE_STEPS, write_bake
+    from ..io.bake_files import parse_targets, write_bake, write_steps
+
+    targets = parse_targets(target)
 
     if len(env) not in (1, 6):
         raise ValueError(f"give one environment file or six face files, got {len(env)}")
@@ -719,7 +725,7 @@ def bake(
 
         def bake_stage(name, number, total):
             baking[0] = total
-            stages.start(name, number, total + len(WRITE_STEPS))
+            stages.start(name, number, total + len(write_steps(targets)))
 
         def write_stage(name, number, total):
             stages.start(name, baking[0] + number, baking[0] + total)
@@ -728,7 +734,7 @@ def bake(
                                   irradiance_size=irradiance_size, lut_size=lut_size, specular_format=fmt,
                                   method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
                                   layout=layout, started=bake_stage)
-        write_bake(result, out, force=force, started=write_stage)
+        write_bake(result, out, force=force, started=write_stage, targets=targets)
     if not quiet:
         levels = ", ".join(f"{r:g}" for r in result.roughness)
         print(f"wrote {out}: specular {size}^2, {result.levels} levels (roughness {levels}), "

@@ -1,0 +1,88 @@
+"""Engine targets of a bake (``pbrkit bake --target``, issue 10, first step): the
+Khronos glTF Sample Viewer's inputs derived from the generic bake, checked against
+the generic files and an independent relation of the tables."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from pbrkit.app.cli import app
+from pbrkit.io.bake_files import TARGETS, parse_targets
+from pbrkit.io.ktx2 import read_ktx2
+from pbrkit.io.pfm import write_pfm
+
+SMALL = ["--size", "16", "--min-size", "4", "--irradiance-size", "8", "--lut-size", "16"]
+
+
+def _sky(h=16):
+    img = np.full((h, 2 * h, 3), 0.5, np.float32)
+    img[: h // 2] += np.linspace(0.2, 1.5, 2 * h, dtype=np.float32)[None, :, None]
+    return img
+
+
+@pytest.fixture(scope="module")
+def baked(tmp_path_factory):
+    root = tmp_path_factory.mktemp("targets")
+    env = root / "sky.pfm"
+    write_pfm(env, _sky())
+    runner = CliRunner()
+    generic = root / "generic"
+    both = root / "both"
+    for out, extra in ((generic, []), (both, ["--target", "generic,khronos"])):
+        result = runner.invoke(app, ["bake", str(env), "-o", str(out), *SMALL, *extra, "-q"])
+        assert result.exit_code == 0, result.output
+    return generic, both
+
+
+def test_parse_targets():
+    assert parse_targets(None) == ("generic",)
+    assert parse_targets(["khronos"]) == ("khronos",)
+    assert parse_targets(["khronos,generic", "generic"]) == ("generic", "khronos")
+    assert parse_targets(["all"]) == TARGETS
+    with pytest.raises(ValueError, match="unknown target 'unreal'"):
+        parse_targets(["generic,unreal"])
+
+
+def test_generic_files_are_unchanged_by_a_target(baked):
+    generic, both = baked
+    for name in ("specular.ktx2", "specular.dds", "irradiance.ktx2", "brdf_lut.npy", "faces/specular_m1_px.exr"):
+        assert (generic / name).read_bytes() == (both / name).read_bytes(), name
+    assert not (generic / "khronos").exists()
+    assert "targets" not in json.loads((generic / "manifest.json").read_text())
+
+
+def test_khronos_files_follow_the_sample_viewer_conventions(baked):
+    _, both = baked
+    entry = json.loads((both / "manifest.json").read_text())["targets"]["khronos"]
+    files = {k: both / v for k, v in entry["files"].items()}
+    # the specular chain is the generic one (same layout, lod = r (M - 1))
+    _, spec_k, _ = read_ktx2(files["specular"])
+    _, spec_g, _ = read_ktx2(both / "specular.ktx2")
+    assert len(spec_k) == len(spec_g) == 3
+    for a, b in zip(spec_k, spec_g):
+        np.testing.assert_array_equal(a, b)
+    # the Lambertian cube is radiance E / pi: the generic irradiance divided by pi, to half-float rounding
+    _, (lam,), _ = read_ktx2(files["lambertian"])
+    _, (irr,), _ = read_ktx2(both / "irradiance.ktx2")
+    np.testing.assert_allclose(lam[..., :3] * np.pi, irr[..., :3], rtol=2e-3)
+    # the LUT is (A, B) with albedo F0 A + B of the height-correlated lobe: A + B = DFG2 and B = DFG1 of the
+    # generic table (another integral of the same lobe), to half-float rounding
+    _, (lut,), _ = read_ktx2(files["lut"])
+    dfg = np.load(both / "brdf_lut.npy")
+    np.testing.assert_allclose(lut[..., 0] + lut[..., 1], dfg[..., 1], atol=2e-3)
+    np.testing.assert_allclose(lut[..., 1], dfg[..., 0], atol=1e-3)
+    assert json.loads(files["lut_description"].read_text())["visibility"] == "height-correlated"
+
+
+def test_unknown_target_is_refused_cleanly(tmp_path):
+    env = tmp_path / "sky.pfm"
+    write_pfm(env, _sky())
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["bake", str(env), "-o", str(out), *SMALL, "--target", "unreal"])
+    assert result.exit_code == 1
+    assert result.stderr.strip().startswith("pbrkit: error:") and "unknown target 'unreal'" in result.stderr
+    assert not out.exists()
