@@ -54,7 +54,6 @@ LOBES = tuple(f"{d}/{g}" for d in ("ggx", "beckmann", "blinn-phong")   # pbrkit.
 SEED_MAX = 2 ** 64 - 1  # the renderer's counter-based generator takes a uint64; NumPy's default_rng any int >= 0
 EXPOSURE_LIMIT = 64.0   # |EV|: 2^64 is far beyond any useful exposure and still finite in float32 arithmetic
 
-#: The stages render_scene reports (progress(stage) as each starts), per mode.
 # ----------------------------------------------------------------- errors
 
 
