@@ -13,9 +13,9 @@ includes (``summary["reference"]["includes"]``).
 
 The bake has :data:`DEMO_LEVELS` specular levels (roughness steps of 0.2),
 the error map its colour bar on a scale taken from the data (the 99th
-percentile rounded up, :func:`pbrkit.app.figures.error_scale`), and where
-:mod:`pbrkit.render.run` offers ``approximation_split`` the error's split by
-approximation is measured and tabulated (``summary["errors"]["split"]``).
+percentile rounded up, :func:`pbrkit.app.figures.error_scale`), and the
+error's split by approximation (:func:`pbrkit.render.run.approximation_split`)
+is tabulated (``summary["errors"]["split"]``).
 """
 
 from __future__ import annotations
@@ -180,13 +180,12 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import write_bake
     from ..io.environment import load_environment
-    from ..render import realtime as realtime_module
-    from ..render import run as run_module
     from ..render.compare import compare_images, relative_error_pixels
     from ..render.environment import EnvironmentLight
     from ..render.geometry import Geometry
-    from ..render.realtime import render_realtime
+    from ..render.realtime import APPROXIMATIONS, render_realtime
     from ..render.reference import render_reference
+    from ..render.run import approximation_split
     from .report import albedo_families, furnace_report
 
     step = progress or (lambda name: None)
@@ -220,13 +219,10 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
     scale, p99, peak = error_scale(rel[valid])
     per_sphere = _per_sphere_errors(scene, rt, ref)
     timings["errors (incl. FLIP)"] = time.perf_counter() - t
-    # --- the error split by approximation (summary["errors"]["split"], rendered by _split_table);
-    # measured here where pbrkit.render.run provides it (each entry: a value and a description)
-    split = getattr(run_module, "approximation_split", None)
-    if split is not None:
-        t = time.perf_counter()
-        metrics["split"] = split(scene, geometry, env, baked, rt.image, ref.image, ref.stderr, mask)
-        timings["error split by approximation"] = time.perf_counter() - t
+    # the error split by approximation (summary["errors"]["split"], rendered by _split_table)
+    t = time.perf_counter()
+    metrics["split"] = approximation_split(scene, geometry, env, baked, rt.image, ref.image, ref.stderr, mask)
+    timings["error split by approximation"] = time.perf_counter() - t
     _png(out / "realtime.png", rt.image)
     _png(out / "reference.png", ref.image)
     plot_error_map(out / "error.png", rel, valid, scale, _ERROR_LABEL)
@@ -264,7 +260,7 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
                  "roughness": [float(r) for r in baked.roughness],
                  "irradiance_size": int(np.asarray(baked.irradiance).shape[1]), "previews": previews},
         "realtime": {"diffuse": rt.stats["diffuse"], "timings": rt.stats["timings"],
-                     "approximations": dict(getattr(realtime_module, "APPROXIMATIONS", {}))},
+                     "approximations": dict(APPROXIMATIONS)},
         "reference": {**{k: ref.stats[k] for k in ("spp", "bounces", "seed", "strategy", "occlusion", "paths",
                                                    "surface_paths", "paths_per_second", "engine")},
                       "includes": {"occlusion": bool(ref.stats["occlusion"]), "bounces": int(ref.stats["bounces"])}},

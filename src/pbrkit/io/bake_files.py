@@ -25,13 +25,6 @@ from ..core.atomic import atomic_directory
 
 # pbrkit.ibl.bake is imported inside the functions: pbrkit.ibl imports this module.
 
-
-def preview_strip(bake_result, *args, **kwargs):
-    """:func:`pbrkit.ibl.bake.preview_strip` (imported when called)."""
-    from ..ibl.bake import preview_strip as strip
-
-    return strip(bake_result, *args, **kwargs)
-
 __all__ = [
     "TARGETS",
     "parse_targets",
@@ -62,6 +55,13 @@ def parse_targets(values):
     return tuple(t for t in TARGETS if t in chosen)
 
 # ---------------------------------------------------------------------- write
+
+
+def preview_strip(bake_result, *args, **kwargs):
+    """:func:`pbrkit.ibl.bake.preview_strip` (imported when called)."""
+    from ..ibl.bake import preview_strip as strip
+
+    return strip(bake_result, *args, **kwargs)
 
 
 def _face_path(kind, face, level=None):

@@ -25,17 +25,20 @@ def relative_error_pixels(reference, mask):
     return mask & (y_ref > floor)
 
 
-def rms_relative_error(image, reference, valid, stderr=None):
-    """Root-mean-square relative luminance difference sqrt(mean(((Y - Y_ref) / Y_ref)^2))
-    over the pixels ``valid``; with the reference's per-pixel standard error
-    ``stderr`` its variance is subtracted first, sqrt(max(mean((d^2 - se^2) / Y_ref^2), 0)):
-    E[d^2] = bias^2 + se^2 for an unbiased reference, so this estimates the error of
-    ``image`` against the noise-free ground truth (what the approximations cost), not
-    the Monte Carlo noise."""
+def rms_relative_error(image, reference, valid, stderr=None, baseline=None):
+    """Root-mean-square relative luminance difference sqrt(mean(((Y - Y_b) / Y_ref)^2))
+    over the pixels ``valid``, against ``baseline`` (Y_b; default the reference
+    itself).  With the reference's per-pixel standard error ``stderr`` (for a
+    difference against the reference) its variance is subtracted first,
+    sqrt(max(mean((d^2 - se^2) / Y_ref^2), 0)): E[d^2] = bias^2 + se^2 for an
+    unbiased reference, so this estimates the error of ``image`` against the
+    noise-free ground truth (what the approximations cost), not the Monte Carlo
+    noise."""
     if not valid.any():
         return 0.0
     y_ref = luminance(reference)[valid]
-    d2 = (luminance(image)[valid] - y_ref) ** 2
+    y_base = y_ref if baseline is None else luminance(baseline)[valid]
+    d2 = (luminance(image)[valid] - y_base) ** 2
     if stderr is not None:
         d2 = d2 - luminance(stderr)[valid] ** 2
     return float(np.sqrt(max(float(np.mean(d2 / (y_ref * y_ref))), 0.0)))

@@ -90,7 +90,7 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
     valid = relative_error_pixels(reference, mask)
 
     def share(a, b):
-        return _rms_between(a, b, reference, valid)
+        return rms_relative_error(a, reference, valid, baseline=b)
 
     options = dict(energy_compensation=energy_compensation)
     split = {}
@@ -103,16 +103,6 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
     split["fstar"] = share(current, exact)
     split["split_sum"] = rms_relative_error(exact, reference, valid, stderr)
     return {name: {"rms_relative_error": value, "description": APPROXIMATIONS[name]} for name, value in split.items()}
-
-
-def _rms_between(a, b, reference, valid):
-    """sqrt(mean(((Y_a - Y_b) / Y_ref)^2)) over ``valid``."""
-    from ..core.color import luminance
-
-    if not valid.any():
-        return 0.0
-    d = (luminance(a) - luminance(b))[valid] / luminance(reference)[valid]
-    return float(np.sqrt(np.mean(d * d)))
 
 
 def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
