@@ -1,0 +1,60 @@
+"""Run a page of ``tests/engines/pages`` in headless Chromium with the pinned
+engines (``tests/engines/harness.mjs``, puppeteer-core) and return what it reports.
+
+Tests that need it are marked ``@needs_engines()``: they skip, with one reason,
+when node, Chromium or the npm packages (``npm ci --prefix tests/engines``, which
+``.ci/run`` does) are missing.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from conftest import CHROMIUM
+
+ENGINES = Path(__file__).resolve().parent / "engines"
+NODE = shutil.which("node")
+
+
+def engines_missing():
+    """Why the engine pages cannot run here, or None."""
+    if NODE is None:
+        return "needs node (Debian: apt-get install nodejs npm)"
+    if CHROMIUM is None:
+        return "needs chromium (Debian: apt-get install chromium)"
+    if not (ENGINES / "node_modules" / "puppeteer-core").is_dir():
+        return "needs the pinned engines: npm ci --prefix tests/engines (as .ci/run does)"
+    return None
+
+
+def needs_engines():
+    """Skip marker for tests that open engine pages."""
+    reason = engines_missing()
+    return pytest.mark.skipif(reason is not None, reason=reason or "")
+
+
+def run_page(page, data=None, query="", screenshot=None, timeout=240):
+    """Open ``pages/<page>`` (``data`` served as ``/data``) and return the harness's
+    JSON: {"result", "error", "console", "errors"}.  Fails the test with the page's
+    error and console when the page reports none."""
+    command = [NODE, str(ENGINES / "harness.mjs"), page, "--timeout", str(timeout)]
+    if data is not None:
+        command += ["--data", str(Path(data).resolve())]
+    if query:
+        command += ["--query", query]
+    if screenshot is not None:
+        command += ["--screenshot", str(Path(screenshot).resolve())]
+    env = dict(os.environ, CHROMIUM=CHROMIUM)
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=timeout + 60, env=env, cwd=ENGINES)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
+    if not lines:
+        pytest.fail(f"{page}: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
+    report = json.loads(lines[-1])
+    if report.get("error") is not None or proc.returncode != 0:
+        pytest.fail(f"{page}: {report.get('error')}; errors {report.get('errors')}; "
+                    f"console {report.get('console')[-20:]}")
+    return report
