@@ -67,6 +67,13 @@ __all__ = [
     "project_cube",
     "eval_sh",
     "irradiance_from_sh",
+    "SH_POLYNOMIAL_CONSTANTS",
+    "mirror_sh",
+    "lambertian_sh_prescaled",
+    "CONDON_SHORTLEY_SIGNS",
+    "BABYLON_POLYNOMIAL_TERMS",
+    "babylon_harmonics",
+    "babylon_polynomial",
 ]
 
 SH_COUNT = 9
@@ -323,3 +330,87 @@ def irradiance_from_sh(coeffs, normals, window=None, width=3.0):
     c = apply_window(coeffs, window, width)
     a = cosine_lobe_coefficients(2)[SH_BANDS]
     return eval_sh(c * a.reshape((SH_COUNT,) + (1,) * (c.ndim - 1)), normals)
+
+
+# ------------------------------------------------------- engines' SH forms
+
+#: K_lm: Y_lm(d) = K_lm p_lm(d) with the polynomials p = (1, y, z, x, x y, y z,
+#: 3 z^2 - 1, x z, x^2 - y^2) of :func:`sh9`.
+SH_POLYNOMIAL_CONSTANTS = np.array([_Y00, _Y1, _Y1, _Y1, _Y2_XY, _Y2_XY, _Y20, _Y2_XY, _Y22])
+#: Sign of each coefficient under the Condon-Shortley phase (-1)^m used by
+#: Filament's and Babylon.js's bases: the basis functions odd in x or y with
+#: odd m, (1,-1), (1,1), (2,-1), (2,1), change sign.
+CONDON_SHORTLEY_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0])
+# which coefficients are odd in x, y, z (p_lm(-x, y, z) = -p_lm(x, y, z) ...)
+_ODD = {"x": (3, 4, 7), "y": (1, 4, 5), "z": (2, 5, 7)}
+
+
+def mirror_sh(coeffs, axis):
+    """The coefficients of L'(d) = L(d mirrored in ``axis``) ("x", "y" or "z"):
+    the basis functions odd in that coordinate change sign (:func:`sh9`), e.g.
+    x: (1,1), (2,-2), (2,1).  Exact; used for engines whose cube lookups mirror a
+    coordinate (three.js x, Babylon.js z)."""
+    c = np.array(_check_coeffs(coeffs), dtype=np.float64)
+    if axis not in _ODD:
+        raise ValueError(f"axis must be 'x', 'y' or 'z', got {axis!r}")
+    c[list(_ODD[axis])] *= -1.0
+    return c
+
+
+def lambertian_sh_prescaled(coeffs, window=None, width=3.0):
+    """Coefficients c_lm = L_lm (A_l / pi) K_lm such that sum_lm c_lm p_lm(n),
+    with the bare polynomials p of :data:`SH_POLYNOMIAL_CONSTANTS`, is E(n) / pi:
+    the Lambertian-reflected radiance of a white surface.  This is the form
+    Filament keeps in its KTX ``sh`` key and ``IndirectLight.irradianceSh`` (cmgen
+    ``--sh-shader``: CubemapSH ``preprocessSHForShader``; Filament's basis carries
+    the Condon-Shortley sign, which cancels in the product of coefficient and
+    basis constant, so these are its numbers for pbrkit's L_lm).  Optional
+    window as :func:`irradiance_from_sh`."""
+    c = apply_window(coeffs, window, width)
+    scale = cosine_lobe_coefficients(2)[SH_BANDS] / math.pi * SH_POLYNOMIAL_CONSTANTS
+    return c * scale.reshape((SH_COUNT,) + (1,) * (c.ndim - 1))
+
+
+#: Babylon.js's SphericalPolynomial terms, in its order.
+BABYLON_POLYNOMIAL_TERMS = ("x", "y", "z", "xx", "yy", "zz", "yz", "zx", "xy")
+
+
+def babylon_harmonics(coeffs):
+    """Babylon.js ``SphericalHarmonics`` H_lm = s_lm (A_l / pi) L_lm of radiance
+    coefficients L_lm in the same frame: its basis has the Condon-Shortley sign
+    s_lm (:data:`CONDON_SHORTLEY_SIGNS`), and its cube-to-SH tool converts the
+    radiance projection to irradiance (A_l) and then to Lambertian radiance (1/pi)
+    (Babylon.js ``CubeMapToSphericalPolynomialTools``, ``SphericalHarmonics.
+    convertIncidentRadianceToIrradiance`` / ``convertIrradianceToLambertianRadiance``).
+    Frame changes (Babylon's cube lookups negate z in right-handed scenes) are
+    the caller's: :func:`mirror_sh`."""
+    c = _check_coeffs(coeffs)
+    scale = CONDON_SHORTLEY_SIGNS * cosine_lobe_coefficients(2)[SH_BANDS] / math.pi
+    return c * scale.reshape((SH_COUNT,) + (1,) * (c.ndim - 1))
+
+
+def babylon_polynomial(coeffs):
+    """Babylon.js's ``SphericalPolynomial`` of radiance coefficients L_lm, as a dict
+    :data:`BABYLON_POLYNOMIAL_TERMS` -> value (C,): the harmonics of
+    :func:`babylon_harmonics` through ``SphericalPolynomial.FromHarmonics``, the
+    irradiance polynomial of Ramamoorthi & Hanrahan 2001 (eq. 13: c1 = 0.429043,
+    c2 = 0.511664, c3 = 0.743125, c4 = 0.886227, c5 = 0.247708) in Babylon's
+    normalisation, divided by pi.  Babylon's own constants are used (its
+    0.886277 for c4 among them) so that its ``FromPolynomial`` recovers H exactly
+    and its default pre-scaled-harmonics shader path gives E / pi; evaluated as a
+    polynomial it is not irradiance (the cosine would be applied twice).  What
+    Babylon writes in a ``.env`` manifest's ``irradiance``."""
+    h = np.asarray(babylon_harmonics(coeffs), dtype=np.float64)
+    h00, h1m1, h10, h11, h2m2, h2m1, h20, h21, h22 = h
+    inv_pi = 1.0 / math.pi
+    return {
+        "x": -1.02333 * h11 * inv_pi,
+        "y": -1.02333 * h1m1 * inv_pi,
+        "z": 1.02333 * h10 * inv_pi,
+        "xx": (0.886277 * h00 - 0.247708 * h20 + 0.429043 * h22) * inv_pi,
+        "yy": (0.886277 * h00 - 0.247708 * h20 - 0.429043 * h22) * inv_pi,
+        "zz": (0.886277 * h00 + 0.495417 * h20) * inv_pi,
+        "yz": -0.858086 * h2m1 * inv_pi,
+        "zx": -0.858086 * h21 * inv_pi,
+        "xy": 0.858086 * h2m2 * inv_pi,
+    }
