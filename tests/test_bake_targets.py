@@ -40,8 +40,9 @@ def baked(tmp_path_factory):
 
 def test_parse_targets():
     assert parse_targets(None) == ("generic",)
-    assert parse_targets(["khronos"]) == ("khronos",)
+    assert parse_targets(["khronos"]) == ("generic", "khronos")  # the generic files are always written
     assert parse_targets(["khronos,generic", "generic"]) == ("generic", "khronos")
+    assert parse_targets(["three", "babylon,filament"]) == ("generic", "filament", "babylon", "three")
     assert parse_targets(["all"]) == TARGETS
     with pytest.raises(ValueError, match="unknown target 'unreal'"):
         parse_targets(["generic,unreal"])

@@ -84,7 +84,7 @@ async function main() {
     }
     process.stdout.write(JSON.stringify({ result: result ?? null, error: failure ?? null, console: consoleLines,
                                           errors }) + "\n");
-    return failure === undefined ? 0 : 1;
+    return failure == null ? 0 : 1;
   } finally {
     await browser.close();
     server.close();

@@ -703,16 +703,17 @@ def bake(
                                 "than half of an image is NaN/Inf); without it they are refused."),
     force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
     target: Optional[list[str]] = typer.Option(
-        None, "--target", metavar="[generic|khronos|all]",
-        help="Also write the files of an engine, in OUT/<target>/ (repeatable, or a comma-separated list; "
-             "generic, pbrkit's own files at the top of OUT, is always written)."),
+        None, "--target", metavar="[generic|filament|khronos|babylon|three|all]",
+        help="Also write the files of an engine, baked for its conventions, in OUT/<target>/ (repeatable, or a "
+             "comma-separated list; generic, pbrkit's own files at the top of OUT, is always written; the "
+             "manifest says how to load each)."),
     quiet: bool = _quiet_option(),
 ):
     """Bake an HDR environment for split-sum IBL: prefiltered specular chain, irradiance
     cube, SH9, DFG table, faces, preview and manifest.json in OUT."""
     from ..core.atomic import check_output_directory
     from ..ibl.bake import bake as bake_environment
-    from ..io.bake_files import parse_targets, write_bake, write_steps
+    from ..io.bake_files import chains_for, parse_targets, write_bake, write_steps
 
     targets = parse_targets(target)
 
@@ -732,7 +733,7 @@ def bake(
         result = bake_environment(env[0] if len(env) == 1 else env, size=size, min_size=min_size,
                                   irradiance_size=irradiance_size, lut_size=lut_size, specular_format=fmt,
                                   method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
-                                  layout=layout, started=bake_stage)
+                                  layout=layout, chains=chains_for(targets), started=bake_stage)
         write_bake(result, out, force=force, started=write_stage, targets=targets)
     if not quiet:
         levels = ", ".join(f"{r:g}" for r in result.roughness)

@@ -53,6 +53,8 @@ from .prefilter import (
     cube_highlights,
     default_sample_counts,
     equirect_highlights,
+    chain_roughness,
+    prefilter_chain,
     prefilter_fis,
     prefilter_spectral,
     roughness_of_level,
@@ -63,7 +65,9 @@ __all__ = [
     "FORMAT_VERSION",
     "FACE_FILE_NAMES",
     "SPECULAR_FORMATS",
+    "EXTRA_CHAINS",
     "Bake",
+    "Chain",
     "bake",
     "check_output_dir",
     "tone_map",
@@ -92,7 +96,8 @@ class Bake:
     ``roughness`` (M,) perceptual roughness per level (0 first, increasing);
     ``irradiance`` (6, K, K, 3) float32 E(n); ``sh`` (9, 3) float64 radiance
     SH (CONVENTIONS order and basis); ``lut`` (L, L, 2) float32 DFG table;
-    ``manifest`` what ``manifest.json`` holds; ``timings`` seconds per stage
+    ``manifest`` what ``manifest.json`` holds; ``chains`` the extra chains for
+    engine targets, level curve -> :class:`Chain`; ``timings`` seconds per stage
     (never written: they differ from run to run)."""
 
     specular: list
@@ -102,10 +107,24 @@ class Bake:
     lut: np.ndarray
     manifest: dict
     timings: dict = field(default_factory=dict)
+    chains: dict = field(default_factory=dict)
 
     @property
     def levels(self):
         return len(self.specular)
+
+
+@dataclass
+class Chain:
+    """A prefiltered chain with another level curve (:data:`EXTRA_CHAINS`):
+    ``levels`` (6, N_m, N_m, 3) float32 (level 0 the bake's level 0),
+    ``roughness`` (M,) perceptual roughness, ``info`` per level 1.. as in the
+    manifest's ``levels``."""
+
+    curve: str
+    levels: list
+    roughness: np.ndarray
+    info: list
 
 
 # ------------------------------------------------------------------- checks
@@ -140,14 +159,27 @@ def _sha256(path):
 # --------------------------------------------------------------------- bake
 
 
-def _stage_names(levels):
+#: Level curves other than the generic "linear" one that a bake can add
+#: (:data:`pbrkit.ibl.prefilter.LEVEL_CURVES`), for engine targets.
+EXTRA_CHAINS = ("filament", "babylon")
+
+
+def _stage_names(levels, chains=()):
     return (["load", "cube", "sh", "split", "transform"] + [f"specular m={m}" for m in range(1, levels)]
-            + ["irradiance", "lut"])
+            + [f"specular {c}" for c in chains] + ["irradiance", "lut"])
+
+
+def _check_chains(chains):
+    chains = tuple(dict.fromkeys(chains or ()))
+    for c in chains:
+        if c not in EXTRA_CHAINS:
+            raise ValueError(f"chains must be among {', '.join(EXTRA_CHAINS)}, got {c!r}")
+    return tuple(c for c in EXTRA_CHAINS if c in chains)
 
 
 def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *, specular_format="rgba16f",
          method="spectral", sh_window=None, sh_window_width=3.0, fis_samples=None, fis_bias=1.0,
-         fix_nonfinite=False, layout=None, progress=None, started=None):
+         fix_nonfinite=False, layout=None, chains=(), progress=None, started=None):
     """Bake an environment (module doc) and return a :class:`Bake`.
 
     ``environment``: a path, a list of six face paths (+X, -X, +Y, -Y, +Z,
@@ -160,7 +192,11 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     ``fis_samples`` per level and lod ``fis_bias``); ``sh_window`` None,
     ``"hanning"`` or ``"lanczos"`` (:func:`pbrkit.ibl.sh.sh_window`) applied to
     the stored SH; ``fix_nonfinite`` and ``layout`` are passed to
-    :func:`pbrkit.io.environment.load_environment`.  ``progress(stage, done,
+    :func:`pbrkit.io.environment.load_environment`.  ``chains`` adds chains with
+    other level curves (:data:`EXTRA_CHAINS`: "filament" for Filament and three.js,
+    "babylon" for Babylon.js; :func:`pbrkit.ibl.prefilter.prefilter_chain`) to
+    :attr:`Bake.chains`, for :mod:`pbrkit.io.bake_files`' engine targets; they
+    need the spectral method.  ``progress(stage, done,
     total)`` is called after each stage, ``started(stage, number, total)``
     before each (number counts from 1).  Bad input raises ValueError
     (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
@@ -173,7 +209,10 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     size, min_size, irradiance_size, lut_size = _check_options(
         size, min_size, irradiance_size, lut_size, specular_format, method, sh_window)
     levels = int(math.log2(size // min_size)) + 1
-    stages = _stage_names(levels)
+    chains = _check_chains(chains)
+    if chains and method != "spectral":
+        raise ValueError(f"engine chains ({', '.join(chains)}) need --method spectral")
+    stages = _stage_names(levels, chains)
     timings = {}
     clock = [time.perf_counter()]
 
@@ -237,9 +276,17 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
                      analysis_grid=[int(bounded.shape[1]), int(bounded.shape[0])])
     del bounded
     done("transform")
+    extra = {}
     if method == "spectral":
         chain, info = prefilter_spectral(coeffs, highlights, size, levels,
                                          progress=lambda m: done(f"specular m={m}"))
+        shared = {}
+        for curve in chains:
+            sizes, rough = chain_roughness(curve, size, min_size)
+            levels_c, info_c = prefilter_chain(coeffs, highlights, level0, sizes, rough, shared=shared)
+            extra[curve] = Chain(curve, [level0] + levels_c, rough,
+                                 [{k: _plain(v) for k, v in e.items()} for e in info_c])
+            done(f"specular {curve}")
     else:
         from .equirect import equirect_to_cube
 
@@ -273,7 +320,7 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
                          spec, levels, size, irradiance_size, lut_size, specular_format, method, sh_window,
                          sh_window_width)
     return Bake(specular=specular, roughness=roughness, irradiance=irradiance, sh=np.asarray(sh, dtype=np.float64),
-                lut=lut, manifest=manifest, timings=timings)
+                lut=lut, manifest=manifest, timings=timings, chains=extra)
 
 
 def _reduce_rows(image, rows):

@@ -74,6 +74,7 @@ __all__ = [
     "sample_cube",
     "build_mip_pyramid",
     "resample_cube",
+    "mirror_cube",
 ]
 
 FACE_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
@@ -488,3 +489,25 @@ def resample_cube(cube, size, weighting="solid_angle"):
         out = np.empty((6, size, size, c.shape[3]))
         _resample_kernel(data, n, size, k, out)
     return out[..., 0] if np.ndim(cube) == 3 else out
+
+
+def mirror_cube(cube, axis):
+    """The cube map of L'(d) = L(d with coordinate ``axis`` ("x", "y", "z")
+    negated): ``cube`` (6, N, N[, C]) re-indexed, exactly (a mirror maps texel
+    centres onto texel centres: the face of that axis swaps with its opposite
+    and the faces flip in sc or tc; OpenGL 4.6 table 8.19).  For engines whose
+    cube lookups mirror a coordinate: three.js flips x for cube textures, Babylon.js
+    negates z in right-handed scenes (docs/engine-targets.md)."""
+    c = np.asarray(cube)
+    if c.ndim not in (3, 4) or c.shape[0] != 6 or c.shape[1] != c.shape[2]:
+        raise ValueError(f"cube map must have shape (6, N, N) or (6, N, N, C), got {c.shape}")
+    k = "xyz".find(axis) if isinstance(axis, str) and len(axis) == 1 else -1
+    if k < 0:
+        raise ValueError(f"axis must be 'x', 'y' or 'z', got {axis!r}")
+    n = c.shape[1]
+    d = cube_texel_directions(n)
+    d[..., k] = -d[..., k]
+    face, s, t = direction_to_cube(d)
+    j = np.clip(np.rint(s * n - 0.5).astype(np.int64), 0, n - 1)
+    i = np.clip(np.rint(t * n - 0.5).astype(np.int64), 0, n - 1)
+    return c[face, i, j]

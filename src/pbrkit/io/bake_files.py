@@ -4,6 +4,8 @@
 renamed into place at the end, so a failure leaves nothing behind)::
 
     manifest.json                      what is below and every convention
+    khronos/, filament/, three/, babylon/   with ``targets``: each engine's files
+                                       (:mod:`pbrkit.io.engine_targets`)
     specular.ktx2, specular.dds        cube map, all levels
     irradiance.ktx2, irradiance.dds    cube map, one level
     brdf_lut.ktx2, .npy, .exr          the DFG table (+ .json descriptions)
@@ -22,37 +24,17 @@ from pathlib import Path
 import numpy as np
 
 from ..core.atomic import atomic_directory
+from .engine_targets import TARGETS, chains_for, parse_targets
 
 # pbrkit.ibl.bake is imported inside the functions: pbrkit.ibl imports this module.
 
 __all__ = [
     "TARGETS",
     "parse_targets",
+    "chains_for",
     "write_bake",
     "load_bake",
 ]
-
-#: Engines a bake can be written for (``pbrkit bake --target``): ``generic`` is
-#: pbrkit's own files (the directory's top level); every other target writes a
-#: subdirectory named after it (:func:`_write_khronos`).
-TARGETS = ("generic", "khronos")
-
-
-def parse_targets(values):
-    """The targets of ``--target`` values (each a name, ``all``, or a comma-separated
-    list of them), in :data:`TARGETS` order without repeats; ``generic`` when none
-    is given.  ValueError names an unknown one."""
-    chosen = set()
-    for value in values or ("generic",):
-        for name in str(value).split(","):
-            name = name.strip().lower()
-            if name == "all":
-                chosen.update(TARGETS)
-            elif name in TARGETS:
-                chosen.add(name)
-            else:
-                raise ValueError(f"--target: unknown target {name!r}; choose from {', '.join(TARGETS)}, all")
-    return tuple(t for t in TARGETS if t in chosen)
 
 # ---------------------------------------------------------------------- write
 
@@ -81,51 +63,11 @@ def write_steps(targets=("generic",)):
     return WRITE_STEPS[:-1] + extra + WRITE_STEPS[-1:]
 
 
-def _write_khronos(root, b):
-    """The Khronos glTF Sample Viewer's IBL inputs, in ``root/khronos``, and their
-    manifest entry.  The Sample Viewer (KhronosGroup/glTF-Sample-Viewer, its IBL
-    from KhronosGroup/glTF-IBL-Sampler) uses pbrkit's cube layout and lod = r (M - 1),
-    so ``specular.ktx2`` is the generic chain; its diffuse cube is Lambertian
-    *radiance*, E / pi (``lambertian.ktx2``: the generic irradiance divided by pi),
-    and its lookup table is Karis' (A, B) with specular = F0 A + B and
-    height-correlated Smith visibility (``lut_ggx.ktx2``, R16G16 float; A = DFG2 -
-    DFG1 and B = DFG1 of the same integral).  Loading them inside the viewer is not
-    yet verified (issue 10)."""
-    from ..albedo.tables import lookup_table
-    from ..ibl.bake import SPECULAR_FORMATS
-    from .ktx2 import write_ktx2
-    from .lut_files import write_lut
-
-    folder = root / "khronos"
-    folder.mkdir()
-    ktx_format = SPECULAR_FORMATS[b.manifest["options"]["format"]][0]
-    roughness = [float(r) for r in b.roughness]
-    key = {"pbrkit.bake": json.dumps({"roughness": roughness, "lod": "r (M - 1)", "target": "khronos",
-                                      "content": "split-sum prefiltered radiance (GGX, n = v = r)"})}
-    write_ktx2(folder / "specular.ktx2", b.specular, ktx_format, cube=True, key_values=key)
-    lambertian = [np.asarray(b.irradiance, dtype=np.float32) / np.float32(np.pi)]
-    key = {"pbrkit.bake": json.dumps({"target": "khronos", "content": "Lambertian radiance E(n) / pi: constant "
-                                      "radiance 1 gives 1"})}
-    write_ktx2(folder / "lambertian.ktx2", lambertian, ktx_format, cube=True, key_values=key)
-    table, spec = lookup_table("splitsum", b.lut.shape[0], visibility="height-correlated")
-    write_lut(folder / "lut_ggx.ktx2", table, spec)
-    return {
-        "files": {"specular": "khronos/specular.ktx2", "lambertian": "khronos/lambertian.ktx2",
-                  "lut": "khronos/lut_ggx.ktx2", "lut_description": "khronos/lut_ggx.ktx2.json"},
-        "conventions": {
-            "lod": "lod = r (M - 1) (as the generic chain)",
-            "diffuse": "Lambertian radiance E / pi: diffuse = base_color (1 - metallic) * lambertian(n)",
-            "lut": "(A, B): specular albedo F0 A + B, height-correlated Smith-GGX, uv = (n.v, r), texel centres",
-            "orientation": "CONVENTIONS cube layout (OpenGL face order and orientation), as the generic bake",
-        },
-        "load": "not yet verified inside the Sample Viewer (issue 10)",
-    }
-
-
 def _write_all(root, b, progress, started=None, targets=("generic",)):
     from ..albedo.tables import TableSpec
     from ..ibl.bake import SPECULAR_FORMATS
     from .dds import write_dds
+    from .engine_targets import write_target
     from .exr import write_exr
     from .ktx2 import write_ktx2
     from .lut_files import write_lut
@@ -175,9 +117,13 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     step("faces")
     write_png(root / "preview.png", preview_strip(b), bits=8, srgb=True)
     step("preview")
-    if "khronos" in targets:
-        manifest = dict(manifest, targets=dict(manifest.get("targets", {}), khronos=_write_khronos(root, b)))
-        step("khronos")
+    entries = {}
+    for name in targets:
+        if name != "generic":
+            entries[name] = write_target(name, root, b)
+            step(name)
+    if entries:
+        manifest = dict(manifest, targets=entries)
     (root / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     step("manifest")
 
