@@ -105,9 +105,12 @@ def test_engine_chains_are_prefiltered_at_their_own_roughness(chained, curve):
     assert [lv.shape[1] for lv in chain.levels] == sizes
     methods = " ".join(e["method"] for e in chain.info)
     assert "filtered importance sampling" in methods and "no sampling" in methods  # both routes ran
+    rng = np.random.default_rng(9)
     for m in range(1, len(sizes)):
-        ref = prefilter_reference(level0, cube_texel_directions(sizes[m]), rough[m])
-        err = np.sqrt(np.sum((chain.levels[m] - ref) ** 2) / np.sum(ref ** 2))
+        pick = rng.choice(6 * sizes[m] ** 2, size=min(6 * sizes[m] ** 2, 400), replace=False)
+        ref = prefilter_reference(level0, cube_texel_directions(sizes[m]).reshape(-1, 3)[pick], rough[m])
+        got = chain.levels[m].reshape(-1, 3)[pick]
+        err = np.sqrt(np.sum((got - ref) ** 2) / np.sum(ref ** 2))
         assert err < 2e-3, (curve, m, err)
 
 

@@ -326,6 +326,20 @@ def lookup_table(kind="dfg", size=128, visibility=None, cloth=False, nodes=DEFAU
     return table, TableSpec(kind, int(size), visibility, bool(cloth), tuple(nodes))
 
 
+def splitsum_of_dfg(dfg):
+    """Karis' (A, B) (specular albedo F0 A + B) of a ``dfg`` table (DFG1, DFG2)
+    (specular albedo F0 DFG2 + (1 - F0) DFG1 = F0 (DFG2 - DFG1) + DFG1) of the same
+    lobe: A = DFG2 - DFG1, B = DFG1 (:func:`lookup_table`), in float64 then float32.
+    Extra channels (sheen) are kept."""
+    t = np.asarray(dfg, dtype=np.float64)
+    if t.ndim != 3 or t.shape[2] < 2:
+        raise ValueError(f"a DFG table has shape (N, N, 2 or 3), got {t.shape}")
+    out = t.copy()
+    out[..., 0] = t[..., 1] - t[..., 0]
+    out[..., 1] = t[..., 0]
+    return out.astype(np.float32)
+
+
 def splitsum_table(size=128, visibility="schlick-ggx", nodes=DEFAULT_NODES):
     """UE4's (A, B) environment-BRDF table (Karis 2013); see :func:`lookup_table`."""
     return lookup_table("splitsum", size, visibility, False, nodes)[0]

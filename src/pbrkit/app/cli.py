@@ -743,5 +743,29 @@ def bake(
               + f"; total {sum(result.timings.values()):.3f} + writing")
 
 
+SHADER_TARGETS = ("glsl",)  # pbrkit.shaders.TARGETS
+
+
+@app.command(cls=_Command, short_help="Write shader functions that match pbrkit's models and bakes.")
+@user_errors
+def shaders(
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
+                             help="Output folder (must be absent or empty unless --force)."),
+    target: str = _choice("glsl", "--target", SHADER_TARGETS, "shader target",
+                          "Shading language: glsl (GLSL ES 3.00 / WebGL2 and GLSL 3.30+)."),
+    force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
+    quiet: bool = _quiet_option(),
+):
+    """Write shader functions for pbrkit's BRDF terms and models (D, G/V, F, diffuse;
+    UE4, Filament, glTF) and for sampling a pbrkit bake (lod from roughness, the DFG
+    table lookup, SH irradiance), with the bake's conventions built in, and
+    manifest.json listing each function with its source and roughness remap."""
+    from ..shaders import write_shaders
+
+    names = write_shaders(out, target=target, force=force)
+    if not quiet:
+        print(f"wrote {out}: " + ", ".join(names))
+
+
 if __name__ == "__main__":  # pragma: no cover
     app(prog_name="pbrkit")

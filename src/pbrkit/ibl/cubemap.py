@@ -495,19 +495,39 @@ def mirror_cube(cube, axis):
     """The cube map of L'(d) = L(d with coordinate ``axis`` ("x", "y", "z")
     negated): ``cube`` (6, N, N[, C]) re-indexed, exactly (a mirror maps texel
     centres onto texel centres: the face of that axis swaps with its opposite
-    and the faces flip in sc or tc; OpenGL 4.6 table 8.19).  For engines whose
-    cube lookups mirror a coordinate: three.js flips x for cube textures, Babylon.js
-    negates z in right-handed scenes (docs/engine-targets.md)."""
+    and every face flips in sc or tc, by OpenGL 4.6 table 8.19; the face
+    permutation and flips are found once from the table, :func:`_mirror_plan`).
+    For engines whose cube lookups mirror a coordinate: three.js flips x for cube
+    textures, Babylon.js negates z in right-handed scenes (docs/engine-targets.md)."""
     c = np.asarray(cube)
     if c.ndim not in (3, 4) or c.shape[0] != 6 or c.shape[1] != c.shape[2]:
         raise ValueError(f"cube map must have shape (6, N, N) or (6, N, N, C), got {c.shape}")
-    k = "xyz".find(axis) if isinstance(axis, str) and len(axis) == 1 else -1
-    if k < 0:
+    if axis not in ("x", "y", "z"):
         raise ValueError(f"axis must be 'x', 'y' or 'z', got {axis!r}")
-    n = c.shape[1]
-    d = cube_texel_directions(n)
-    d[..., k] = -d[..., k]
-    face, s, t = direction_to_cube(d)
-    j = np.clip(np.rint(s * n - 0.5).astype(np.int64), 0, n - 1)
-    i = np.clip(np.rint(t * n - 0.5).astype(np.int64), 0, n - 1)
-    return c[face, i, j]
+    faces = []
+    for source, flip_rows, flip_columns in _mirror_plan(axis):
+        face = c[source]
+        faces.append(face[::-1 if flip_rows else 1, ::-1 if flip_columns else 1])
+    return np.ascontiguousarray(np.stack(faces))
+
+
+_MIRROR_PLANS = {}
+
+
+def _mirror_plan(axis):
+    """For each face f: (source face, rows flipped, columns flipped) such that
+    texel (f, i, j) of the mirrored cube is texel (source, i', j') of the
+    original.  Read off the face table at N = 2 (each face maps affinely, so a
+    2 x 2 face fixes the map for every N)."""
+    if axis not in _MIRROR_PLANS:
+        k = "xyz".index(axis)
+        d = cube_texel_directions(2)
+        d[..., k] = -d[..., k]
+        face, s, t = direction_to_cube(d)
+        plan = []
+        for f in range(6):
+            rows = np.floor(t[f] * 2).astype(int)
+            cols = np.floor(s[f] * 2).astype(int)
+            plan.append((int(face[f, 0, 0]), bool(rows[0, 0] == 1), bool(cols[0, 0] == 1)))
+        _MIRROR_PLANS[axis] = tuple(plan)
+    return _MIRROR_PLANS[axis]

@@ -89,7 +89,7 @@ _EPSILON = 1e-7  # Babylon's maxEps
 _VERSION = 2
 _IMAGE_TYPE = "image/png"
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-_ZLIB_LEVEL = 6
+_ZLIB_LEVEL = 3
 
 
 # ----------------------------------------------------------------- RGBD

@@ -64,10 +64,9 @@ def write_steps(targets=("generic",)):
 
 
 def _write_all(root, b, progress, started=None, targets=("generic",)):
-    from ..albedo.tables import TableSpec
     from ..ibl.bake import SPECULAR_FORMATS
     from .dds import write_dds
-    from .engine_targets import write_target
+    from .engine_targets import _lut_spec, write_target
     from .exr import write_exr
     from .ktx2 import write_ktx2
     from .lut_files import write_lut
@@ -100,11 +99,7 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     write_ktx2(root / "irradiance.ktx2", [b.irradiance], ktx_format, cube=True, key_values=key)
     write_dds(root / "irradiance.dds", [b.irradiance], dds_format, cube=True)
     step("irradiance")
-    desc = manifest["outputs"]["brdf_lut"]["description"]
-    spec = TableSpec(desc["kind"], int(desc["size"][0]), desc["visibility"], bool(desc["cloth"]),
-                     (desc["integration"]["theta_nodes_per_segment"],
-                      desc["integration"]["theta_nodes_per_segment_grazing_nv_below_0.0625"],
-                      desc["integration"]["phi_nodes"]))
+    spec = _lut_spec(b)
     for suffix in (".ktx2", ".npy", ".exr"):
         write_lut(root / f"brdf_lut{suffix}", b.lut, spec)
     step("brdf_lut")

@@ -97,21 +97,24 @@ def _write_khronos(folder, b):
     irradiance divided by pi), and its lookup table is Karis' (A, B) with
     specular = F0 A + B and height-correlated Smith visibility (``lut_ggx.ktx2``,
     R16G16 float; A = DFG2 - DFG1 and B = DFG1 of the same integral)."""
-    from ..albedo.tables import lookup_table
+    from dataclasses import replace
+
+    from ..albedo.tables import splitsum_of_dfg
     from ..ibl.bake import SPECULAR_FORMATS
     from .ktx2 import write_ktx2
     from .lut_files import write_lut
 
     ktx_format = SPECULAR_FORMATS[b.manifest["options"]["format"]][0]
-    roughness = [float(r) for r in b.roughness]
-    write_ktx2(folder / "specular.ktx2", b.specular, ktx_format, cube=True,
-               key_values=_key("khronos", roughness=roughness, lod="r (M - 1)",
-                               content="split-sum prefiltered radiance (GGX, n = v = r)"))
+    # the generic chain, byte for byte (written before the targets)
+    shutil.copyfile(folder.parent / "specular.ktx2", folder / "specular.ktx2")
     lambertian = [np.asarray(b.irradiance, dtype=np.float32) / np.float32(np.pi)]
     write_ktx2(folder / "lambertian.ktx2", lambertian, ktx_format, cube=True,
                key_values=_key("khronos", content="Lambertian radiance E(n) / pi: constant radiance 1 gives 1"))
-    table, spec = lookup_table("splitsum", b.lut.shape[0], visibility="height-correlated")
-    write_lut(folder / "lut_ggx.ktx2", table, spec)
+    spec = _lut_spec(b)
+    if spec.kind != "dfg" or spec.visibility != "height-correlated":
+        raise ValueError(f"the khronos LUT comes from the bake's height-correlated DFG table, not {spec.kind} "
+                         f"with {spec.visibility} visibility")
+    write_lut(folder / "lut_ggx.ktx2", splitsum_of_dfg(b.lut), replace(spec, kind="splitsum"))
     shutil.copyfile(JS_DIR / "pbrkit-khronos.js", folder / "pbrkit-khronos.js")
     return {
         "files": {"specular": "khronos/specular.ktx2", "lambertian": "khronos/lambertian.ktx2",
@@ -130,6 +133,17 @@ def _write_khronos(folder, b):
                  "(the viewer's public ResourceLoader.loadEnvironment takes only .hdr files; "
                  "the module fills state.environment with these textures)"),
     }
+
+
+def _lut_spec(b):
+    """The :class:`pbrkit.albedo.tables.TableSpec` of the bake's table (its manifest)."""
+    from ..albedo.tables import TableSpec
+
+    desc = b.manifest["outputs"]["brdf_lut"]["description"]
+    return TableSpec(desc["kind"], int(desc["size"][0]), desc["visibility"], bool(desc["cloth"]),
+                     (desc["integration"]["theta_nodes_per_segment"],
+                      desc["integration"]["theta_nodes_per_segment_grazing_nv_below_0.0625"],
+                      desc["integration"]["phi_nodes"]))
 
 
 # ----------------------------------------------------------------- filament
