@@ -25,7 +25,12 @@ from pbrkit.ibl.prefilter import (
     filament_roughness_of_level,
     prefilter_reference,
 )
-from pbrkit.ibl.sh import babylon_polynomial, lambertian_sh_prescaled, mirror_sh, project_cube
+from pbrkit.ibl.sh import (
+    babylon_polynomial,
+    lambertian_sh_prescaled,
+    mirror_sh,
+    project_cube,
+)
 from pbrkit.io.babylon_env import read_babylon_env
 from pbrkit.io.bake_files import chains_for
 from pbrkit.io.dds import read_dds

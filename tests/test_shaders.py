@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from engine_pages import needs_engines, run_page
+
 from pbrkit import shaders
 from pbrkit.brdf import diffuse, distributions, fresnel, masking, models
 from pbrkit.brdf.bxdf import isotropic_cosines

@@ -50,10 +50,10 @@ from .prefilter import (
     BAND_LIMIT_TOLERANCE,
     HIGHLIGHT_RATIO,
     band_limit,
+    chain_roughness,
     cube_highlights,
     default_sample_counts,
     equirect_highlights,
-    chain_roughness,
     prefilter_chain,
     prefilter_fis,
     prefilter_spectral,
@@ -202,7 +202,10 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
     """
     from ..albedo.tables import lookup_table
-    from ..io.environment import Environment, load_environment  # here: io.environment imports pbrkit.ibl
+    from ..io.environment import (  # here: io.environment imports pbrkit.ibl
+        Environment,
+        load_environment,
+    )
     from .sh import apply_window, project_cube, project_equirect
     from .spectral import analyse_equirect
 
