@@ -163,14 +163,16 @@ def _write_filament(folder, b):
     from .ktx1 import filament_sh_text, write_ktx1
 
     chain = _chain(b, "filament", "filament")
-    fmt = "R11F_G11F_B10F" if b.manifest["options"]["format"] == "b10g11r11" else "RGBA16F"
+    # what cmgen writes and createIblFromKtx1 expects (it warns for RGBA16F, which loads too)
+    fmt = "R11F_G11F_B10F"
     prescaled = lambertian_sh_prescaled(b.sh)
     write_ktx1(folder / "ibl.ktx", chain.levels, fmt, cube=True, key_values={"sh": filament_sh_text(prescaled)})
     write_ktx1(folder / "skybox.ktx", chain.levels[:1], fmt, cube=True)
     return {
         "files": {"ibl": "filament/ibl.ktx", "skybox": "filament/skybox.ktx"},
         "engine": "Filament (npm filament 1.53.4; C++ ktxreader)",
-        "format": fmt,
+        "format": "R11F_G11F_B10F (glType 0x8C3A, as cmgen writes it: Filament aborts on the KTX spec's "
+                  "0x8C3B), whatever --format says: createIblFromKtx1 warns for any other format",
         "conventions": {
             "levels": f"{len(chain.levels)} levels, r = 1 - sqrt(1 - m / (M - 1)); Filament samples "
                       "lod = (M - 1) r (2 - r)",
