@@ -129,9 +129,10 @@ def _write_khronos(folder, b):
                            "of 90 degrees about +Y is a display setting: set it to 0 to see pbrkit's frame)",
         },
         "load": ("import { loadPbrkitEnvironment } from './pbrkit-khronos.js'; "
-                 "await loadPbrkitEnvironment(view, state, resourceLoader, 'khronos/') "
-                 "(the viewer's public ResourceLoader.loadEnvironment takes only .hdr files; "
-                 "the module fills state.environment with these textures)"),
+                 "await loadPbrkitEnvironment(state, 'khronos/') (state: the viewer's GltfState; the viewer's "
+                 "public ResourceLoader.loadEnvironment takes only .hdr files, so the module builds "
+                 "state.environment from these textures, relying on gltf-viewer 1.1.0's layout of that object, "
+                 "documented in its header; no sheen IBL)"),
     }
 
 
@@ -229,7 +230,9 @@ def _write_three(folder, b):
             "roughness": _roughness(chain),
             "orientation": "x mirrored, C(b) = L(-b.x, b.y, b.z): three flips x when it samples a cube "
                            "texture that is not a render target",
-            "pmrem": "isPMREMTexture = true: used as is, not re-filtered by PMREMGenerator",
+            "pmrem": "isPMREMTexture = true: used as is, not re-filtered by PMREMGenerator (MeshStandardMaterial, "
+                     "MeshPhysicalMaterial, scene.background); r187's MeshBasic/Lambert/Phong ignore PMREM "
+                     "textures: load a copy with loadPbrkitCubeKTX2(url, { pmrem: false }) for them",
             "sh": "sh.json: radiance SH for new THREE.LightProbe(new THREE.SphericalHarmonics3()"
                   ".fromArray(coefficients)), not mirrored; use it instead of the env map's diffuse, not "
                   "with it",
