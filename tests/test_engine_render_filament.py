@@ -78,8 +78,8 @@ CAMERA = {"position": [0.0, 0.0, 6.0], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1
 NEAR, FAR = 0.5, 50.0
 # Filament's default variance (MaterialInstance::setSpecularAntiAliasingVariance); 0 = off
 SPECULAR_AA_DEFAULT = 0.15
-# measured grey mean / p95 and per-channel mean of engine vs pbrkit, plus a margin (test_render_agrees...)
-GREY_MEAN_BOUND, GREY_P95_BOUND, CHANNEL_MEAN_BOUND = 3.4, 12.0, 3.7  # measured 3.10, 11.0, 3.42
+# engine vs pbrkit with pbrkit's own IBL evaluation (--engine pbrkit): measured 3.10 / 11.0 / 3.42, plus a margin
+GREY_MEAN_BOUND, GREY_P95_BOUND, CHANNEL_MEAN_BOUND = 3.4, 12.0, 3.7
 
 
 def sphere_centres():
@@ -133,13 +133,14 @@ def write_scene(bake_dir, scene_dir, model="filament", diffuse="lambert"):
 PBRKIT_OPTIONS = ("--mode", "realtime", "--tonemap", "none", "--diffuse", "sh", "--energy-compensation")
 
 
-def pbrkit_linear(bake_dir, scene_dir, model="filament", diffuse="lambert"):
-    """Linear float (H, W, 3) of ``pbrkit render`` (EXR) of the scene."""
+def pbrkit_linear(bake_dir, scene_dir, model="filament", diffuse="lambert", engine="pbrkit"):
+    """Linear float (H, W, 3) of ``pbrkit render`` (EXR) of the scene; ``engine``
+    ``filament`` renders as Filament does (``--engine filament``)."""
     from pbrkit.io.exr import read_exr
 
     scene = write_scene(bake_dir, scene_dir, model, diffuse)
-    out = Path(scene_dir) / f"pbrkit_{model}_{diffuse}.exr"
-    run_cli("render", scene, "-o", out, *PBRKIT_OPTIONS)
+    out = Path(scene_dir) / f"pbrkit_{model}_{diffuse}_{engine}.exr"
+    run_cli("render", scene, "-o", out, *PBRKIT_OPTIONS, "--engine", engine)
     image = np.asarray(read_exr(out), dtype=np.float64)
     return image[..., :3]
 
@@ -153,8 +154,8 @@ def to_srgb8(linear):
 
 
 def pbrkit_image(bake_dir, scene_dir):
-    """``pbrkit render --mode realtime`` of the grid as sRGB uint8 (H, W, 3)."""
-    return to_srgb8(pbrkit_linear(bake_dir, scene_dir))
+    """``pbrkit render --mode realtime --engine filament`` of the grid as sRGB uint8 (H, W, 3)."""
+    return to_srgb8(pbrkit_linear(bake_dir, scene_dir, engine="filament"))
 
 
 # ---------------------------------------------------------------- Filament side
@@ -410,21 +411,23 @@ def renders(tmp_path_factory):
     work = tmp_path_factory.mktemp("filament_render")
     bake_dir = bake(work / "bake")
     linear = pbrkit_linear(bake_dir, work)
+    as_filament = pbrkit_linear(bake_dir, work, engine="filament")
     spec_only = pbrkit_linear(bake_dir, work, diffuse="none")
     images, report = engine_linear(bake_dir, work, variants=(
         {"sh": True, "specularAAVariance": 0.0}, {"sh": False, "specularAAVariance": 0.0},
         {"sh": True, "specularAAVariance": SPECULAR_AA_DEFAULT}))
     hit, inner = sphere_mask()
-    engine8, pbrkit8 = to_srgb8(images[0][..., :3]), to_srgb8(linear)
+    engine8, pbrkit8, filament8 = to_srgb8(images[0][..., :3]), to_srgb8(linear), to_srgb8(as_filament)
     from pbrkit.io.png import write_png
 
     shots = [work] + ([Path(os.environ["PBRKIT_ENGINE_SHOTS"])] if os.environ.get("PBRKIT_ENGINE_SHOTS") else [])
     for folder in shots:
         folder.mkdir(parents=True, exist_ok=True)
         write_png(folder / "filament_engine.png", engine8 / 255.0, srgb=False)
-        write_png(folder / "filament_pbrkit.png", pbrkit8 / 255.0, srgb=False)
+        write_png(folder / "filament_pbrkit.png", filament8 / 255.0, srgb=False)
     return {"work": work, "bake": bake_dir, "pbrkit": linear, "pbrkit_spec": spec_only, "engine": images,
-            "report": report, "hit": hit, "inner": inner, "engine8": engine8, "pbrkit8": pbrkit8}
+            "report": report, "hit": hit, "inner": inner, "engine8": engine8, "pbrkit8": pbrkit8,
+            "filament8": filament8}
 
 
 @pytest.fixture(scope="module")
@@ -455,23 +458,33 @@ def test_scene_is_covered_and_nothing_clips(renders):
 def test_images_saved(renders):
     from pbrkit.io.png import read_ldr
 
-    for name, key in (("filament_engine.png", "engine8"), ("filament_pbrkit.png", "pbrkit8")):
+    for name, key in (("filament_engine.png", "engine8"), ("filament_pbrkit.png", "filament8")):
         assert renders[key].shape == (HEIGHT, WIDTH, 3) and renders[key].dtype == np.uint8
         back = to_srgb8(np.asarray(read_ldr(renders["work"] / name), dtype=np.float64)[..., :3])
         np.testing.assert_array_equal(back, renders[key])
     assert engine_image.__name__ == "engine_image" and pbrkit_image.__name__ == "pbrkit_image"
 
 
-def test_render_agrees_with_pbrkit_realtime(renders):
-    """The engine against ``pbrkit render --mode realtime`` (specular AA off in the
-    engine): the bound measured (grey mean 3.10, p95 11.0, channels 3.42 / 3.13 /
-    2.77) plus a margin.  The issue's goal of 1 level is not met, for the three
-    reasons of the module docstring, which the tests below measure one by one."""
+def test_render_agrees_with_pbrkit_realtime_as_filament(renders):
+    """The engine against ``pbrkit render --mode realtime --engine filament`` (its
+    chain at lod (M - 1) r (2 - r), the dominant direction, the (1 - E) diffuse,
+    Filament's energy compensation; specular AA off in the engine): within one
+    8-bit grey level on average, the issue's goal (measured 0.26, p95 1, max 2)."""
+    inner = renders["inner"]
+    stats = differences(renders["engine8"], renders["filament8"], inner)
+    print("\nfilament vs pbrkit realtime --engine filament:", stats)
+    print("per sphere (grey mean abs):\n", per_sphere(renders["engine8"], renders["filament8"], inner))
+    assert stats["grey_mean"] <= 1.0 and stats["grey_p95"] <= 2.0 and max(stats["mean"]) <= 1.0
+
+
+def test_pbrkits_own_ibl_differs_by_filaments_three_choices(renders):
+    """With pbrkit's own IBL evaluation (``--engine pbrkit``) the same render differs
+    by about 3 levels (measured 3.10, p95 11, channels 3.42 / 3.13 / 2.77): the three
+    choices of the module docstring, which the tests below measure one by one."""
     inner = renders["inner"]
     stats = differences(renders["engine8"], renders["pbrkit8"], inner)
-    print("\nfilament vs pbrkit realtime:", stats)
-    print("per sphere (grey mean abs):\n", per_sphere(renders["engine8"], renders["pbrkit8"], inner))
-    assert stats["grey_mean"] <= GREY_MEAN_BOUND
+    print("\nfilament vs pbrkit realtime (engine pbrkit):", stats)
+    assert 1.5 <= stats["grey_mean"] <= GREY_MEAN_BOUND
     assert stats["grey_p95"] <= GREY_P95_BOUND
     assert max(stats["mean"]) <= CHANNEL_MEAN_BOUND
 

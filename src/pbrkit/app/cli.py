@@ -39,6 +39,7 @@ except ImportError:  # pragma: no cover - a typer built on click itself
 MODES = ("realtime", "reference", "compare")                        # pbrkit.render.run.MODES
 TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")   # pbrkit.core.color.TONEMAPS
 DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.render.realtime
+RENDER_ENGINES = ("pbrkit", "filament")                             # pbrkit.render.realtime.ENGINES
 LUT_KINDS = ("splitsum", "dfg")                                     # pbrkit.albedo.tables.lookup_table
 VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")    # pbrkit.albedo.tables.VISIBILITIES
 KTX2_FORMATS = ("float16", "float32")                               # pbrkit.io.lut_files.write_lut
@@ -588,6 +589,9 @@ def render(
                            "Real-time diffuse IBL: sh (9 coefficients) or cube (irradiance cube)."),
     energy_compensation: bool = _flag(False, ("--energy-compensation/--no-energy-compensation",),
                                       "Real time: Filament's multiple-scattering compensation."),
+    engine: str = _choice("pbrkit", "--engine", RENDER_ENGINES, "engine",
+                          "Real time: whose IBL evaluation to follow: pbrkit's, or an engine's with its own "
+                          "target's chain (a bake folder needs that --target)."),
     bake_size: int = typer.Option(256, "--bake-size", metavar="N",
                                   help="Real time: size of the bake's specular cube (power of two)."),
     fix_nonfinite: bool = _flag(False, ("--fix-nonfinite",),
@@ -626,7 +630,7 @@ def render(
         summary = render_scene(scene_obj, out, mode=mode, spp=spp, bounces=bounces, seed=seed,
                                tonemap_name=tonemap_name, exposure=exposure, diffuse=diffuse,
                                energy_compensation=energy_compensation, bake_size=bake_size, occlusion=occlusion,
-                               progress=stages.start)
+                               progress=stages.start, engine=engine)
     if quiet:
         return
     for note in summary["notes"]:

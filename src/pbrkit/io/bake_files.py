@@ -34,6 +34,7 @@ __all__ = [
     "chains_for",
     "write_bake",
     "load_bake",
+    "load_target_chain",
 ]
 
 # ---------------------------------------------------------------------- write
@@ -255,3 +256,33 @@ def load_bake(out_dir, prefer="exr"):
                 roughness=np.asarray(roughness, dtype=np.float64),
                 irradiance=np.asarray(irradiance, dtype=np.float32), sh=np.asarray(sh, dtype=np.float64),
                 lut=np.asarray(lut, dtype=np.float32), manifest=manifest)
+
+
+def load_target_chain(out_dir, target):
+    """The prefiltered chain of an engine target of a bake directory, as that
+    engine reads it: a :class:`pbrkit.ibl.bake.Chain` with the texels of the
+    target's file (``filament``: ``filament/ibl.ktx``, R11F_G11F_B10F) and the
+    roughness of every level from the manifest.  For rendering as the engine
+    does (:func:`pbrkit.render.realtime.render_realtime` ``engine``).  Missing or
+    inconsistent files raise :class:`~pbrkit.core.errors.InputError`."""
+    from ..core.errors import InputError
+    from ..ibl.bake import Chain
+    from .ktx1 import read_ktx1
+
+    root = Path(out_dir)
+    path = root / "manifest.json"
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"cannot read the manifest ({exc})", path) from None
+    if target != "filament":
+        raise ValueError(f"no chain reader for target {target!r} (filament)")
+    roughness = _entry(manifest, path, f"targets.{target}.conventions.roughness",
+                       lambda r: np.asarray(r, dtype=np.float64).ndim == 1 and len(r) >= 2,
+                       f"a list of roughness values (bake with --target {target})")
+    _, levels, _ = read_ktx1(root / "filament" / "ibl.ktx")
+    if len(levels) != len(roughness):
+        raise InputError(f"has {len(levels)} levels, the manifest's roughness lists {len(roughness)}",
+                         root / "filament" / "ibl.ktx")
+    return Chain(target, [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
+                 np.asarray(roughness, dtype=np.float64), [])

@@ -85,11 +85,19 @@ __all__ = [
     "fresnel_mix_albedo_table",
     "diffuse_ibl_weight",
     "DIFFUSE_WEIGHTS",
+    "ENGINES",
+    "specular_dominant_direction",
     "APPROXIMATIONS",
 ]
 
 #: How the real-time path weights the ``gltf`` diffuse (:func:`diffuse_ibl_weight`).
 DIFFUSE_WEIGHTS = ("fstar", "exact")
+
+#: Whose image-based lighting the real-time path evaluates (:func:`render_realtime`):
+#: ``pbrkit`` (the module docstring) or ``filament`` (what Filament's shaders do with
+#: its bake, ``--target filament``).
+ENGINES = ("pbrkit", "filament")
+_ENGINE_FILAMENT = 1
 
 #: The approximations of the real-time path, in the order ``compare`` swaps them for
 #: exact computations (:func:`pbrkit.render.run.approximation_split`).
@@ -103,6 +111,27 @@ APPROXIMATIONS = {
 _INV_PI = 1.0 / math.pi
 
 # ================================================================ real time
+
+
+def _filament_chain(bake, env):
+    """The chain at Filament's levels: the in-memory bake's, or for a bake folder
+    the texels of its ``filament/ibl.ktx`` (:func:`pbrkit.io.bake_files.load_target_chain`)."""
+    chain = getattr(bake, "chains", {}).get("filament")
+    if chain is None and env.spec.bake is not None:
+        from ..io.bake_files import load_target_chain
+
+        chain = load_target_chain(env.spec.bake, "filament")
+        bake.chains["filament"] = chain
+    if chain is None and env.environment is not None:  # an image environment baked earlier without the chain
+        from ..ibl.bake import bake as bake_environment
+
+        o = bake.manifest["options"]
+        fresh = bake_environment(env.environment, size=o["size"], min_size=o["min_size"],
+                                 irradiance_size=o["irradiance_size"], lut_size=o["lut_size"], chains=("filament",))
+        chain = bake.chains["filament"] = fresh.chains["filament"]
+    if chain is None:
+        raise ValueError("engine 'filament' needs a bake with the filament chain (pbrkit bake --target filament)")
+    return chain.levels
 
 
 @lru_cache(maxsize=8)
@@ -167,6 +196,19 @@ def reflection_direction(nx, ny, nz, vx, vy, vz, t, bt, anisotropy, roughness):
         nz /= length
     nov = nx * vx + ny * vy + nz * vz
     return 2.0 * nov * nx - vx, 2.0 * nov * ny - vy, 2.0 * nov * nz - vz
+
+
+def specular_dominant_direction(n, r, roughness):
+    """Filament's lookup direction for the prefiltered chain, mix(R, n, alpha^2)
+    with alpha = r^2 (``getSpecularDominantDirection``, called with Filament's
+    ``pixel.roughness`` = alpha; after Lagarde & de Rousiers 2014, "Moving
+    Frostbite to PBR", sec. 4.9.3, whose fitted lerp it simplifies): rough lobes
+    are centred towards the normal.  ``n``, ``r`` (K, 3), ``roughness`` (K,)
+    perceptual; unnormalised, as the shader leaves it (a cube lookup needs no
+    unit vector)."""
+    a = np.asarray(roughness, dtype=np.float64) ** 2
+    w = (a * a)[:, None]
+    return np.asarray(r) * (1.0 - w) + np.asarray(n) * w
 
 
 @parallel_kernel
@@ -252,9 +294,12 @@ def _view_table_lookup(table, nov):
 @parallel_kernel
 def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
                 coat_prefiltered, coat_roughness, sheen_table, diffuse_table, exact_diffuse, energy_compensation,
-                out, ec_out):
+                engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
-    energy-compensation factor (for the punctual lights)."""
+    energy-compensation factor (for the punctual lights).  ``engine`` 1 is
+    Filament's evaluation (``evaluateIBL``): the diffuse colour weighted by
+    1 - E per channel, E = DFG1 + F0 (DFG2 - DFG1) the specular albedo, in place
+    of the model's own weighting."""
     for i in numba.prange(n.shape[0]):
         m = mat[i]
         b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
@@ -288,7 +333,8 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
             spec = prefiltered[i, c] * albedo * ec
             diff = 0.0
             if diffuse_on:
-                diff = b.diffuse_color[c] * diffuse_weight * irradiance[i, c]
+                w = (1.0 - albedo) * _INV_PI if engine == _ENGINE_FILAMENT else diffuse_weight
+                diff = b.diffuse_color[c] * w * irradiance[i, c]
             if b.model == MODEL_DISNEY:
                 spec += coat * coat_prefiltered[i, c]
                 diff += b.sheen[c] * sheen * irradiance[i, c]
@@ -296,14 +342,27 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
 
 
 def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", energy_compensation=False,
-                    shadows=True, bake_size=256, bake_options=None, diffuse_weight="fstar"):
+                    shadows=True, bake_size=256, bake_options=None, diffuse_weight="fstar", engine="pbrkit"):
     """Real-time shading of ``scene`` (module docstring).  ``diffuse``: ``sh`` (the
     bake's 9 SH coefficients) or ``cube`` (its irradiance cube); ``diffuse_weight``:
-    ``fstar`` (what engines do) or ``exact`` (:func:`diffuse_ibl_weight`).  Returns a
-    :class:`RenderResult`; ``stats['timings']`` has the stages in seconds."""
+    ``fstar`` (what engines do) or ``exact`` (:func:`diffuse_ibl_weight`).
+    ``engine`` (:data:`ENGINES`) ``filament`` evaluates the IBL as Filament's shaders
+    do with a ``--target filament`` bake: its chain (prefiltered at r_m = 1 - sqrt(1
+    - m/(M - 1)), read from ``filament/ibl.ktx`` for a bake folder) at lod = (M -
+    1) r (2 - r), looked up in the dominant direction
+    (:func:`specular_dominant_direction`), the diffuse weighted by 1 - E, and
+    Filament's energy compensation.  Returns a :class:`RenderResult`;
+    ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
-    from ..ibl.prefilter import level_of_roughness
+    from ..ibl.prefilter import filament_level_of_roughness, level_of_roughness
     from ..ibl.sh import irradiance_from_sh
+
+    if engine not in ENGINES:
+        raise ValueError(f"unknown engine {engine!r}; use one of {', '.join(ENGINES)}")
+    filament = engine == "filament"
+    if filament:
+        energy_compensation = True
+        bake_options = dict(bake_options or {}, chains=("filament",))
 
     if diffuse not in ("sh", "cube"):
         raise ValueError(f"unknown diffuse source {diffuse!r}; use 'sh' or 'cube'")
@@ -346,13 +405,19 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         coat_roughness = np.empty(count)
         _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
                            coat_roughness)
-        levels = len(bake.specular)
-        sampler = env.samplers.get(id(bake))
+        chain = _filament_chain(bake, env) if filament else bake.specular
+        levels = len(chain)
+        key = (id(bake), engine)
+        sampler = env.samplers.get(key)
         if sampler is None or sampler[0] is not bake:
-            sampler = (bake, CubeSampler([np.asarray(x) for x in bake.specular]))
-            env.samplers[id(bake)] = sampler
+            sampler = (bake, CubeSampler([np.asarray(x) for x in chain]))
+            env.samplers[key] = sampler
         sampler = sampler[1]
-        lod = np.asarray(level_of_roughness(s.roughness, levels), dtype=np.float64)
+        if filament:
+            lod = np.asarray(filament_level_of_roughness(s.roughness, levels), dtype=np.float64)
+            refl = specular_dominant_direction(s.n, refl, s.roughness)
+        else:
+            lod = np.asarray(level_of_roughness(s.roughness, levels), dtype=np.float64)
         prefiltered = sampler(env.to_env_frame(refl), lod) * env.intensity
         coat_prefiltered = np.zeros((count, 3))
         coated = np.flatnonzero(coat_roughness >= 0.0)
@@ -373,7 +438,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                     np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
                     sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
-                    bool(energy_compensation), out, ec)
+                    bool(energy_compensation), _ENGINE_FILAMENT if filament else 0, out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
         out += punctual_radiance(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
@@ -385,7 +450,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     stats = {"mode": "realtime", "timings": timings, "bake_levels": len(bake.specular),
              "bake_size": int(np.asarray(bake.specular[0]).shape[1]), "diffuse": diffuse,
              "energy_compensation": bool(energy_compensation), "shadows": bool(shadows),
-             "diffuse_weight": diffuse_weight,
+             "diffuse_weight": diffuse_weight, "engine": engine,
              "pixels": int(scene.camera.width * scene.camera.height)}
     return RenderResult(image, mask, None, stats)
 

@@ -107,7 +107,7 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
 
 def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
                  diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=None,
-                 split=True, progress=None):
+                 split=True, progress=None, engine="pbrkit"):
     """Render ``scene`` in ``mode`` and write ``out`` (.exr or .png); reference and
     compare modes also write ``<out stem>.stderr.exr``, committed together with
     ``out``.  Nothing is written unless rendering succeeds.  Returns a summary
@@ -119,8 +119,9 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     defaults thus compares like with like: the same BRDF, the same unoccluded
     environment, the same shadowed punctual lights, direct light only, so that
     its error measures the real-time approximations only (split sum, F*, SH;
-    with ``split`` each one's share, :func:`approximation_split`).  ``progress(stage)`` is called with each
-    stage's name as it starts."""
+    with ``split`` each one's share, :func:`approximation_split`).  ``engine``
+    (:data:`pbrkit.render.realtime.ENGINES`) picks whose IBL evaluation the real-time
+    image follows.  ``progress(stage)`` is called with each stage's name as it starts."""
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
     if tonemap_name not in TONEMAPS:
@@ -147,10 +148,10 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     rt = ref = None
     if mode in ("realtime", "compare"):
         stage("bake")
-        bake = env.bake(size=bake_size)
+        bake = env.bake(size=bake_size, **({"chains": ("filament",)} if engine == "filament" else {}))
         stage("realtime")
         rt = render_realtime(scene, geometry, env, bake=bake, diffuse=diffuse,
-                             energy_compensation=energy_compensation, bake_size=bake_size)
+                             energy_compensation=energy_compensation, bake_size=bake_size, engine=engine)
         summary["realtime"] = rt.stats
     if mode in ("reference", "compare"):
         stage("reference")
@@ -169,7 +170,7 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
         stage("compare")
         mask = rt.mask & ref.mask
         metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=flip)
-        if split:
+        if split and engine == "pbrkit":
             stage("split")
             metrics["split"] = approximation_split(scene, geometry, env, bake, rt.image, ref.image, ref.stderr,
                                                    mask, diffuse=diffuse, energy_compensation=energy_compensation)
