@@ -625,6 +625,9 @@ def test_choices_match_the_library():
     assert cli.MODES == tuple(MODES) and cli.TONEMAPS == tuple(TONEMAPS)
     assert cli.VISIBILITIES == tuple(VISIBILITIES) and cli.LOBES == tuple(furnace_lobes())
     assert cli.BAKE_FORMATS == tuple(SPECULAR_FORMATS) and cli.BAKE_METHODS == tuple(METHODS)
+    from pbrkit.render.realtime import ENGINES
+
+    assert cli.RENDER_ENGINES == tuple(ENGINES)
 
 
 def test_help_imports_neither_numba_nor_the_renderer():

@@ -67,7 +67,7 @@ from ..brdf.bxdf import (
     tangent_frame,
 )
 from ..brdf.diffuse import kd_ibl
-from ..brdf.fresnel import f0_conductor, f_schlick
+from ..brdf.fresnel import f0_conductor, f_schlick, f_schlick_roughness
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, parallel_kernel
 from ..core.quadrature import gauss_legendre_01
@@ -87,6 +87,8 @@ __all__ = [
     "DIFFUSE_WEIGHTS",
     "ENGINES",
     "specular_dominant_direction",
+    "multiple_scattering_fdez_aguera",
+    "three_roughness",
     "APPROXIMATIONS",
 ]
 
@@ -94,10 +96,15 @@ __all__ = [
 DIFFUSE_WEIGHTS = ("fstar", "exact")
 
 #: Whose image-based lighting the real-time path evaluates (:func:`render_realtime`):
-#: ``pbrkit`` (the module docstring) or ``filament`` (what Filament's shaders do with
-#: its bake, ``--target filament``).
-ENGINES = ("pbrkit", "filament")
+#: ``pbrkit`` (the module docstring), or what an engine's shaders do with its bake
+#: (``pbrkit bake --target``): ``filament`` (1.53), ``khronos`` (the glTF Sample
+#: Viewer 1.1), ``three`` (three.js r187 MeshStandardMaterial).
+ENGINES = ("pbrkit", "filament", "khronos", "three")
 _ENGINE_FILAMENT = 1
+_ENGINE_KHRONOS = 2
+_ENGINE_THREE = 3
+#: three.js's smallest perceptual roughness (``lights_physical_fragment``).
+_THREE_MIN_ROUGHNESS = 0.045
 
 #: The approximations of the real-time path, in the order ``compare`` swaps them for
 #: exact computations (:func:`pbrkit.render.run.approximation_split`).
@@ -113,14 +120,15 @@ _INV_PI = 1.0 / math.pi
 # ================================================================ real time
 
 
-def _filament_chain(bake, env):
+def _filament_chain(bake, env, engine):
     """The chain at Filament's levels: the in-memory bake's, or for a bake folder
-    the texels of its ``filament/ibl.ktx`` (:func:`pbrkit.io.bake_files.load_target_chain`)."""
+    the texels of the engine's target (``filament/ibl.ktx``, ``three/specular.ktx2``;
+    :func:`pbrkit.io.bake_files.load_target_chain`)."""
     chain = getattr(bake, "chains", {}).get("filament")
     if chain is None and env.spec.bake is not None:
         from ..io.bake_files import load_target_chain
 
-        chain = load_target_chain(env.spec.bake, "filament")
+        chain = load_target_chain(env.spec.bake, engine)
         bake.chains["filament"] = chain
     if chain is None and env.environment is not None:  # an image environment baked earlier without the chain
         from ..ibl.bake import bake as bake_environment
@@ -130,7 +138,7 @@ def _filament_chain(bake, env):
                                  irradiance_size=o["irradiance_size"], lut_size=o["lut_size"], chains=("filament",))
         chain = bake.chains["filament"] = fresh.chains["filament"]
     if chain is None:
-        raise ValueError("engine 'filament' needs a bake with the filament chain (pbrkit bake --target filament)")
+        raise ValueError(f"engine {engine!r} needs a bake with its chain (pbrkit bake --target {engine})")
     return chain.levels
 
 
@@ -196,6 +204,49 @@ def reflection_direction(nx, ny, nz, vx, vy, vz, t, bt, anisotropy, roughness):
         nz /= length
     nov = nx * vx + ny * vy + nz * vz
     return 2.0 * nov * nx - vx, 2.0 * nov * ny - vy, 2.0 * nov * nz - vz
+
+
+@dual_use
+def multiple_scattering_fdez_aguera(f0, a, b):
+    """Single- and multiple-scattering specular albedo of a split-sum lobe (Fdez-Agüera,
+    "A Multiple-Scattering Microfacet Model for Real-Time Image-based Lighting",
+    JCGT 8(1), 2019, sec. 3-4): with Karis' table (A, B) (E_ss = A + B for F = 1),
+    FssEss = f0 A + B (``f0`` may be a roughness-dependent Fresnel), E_ms = 1 - E_ss,
+    F_avg = f0 + (1 - f0) / 21 (the cosine-weighted mean of Schlick's F) and
+    FmsEms = E_ms FssEss F_avg / (1 - F_avg E_ms).  Returns (FssEss, FmsEms).  What
+    the Khronos glTF Sample Viewer (``getIBLGGXFresnel``) and three.js
+    (``computeMultiscattering``) use for IBL; roughness enters only through A, B."""
+    fss_ess = f0 * a + b
+    e_ms = 1.0 - (a + b)
+    f_avg = f0 + (1.0 - f0) / 21.0
+    return fss_ess, e_ms * fss_ess * f_avg / (1.0 - f_avg * e_ms)
+
+
+def three_roughness(camera, rows, normals, roughness):
+    """The perceptual roughness three.js r187 shades with (``lights_physical_fragment``):
+    max(r, 0.045) plus its ``geometryRoughness``, the largest component of
+    max(|dFdx n|, |dFdy n|) of the view-space normal, capped at 1.  The screen-space
+    derivatives are taken as a GPU's coarse ones, one difference per pixel pair
+    along each axis (rows and columns paired from the image's top; each sub-pixel
+    position of a supersampled camera as its own image); a neighbour that misses
+    the scene counts as no change.  ``rows``: the hit rays' indices, ``normals``
+    their world normals (K, 3), ``roughness`` (K,)."""
+    h, w, k2 = camera.height, camera.width, camera.supersample ** 2
+    right, up, forward = camera.basis()
+    view = np.stack([normals @ right, normals @ up, -(normals @ forward)], axis=-1)
+    grid = np.full((h * w * k2, 3), np.nan)
+    grid[rows] = view
+    grid = grid.reshape(h, w, k2, 3)
+    dx = np.zeros_like(grid)
+    dy = np.zeros_like(grid)
+    pairs = 2 * (w // 2)
+    dx[:, 0:pairs:2] = grid[:, 1:pairs:2] - grid[:, 0:pairs:2]
+    dx[:, 1:pairs:2] = dx[:, 0:pairs:2]
+    pairs = 2 * (h // 2)
+    dy[0:pairs:2] = grid[1:pairs:2] - grid[0:pairs:2]
+    dy[1:pairs:2] = dy[0:pairs:2]
+    g = np.nan_to_num(np.maximum(np.abs(dx), np.abs(dy)), nan=0.0).max(axis=-1).reshape(-1)[rows]
+    return np.minimum(np.maximum(np.asarray(roughness, dtype=np.float64), _THREE_MIN_ROUGHNESS) + g, 1.0)
 
 
 def specular_dominant_direction(n, r, roughness):
@@ -291,15 +342,49 @@ def _view_table_lookup(table, nov):
     return table[i0] * (1.0 - f) + table[i1] * f
 
 
+@dual_use
+def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
+    """One channel of the IBL of a metallic-roughness material as an engine's shader
+    evaluates it, from the prefiltered ``radiance`` (its chain, its lod), the
+    ``irradiance`` E it uses and Karis' (A, B) = (``a``, ``b``) of the DFG table:
+
+    - Khronos glTF Sample Viewer 1.1 (``getIBLGGXFresnel`` and the pbr shader's
+      mixes; KhronosGroup/glTF-Sample-Renderer): W(f0) = FssEss + FmsEms of
+      :func:`multiple_scattering_fdez_aguera` with the roughness-dependent Fresnel
+      F*(n.v, f0, r) (:func:`pbrkit.brdf.fresnel.f_schlick_roughness`) in place of
+      f0; dielectric = base E / pi (1 - W(0.04)) + radiance W(0.04), metal =
+      radiance W(base), mixed by metallic;
+    - three.js r187 ``RE_IndirectSpecular_Physical``: single and multiple
+      scattering (the same model, f0 = 0.04 and base, f90 = 1) mixed by metallic,
+      the multiple-scattering part lit by the irradiance (E / pi), not the
+      radiance, and the diffuse base (1 - metallic) (1 - FssEss - FmsEms of the
+      dielectric) E / pi."""
+    if engine == _ENGINE_KHRONOS:
+        fd = f_schlick_roughness(nov, GLTF_DIELECTRIC_F0, r)
+        ss_d, ms_d = multiple_scattering_fdez_aguera(fd, a, b)
+        fm = f_schlick_roughness(nov, base, r)
+        ss_m, ms_m = multiple_scattering_fdez_aguera(fm, a, b)
+        w_d = ss_d + ms_d
+        dielectric = base * irradiance * _INV_PI * (1.0 - w_d) + radiance * w_d
+        return dielectric * (1.0 - metallic) + radiance * (ss_m + ms_m) * metallic
+    ss_d, ms_d = multiple_scattering_fdez_aguera(GLTF_DIELECTRIC_F0, a, b)
+    ss_m, ms_m = multiple_scattering_fdez_aguera(base, a, b)
+    single = ss_d + (ss_m - ss_d) * metallic
+    multi = ms_d + (ms_m - ms_d) * metallic
+    diffuse = base * (1.0 - metallic) * (1.0 - (ss_d + ms_d))
+    return radiance * single + (multi + diffuse) * irradiance * _INV_PI
+
+
 @parallel_kernel
 def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
                 coat_prefiltered, coat_roughness, sheen_table, diffuse_table, exact_diffuse, energy_compensation,
                 engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
-    energy-compensation factor (for the punctual lights).  ``engine`` 1 is
-    Filament's evaluation (``evaluateIBL``): the diffuse colour weighted by
-    1 - E per channel, E = DFG1 + F0 (DFG2 - DFG1) the specular albedo, in place
-    of the model's own weighting."""
+    energy-compensation factor (for the punctual lights).  ``engine`` (:data:`ENGINES`
+    index) 1 is Filament's evaluation (``evaluateIBL``): the diffuse colour weighted
+    by 1 - E per channel, E = DFG1 + F0 (DFG2 - DFG1) the specular albedo, in place of
+    the model's own weighting; 2 and 3 are the metallic-roughness evaluations of
+    the Sample Viewer and three.js (:func:`_engine_ibl`)."""
     for i in numba.prange(n.shape[0]):
         m = mat[i]
         b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
@@ -309,6 +394,12 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
+        if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE:
+            for c in range(3):
+                out[i, c] = _engine_ibl(engine, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1, prefiltered[i, c],
+                                        irradiance[i, c]) * occlusion[i]
+                ec_out[i, c] = 1.0
+            continue
         diffuse_on = not ((b.model == MODEL_COOK_TORRANCE or b.model == MODEL_FILAMENT) and b.diffuse == DIFF_NONE)
         diffuse_weight = diffuse_ibl_weight(b, nov, exact_diffuse, diffuse_table) * _INV_PI
         constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE
@@ -346,12 +437,18 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     """Real-time shading of ``scene`` (module docstring).  ``diffuse``: ``sh`` (the
     bake's 9 SH coefficients) or ``cube`` (its irradiance cube); ``diffuse_weight``:
     ``fstar`` (what engines do) or ``exact`` (:func:`diffuse_ibl_weight`).
-    ``engine`` (:data:`ENGINES`) ``filament`` evaluates the IBL as Filament's shaders
-    do with a ``--target filament`` bake: its chain (prefiltered at r_m = 1 - sqrt(1
-    - m/(M - 1)), read from ``filament/ibl.ktx`` for a bake folder) at lod = (M -
-    1) r (2 - r), looked up in the dominant direction
-    (:func:`specular_dominant_direction`), the diffuse weighted by 1 - E, and
-    Filament's energy compensation.  Returns a :class:`RenderResult`;
+    ``engine`` (:data:`ENGINES`) evaluates the IBL as that engine's shaders do with
+    its ``pbrkit bake --target`` files: ``filament``: its chain (prefiltered at r_m =
+    1 - sqrt(1 - m/(M - 1)), read from ``filament/ibl.ktx`` for a bake folder) at
+    lod = (M - 1) r (2 - r), looked up in the dominant direction
+    (:func:`specular_dominant_direction`), SH diffuse weighted by 1 - E, Filament's
+    energy compensation; ``khronos``: the generic chain at lod = r (M - 1), the
+    irradiance cube, :func:`_engine_ibl`'s Sample Viewer terms; ``three``: the same
+    chain as Filament's (``three/specular.ktx2``), roughness at least 0.045, the
+    same lookup direction, pi x the last level as irradiance, :func:`_engine_ibl`'s
+    three.js terms, its roughness from screen-space normal derivatives
+    (:func:`three_roughness`; three.js's own 16 x 16 DFG table is not reproduced:
+    pbrkit's converged one is used).  Returns a :class:`RenderResult`;
     ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
     from ..ibl.prefilter import filament_level_of_roughness, level_of_roughness
@@ -359,9 +456,14 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
 
     if engine not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}; use one of {', '.join(ENGINES)}")
-    filament = engine == "filament"
-    if filament:
+    filament_chain = engine in ("filament", "three")  # three.js r187 uses Filament's level curve
+    if engine == "filament":
         energy_compensation = True
+    elif engine != "pbrkit":
+        energy_compensation = False  # the engines' own multiple-scattering terms (_engine_ibl)
+    if engine == "khronos":
+        diffuse = "cube"  # the viewer's Lambertian cube
+    if filament_chain:
         bake_options = dict(bake_options or {}, chains=("filament",))
 
     if diffuse not in ("sh", "cube"):
@@ -405,7 +507,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         coat_roughness = np.empty(count)
         _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
                            coat_roughness)
-        chain = _filament_chain(bake, env) if filament else bake.specular
+        chain = _filament_chain(bake, env, engine) if filament_chain else bake.specular
         levels = len(chain)
         key = (id(bake), engine)
         sampler = env.samplers.get(key)
@@ -413,7 +515,12 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             sampler = (bake, CubeSampler([np.asarray(x) for x in chain]))
             env.samplers[key] = sampler
         sampler = sampler[1]
-        if filament:
+        rough_rows = s.roughness
+        if engine == "three":  # its roughness floor and screen-space term, then r^4 towards the normal
+            rough_rows = three_roughness(scene.camera, prim.rows, s.n, s.roughness)
+            lod = np.asarray(filament_level_of_roughness(rough_rows, levels), dtype=np.float64)
+            refl = specular_dominant_direction(s.n, refl, rough_rows)
+        elif filament_chain:
             lod = np.asarray(filament_level_of_roughness(s.roughness, levels), dtype=np.float64)
             refl = specular_dominant_direction(s.n, refl, s.roughness)
         else:
@@ -426,7 +533,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             coat_dir = 2.0 * nov * s.n[coated] - v[coated]
             coat_prefiltered[coated] = sampler(env.to_env_frame(coat_dir),
                                                level_of_roughness(coat_roughness[coated], levels)) * env.intensity
-        if diffuse == "sh":
+        if engine == "three":  # getIBLIrradiance: pi x the last (r = 1) level in the normal's direction
+            irradiance = math.pi * sampler(env.to_env_frame(s.n), np.full(count, levels - 1.0)) * env.intensity
+        elif diffuse == "sh":
             irradiance = irradiance_from_sh(np.asarray(bake.sh), env.to_env_frame(s.n)) * env.intensity
         else:
             irradiance = CubeSampler(np.asarray(bake.irradiance))(env.to_env_frame(s.n)) * env.intensity
@@ -434,11 +543,11 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         timings["ibl_lookups"] = t4 - t3
         out = np.empty((count, 3))
         ec = np.empty((count, 3))
-        _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
+        _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                     np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
                     sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
-                    bool(energy_compensation), _ENGINE_FILAMENT if filament else 0, out, ec)
+                    bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
         out += punctual_radiance(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
