@@ -25,6 +25,11 @@ Sections:
    :func:`pbrkit.ibl.irradiance.irradiance_reference`.
 6. Filament's cmgen (``cmgen --deploy --size N``), when installed (Debian:
    ``apt-get install libfilament-tools``; not on PyPI).
+7. Engine targets (issue 10): a size-256 bake + write with ``--target all``
+   against the generic bake + write, interleaved in this process (best of
+   ``--repeat`` each; goal: at most 1.2x), with the time of each extra stage;
+   and the accuracy of the Filament / Babylon chains (prefiltered at those
+   engines' roughness levels) against brute force, as in section 5.
 """
 
 from __future__ import annotations
@@ -218,6 +223,49 @@ def cmgen(env):
         print(f"cmgen --deploy --size {size} (Filament, {exe}): {wall:.2f} s{status}")
 
 
+def targets(env, repeat, samples=300):
+    from pbrkit.ibl.bake import bake
+    from pbrkit.ibl.cubemap import cube_texel_directions
+    from pbrkit.ibl.prefilter import prefilter_reference
+    from pbrkit.io.bake_files import chains_for, write_bake
+
+    print("== 7. engine targets: size-256 bake + write, --target all vs generic (interleaved; goal <= 1.2x) ==")
+    chains = chains_for(["all"])
+    best = {"generic": None, "all": None}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bake(env, size=32, min_size=4, irradiance_size=4, lut_size=4, chains=chains)  # compile every kernel
+        for _ in range(repeat):
+            for name, kwargs, tg in (("generic", {}, ["generic"]), ("all", {"chains": chains}, ["all"])):
+                with tempfile.TemporaryDirectory() as tmp:
+                    t0 = time.perf_counter()
+                    b = bake(env, size=256, **kwargs)
+                    t1 = time.perf_counter()
+                    write_bake(b, Path(tmp) / "out", targets=tg)
+                    t2 = time.perf_counter()
+                if best[name] is None or t2 - t0 < sum(best[name][:2]):
+                    best[name] = (t1 - t0, t2 - t1, b)
+    g, a = best["generic"], best["all"]
+    print(f"generic: bake {g[0]:.3f} + write {g[1]:.3f} = {g[0] + g[1]:.3f} s; --target all: bake {a[0]:.3f} + "
+          f"write {a[1]:.3f} = {a[0] + a[1]:.3f} s; ratio {(a[0] + a[1]) / (g[0] + g[1]):.2f}x")
+    print("  extra stages (s): " + ", ".join(f"{k} {v:.3f}" for k, v in a[2].timings.items() if k.startswith(
+        "specular ") and "=" not in k))
+    b = a[2]
+    cube = b.specular[0].astype(np.float64)
+    rng = np.random.default_rng(0)
+    for curve, chain in b.chains.items():
+        rows = []
+        for m in range(1, len(chain.levels)):
+            n = chain.levels[m].shape[1]
+            idx = rng.choice(6 * n * n, min(samples, 6 * n * n), replace=False)
+            ref = prefilter_reference(cube, cube_texel_directions(n).reshape(-1, 3)[idx], chain.roughness[m])
+            got = chain.levels[m].reshape(-1, 3)[idx]
+            route = "FIS+SH" if "importance" in chain.info[m - 1]["method"] else "SH"
+            err = float(np.sqrt(np.sum((got - ref) ** 2) / np.sum(ref ** 2)))
+            rows.append(f"m{m} r={chain.roughness[m]:.3f} {route} {err:.1e}")
+        print(f"  {curve} chain vs brute force: " + ", ".join(rows))
+
+
 def main():
     if len(sys.argv) == 5 and sys.argv[1] == "--child":
         child(sys.argv[2], int(sys.argv[3]), sys.argv[4])
@@ -225,7 +273,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--env", type=Path, default=DATA / "rooitou_park_1k.hdr")
     parser.add_argument("--repeat", type=int, default=3)
-    for name in ("accuracy", "memory", "8k", "cold", "cmgen"):
+    for name in ("accuracy", "memory", "8k", "cold", "cmgen", "targets"):
         parser.add_argument(f"--skip-{name}", action="store_true")
     args = parser.parse_args()
     if not args.env.is_file():
@@ -242,6 +290,8 @@ def main():
         accuracy()
     if not args.skip_cmgen:
         cmgen(args.env)
+    if not args.skip_targets:
+        targets(args.env, args.repeat)
 
 
 if __name__ == "__main__":
