@@ -31,7 +31,7 @@ def _scene(tmp_path, metallic, base, roughness, color=(1.0, 1.0, 1.0), size=16):
     return load_scene(path)
 
 
-@pytest.mark.parametrize("engine", ["filament", "khronos", "three"])
+@pytest.mark.parametrize("engine", ["filament", "khronos", "three", "babylon"])
 @pytest.mark.parametrize("roughness", [0.2, 0.6, 1.0])
 def test_a_white_metal_in_a_white_furnace_reflects_everything(tmp_path, engine, roughness):
     """Each engine compensates the energy single scattering loses (Filament: 1 + f0

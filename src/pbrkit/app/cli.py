@@ -39,7 +39,7 @@ except ImportError:  # pragma: no cover - a typer built on click itself
 MODES = ("realtime", "reference", "compare")                        # pbrkit.render.run.MODES
 TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")   # pbrkit.core.color.TONEMAPS
 DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.render.realtime
-RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three")         # pbrkit.render.realtime.ENGINES
+RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")  # pbrkit.render.realtime.ENGINES
 LUT_KINDS = ("splitsum", "dfg")                                     # pbrkit.albedo.tables.lookup_table
 VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")    # pbrkit.albedo.tables.VISIBILITIES
 KTX2_FORMATS = ("float16", "float32")                               # pbrkit.io.lut_files.write_lut

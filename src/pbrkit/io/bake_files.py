@@ -263,7 +263,7 @@ def load_target_chain(out_dir, target):
     engine reads it: a :class:`pbrkit.ibl.bake.Chain` with the texels of the
     target's file (``filament``: ``filament/ibl.ktx``, R11F_G11F_B10F; ``three``:
     ``three/specular.ktx2`` mirrored back to pbrkit's frame; both hold the chain
-    at Filament's levels) and the
+    at Filament's levels; ``babylon``: ``babylon/specular.dds`` mirrored back) and the
     roughness of every level from the manifest.  For rendering as the engine
     does (:func:`pbrkit.render.realtime.render_realtime` ``engine``).  Missing or
     inconsistent files raise :class:`~pbrkit.core.errors.InputError`."""
@@ -277,21 +277,27 @@ def load_target_chain(out_dir, target):
         manifest = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError(f"cannot read the manifest ({exc})", path) from None
-    if target not in ("filament", "three"):
-        raise ValueError(f"no chain reader for target {target!r} (filament, three)")
+    if target not in ("filament", "three", "babylon"):
+        raise ValueError(f"no chain reader for target {target!r} (filament, three, babylon)")
     roughness = _entry(manifest, path, f"targets.{target}.conventions.roughness",
                        lambda r: np.asarray(r, dtype=np.float64).ndim == 1 and len(r) >= 2,
                        f"a list of roughness values (bake with --target {target})")
     if target == "filament":
         file = root / "filament" / "ibl.ktx"
         levels = read_ktx1(file)[1]
-    else:  # stored mirrored in x for three.js: back to pbrkit's frame
+    elif target == "three":  # stored mirrored in x for three.js: back to pbrkit's frame
         from ..ibl.cubemap import mirror_cube
         from .ktx2 import read_ktx2
 
         file = root / "three" / "specular.ktx2"
         levels = [mirror_cube(level, "x") for level in read_ktx2(file)[1]]
+    else:  # stored mirrored in z for Babylon.js
+        from ..ibl.cubemap import mirror_cube
+        from .dds import read_dds
+
+        file = root / "babylon" / "specular.dds"
+        levels = [mirror_cube(level, "z") for level in read_dds(file)[1]]
     if len(levels) != len(roughness):
         raise InputError(f"has {len(levels)} levels, the manifest's roughness lists {len(roughness)}", file)
-    return Chain("filament", [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
+    return Chain("babylon" if target == "babylon" else "filament", [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
                  np.asarray(roughness, dtype=np.float64), [])

@@ -98,11 +98,15 @@ DIFFUSE_WEIGHTS = ("fstar", "exact")
 #: Whose image-based lighting the real-time path evaluates (:func:`render_realtime`):
 #: ``pbrkit`` (the module docstring), or what an engine's shaders do with its bake
 #: (``pbrkit bake --target``): ``filament`` (1.53), ``khronos`` (the glTF Sample
-#: Viewer 1.1), ``three`` (three.js r187 MeshStandardMaterial).
-ENGINES = ("pbrkit", "filament", "khronos", "three")
+#: Viewer 1.1), ``three`` (three.js r187 MeshStandardMaterial), ``babylon``
+#: (Babylon.js 9.35 PBRMaterial with its defaults).
+ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")
 _ENGINE_FILAMENT = 1
 _ENGINE_KHRONOS = 2
 _ENGINE_THREE = 3
+_ENGINE_BABYLON = 4
+#: Babylon.js's ``MINIMUMVARIANCE``: alpha_G = r^2 + this in its shaders.
+_BABYLON_MINIMUM_VARIANCE = 0.0005
 #: three.js's smallest perceptual roughness (``lights_physical_fragment``).
 _THREE_MIN_ROUGHNESS = 0.045
 
@@ -120,23 +124,24 @@ _INV_PI = 1.0 / math.pi
 # ================================================================ real time
 
 
-def _filament_chain(bake, env, engine):
-    """The chain at Filament's levels: the in-memory bake's, or for a bake folder
-    the texels of the engine's target (``filament/ibl.ktx``, ``three/specular.ktx2``;
-    :func:`pbrkit.io.bake_files.load_target_chain`)."""
-    chain = getattr(bake, "chains", {}).get("filament")
+def _engine_chain(bake, env, engine):
+    """The chain an engine samples (Filament's levels for filament and three, Babylon's
+    for babylon): the in-memory bake's, or for a bake folder the texels of the
+    engine's target files (:func:`pbrkit.io.bake_files.load_target_chain`)."""
+    curve = "babylon" if engine == "babylon" else "filament"
+    chain = getattr(bake, "chains", {}).get(curve)
     if chain is None and env.spec.bake is not None:
         from ..io.bake_files import load_target_chain
 
         chain = load_target_chain(env.spec.bake, engine)
-        bake.chains["filament"] = chain
+        bake.chains[curve] = chain
     if chain is None and env.environment is not None:  # an image environment baked earlier without the chain
         from ..ibl.bake import bake as bake_environment
 
         o = bake.manifest["options"]
         fresh = bake_environment(env.environment, size=o["size"], min_size=o["min_size"],
-                                 irradiance_size=o["irradiance_size"], lut_size=o["lut_size"], chains=("filament",))
-        chain = bake.chains["filament"] = fresh.chains["filament"]
+                                 irradiance_size=o["irradiance_size"], lut_size=o["lut_size"], chains=(curve,))
+        chain = bake.chains[curve] = fresh.chains[curve]
     if chain is None:
         raise ValueError(f"engine {engine!r} needs a bake with its chain (pbrkit bake --target {engine})")
     return chain.levels
@@ -358,7 +363,20 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
       scattering (the same model, f0 = 0.04 and base, f90 = 1) mixed by metallic,
       the multiple-scattering part lit by the irradiance (E / pi), not the
       radiance, and the diffuse base (1 - metallic) (1 - FssEss - FmsEms of the
-      dielectric) E / pi."""
+      dielectric) E / pi;
+    - Babylon.js 9.35 PBRMaterial with its defaults (``pbrBlockReflection``,
+      ``pbrBlockReflectivity``, ``pbrBlockFinalColorComposition``): the radiance
+      mixed towards the Lambertian radiance E / pi by alpha_G = r^2 + 0.0005
+      (``MIX_IBL_RADIANCE_WITH_IRRADIANCE``), times F0 A + B and its energy
+      conservation 1 + F0 (1 / (A + B) - 1) (Filament's), f0 = mix(0.04, base,
+      metallic), and the legacy diffuse base (1 - 0.04) (1 - metallic) E / pi."""
+    if engine == _ENGINE_BABYLON:
+        f0 = GLTF_DIELECTRIC_F0 + (base - GLTF_DIELECTRIC_F0) * metallic
+        alpha_g = r * r + _BABYLON_MINIMUM_VARIANCE
+        mixed = radiance + (irradiance * _INV_PI - radiance) * alpha_g
+        ec = 1.0 + f0 * (1.0 / max(a + b, 1e-6) - 1.0)
+        diffuse = base * (1.0 - GLTF_DIELECTRIC_F0) * (1.0 - metallic)
+        return mixed * (f0 * a + b) * ec + diffuse * irradiance * _INV_PI
     if engine == _ENGINE_KHRONOS:
         fd = f_schlick_roughness(nov, GLTF_DIELECTRIC_F0, r)
         ss_d, ms_d = multiple_scattering_fdez_aguera(fd, a, b)
@@ -394,7 +412,7 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
-        if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE:
+        if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE or engine == _ENGINE_BABYLON:
             for c in range(3):
                 out[i, c] = _engine_ibl(engine, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1, prefiltered[i, c],
                                         irradiance[i, c]) * occlusion[i]
@@ -448,15 +466,22 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     same lookup direction, pi x the last level as irradiance, :func:`_engine_ibl`'s
     three.js terms, its roughness from screen-space normal derivatives
     (:func:`three_roughness`; three.js's own 16 x 16 DFG table is not reproduced:
-    pbrkit's converged one is used).  Returns a :class:`RenderResult`;
+    pbrkit's converged one is used); ``babylon``: its chain (alpha_m = 2^(m/0.8) /
+    N, ``babylon/specular.dds`` for a bake folder) at lod = 0.8 log2(N (r^2 +
+    0.0005)), SH, :func:`_engine_ibl`'s Babylon.js terms.  The engine modes shade
+    metallic-roughness materials (base colour, metallic, roughness) as the engine
+    does, whatever the material's model.  Returns a :class:`RenderResult`;
     ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
-    from ..ibl.prefilter import filament_level_of_roughness, level_of_roughness
+    from ..ibl.prefilter import babylon_level_of_roughness, filament_level_of_roughness, level_of_roughness
     from ..ibl.sh import irradiance_from_sh
 
     if engine not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}; use one of {', '.join(ENGINES)}")
     filament_chain = engine in ("filament", "three")  # three.js r187 uses Filament's level curve
+    if engine == "babylon":
+        diffuse = "sh"  # its spherical polynomial
+        bake_options = dict(bake_options or {}, chains=("babylon",))
     if engine == "filament":
         energy_compensation = True
     elif engine != "pbrkit":
@@ -507,7 +532,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         coat_roughness = np.empty(count)
         _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
                            coat_roughness)
-        chain = _filament_chain(bake, env, engine) if filament_chain else bake.specular
+        chain = _engine_chain(bake, env, engine) if engine in ("filament", "three", "babylon") else bake.specular
         levels = len(chain)
         key = (id(bake), engine)
         sampler = env.samplers.get(key)
@@ -523,6 +548,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         elif filament_chain:
             lod = np.asarray(filament_level_of_roughness(s.roughness, levels), dtype=np.float64)
             refl = specular_dominant_direction(s.n, refl, s.roughness)
+        elif engine == "babylon":
+            lod = np.asarray(babylon_level_of_roughness(s.roughness, int(np.asarray(chain[0]).shape[1])),
+                             dtype=np.float64)
         else:
             lod = np.asarray(level_of_roughness(s.roughness, levels), dtype=np.float64)
         prefiltered = sampler(env.to_env_frame(refl), lod) * env.intensity

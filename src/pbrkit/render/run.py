@@ -148,7 +148,8 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     rt = ref = None
     if mode in ("realtime", "compare"):
         stage("bake")
-        bake = env.bake(size=bake_size, **({"chains": ("filament",)} if engine in ("filament", "three") else {}))
+        chains = {"filament": ("filament",), "three": ("filament",), "babylon": ("babylon",)}.get(engine, ())
+        bake = env.bake(size=bake_size, **({"chains": chains} if chains else {}))
         stage("realtime")
         rt = render_realtime(scene, geometry, env, bake=bake, diffuse=diffuse,
                              energy_compensation=energy_compensation, bake_size=bake_size, engine=engine)
