@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.albedo.furnace import agreement, albedo_monte_carlo, albedo_quadrature, furnace_lobes, view_direction
+from pbrkit.albedo.furnace import (
+    agreement,
+    albedo_monte_carlo,
+    albedo_quadrature,
+    furnace_lobes,
+    view_direction,
+)
 from pbrkit.albedo.tables import texel_centres
 from pbrkit.app.cli import app
 
@@ -93,7 +99,12 @@ def _plain_vndf_estimate(brdf, mu, roughness, n, seed, pdf_scale=1.0, horizon=Tr
     # The unstratified estimator (the old one), optionally with a wrong pdf or no horizon test:
     # estimators the agreement check must catch.
     from pbrkit.brdf.distributions import alpha_from_roughness
-    from pbrkit.sampling.warps import pdf_ggx_vndf, pdf_light_from_half, reflect, sample_ggx_vndf
+    from pbrkit.sampling.warps import (
+        pdf_ggx_vndf,
+        pdf_light_from_half,
+        reflect,
+        sample_ggx_vndf,
+    )
 
     rng = np.random.default_rng(seed)
     mu, roughness = np.asarray(mu), np.asarray(roughness)

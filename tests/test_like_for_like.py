@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from quadrature import hemisphere_rule
 from reference_brdf import d_ggx, fresnel_schlick
+from test_render import pixel_geometry, sphere_scene
 from typer.testing import CliRunner
 
 from pbrkit import Material
@@ -22,7 +23,6 @@ from pbrkit.render.realtime import fresnel_mix_albedo_table, render_realtime
 from pbrkit.render.reference import render_reference
 from pbrkit.render.run import approximation_split, render_scene
 from pbrkit.render.scene import EnvironmentSpec, MaterialSpec, builtin_scene
-from test_render import pixel_geometry, sphere_scene
 
 
 def _appendix_b(l, v, n, base, metallic, roughness):

@@ -15,9 +15,9 @@ chosen from the data (:func:`error_scale`, :func:`nice_ceiling`).
 
 from __future__ import annotations
 
-import numpy as np
-
 import io
+
+import numpy as np
 
 from ..core.atomic import write_bytes
 

@@ -473,7 +473,11 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     does, whatever the material's model.  Returns a :class:`RenderResult`;
     ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
-    from ..ibl.prefilter import babylon_level_of_roughness, filament_level_of_roughness, level_of_roughness
+    from ..ibl.prefilter import (
+        babylon_level_of_roughness,
+        filament_level_of_roughness,
+        level_of_roughness,
+    )
     from ..ibl.sh import irradiance_from_sh
 
     if engine not in ENGINES:
