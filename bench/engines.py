@@ -7,7 +7,7 @@ For each engine this runs the render test's own steps (tests/test_engine_render_
 ``pbrkit bake --target <engine>`` of the bundled environment, the engine's page in
 headless Chromium through tests/engines/harness.mjs, ``pbrkit render --engine
 <engine>``) and writes ``DIR/<engine>_engine.png``, ``DIR/<engine>_pbrkit.png``,
-``DIR/<engine>_difference.png`` (|difference| x 8) and ``DIR/index.html``, a page
+``DIR/<engine>_difference.png`` (|difference| x 8 where both cover an object) and ``DIR/index.html``, a page
 that opens without a server, with the mean absolute difference in 8-bit grey
 levels over the pixels both images cover.  Needs node, Chromium and the pinned
 engines (``npm ci --prefix tests/engines``).
@@ -71,6 +71,7 @@ def main():
         mask = covered(engine, ours)
         grey = np.abs(engine.astype(float).mean(-1) - ours.astype(float).mean(-1))[mask]
         diff = np.clip(np.abs(engine.astype(int) - ours.astype(int)) * 8, 0, 255).astype(np.uint8)
+        diff[~mask] = 0  # only where both show the objects (the engines' pages draw no background)
         for suffix, image in (("engine", engine), ("pbrkit", ours), ("difference", diff)):
             write_png(args.out / f"{name}_{suffix}.png", image / 255.0, srgb=False)
         rows.append((name, float(grey.mean()), float(np.percentile(grey, 95)), time.perf_counter() - t0))
