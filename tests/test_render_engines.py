@@ -93,3 +93,23 @@ def test_unknown_engine_is_refused(tmp_path):
     with pytest.raises(ValueError, match="unknown engine 'unity'"):
         render_realtime(_scene(tmp_path, 0.0, (0.5, 0.5, 0.5), 0.5), bake_size=16, engine="unity")
     assert ENGINES[0] == "pbrkit"
+
+
+def test_engine_mode_on_a_bake_without_its_target_is_refused_cleanly(tmp_path):
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+    from pbrkit.io.pfm import write_pfm
+
+    write_pfm(tmp_path / "sky.pfm", np.full((16, 32, 3), 0.5, np.float32))
+    bake_dir = tmp_path / "bake"
+    runner = CliRunner()
+    result = runner.invoke(app, ["bake", str(tmp_path / "sky.pfm"), "-o", str(bake_dir), "--size", "16",
+                                 "--min-size", "4", "--irradiance-size", "4", "--lut-size", "8", "-q"])
+    assert result.exit_code == 0, result.output
+    for engine in ("filament", "three", "babylon"):
+        out = tmp_path / f"{engine}.png"
+        result = runner.invoke(app, ["render", "sphere", "-o", str(out), "--env", str(bake_dir), "--engine", engine,
+                                     "--width", "8", "--height", "8", "-q"])
+        assert result.exit_code == 1 and not out.exists()
+        assert f"the bake has no {engine} target (bake it with --target {engine})" in result.stderr

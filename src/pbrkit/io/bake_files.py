@@ -279,6 +279,8 @@ def load_target_chain(out_dir, target):
         raise InputError(f"cannot read the manifest ({exc})", path) from None
     if target not in ("filament", "three", "babylon"):
         raise ValueError(f"no chain reader for target {target!r} (filament, three, babylon)")
+    if not isinstance(manifest, dict) or target not in (manifest.get("targets") or {}):
+        raise InputError(f"the bake has no {target} target (bake it with --target {target})", path)
     roughness = _entry(manifest, path, f"targets.{target}.conventions.roughness",
                        lambda r: np.asarray(r, dtype=np.float64).ndim == 1 and len(r) >= 2,
                        f"a list of roughness values (bake with --target {target})")
