@@ -24,13 +24,14 @@ over the pixels both renders cover with a sphere, the silhouette pixels left out
 (a mesh's polygonal outline is not the sphere's).
 
 Measured (sRGB 8-bit levels over the 10480 sphere pixels, silhouettes left out):
-engine vs pbrkit grey mean 3.10, p95 11.0, max 30; per channel 3.42 / 3.13 / 2.77.
-The issue's goal (1 level) is not met; what remains is three things Filament does
-that ``pbrkit render`` has no option for.  An isolation model
-(:func:`split_sum_model`: the split sum in numpy from pbrkit's own pieces, the
-bake's DFG table, SH and cube sampler) reproduces pbrkit's render exactly (0.00)
-with pbrkit's choices and the engine to grey mean 0.26 (p95 1, max 2) with
-Filament's three:
+engine vs ``pbrkit render --engine filament`` grey mean 0.26, p95 1, max 2: the
+issue's goal (1 level) is met.  With pbrkit's own IBL evaluation (``--engine
+pbrkit``) the difference is 3.10 (p95 11.0, max 30; per channel 3.42 / 3.13 /
+2.77): three things Filament does, which ``--engine filament`` reproduces and an
+isolation model (:func:`split_sum_model`: the split sum in numpy from pbrkit's own
+pieces, the bake's DFG table, SH and cube sampler) measures one by one; the model
+reproduces pbrkit's render exactly (0.00) with pbrkit's choices and the engine to
+grey mean 0.26 (p95 1, max 2) with Filament's three:
 
 1. chain and lod curve: Filament samples filament/ibl.ktx (levels at r_m = 1 -
    sqrt(1 - m / (M - 1))) at lod = (M - 1) r (2 - r); pbrkit, given a bake folder,
