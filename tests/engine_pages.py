@@ -53,7 +53,29 @@ def run_page(page, data=None, query="", screenshot=None, timeout=240):
     if not lines:
         pytest.fail(f"{page}: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
     report = json.loads(lines[-1])
-    if report.get("error") is not None or proc.returncode != 0:
+    if report.get("error") is not None or report.get("result") is None or proc.returncode != 0:
         pytest.fail(f"{page}: {report.get('error')}; errors {report.get('errors')}; "
                     f"console {report.get('console')[-20:]}")
     return report
+
+
+SMALL_BAKE = ["--size", "16", "--min-size", "4", "--irradiance-size", "8", "--lut-size", "16"]
+
+
+def bake_target(root, target):
+    """``pbrkit bake --target TARGET`` (the CLI) of a small sky (a horizontal
+    gradient above a constant ground) into ``root/out``; returns that folder."""
+    import numpy as np
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+    from pbrkit.io.pfm import write_pfm
+
+    h = 16
+    sky = np.full((h, 2 * h, 3), 0.5, np.float32)
+    sky[: h // 2] += np.linspace(0.2, 1.5, 2 * h, dtype=np.float32)[None, :, None]
+    write_pfm(root / "sky.pfm", sky)
+    result = CliRunner().invoke(app, ["bake", str(root / "sky.pfm"), "-o", str(root / "out"), *SMALL_BAKE,
+                                      "--target", target, "-q"])
+    assert result.exit_code == 0, result.output
+    return root / "out"

@@ -19,12 +19,10 @@ shipped module on ``pages/three.html``, and
 from __future__ import annotations
 
 import json
-import os
-import subprocess
 
 import numpy as np
 import pytest
-from engine_pages import CHROMIUM, ENGINES, NODE, needs_engines
+from engine_pages import ENGINES, bake_target, needs_engines, run_page
 
 from pbrkit.ibl.cubemap import cube_texel_directions
 from pbrkit.io.ktx2 import read_ktx2, write_ktx2
@@ -34,42 +32,8 @@ pytestmark = needs_engines()
 N, M = 16, 5  # face size of level 0, number of levels (16 .. 1)
 DIRS = [(0.8, 0.3, 0.5), (-0.7, -0.2, 0.65), (0.6, 0.7, -0.4), (-0.9, 0.1, -0.3), (0.55, -0.6, -0.58)]
 
-SMALL = ["--size", "16", "--min-size", "4", "--irradiance-size", "8", "--lut-size", "16"]
-
-
-def bake_target(root, target):
-    """``pbrkit bake --target TARGET`` of a small sky into root/out (the CLI)."""
-    from typer.testing import CliRunner
-
-    from pbrkit.app.cli import app
-    from pbrkit.io.pfm import write_pfm
-
-    h = 16
-    sky = np.full((h, 2 * h, 3), 0.5, np.float32)
-    sky[: h // 2] += np.linspace(0.2, 1.5, 2 * h, dtype=np.float32)[None, :, None]
-    write_pfm(root / "sky.pfm", sky)
-    result = CliRunner().invoke(app, ["bake", str(root / "sky.pfm"), "-o", str(root / "out"), *SMALL,
-                                      "--target", target, "-q"])
-    assert result.exit_code == 0, result.output
-    return root / "out"
-
-
-
 def run_engine_page(page, data, query):
-    """``engine_pages.run_page``, but it accepts a page that reported a result with
-    no error even when harness.mjs exits 1 for it (harness.mjs 18a558e compares the
-    page's missing error, which puppeteer returns as null, with ``undefined``)."""
-    command = [NODE, str(ENGINES / "harness.mjs"), page, "--timeout", "120", "--data", str(data), "--query", query]
-    proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=180, cwd=ENGINES,
-                          env=dict(os.environ, CHROMIUM=CHROMIUM))
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        pytest.fail(f"{page}: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"{page}: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
-    return report
+    return run_page(page, data=data, query=query, timeout=120)
 
 
 def level_function(m, d):
