@@ -747,6 +747,73 @@ def bake(
               + f"; total {sum(result.timings.values()):.3f} + writing")
 
 
+@app.command(cls=_Command, short_help="Fit LTC tables for polygonal area lights, in the layout engines load.")
+@user_errors
+def ltc(
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
+                             help="Output folder (must be absent or empty unless --force)."),
+    size: int = typer.Option(64, "--size", metavar="N",
+                             help="Cells per side (64: the published layout engines load)."),
+    polygons: int = typer.Option(48, "--polygons", metavar="K", help="Rectangular lights each cell is fitted on."),
+    seed: int = _seed_option("Seed of the lights each cell is fitted on."),
+    report: bool = _flag(False, ("--report",),
+                         "Also score pbrkit's table and the published one (read from npm three, or --published) "
+                         "on the same test set, with per-cell error maps."),
+    published: Optional[Path] = typer.Option(
+        None, "--published", metavar="FILE",
+        help="three.js's RectAreaLightTexturesLib.js (default: the pinned npm three of tests/engines, if present)."),
+    force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
+    quiet: bool = _quiet_option(),
+):
+    """Fit Linearly Transformed Cosines tables (Heitz et al. 2016) for GGX with
+    height-correlated Smith, for the polygon integrals a shader computes, and write
+    them in the published layout: ltc_1 / ltc_2 as .npy, RGBA32F / RGBA16F .dds and
+    .ktx2, and an ES module for three.js."""
+    import numpy as np
+
+    from ..core import checks
+    from ..core.atomic import atomic_directory, check_output_directory
+    from ..ltc.fit import fit_table
+    from ..ltc.report import score_fit, write_fit
+
+    size = checks.integer(size, "--size", 2, 256)
+    polygons = checks.integer(polygons, "--polygons", 4, 4096)
+    check_output_directory(out, force)
+    table = None
+    if report:
+        from ..ltc.score import published_table
+
+        try:
+            table = published_table(published)
+        except FileNotFoundError as exc:
+            if published is not None:
+                raise ValueError(f"{published}: not three.js's LTC tables ({exc})") from None
+            print(f"pbrkit ltc: note: the published table is not installed ({exc}); the report scores pbrkit's "
+                  "table alone", file=sys.stderr)
+    with _Stages("ltc", quiet, size + 2) as stages:
+        stages.start(f"fit roughness column 1/{size}")
+
+        def column(done, total):
+            if done < total:
+                stages.start(f"fit roughness column {done + 1}/{total}", done + 1)
+
+        fit = fit_table(size, polygons, seed, progress=column)
+        stages.start("score" if report else "write", size + 1)
+        scores = score_fit(fit, table) if report else None
+        stages.start("write", size + 2)
+        with atomic_directory(out, force) as tmp:
+            write_fit(tmp, fit, scores)
+    if not quiet:
+        print(f"wrote {out}: {size} x {size} LTC tables fitted in {fit.seconds:.1f} s; per-cell error median "
+              f"{np.median(fit.error):.3f}")
+        if scores is not None:
+            for name, by_f in scores["scores"].items():
+                s = by_f["F=1"]
+                print(f"{name}: relative error median {100 * s['relative_median']:.1f}%, mean "
+                      f"{100 * s['relative_mean']:.1f}%, p95 {100 * s['relative_p95']:.1f}%; "
+                      f"abs. error / albedo {100 * s['abs_over_albedo_mean']:.2f}%")
+
+
 SHADER_TARGETS = ("glsl",)  # pbrkit.shaders.TARGETS
 
 

@@ -44,6 +44,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numba
 import numpy as np
 
 from ..albedo.tables import specular_integrals
@@ -57,7 +58,7 @@ from ..brdf.bxdf import (
 from ..brdf.distributions import alpha_from_roughness
 from ..brdf.fresnel import f_schlick
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, kernel
+from ..core.jit import dual_use, kernel, parallel_kernel, select
 from ..core.quadrature import gauss_legendre_01
 
 __all__ = [
@@ -73,8 +74,12 @@ __all__ = [
     "ggx_rect_reference",
     "ltc_table_from_published_layout",
     "ltc_shader_rect",
+    "ltc_shader_form_factor",
+    "rect_lights_towards",
     "edge_vector_form_factor",
+    "edge_vector_form_factor_xyz",
     "clipped_sphere_form_factor",
+    "clipped_sphere_form_factor_xyz",
     "random_rect_lights",
     "directional_albedo",
     "score_table",
@@ -379,6 +384,16 @@ def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
 _RULE_POINTS = 5
 
 
+@parallel_kernel
+def _rect_integrals(corners, nov, alpha, tol, max_triangles, gx, gw, out):
+    """:func:`_rect_integral` of every light, in parallel."""
+    for k in numba.prange(corners.shape[0]):
+        one = np.zeros(4)
+        _rect_integral(corners[k], nov[k], alpha[k], tol, max_triangles, gx, gw, one)
+        for c in range(4):
+            out[k, c] = one[c]
+
+
 def ggx_rect_integrals(nov, roughness, corners, tol=REFERENCE_TOLERANCE, max_triangles=40000, return_error=False):
     """(norm, fresnel) = (integral of f (n.l) dl, integral of f Fc (n.l) dl) over
     each rectangular light (unit radiance), f = D G2 / (4 n.l n.v) the
@@ -417,11 +432,8 @@ def ggx_rect_integrals(nov, roughness, corners, tol=REFERENCE_TOLERANCE, max_tri
     flat_mu = nov.reshape(-1)
     flat_alpha = np.asarray(alpha_from_roughness(roughness.reshape(-1)), dtype=float)
     result = np.zeros((flat_c.shape[0], 4))
-    one = np.zeros(4)
-    for k in range(flat_c.shape[0]):
-        _rect_integral(flat_c[k], float(flat_mu[k]), float(flat_alpha[k]), float(tol), int(max_triangles), gx, gw,
-                       one)
-        result[k] = one
+    _rect_integrals(flat_c, np.ascontiguousarray(flat_mu, dtype=np.float64), flat_alpha, float(tol),
+                    int(max_triangles), gx, gw, result)
     values = result[:, :2].reshape(shape + (2,))
     if return_error:
         return values, result[:, 2].reshape(shape), result[:, 3].astype(np.int64).reshape(shape)
@@ -503,34 +515,45 @@ def _bilinear_published(table, roughness, nov):
             + (table[y1, x0] * (1.0 - ax) + table[y1, x1] * ax) * ay)
 
 
-def edge_vector_form_factor(v1, v2):
+@dual_use
+def edge_vector_form_factor_xyz(ax, ay, az, bx, by, bz):
     """One edge's term of the vector form factor of a polygon projected on the
-    unit sphere, as shaders compute it: cross(v1, v2) theta / (2 pi sin theta),
-    theta = acos(v1 . v2), with theta / sin theta / (2 pi) replaced by the
+    unit sphere, as shaders compute it: cross(a, b) theta / (2 pi sin theta),
+    theta = acos(a . b), with theta / sin theta / (2 pi) replaced by the
     rational fit of Hill and Heitz, "Real-Time Area Lighting: a Journey from
     Research to Production" (SIGGRAPH 2016 course "Advances in Real-Time
     Rendering"; ltc_code's ``IntegrateEdgeVec``, three.js's
     ``LTC_EdgeVectorFormFactor``): v = (0.8543985 + (0.4965155 + 0.0145206
-    |x|) |x|) / (3.4175940 + (4.1616724 + |x|) |x|) for x = v1 . v2 > 0, and
+    |x|) |x|) / (3.4175940 + (4.1616724 + |x|) |x|) for x = a . b > 0, and
     0.5 / sqrt(max(1 - x^2, 1e-7)) - v otherwise (theta / sin theta for the
-    obtuse angle from the acute one).  Unit vectors (..., 3) in, (..., 3) out."""
-    x = np.sum(v1 * v2, axis=-1)
+    obtuse angle from the acute one).  Unit vectors a, b by components; returns
+    the vector's components."""
+    x = ax * bx + ay * by + az * bz
     y = np.abs(x)
-    a = 0.8543985 + (0.4965155 + 0.0145206 * y) * y
-    b = 3.4175940 + (4.1616724 + y) * y
-    v = a / b
-    theta_sintheta = np.where(x > 0.0, v, 0.5 / np.sqrt(np.maximum(1.0 - x * x, 1e-7)) - v)
-    return np.cross(v1, v2) * theta_sintheta[..., None]
+    v = (0.8543985 + (0.4965155 + 0.0145206 * y) * y) / (3.4175940 + (4.1616724 + y) * y)
+    t = select(x > 0.0, v, 0.5 / np.sqrt(np.maximum(1.0 - x * x, 1e-7)) - v)
+    return (ay * bz - az * by) * t, (az * bx - ax * bz) * t, (ax * by - ay * bx) * t
+
+
+def edge_vector_form_factor(v1, v2):
+    """:func:`edge_vector_form_factor_xyz` for unit vectors (..., 3) -> (..., 3)."""
+    return np.stack(edge_vector_form_factor_xyz(v1[..., 0], v1[..., 1], v1[..., 2], v2[..., 0], v2[..., 1],
+                                                v2[..., 2]), axis=-1)
+
+
+@dual_use
+def clipped_sphere_form_factor_xyz(fx, fy, fz):
+    """Form factor of a horizon-clipped polygon approximated from its vector form
+    factor f by that of a sphere with the same form factor and direction (Hill and
+    Heitz 2016, "a Journey from Research to Production", p. 102; three.js
+    ``LTC_ClippedSphereFormFactor``): max((|f|^2 + f.z) / (|f| + 1), 0)."""
+    length = np.sqrt(fx * fx + fy * fy + fz * fz)
+    return np.maximum((length * length + fz) / (length + 1.0), 0.0)
 
 
 def clipped_sphere_form_factor(f):
-    """Form factor of a horizon-clipped polygon approximated from its vector form
-    factor f (..., 3) by that of a sphere with the same form factor and
-    direction (Hill and Heitz 2016, "a Journey from Research to Production",
-    p. 102; three.js ``LTC_ClippedSphereFormFactor``): max((|f|^2 + f.z) /
-    (|f| + 1), 0)."""
-    length = np.linalg.norm(f, axis=-1)
-    return np.maximum((length * length + f[..., 2]) / (length + 1.0), 0.0)
+    """:func:`clipped_sphere_form_factor_xyz` of vector form factors (..., 3) -> (...)."""
+    return clipped_sphere_form_factor_xyz(f[..., 0], f[..., 1], f[..., 2])
 
 
 def ltc_shader_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
@@ -563,6 +586,19 @@ def ltc_shader_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
     nov, roughness, corners, shape = _check_lights(nov, roughness, corners)
     t1 = _bilinear_published(table.ltc1, roughness, nov)
     t2 = _bilinear_published(table.ltc2, roughness, nov)
+    fresnel = f0 * t2[..., 0] + (1.0 - f0) * t2[..., 1]
+    return ltc_shader_form_factor(t1, corners) * fresnel
+
+
+def ltc_shader_form_factor(texel, corners):
+    """Steps 2-4 of :func:`ltc_shader_rect` for ``ltc_1`` texel values ``texel``
+    (..., 4) given directly (no table lookup): the form factor of the
+    rectangles ``corners`` (..., 4, 3) under M^-1 = [[x, 0, z], [0, 1, 0], [y, 0,
+    w]] as the shader approximates it (edge terms by Hill and Heitz's rational
+    fit, horizon clipping by the sphere approximation), 0 behind the light.  What
+    a table fit for shaders (:mod:`pbrkit.ltc.fit`) must match."""
+    t1 = np.asarray(texel, dtype=float)
+    corners = np.asarray(corners, dtype=float)
     # the frame (T1, T2, N) = (+x, -y, +z) of the local frame: coordinates (x, -y, z)
     p = corners * np.array([1.0, -1.0, 1.0])
     q = np.empty_like(p)
@@ -570,14 +606,13 @@ def ltc_shader_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
     q[..., 1] = p[..., 1]
     q[..., 2] = t1[..., None, 1] * p[..., 0] + t1[..., None, 3] * p[..., 2]
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    f = np.zeros(shape + (3,))
-    for k in range(4):
+    f = edge_vector_form_factor(q[..., 0, :], q[..., 1, :])
+    for k in range(1, 4):
         f = f + edge_vector_form_factor(q[..., k, :], q[..., (k + 1) % 4, :])
     form_factor = clipped_sphere_form_factor(f)
     light_normal = np.cross(corners[..., 1, :] - corners[..., 0, :], corners[..., 3, :] - corners[..., 0, :])
     front = np.sum(light_normal * -corners[..., 0, :], axis=-1) >= 0.0
-    fresnel = f0 * t2[..., 0] + (1.0 - f0) * t2[..., 1]
-    return np.where(front, form_factor * fresnel, 0.0)
+    return np.where(front, form_factor, 0.0)
 
 
 # ------------------------------------------------------------------ test set
@@ -668,6 +703,19 @@ def random_rect_lights(count=400, seed=0, **overrides):
     spin = rng.uniform(0.0, 2.0 * math.pi, size=k)
 
     direction = np.stack([np.cos(elevation) * np.cos(phi), np.cos(elevation) * np.sin(phi), np.sin(elevation)], -1)
+    return rect_lights_towards(nov, r, direction, distance, half_angle, tilt, tilt_phi, spin)
+
+
+def rect_lights_towards(nov, roughness, direction, distance, half_angle, tilt, tilt_phi, spin):
+    """Rectangular lights (:class:`RectLights`) centred at ``distance`` (K,) along the
+    unit ``direction`` (K, 3), with angular half-sizes ``half_angle`` (K, 2) (half-width
+    and half-height d tan(a)), the emission normal the direction back to the shading
+    point tilted by ``tilt`` toward the azimuth ``tilt_phi`` about it, and the width
+    axis at the angle ``spin`` about the normal (the construction of
+    :func:`random_rect_lights`)."""
+    k = direction.shape[0]
+    nov = np.broadcast_to(np.asarray(nov, dtype=float), (k,))
+    r = np.broadcast_to(np.asarray(roughness, dtype=float), (k,))
     # a frame (e1, e2, -direction) about the direction back to the shading point
     back = -direction
     helper = np.where(np.abs(back[:, 2:3]) < 0.9, np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]))

@@ -1,0 +1,299 @@
+"""Fitting LTC tables in the published layout, for the integrals a shader computes.
+
+Heitz, Dupuy, Hill and Neubelt (2016, sec. 4; ``ltc_code`` ``fit/fitLTC.cpp``)
+fit each cell's matrix by Nelder-Mead on the L3 distance between the lobe and the
+LTC, estimated from 32 x 32 samples, with the albedo from the same samples.  A
+renderer does not use the lobe's shape, though: it integrates the LTC over a
+polygon with the shader's shortcuts (the edge terms' rational fit and the
+horizon clipping by the sphere approximation, :func:`pbrkit.ltc.score.
+ltc_shader_form_factor`) and multiplies by the stored norm.  pbrkit fits that
+directly (:func:`fit_cell`):
+
+- per cell, ``polygons`` rectangular lights (:func:`fit_lights`): half of them
+  centred on directions drawn from the lobe itself (the GGX visible-normal
+  distribution, Heitz 2018, reflected about the view), the rest uniform in
+  solid angle over the hemisphere, a share straddling the horizon; angular
+  half-sizes log-uniform between the lobe's width and 0.8 rad; drawn from a
+  seed derived from the cell, so the fit is deterministic;
+- their converged GGX integrals (height-correlated Smith, F = 1;
+  :func:`pbrkit.ltc.score.ggx_rect_integrals`) and the converged albedo E
+  (:func:`pbrkit.albedo.tables.specular_integrals`);
+- the objective sum_k ((E FF_k - I_k) / (I_k + eps E))^2, the shader's form factor
+  FF_k under the candidate matrix against the reference I_k: relative errors
+  where a light matters, errors relative to eps of the albedo where it does not
+  (eps = :data:`EPSILON`);
+- Nelder-Mead (SciPy) over the four stored entries of M^-1 / m11 themselves
+  (x, y, z, w of ``ltc_1``), from the neighbouring cell's solution: cells are
+  fitted from rough to smooth and, for each roughness, from normal incidence
+  to grazing, as Heitz et al. do; at normal incidence the lobe is symmetric and
+  only w is fitted (x = 1, y = z = 0).
+
+``ltc_2`` holds (norm, fresnel, 0, sphere) = (A + B, B) of the converged split
+integrals (:func:`pbrkit.albedo.tables.specular_integrals`; Schlick's F: f0 norm
++ (1 - f0) fresnel) and the sphere table (:func:`sphere_form_factor_table`).
+Roughness: column a holds perceptual roughness r = a / (N - 1) with alpha = r^2
+(:func:`pbrkit.brdf.distributions.alpha_from_roughness`, clamped at its ALPHA_MIN);
+row t holds cos theta_v = 1 - (t / (N - 1))^2, at most 89.95 degrees.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..core.jit import kernel
+from .score import clipped_sphere_form_factor_xyz, edge_vector_form_factor_xyz
+
+__all__ = ["EPSILON", "MAX_THETA", "cell_view", "fit_lights", "cell_data", "references", "fit_cell", "fit_table",
+           "sphere_form_factor_table", "LTCFit", "cell_errors"]
+
+#: Floor of the objective's relative errors, as a share of the albedo.
+EPSILON = 0.02
+#: The grazing row's view angle (radians): cos theta_v = 0 would put v in the horizon.
+MAX_THETA = math.radians(89.95)
+
+
+def cell_view(t, a, n):
+    """(n.v, perceptual roughness) of cell (row t, column a) of an N x N table."""
+    u = t / (n - 1.0)
+    nov = max(1.0 - u * u, math.cos(MAX_THETA))
+    return nov, a / (n - 1.0)
+
+
+def fit_lights(nov, roughness, count, seed):
+    """The rectangular lights a cell is fitted on (module doc), as
+    :class:`pbrkit.ltc.score.RectLights`."""
+    from ..brdf.distributions import alpha_from_roughness
+    from ..sampling.warps import reflect_xyz, warp_ggx_vndf
+    from .score import rect_lights_towards
+
+    rng = np.random.default_rng(seed)
+    k = int(count)
+    alpha = float(alpha_from_roughness(roughness))
+    v = np.array([math.sqrt(max(0.0, 1.0 - nov * nov)), 0.0, nov])
+    from_lobe = np.arange(k) < k // 2
+    # lobe directions: visible normals reflected about the view (kept above the horizon)
+    u1, u2 = rng.random(k), rng.random(k)
+    hx, hy, hz = warp_ggx_vndf(u1, u2, v[0], v[1], v[2], alpha)
+    lx, ly, lz = reflect_xyz(v[0], v[1], v[2], hx, hy, hz)
+    lobe = np.stack([lx, ly, lz], -1)
+    lobe[:, 2] = np.maximum(lobe[:, 2], 0.02)
+    lobe /= np.linalg.norm(lobe, axis=1, keepdims=True)
+    # the rest: uniform in solid angle over the hemisphere, 30% of them straddling the horizon
+    phi = rng.uniform(0.0, 2.0 * math.pi, k)
+    width = math.sqrt(alpha)  # the lobe's angular width, about
+    half_angle = np.exp(rng.uniform(math.log(max(0.01, 0.5 * width)), math.log(0.8), (k, 2)))
+    cross = rng.random(k) < 0.3
+    a_min = half_angle.min(axis=1)
+    elevation = np.where(cross, rng.uniform(-1.0, 1.0, k) * a_min, np.arcsin(rng.uniform(0.0, 1.0, k)))
+    uniform = np.stack([np.cos(elevation) * np.cos(phi), np.cos(elevation) * np.sin(phi), np.sin(elevation)], -1)
+    direction = np.where(from_lobe[:, None], lobe, uniform)
+    distance = rng.uniform(1.0, 4.0, k)
+    tilt = rng.uniform(0.0, math.radians(45.0), k)
+    tilt_phi = rng.uniform(0.0, 2.0 * math.pi, k)
+    spin = rng.uniform(0.0, 2.0 * math.pi, k)
+    return rect_lights_towards(nov, roughness, direction, distance, half_angle, tilt, tilt_phi, spin)
+
+
+@kernel
+def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
+    """sum_k ((E FF_k - I_k) / (I_k + eps E))^2 with FF_k the shader's form factor
+    of light k under the texel (x, y, z, w) (:func:`pbrkit.ltc.score.
+    ltc_shader_form_factor`, the same steps by components)."""
+    total = 0.0
+    for k in range(corners.shape[0]):
+        qx = np.empty(4)
+        qy = np.empty(4)
+        qz = np.empty(4)
+        for c in range(4):
+            px = corners[k, c, 0]
+            py = -corners[k, c, 1]  # the shader's frame (T1, T2, N) = (+x, -y, +z)
+            pz = corners[k, c, 2]
+            ux = x * px + z * pz
+            uz = y * px + w * pz
+            length = math.sqrt(ux * ux + py * py + uz * uz)
+            qx[c] = ux / length
+            qy[c] = py / length
+            qz[c] = uz / length
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        for c in range(4):
+            d = (c + 1) % 4
+            ex, ey, ez = edge_vector_form_factor_xyz(qx[c], qy[c], qz[c], qx[d], qy[d], qz[d])
+            fx += ex
+            fy += ey
+            fz += ez
+        ff = clipped_sphere_form_factor_xyz(fx, fy, fz)
+        # one-sided: nothing when the shading point is behind the light
+        e1x = corners[k, 1, 0] - corners[k, 0, 0]
+        e1y = corners[k, 1, 1] - corners[k, 0, 1]
+        e1z = corners[k, 1, 2] - corners[k, 0, 2]
+        e2x = corners[k, 3, 0] - corners[k, 0, 0]
+        e2y = corners[k, 3, 1] - corners[k, 0, 1]
+        e2z = corners[k, 3, 2] - corners[k, 0, 2]
+        nx = e1y * e2z - e1z * e2y
+        ny = e1z * e2x - e1x * e2z
+        nz = e1x * e2y - e1y * e2x
+        if -(nx * corners[k, 0, 0] + ny * corners[k, 0, 1] + nz * corners[k, 0, 2]) < 0.0:
+            ff = 0.0
+        e = (albedo * ff - reference[k]) / (reference[k] + epsilon * albedo)
+        total += e * e
+    return total
+
+
+def _objective(texel, corners, reference, albedo):
+    return _objective_kernel(float(texel[0]), float(texel[1]), float(texel[2]), float(texel[3]), corners,
+                             reference, float(albedo), EPSILON)
+
+
+def cell_data(nov, roughness, polygons=32, seed=0):
+    """What a cell is fitted on: its lights' corners (K, 4, 3) (:func:`fit_lights`)
+    and the albedo (A + B, B) of :func:`pbrkit.albedo.tables.specular_integrals`;
+    the lights' references come from :func:`references` (batched)."""
+    from ..albedo.tables import specular_integrals
+
+    lights = fit_lights(nov, roughness, polygons, seed)
+    a, b = specular_integrals([nov], [roughness])[0, 0]
+    return np.ascontiguousarray(lights.corners, dtype=np.float64), float(a + b), float(b)
+
+
+def references(nov, roughness, corners):
+    """Converged F = 1 GGX integrals of lights (:func:`pbrkit.ltc.score.ggx_rect_integrals`
+    at 1e-5): ``nov``, ``roughness`` (C,), ``corners`` (C, K, 4, 3) -> (C, K)."""
+    from .score import ggx_rect_integrals
+
+    c, k = corners.shape[:2]
+    mu = np.repeat(np.asarray(nov, dtype=float), k)
+    r = np.repeat(np.asarray(roughness, dtype=float), k)
+    return ggx_rect_integrals(mu, r, corners.reshape(c * k, 4, 3), tol=1e-5)[:, 0].reshape(c, k)
+
+
+def fit_cell(nov, start, corners, reference, albedo):
+    """Fit one cell (module doc) from the ``ltc_1`` texel ``start`` (4,) on its
+    lights ``corners`` (K, 4, 3) with references ``reference`` (K,) and albedo E;
+    returns (texel (4,), the RMS of the objective's errors)."""
+    from scipy.optimize import minimize
+
+    start = np.asarray(start, dtype=float)
+    reference = np.ascontiguousarray(reference, dtype=np.float64)
+    if nov >= 1.0 - 1e-12:  # normal incidence: a symmetric lobe, x = 1, y = z = 0
+        def objective(p):
+            return _objective(np.array([1.0, 0.0, 0.0, p[0]]), corners, reference, albedo)
+
+        result = minimize(objective, [start[3]], method="Nelder-Mead",
+                          options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 400})
+        texel = np.array([1.0, 0.0, 0.0, result.x[0]])
+    else:
+        def objective(p):
+            return _objective(p, corners, reference, albedo)
+
+        result = minimize(objective, start, method="Nelder-Mead",
+                          options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 1500})
+        texel = np.asarray(result.x, dtype=float)
+    return texel, math.sqrt(_objective(texel, corners, reference, albedo) / corners.shape[0])
+
+
+class LTCFit:
+    """A fitted table: ``ltc1``, ``ltc2`` (N, N, 4) float32 in the published
+    layout, ``error`` (N, N) the RMS objective error per cell, ``seconds``, and
+    what each cell was fitted on (``corners`` (N, N, K, 4, 3), ``reference``
+    (N, N, K)), to score other tables on the same lights (:func:`cell_errors`)."""
+
+    def __init__(self, ltc1, ltc2, error, seconds, polygons, seed, corners, reference):
+        self.ltc1, self.ltc2, self.error, self.seconds = ltc1, ltc2, error, seconds
+        self.polygons, self.seed = polygons, seed
+        self.corners, self.reference = corners, reference
+
+
+def cell_errors(fit, ltc1):
+    """The RMS objective error per cell (N, N) of the texels ``ltc1`` (N, N, 4) on
+    the lights ``fit`` was fitted on (e.g. the published table's)."""
+    n = fit.ltc1.shape[0]
+    out = np.zeros((n, n))
+    for t in range(n):
+        for a in range(n):
+            k = fit.corners.shape[2]
+            out[t, a] = math.sqrt(_objective(np.asarray(ltc1[t, a], dtype=float), fit.corners[t, a],
+                                             fit.reference[t, a], float(fit.ltc2[t, a, 0])) / k)
+    return out
+
+
+def fit_table(n=64, polygons=48, seed=0, progress=None):
+    """Fit an N x N table (module doc).  ``progress(done, total)`` after each
+    roughness column.  Deterministic: the same arguments give the same table."""
+    t0 = time.perf_counter()
+    n = int(n)
+    ltc1 = np.zeros((n, n, 4))
+    ltc2 = np.zeros((n, n, 4))
+    error = np.zeros((n, n))
+    all_corners = np.zeros((n, n, int(polygons), 4, 3))
+    all_refs = np.zeros((n, n, int(polygons)))
+    previous_column = None
+    for a in range(n - 1, -1, -1):
+        views = [cell_view(t, a, n) for t in range(n)]
+        data = [cell_data(nov, r, polygons, (int(seed) * n + t) * n + a) for t, (nov, r) in enumerate(views)]
+        corners = np.stack([d[0] for d in data])
+        refs = references([v[0] for v in views], [v[1] for v in views], corners)
+        all_corners[:, a] = corners
+        all_refs[:, a] = refs
+        for t in range(n):
+            if t > 0:
+                start = ltc1[t - 1, a]
+            elif previous_column is not None:
+                start = previous_column
+            else:
+                start = np.array([1.0, 0.0, 0.0, 1.0])  # r = 1 at normal incidence: close to the cosine
+            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], data[t][1])
+            ltc1[t, a] = texel
+            ltc2[t, a, :2] = (data[t][1], data[t][2])
+            error[t, a] = rms
+        previous_column = ltc1[0, a]
+        if progress is not None:
+            progress(n - a, n)
+    ltc2[..., 3] = sphere_form_factor_table(n)
+    return LTCFit(ltc1.astype(np.float32), ltc2.astype(np.float32), error, time.perf_counter() - t0, polygons,
+                  seed, all_corners, all_refs)
+
+
+def _clipped_cap_form_factor(sigma, cos_omega, nodes=96):
+    """Form factor of a spherical cap of angular radius ``sigma`` centred at the
+    angle omega from the normal, clipped at the horizon: the integral of
+    max(0, z) / pi over the cap, by Gauss-Legendre quadrature in the cap's own
+    polar coordinates (cos of the angle from the cap's centre, azimuth), with
+    the clipped integrand continuous and the azimuthal kink handled by many
+    nodes (converged to about 1e-7)."""
+    from ..core.quadrature import gauss_legendre_01
+
+    x, w = gauss_legendre_01(nodes)
+    cos_s = math.cos(sigma)
+    mu = cos_s + (1.0 - cos_s) * x  # cos of the angle from the cap's centre
+    phi = 2.0 * math.pi * x
+    sin_o = math.sqrt(max(0.0, 1.0 - cos_omega * cos_omega))
+    sin_mu = np.sqrt(np.maximum(0.0, 1.0 - mu * mu))
+    z = mu[:, None] * cos_omega + sin_mu[:, None] * np.cos(phi)[None, :] * sin_o
+    return float((1.0 - cos_s) * 2.0 * math.pi * np.einsum("i,j,ij->", w, w, np.maximum(z, 0.0)) / math.pi)
+
+
+def sphere_form_factor_table(n=64):
+    """``ltc_2``'s fourth channel: the horizon-clipped form factor of a sphere
+    from its vector form factor, divided by that vector's length, for shaders
+    that clip by a table (ltc_code's ``ltc_quad.fs``: uv = (z / 2 + 1/2, |F|) at
+    texel centres; Hill and Heitz 2016, "a Journey from Research to
+    Production", p. 101): row j holds |F| = j / (N - 1) (= sin^2 sigma for a cap
+    of angular radius sigma), column i holds z = cos omega = 2 i / (N - 1) - 1,
+    the direction's height; the value is the clipped cap's form factor over
+    |F| (:func:`_clipped_cap_form_factor`; for |F| -> 0 the limit max(z, 0))."""
+    out = np.zeros((n, n))
+    z = 2.0 * np.arange(n) / (n - 1.0) - 1.0
+    for j in range(n):
+        length = j / (n - 1.0)
+        if length == 0.0:
+            out[j] = np.maximum(z, 0.0)
+            continue
+        sigma = math.asin(math.sqrt(min(1.0, length)))
+        for i in range(n):
+            out[j, i] = _clipped_cap_form_factor(sigma, float(z[i])) / length
+    return out

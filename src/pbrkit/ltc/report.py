@@ -1,0 +1,118 @@
+"""The files of ``pbrkit ltc``: a fitted table in the published layout, its
+per-cell fit error, and with ``--report`` the scores of pbrkit's table and of the
+published one (Heitz et al. 2016, as three.js ships it) on the same test set with
+the same shader evaluation (:mod:`pbrkit.ltc.score`), and their per-cell error
+maps side by side."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+__all__ = ["FORMAT", "TEST_LIGHTS", "score_fit", "write_fit"]
+
+FORMAT = "pbrkit LTC fit"
+#: Lights of the report's test set (:func:`pbrkit.ltc.score.random_rect_lights`, seed 0).
+TEST_LIGHTS = 400
+
+
+def _round(summary):
+    return {k: (round(v, 6) if isinstance(v, float) else v) for k, v in summary.items()}
+
+
+def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0):
+    """Scores (:func:`pbrkit.ltc.score.score_table`, F = 1 and f0 = 0.04) of the fit
+    and, given ``published`` = (ltc1, ltc2), of that table on the same lights;
+    and the published table's per-cell error on the fit's own lights
+    (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match)."""
+    from .fit import cell_errors
+    from .score import ggx_rect_integrals, random_rect_lights, score_table
+
+    test = random_rect_lights(lights, seed)
+    pair = ggx_rect_integrals(test.nov, test.roughness, test.corners)
+    tables = {"pbrkit": (fit.ltc1, fit.ltc2)}
+    if published is not None:
+        tables["published"] = published
+    scores = {}
+    for name, (t1, t2) in tables.items():
+        scores[name] = {}
+        for label, f0 in (("F=1", 1.0), ("f0=0.04", 0.04)):
+            ref = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
+            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref).summary)
+    maps = {"pbrkit": fit.error}
+    if published is not None and np.shape(published[0])[:2] == fit.ltc1.shape[:2]:
+        maps["published"] = cell_errors(fit, published[0])
+    return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.score.random_rect_lights"},
+            "scores": scores, "cell_error_maps": maps}
+
+
+def _plot(path, maps):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(maps), figsize=(4.2 * len(maps), 3.6), squeeze=False)
+    top = max(float(np.percentile(m, 99)) for m in maps.values())
+    for ax, (name, m) in zip(axes[0], maps.items()):
+        im = ax.imshow(m, origin="lower", vmin=0.0, vmax=top, cmap="magma", extent=(0, 1, 0, 1))
+        ax.set_title(f"{name}: median {np.median(m):.3f}")
+        ax.set_xlabel("roughness a / (N - 1)")
+        ax.set_ylabel("sqrt(1 - cos theta_v)")
+        fig.colorbar(im, ax=ax, fraction=0.046)
+    fig.suptitle("per-cell RMS error of polygon integrals\n(relative, floor 2% of albedo)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90, metadata={"Software": None})
+    plt.close(fig)
+
+
+def write_fit(folder, fit, report=None):
+    """Write the fit into ``folder`` (an existing, empty temporary directory of
+    :func:`pbrkit.core.atomic.atomic_directory`): the drop-in tables
+    (:func:`pbrkit.io.ltc_files.write_ltc_tables`), ``fit_error.npy`` (float32
+    (N, N)), ``fit.json`` (options, layout, error summary; no timings, so the
+    same options give the same bytes) and, with ``report`` (:func:`score_fit`),
+    ``report.json``, ``report.md`` and ``report.png``."""
+    from pathlib import Path
+
+    from ..io.ltc_files import LTC_FILES, write_ltc_tables
+    from .fit import EPSILON, MAX_THETA
+
+    folder = Path(folder)
+    n = fit.ltc1.shape[0]
+    write_ltc_tables(folder, fit.ltc1, fit.ltc2, note=f"fitted by pbrkit (pbrkit ltc --size {n} --polygons "
+                                                     f"{fit.polygons} --seed {fit.seed})")
+    np.save(folder / "fit_error.npy", fit.error.astype(np.float32), allow_pickle=False)
+    info = {
+        "format": FORMAT,
+        "options": {"size": n, "polygons": int(fit.polygons), "seed": int(fit.seed), "epsilon": EPSILON},
+        "brdf": "GGX, height-correlated Smith, F = 1 for the matrices; Schlick F through ltc_2 (norm, fresnel)",
+        "layout": {"ltc_1": "(m00, m20, m02, m22) / m11 of M^-1, row t, column a",
+                   "ltc_2": "(norm = A + B, fresnel = B, 0, sphere form factor)",
+                   "column": f"perceptual roughness a / {n - 1}, alpha = r^2",
+                   "row": f"sqrt(1 - cos theta_v) = t / {n - 1} (theta_v at most {math.degrees(MAX_THETA):.2f} deg)",
+                   "sampling": "texel centres: uv = p (N - 1) / N + 0.5 / N, bilinear"},
+        "fit_error": {"median": round(float(np.median(fit.error)), 6),
+                      "p95": round(float(np.percentile(fit.error, 95)), 6),
+                      "max": round(float(np.max(fit.error)), 6)},
+        "files": list(LTC_FILES) + ["fit_error.npy"],
+    }
+    if report is not None:
+        (folder / "report.json").write_text(json.dumps(
+            {k: v for k, v in report.items() if k != "cell_error_maps"}, indent=2) + "\n", encoding="utf-8")
+        lines = ["# LTC tables: pbrkit's fit and the published one", "",
+                 f"Test set: {report['test_set']['lights']} rectangular lights (seed {report['test_set']['seed']}), "
+                 "scored with three.js's shader evaluation against converged GGX integrals.", "",
+                 "| table | F | median | mean | p95 | abs. error / albedo |", "|---|---|---|---|---|---|"]
+        for name, by_f in report["scores"].items():
+            for label, s in by_f.items():
+                lines.append(f"| {name} | {label} | {100 * s['relative_median']:.1f}% | "
+                             f"{100 * s['relative_mean']:.1f}% | {100 * s['relative_p95']:.1f}% | "
+                             f"{100 * s['abs_over_albedo_mean']:.2f}% |")
+        (folder / "report.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+        _plot(folder / "report.png", report["cell_error_maps"])
+        info["files"] += ["report.json", "report.md", "report.png"]
+    (folder / "fit.json").write_text(json.dumps(info, indent=2) + "\n", encoding="utf-8")
+    return folder

@@ -1,0 +1,99 @@
+"""The LTC fitter and ``pbrkit ltc`` (issue 11): the sphere table against closed
+forms, a fitted cell against its lights' converged integrals, determinism, the
+files, and refusals.  The drop-in table's accuracy on the test set, against the
+published table, is measured by ``pbrkit ltc --report`` and bench/ltc.py."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from pbrkit.app.cli import app
+from pbrkit.ltc.fit import (
+    cell_data,
+    cell_view,
+    fit_cell,
+    references,
+    sphere_form_factor_table,
+)
+from pbrkit.ltc.score import ltc_shader_form_factor
+
+
+def test_sphere_table_against_the_caps_closed_forms():
+    """A cap of angular radius sigma (|F| = sin^2 sigma) wholly above the horizon
+    has form factor cos(omega) sin^2(sigma) (Snyder 1996), so the table (form
+    factor / |F|) holds z there; wholly below it holds 0; the |F| -> 0 row is
+    max(z, 0); and it never exceeds 1 (a cap's form factor is at most |F|)."""
+    n = 16
+    table = sphere_form_factor_table(n)
+    z = 2.0 * np.arange(n) / (n - 1.0) - 1.0
+    for j in range(1, n):
+        length = j / (n - 1.0)
+        sin_sigma = math.sqrt(length)
+        above = z >= sin_sigma + 1e-12
+        below = z <= -sin_sigma - 1e-12
+        np.testing.assert_allclose(table[j, above], z[above], atol=2e-6)
+        np.testing.assert_allclose(table[j, below], 0.0, atol=1e-9)
+    np.testing.assert_array_equal(table[0], np.maximum(z, 0.0))
+    assert np.all(table <= 1.0 + 1e-9) and np.all(table >= 0.0)
+    # partly clipped caps: between 0 and z's positive part plus the clipped share (monotone in z)
+    assert np.all(np.diff(table[1:], axis=1) >= -1e-9)
+
+
+@pytest.mark.parametrize("t, a", [(3, 5), (6, 3)])
+def test_a_fitted_cell_matches_its_lights(t, a):
+    """The fit brings the shader's LTC integrals of the cell's lights close to their
+    converged GGX integrals: far closer than the clamped cosine it starts from."""
+    n = 8
+    nov, r = cell_view(t, a, n)
+    corners, albedo, _ = cell_data(nov, r, 24, seed=11)
+    ref = references([nov], [r], corners[None])[0]
+    texel, rms = fit_cell(nov, np.array([1.0, 0.0, 0.0, 1.0]), corners, ref, albedo)
+    ff = ltc_shader_form_factor(np.broadcast_to(texel, (24, 4)), corners)
+    cosine = ltc_shader_form_factor(np.broadcast_to([1.0, 0.0, 0.0, 1.0], (24, 4)), corners)
+    err = np.abs(albedo * ff - ref) / (ref + 0.02 * albedo)
+    err0 = np.abs(albedo * cosine - ref) / (ref + 0.02 * albedo)
+    assert rms == pytest.approx(math.sqrt(np.mean(err ** 2)), rel=1e-9)
+    assert np.median(err) < 0.25 and np.median(err) < 0.5 * np.median(err0)
+
+
+SMALL = ["--size", "4", "--polygons", "8", "-q"]
+
+
+@pytest.fixture(scope="module")
+def fitted(tmp_path_factory):
+    root = tmp_path_factory.mktemp("ltc")
+    runner = CliRunner()
+    for name in ("a", "b"):
+        result = runner.invoke(app, ["ltc", "-o", str(root / name), *SMALL])
+        assert result.exit_code == 0, result.output
+    return root
+
+
+def test_pbrkit_ltc_writes_the_tables_deterministically(fitted):
+    a, b = fitted / "a", fitted / "b"
+    names = sorted(p.name for p in a.iterdir())
+    assert names == sorted(p.name for p in b.iterdir())
+    for name in names:
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    info = json.loads((a / "fit.json").read_text())
+    assert info["options"] == {"size": 4, "polygons": 8, "seed": 0, "epsilon": 0.02}
+    ltc1, ltc2 = np.load(a / "ltc_1.npy"), np.load(a / "ltc_2.npy")
+    assert ltc1.shape == ltc2.shape == (4, 4, 4)
+    # normal incidence (row 0): a symmetric lobe, M^-1 = diag(1, 1, w)
+    np.testing.assert_array_equal(ltc1[0, :, :3], np.tile([1.0, 0.0, 0.0], (4, 1)))
+    # norm and fresnel are the converged split integrals: norm >= fresnel > 0, norm <= 1
+    assert np.all(ltc2[..., 0] >= ltc2[..., 1]) and np.all(ltc2[..., 1] > 0) and np.all(ltc2[..., 0] <= 1.0)
+
+
+def test_bad_options_are_refused(tmp_path):
+    runner = CliRunner()
+    result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "x"), "--size", "1"])
+    assert result.exit_code == 1 and "--size" in result.stderr and not (tmp_path / "x").exists()
+    result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "y"), "--size", "4", "--polygons", "8", "--report",
+                                 "--published", str(tmp_path / "nope.js")])
+    assert result.exit_code == 1 and "nope.js" in result.stderr and not (tmp_path / "y").exists()
