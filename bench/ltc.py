@@ -1,7 +1,7 @@
 """Benchmark: the published LTC table (Heitz, Dupuy, Hill, Neubelt 2016, as
 three.js ships it) scored against ground truth on random rectangular lights.
 
-    python bench/ltc.py [--count 400] [--seed 0] [--seeds 5] [--three PATH]
+    python bench/ltc.py [--count 400] [--seed 0] [--seeds 5] [--three PATH] [--fit [--size 64] [--polygons 64]]
 
 Reads ``LTC_MAT_1`` / ``LTC_MAT_2`` from three's npm package
 (``tests/engines/node_modules/three``, ``npm ci --prefix tests/engines``, or
@@ -16,7 +16,10 @@ the shader's LTC evaluation (three.js's ``LTC_Evaluate``), and prints:
 - the same figures for ``--seeds`` other draws of the set, to show how much a
   400-light mean moves from draw to draw;
 - the issue's figures for the published table (issue 11: median 8%, mean 29%,
-  p95 100%, abs / albedo 1.25%) beside them, and the time taken.
+  p95 100%, abs / albedo 1.25%) beside them, and the time taken;
+- with ``--fit``: pbrkit's fit (:func:`pbrkit.ltc.fit.fit_table`, the table
+  ``pbrkit ltc`` writes) timed on this machine, and scored on the same sets
+  beside the published table.
 """
 
 from __future__ import annotations
@@ -50,6 +53,9 @@ def main():
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--seeds", type=int, default=5, help="further draws (seeds seed+1 ...) to show the spread")
     parser.add_argument("--three", default=None, help="three's package, node_modules or RectAreaLightTexturesLib.js")
+    parser.add_argument("--fit", action="store_true", help="also fit pbrkit's table and score it")
+    parser.add_argument("--size", type=int, default=64)
+    parser.add_argument("--polygons", type=int, default=64)
     args = parser.parse_args()
 
     t1, t2 = published_table(args.three)
@@ -70,11 +76,29 @@ def main():
     print(f"\nreference: {args.count} lights in {t_ref:.2f} s ({1e3 * t_ref / args.count:.1f} ms a light, tol 1e-6)"
           f"; {100 * lights.crossing.mean():.0f}% of the lights cross the horizon\n")
 
+    fit = None
+    if args.fit:
+        from pbrkit.ltc.fit import fit_table
+
+        fit_table(4, 4)  # compile outside the timing
+        fit = fit_table(args.size, args.polygons)
+        print(f"pbrkit fit: {args.size} x {args.size} cells, {args.polygons} lights a cell: {fit.seconds:.1f} s "
+              f"on this machine")
+        for f0 in (1.0, 0.04):
+            reference = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
+            s = score_table(fit.ltc1, fit.ltc2, lights, f0=f0, reference=reference).summary
+            print(_line(f"pbrkit, seed {args.seed}, F = 1" if f0 == 1.0 else f"pbrkit, seed {args.seed}, f0 = {f0:g}",
+                        s))
+        print()
+
     rows = []
     for seed in range(args.seed + 1, args.seed + 1 + args.seeds):
-        s = score_table(t1, t2, random_rect_lights(args.count, seed), f0=1.0).summary
+        other = random_rect_lights(args.count, seed)
+        s = score_table(t1, t2, other, f0=1.0).summary
         rows.append(s)
         print(_line(f"seed {seed}, F = 1", s))
+        if fit is not None:
+            print(_line(f"pbrkit, seed {seed}, F = 1", score_table(fit.ltc1, fit.ltc2, other, f0=1.0).summary))
     if rows:
         keys = ("relative_median", "relative_mean", "relative_p95", "abs_over_albedo_mean")
         spread = {k: (min(r[k] for r in rows), max(r[k] for r in rows)) for k in keys}

@@ -754,7 +754,7 @@ def ltc(
                              help="Output folder (must be absent or empty unless --force)."),
     size: int = typer.Option(64, "--size", metavar="N",
                              help="Cells per side (64: the published layout engines load)."),
-    polygons: int = typer.Option(48, "--polygons", metavar="K", help="Rectangular lights each cell is fitted on."),
+    polygons: int = typer.Option(64, "--polygons", metavar="K", help="Rectangular lights each cell is fitted on."),
     seed: int = _seed_option("Seed of the lights each cell is fitted on."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "

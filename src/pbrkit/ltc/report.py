@@ -62,7 +62,7 @@ def _plot(path, maps):
         ax.set_xlabel("roughness a / (N - 1)")
         ax.set_ylabel("sqrt(1 - cos theta_v)")
         fig.colorbar(im, ax=ax, fraction=0.046)
-    fig.suptitle("per-cell RMS error of polygon integrals\n(relative, floor 2% of albedo)", fontsize=9)
+    fig.suptitle("per-cell RMS error of polygon integrals\n(relative, floor 1% of albedo)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=90, metadata={"Software": None})
     plt.close(fig)
