@@ -50,13 +50,18 @@ def test_a_fitted_cell_matches_its_lights(t, a):
     converged GGX integrals: far closer than the clamped cosine it starts from."""
     n = 8
     nov, r = cell_view(t, a, n)
-    corners, albedo, _ = cell_data(nov, r, 24, seed=11)
-    ref = references([nov], [r], corners[None])[0]
-    texel, rms = fit_cell(nov, np.array([1.0, 0.0, 0.0, 1.0]), corners, ref, albedo)
+    corners, albedo, fresnel = cell_data(nov, r, 24, seed=11)
+    pair = references([nov], [r], corners[None])[0]
+    texel, rms = fit_cell(nov, np.array([1.0, 0.0, 0.0, 1.0]), corners, pair, (albedo, fresnel), (1.0, 0.04))
     ff = ltc_shader_form_factor(np.broadcast_to(texel, (24, 4)), corners)
     cosine = ltc_shader_form_factor(np.broadcast_to([1.0, 0.0, 0.0, 1.0], (24, 4)), corners)
-    err = np.abs(albedo * ff - ref) / (ref + 0.01 * albedo)
-    err0 = np.abs(albedo * cosine - ref) / (ref + 0.01 * albedo)
+    errors, errors0 = [], []
+    for f0 in (1.0, 0.04):
+        ref = f0 * pair[:, 0] + (1 - f0) * pair[:, 1]
+        e = f0 * albedo + (1 - f0) * fresnel
+        errors.append(np.abs(e * ff - ref) / (ref + 0.01 * e))
+        errors0.append(np.abs(e * cosine - ref) / (ref + 0.01 * e))
+    err, err0 = np.concatenate(errors), np.concatenate(errors0)
     assert rms == pytest.approx(math.sqrt(np.mean(err ** 2)), rel=1e-9)
     assert np.median(err) < 0.25 and np.median(err) < 0.5 * np.median(err0)
 
@@ -81,7 +86,7 @@ def test_pbrkit_ltc_writes_the_tables_deterministically(fitted):
     for name in names:
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     info = json.loads((a / "fit.json").read_text())
-    assert info["options"] == {"size": 4, "polygons": 8, "seed": 0, "epsilon": 0.01}
+    assert info["options"] == {"size": 4, "polygons": 8, "seed": 0, "epsilon": 0.01, "fit_f0": [1.0]}
     ltc1, ltc2 = np.load(a / "ltc_1.npy"), np.load(a / "ltc_2.npy")
     assert ltc1.shape == ltc2.shape == (4, 4, 4)
     # normal incidence (row 0): a symmetric lobe, M^-1 = diag(1, 1, w)
@@ -94,6 +99,8 @@ def test_bad_options_are_refused(tmp_path):
     runner = CliRunner()
     result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "x"), "--size", "1"])
     assert result.exit_code == 1 and "--size" in result.stderr and not (tmp_path / "x").exists()
+    result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "z"), "--size", "4", "--fit-f0", "1,2"])
+    assert result.exit_code == 1 and "--fit-f0" in result.stderr and not (tmp_path / "z").exists()
     result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "y"), "--size", "4", "--polygons", "8", "--report",
                                  "--published", str(tmp_path / "nope.js")])
     assert result.exit_code == 1 and "nope.js" in result.stderr and not (tmp_path / "y").exists()

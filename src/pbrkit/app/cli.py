@@ -756,6 +756,10 @@ def ltc(
                              help="Cells per side (64: the published layout engines load)."),
     polygons: int = typer.Option(64, "--polygons", metavar="K", help="Rectangular lights each cell is fitted on."),
     seed: int = _seed_option("Seed of the lights each cell is fitted on."),
+    fit_f0: str = typer.Option("1", "--fit-f0", metavar="F0[,F0...]",
+                               help="Normal reflectances the fit weighs (Schlick F): 1 = the lobe without Fresnel "
+                                    "(as the published table); 1,0.04 also a dielectric's, better for dielectrics "
+                                    "and worse at F = 1."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "
                          "on the same test set, with per-cell error maps."),
@@ -778,6 +782,12 @@ def ltc(
 
     size = checks.integer(size, "--size", 2, 256)
     polygons = checks.integer(polygons, "--polygons", 4, 4096)
+    try:
+        f0s = tuple(float(x) for x in fit_f0.split(","))
+    except ValueError:
+        raise ValueError(f"--fit-f0: a comma-separated list of numbers in [0, 1], got {fit_f0!r}") from None
+    if not all(0.0 <= f <= 1.0 for f in f0s):
+        raise ValueError(f"--fit-f0: normal reflectances must be in [0, 1], got {fit_f0!r}")
     check_output_directory(out, force)
     table = None
     if report:
@@ -797,7 +807,7 @@ def ltc(
             if done < total:
                 stages.start(f"fit roughness column {done + 1}/{total}", done + 1)
 
-        fit = fit_table(size, polygons, seed, progress=column)
+        fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s)
         stages.start("score" if report else "write", size + 1)
         scores = score_fit(fit, table) if report else None
         stages.start("write", size + 2)

@@ -24,7 +24,10 @@ directly (:func:`fit_cell`):
 - the objective sum_k ((E FF_k - I_k) / (I_k + eps E))^2, the shader's form factor
   FF_k under the candidate matrix against the reference I_k: relative errors
   where a light matters, errors relative to eps of the albedo where it does not
-  (eps = :data:`EPSILON`);
+  (eps = :data:`EPSILON`), with F = 1 by default or summed over several normal
+  reflectances (:data:`FIT_F0`, ``fit_f0``: the shader scales one shape by the
+  Fresnel split, so a shape fitted for dielectrics too serves them better and
+  F = 1 worse);
 - Nelder-Mead (SciPy) over the four stored entries of M^-1 / m11 themselves
   (x, y, z, w of ``ltc_1``), from the neighbouring cell's solution: cells are
   fitted from rough to smooth and, for each roughness, from normal incidence
@@ -49,13 +52,19 @@ import numpy as np
 from ..core.jit import kernel
 from .score import clipped_sphere_form_factor_xyz, edge_vector_form_factor_xyz
 
-__all__ = ["EPSILON", "CROSSING_SHARE", "MAX_THETA", "cell_view", "fit_lights", "cell_data", "references", "fit_cell", "fit_table",
+__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "MAX_THETA", "cell_view", "fit_lights", "cell_data", "references", "fit_cell", "fit_table",
            "sphere_form_factor_table", "LTCFit", "cell_errors"]
 
 #: Floor of the objective's relative errors, as a share of the albedo.
 EPSILON = 0.01
 #: Share of each cell's lights that straddle the horizon (the test set's: 15%).
 CROSSING_SHARE = 0.15
+#: The normal reflectances the objective weighs by default: F = 1 (the lobe's shape
+#: without Fresnel, which the published table fits too).  (1.0, 0.04) adds a
+#: dielectric's Schlick-weighted lobe, which leans further to grazing: the shader
+#: scales one shape by the Fresnel split, and that shape then serves dielectrics
+#: better and F = 1 worse (``bench/ltc.py``; ``pbrkit ltc --fit-f0``).
+FIT_F0 = (1.0,)
 #: The grazing row's view angle (radians): cos theta_v = 0 would put v in the horizon.
 MAX_THETA = math.radians(89.95)
 
@@ -158,9 +167,17 @@ def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
     return total
 
 
-def _objective(texel, corners, reference, albedo):
-    return _objective_kernel(float(texel[0]), float(texel[1]), float(texel[2]), float(texel[3]), corners,
-                             reference, float(albedo), EPSILON)
+def _objective(texel, corners, reference, albedo, fit_f0=FIT_F0):
+    """The objective summed over ``fit_f0`` (:data:`FIT_F0`): ``reference`` (K, 2)
+    the lights' (norm, fresnel) integrals, ``albedo`` (A + B, B); with Schlick's F
+    the reference is f0 norm + (1 - f0) fresnel and the LTC's the form factor
+    times f0 (A + B) + (1 - f0) B (the shader's Fresnel split)."""
+    x, y, z, w = (float(v) for v in texel)
+    total = 0.0
+    for f0 in fit_f0:
+        ref = np.ascontiguousarray(f0 * reference[:, 0] + (1.0 - f0) * reference[:, 1])
+        total += _objective_kernel(x, y, z, w, corners, ref, f0 * albedo[0] + (1.0 - f0) * albedo[1], EPSILON)
+    return total
 
 
 def cell_data(nov, roughness, polygons=32, seed=0):
@@ -175,39 +192,46 @@ def cell_data(nov, roughness, polygons=32, seed=0):
 
 
 def references(nov, roughness, corners):
-    """Converged F = 1 GGX integrals of lights (:func:`pbrkit.ltc.score.ggx_rect_integrals`
-    at 1e-5): ``nov``, ``roughness`` (C,), ``corners`` (C, K, 4, 3) -> (C, K)."""
+    """Converged GGX integrals of lights (:func:`pbrkit.ltc.score.ggx_rect_integrals`
+    at 1e-5), (norm, fresnel) parts: ``nov``, ``roughness`` (C,), ``corners``
+    (C, K, 4, 3) -> (C, K, 2)."""
     from .score import ggx_rect_integrals
 
     c, k = corners.shape[:2]
     mu = np.repeat(np.asarray(nov, dtype=float), k)
     r = np.repeat(np.asarray(roughness, dtype=float), k)
-    return ggx_rect_integrals(mu, r, corners.reshape(c * k, 4, 3), tol=1e-5)[:, 0].reshape(c, k)
+    return ggx_rect_integrals(mu, r, corners.reshape(c * k, 4, 3), tol=1e-5).reshape(c, k, 2)
 
 
-def fit_cell(nov, start, corners, reference, albedo):
+
+
+
+def fit_cell(nov, start, corners, reference, albedo, fit_f0=FIT_F0):
     """Fit one cell (module doc) from the ``ltc_1`` texel ``start`` (4,) on its
-    lights ``corners`` (K, 4, 3) with references ``reference`` (K,) and albedo E;
-    returns (texel (4,), the RMS of the objective's errors)."""
+    lights ``corners`` (K, 4, 3) with references ``reference`` (K, 2) (norm,
+    fresnel) and ``albedo`` (A + B, B); returns (texel (4,), the RMS of the
+    objective's errors over the lights and ``fit_f0``)."""
     from scipy.optimize import minimize
 
     start = np.asarray(start, dtype=float)
     reference = np.ascontiguousarray(reference, dtype=np.float64)
+    albedo = (float(albedo[0]), float(albedo[1]))
     if nov >= 1.0 - 1e-12:  # normal incidence: a symmetric lobe, x = 1, y = z = 0
         def objective(p):
-            return _objective(np.array([1.0, 0.0, 0.0, p[0]]), corners, reference, albedo)
+            return _objective(np.array([1.0, 0.0, 0.0, p[0]]), corners, reference, albedo, fit_f0)
 
         result = minimize(objective, [start[3]], method="Nelder-Mead",
                           options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 400})
         texel = np.array([1.0, 0.0, 0.0, result.x[0]])
     else:
         def objective(p):
-            return _objective(p, corners, reference, albedo)
+            return _objective(p, corners, reference, albedo, fit_f0)
 
         result = minimize(objective, start, method="Nelder-Mead",
                           options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 1500})
         texel = np.asarray(result.x, dtype=float)
-    return texel, math.sqrt(_objective(texel, corners, reference, albedo) / corners.shape[0])
+    return texel, math.sqrt(_objective(texel, corners, reference, albedo, fit_f0)
+                            / (corners.shape[0] * len(fit_f0)))
 
 
 class LTCFit:
@@ -229,22 +253,28 @@ def cell_errors(fit, ltc1):
     out = np.zeros((n, n))
     for t in range(n):
         for a in range(n):
-            k = fit.corners.shape[2]
+            f0s = getattr(fit, "fit_f0", FIT_F0)
+            k = fit.corners.shape[2] * len(f0s)
             out[t, a] = math.sqrt(_objective(np.asarray(ltc1[t, a], dtype=float), fit.corners[t, a],
-                                             fit.reference[t, a], float(fit.ltc2[t, a, 0])) / k)
+                                             fit.reference[t, a], (float(fit.ltc2[t, a, 0]),
+                                                                   float(fit.ltc2[t, a, 1])), f0s) / k)
     return out
 
 
-def fit_table(n=64, polygons=64, seed=0, progress=None):
-    """Fit an N x N table (module doc).  ``progress(done, total)`` after each
-    roughness column.  Deterministic: the same arguments give the same table."""
+def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0):
+    """Fit an N x N table (module doc) for the normal reflectances ``fit_f0``.
+    ``progress(done, total)`` after each roughness column.  Deterministic: the
+    same arguments give the same table."""
+    fit_f0 = tuple(float(f) for f in fit_f0)
+    if not fit_f0 or any(not 0.0 <= f <= 1.0 for f in fit_f0):
+        raise ValueError(f"--fit-f0: normal reflectances in [0, 1], got {fit_f0}")
     t0 = time.perf_counter()
     n = int(n)
     ltc1 = np.zeros((n, n, 4))
     ltc2 = np.zeros((n, n, 4))
     error = np.zeros((n, n))
     all_corners = np.zeros((n, n, int(polygons), 4, 3))
-    all_refs = np.zeros((n, n, int(polygons)))
+    all_refs = np.zeros((n, n, int(polygons), 2))
     previous_column = None
     for a in range(n - 1, -1, -1):
         views = [cell_view(t, a, n) for t in range(n)]
@@ -261,7 +291,7 @@ def fit_table(n=64, polygons=64, seed=0, progress=None):
                 start = previous_column
             else:
                 start = np.array([1.0, 0.0, 0.0, 1.0])  # r = 1 at normal incidence: close to the cosine
-            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], data[t][1])
+            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], (data[t][1], data[t][2]), fit_f0)
             ltc1[t, a] = texel
             ltc2[t, a, :2] = (data[t][1], data[t][2])
             error[t, a] = rms
@@ -269,8 +299,10 @@ def fit_table(n=64, polygons=64, seed=0, progress=None):
         if progress is not None:
             progress(n - a, n)
     ltc2[..., 3] = sphere_form_factor_table(n)
-    return LTCFit(ltc1.astype(np.float32), ltc2.astype(np.float32), error, time.perf_counter() - t0, polygons,
-                  seed, all_corners, all_refs)
+    fit = LTCFit(ltc1.astype(np.float32), ltc2.astype(np.float32), error, time.perf_counter() - t0, polygons,
+                 seed, all_corners, all_refs)
+    fit.fit_f0 = fit_f0
+    return fit
 
 
 def _clipped_cap_form_factor(sigma, cos_omega, nodes=96):

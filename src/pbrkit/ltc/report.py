@@ -87,7 +87,8 @@ def write_fit(folder, fit, report=None):
     np.save(folder / "fit_error.npy", fit.error.astype(np.float32), allow_pickle=False)
     info = {
         "format": FORMAT,
-        "options": {"size": n, "polygons": int(fit.polygons), "seed": int(fit.seed), "epsilon": EPSILON},
+        "options": {"size": n, "polygons": int(fit.polygons), "seed": int(fit.seed), "epsilon": EPSILON,
+                    "fit_f0": [float(f) for f in getattr(fit, "fit_f0", (1.0,))]},
         "brdf": "GGX, height-correlated Smith, F = 1 for the matrices; Schlick F through ltc_2 (norm, fresnel)",
         "layout": {"ltc_1": "(m00, m20, m02, m22) / m11 of M^-1, row t, column a",
                    "ltc_2": "(norm = A + B, fresnel = B, 0, sphere form factor)",
