@@ -628,6 +628,9 @@ def test_choices_match_the_library():
     from pbrkit.render.realtime import ENGINES
 
     assert cli.RENDER_ENGINES == tuple(ENGINES)
+    from pbrkit.ltc.fit import CLIPPINGS
+
+    assert cli.LTC_CLIPPINGS == tuple(CLIPPINGS)
 
 
 def test_help_imports_neither_numba_nor_the_renderer():

@@ -86,7 +86,8 @@ def test_pbrkit_ltc_writes_the_tables_deterministically(fitted):
     for name in names:
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     info = json.loads((a / "fit.json").read_text())
-    assert info["options"] == {"size": 4, "polygons": 8, "seed": 0, "epsilon": 0.01, "fit_f0": [1.0]}
+    assert info["options"] == {"size": 4, "polygons": 8, "seed": 0, "epsilon": 0.01, "fit_f0": [1.0],
+                               "clipping": "sphere"}
     ltc1, ltc2 = np.load(a / "ltc_1.npy"), np.load(a / "ltc_2.npy")
     assert ltc1.shape == ltc2.shape == (4, 4, 4)
     # normal incidence (row 0): a symmetric lobe, M^-1 = diag(1, 1, w)
@@ -104,3 +105,25 @@ def test_bad_options_are_refused(tmp_path):
     result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "y"), "--size", "4", "--polygons", "8", "--report",
                                  "--published", str(tmp_path / "nope.js")])
     assert result.exit_code == 1 and "nope.js" in result.stderr and not (tmp_path / "y").exists()
+
+
+def test_exact_clipping_fit_and_evaluation():
+    """pbrkit's own evaluation (exact horizon clipping): an identity table gives the
+    clamped cosine's form factor exactly; a cell fitted for it matches its lights
+    under that evaluation far better than the cosine it starts from."""
+    from pbrkit.ltc.polygon import polygon_clamped_cosine_integral
+    from pbrkit.ltc.score import ltc_exact_rect, random_rect_lights
+
+    lights = random_rect_lights(60, 5)
+    ident1 = np.tile([1.0, 0.0, 0.0, 1.0], (4, 4, 1))
+    ident2 = np.tile([1.0, 1.0, 0.0, 0.0], (4, 4, 1))
+    value = ltc_exact_rect(ident1, ident2, lights.nov, lights.roughness, lights.corners)
+    np.testing.assert_allclose(value, np.maximum(polygon_clamped_cosine_integral(lights.corners), 0.0), atol=1e-12)
+    nov, r = cell_view(4, 4, 8)
+    corners, albedo, fresnel = cell_data(nov, r, 24, seed=3)
+    pair = references([nov], [r], corners[None])[0]
+    _, rms = fit_cell(nov, np.array([1.0, 0.0, 0.0, 1.0]), corners, pair, (albedo, fresnel), clipping="exact")
+    _, rms_sphere = fit_cell(nov, np.array([1.0, 0.0, 0.0, 1.0]), corners, pair, (albedo, fresnel))
+    start = math.sqrt(np.mean(((albedo * np.maximum(polygon_clamped_cosine_integral(corners), 0.0) - pair[:, 0])
+                               / (pair[:, 0] + 0.01 * albedo)) ** 2))
+    assert rms < 0.5 * start and rms <= rms_sphere * 1.05

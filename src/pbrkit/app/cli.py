@@ -40,6 +40,7 @@ MODES = ("realtime", "reference", "compare")                        # pbrkit.ren
 TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")   # pbrkit.core.color.TONEMAPS
 DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.render.realtime
 RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")  # pbrkit.render.realtime.ENGINES
+LTC_CLIPPINGS = ("sphere", "exact")                                 # pbrkit.ltc.fit.CLIPPINGS
 LUT_KINDS = ("splitsum", "dfg")                                     # pbrkit.albedo.tables.lookup_table
 VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")    # pbrkit.albedo.tables.VISIBILITIES
 KTX2_FORMATS = ("float16", "float32")                               # pbrkit.io.lut_files.write_lut
@@ -760,6 +761,10 @@ def ltc(
                                help="Normal reflectances the fit weighs (Schlick F): 1 = the lobe without Fresnel "
                                     "(as the published table); 1,0.04 also a dielectric's, better for dielectrics "
                                     "and worse at F = 1."),
+    clipping: str = _choice("sphere", "--clipping", LTC_CLIPPINGS, "clipping",
+                            "Horizon clipping the table is fitted for: sphere (the shaders' approximation, what "
+                            "engines run: the drop-in table) or exact (pbrkit's own evaluation, "
+                            "pbrkit.ltc.score.ltc_exact_rect; same layout)."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "
                          "on the same test set, with per-cell error maps."),
@@ -807,7 +812,7 @@ def ltc(
             if done < total:
                 stages.start(f"fit roughness column {done + 1}/{total}", done + 1)
 
-        fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s)
+        fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s, clipping=clipping)
         stages.start("score" if report else "write", size + 1)
         scores = score_fit(fit, table) if report else None
         stages.start("write", size + 2)

@@ -50,9 +50,17 @@ import time
 import numpy as np
 
 from ..core.jit import kernel
+from .polygon import transformed_polygon_form_factor
 from .score import clipped_sphere_form_factor_xyz, edge_vector_form_factor_xyz
 
-__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "MAX_THETA", "cell_view", "fit_lights", "cell_data", "references", "fit_cell", "fit_table",
+#: How the LTC's integral is clipped at the horizon (``pbrkit ltc --clipping``):
+#: ``sphere``, the shaders' approximation from the vector form factor (the
+#: published layout's evaluation, what engines run), or ``exact``, the polygon
+#: clipped against the true horizon (pbrkit's own evaluation,
+#: :func:`pbrkit.ltc.score.ltc_exact_rect`).
+CLIPPINGS = ("sphere", "exact")
+
+__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "CLIPPINGS", "MAX_THETA", "cell_view", "fit_lights", "cell_data", "references", "fit_cell", "fit_table",
            "sphere_form_factor_table", "LTCFit", "cell_errors"]
 
 #: Floor of the objective's relative errors, as a share of the albedo.
@@ -121,6 +129,27 @@ def fit_lights(nov, roughness, count, seed):
 
 
 @kernel
+def _exact_objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
+    """:func:`_objective_kernel` with the LTC's integral clipped at the true
+    horizon (:func:`pbrkit.ltc.polygon.transformed_polygon_form_factor` of M^-1 =
+    [[x, 0, z], [0, 1, 0], [y, 0, w]] applied to the corners, signed by
+    det M^-1 so that the light's own winding decides its side)."""
+    m = np.zeros((3, 3))
+    m[0, 0] = x
+    m[0, 2] = z
+    m[1, 1] = 1.0
+    m[2, 0] = y
+    m[2, 2] = w
+    sign = 1.0 if x * w - z * y >= 0.0 else -1.0
+    total = 0.0
+    for k in range(corners.shape[0]):
+        ff = max(0.0, sign * transformed_polygon_form_factor(m, corners[k]))
+        e = (albedo * ff - reference[k]) / (reference[k] + epsilon * albedo)
+        total += e * e
+    return total
+
+
+@kernel
 def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
     """sum_k ((E FF_k - I_k) / (I_k + eps E))^2 with FF_k the shader's form factor
     of light k under the texel (x, y, z, w) (:func:`pbrkit.ltc.score.
@@ -167,16 +196,17 @@ def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
     return total
 
 
-def _objective(texel, corners, reference, albedo, fit_f0=FIT_F0):
+def _objective(texel, corners, reference, albedo, fit_f0=FIT_F0, clipping="sphere"):
     """The objective summed over ``fit_f0`` (:data:`FIT_F0`): ``reference`` (K, 2)
     the lights' (norm, fresnel) integrals, ``albedo`` (A + B, B); with Schlick's F
     the reference is f0 norm + (1 - f0) fresnel and the LTC's the form factor
     times f0 (A + B) + (1 - f0) B (the shader's Fresnel split)."""
     x, y, z, w = (float(v) for v in texel)
+    objective = _exact_objective_kernel if clipping == "exact" else _objective_kernel
     total = 0.0
     for f0 in fit_f0:
         ref = np.ascontiguousarray(f0 * reference[:, 0] + (1.0 - f0) * reference[:, 1])
-        total += _objective_kernel(x, y, z, w, corners, ref, f0 * albedo[0] + (1.0 - f0) * albedo[1], EPSILON)
+        total += objective(x, y, z, w, corners, ref, f0 * albedo[0] + (1.0 - f0) * albedo[1], EPSILON)
     return total
 
 
@@ -206,7 +236,7 @@ def references(nov, roughness, corners):
 
 
 
-def fit_cell(nov, start, corners, reference, albedo, fit_f0=FIT_F0):
+def fit_cell(nov, start, corners, reference, albedo, fit_f0=FIT_F0, clipping="sphere"):
     """Fit one cell (module doc) from the ``ltc_1`` texel ``start`` (4,) on its
     lights ``corners`` (K, 4, 3) with references ``reference`` (K, 2) (norm,
     fresnel) and ``albedo`` (A + B, B); returns (texel (4,), the RMS of the
@@ -218,19 +248,19 @@ def fit_cell(nov, start, corners, reference, albedo, fit_f0=FIT_F0):
     albedo = (float(albedo[0]), float(albedo[1]))
     if nov >= 1.0 - 1e-12:  # normal incidence: a symmetric lobe, x = 1, y = z = 0
         def objective(p):
-            return _objective(np.array([1.0, 0.0, 0.0, p[0]]), corners, reference, albedo, fit_f0)
+            return _objective(np.array([1.0, 0.0, 0.0, p[0]]), corners, reference, albedo, fit_f0, clipping)
 
         result = minimize(objective, [start[3]], method="Nelder-Mead",
                           options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 400})
         texel = np.array([1.0, 0.0, 0.0, result.x[0]])
     else:
         def objective(p):
-            return _objective(p, corners, reference, albedo, fit_f0)
+            return _objective(p, corners, reference, albedo, fit_f0, clipping)
 
         result = minimize(objective, start, method="Nelder-Mead",
                           options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 1500})
         texel = np.asarray(result.x, dtype=float)
-    return texel, math.sqrt(_objective(texel, corners, reference, albedo, fit_f0)
+    return texel, math.sqrt(_objective(texel, corners, reference, albedo, fit_f0, clipping)
                             / (corners.shape[0] * len(fit_f0)))
 
 
@@ -257,14 +287,17 @@ def cell_errors(fit, ltc1):
             k = fit.corners.shape[2] * len(f0s)
             out[t, a] = math.sqrt(_objective(np.asarray(ltc1[t, a], dtype=float), fit.corners[t, a],
                                              fit.reference[t, a], (float(fit.ltc2[t, a, 0]),
-                                                                   float(fit.ltc2[t, a, 1])), f0s) / k)
+                                                                   float(fit.ltc2[t, a, 1])), f0s,
+                                             getattr(fit, "clipping", "sphere")) / k)
     return out
 
 
-def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0):
+def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0, clipping="sphere"):
     """Fit an N x N table (module doc) for the normal reflectances ``fit_f0``.
     ``progress(done, total)`` after each roughness column.  Deterministic: the
     same arguments give the same table."""
+    if clipping not in CLIPPINGS:
+        raise ValueError(f"--clipping: choose one of {', '.join(CLIPPINGS)}, got {clipping!r}")
     fit_f0 = tuple(float(f) for f in fit_f0)
     if not fit_f0 or any(not 0.0 <= f <= 1.0 for f in fit_f0):
         raise ValueError(f"--fit-f0: normal reflectances in [0, 1], got {fit_f0}")
@@ -291,7 +324,8 @@ def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0):
                 start = previous_column
             else:
                 start = np.array([1.0, 0.0, 0.0, 1.0])  # r = 1 at normal incidence: close to the cosine
-            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], (data[t][1], data[t][2]), fit_f0)
+            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], (data[t][1], data[t][2]), fit_f0,
+                                  clipping)
             ltc1[t, a] = texel
             ltc2[t, a, :2] = (data[t][1], data[t][2])
             error[t, a] = rms
@@ -302,6 +336,7 @@ def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0):
     fit = LTCFit(ltc1.astype(np.float32), ltc2.astype(np.float32), error, time.perf_counter() - t0, polygons,
                  seed, all_corners, all_refs)
     fit.fit_f0 = fit_f0
+    fit.clipping = clipping
     return fit
 
 

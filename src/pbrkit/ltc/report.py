@@ -40,7 +40,9 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0):
         scores[name] = {}
         for label, f0 in (("F=1", 1.0), ("f0=0.04", 0.04)):
             ref = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
-            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref).summary)
+            evaluation = "exact" if name == "pbrkit" and getattr(fit, "clipping", "sphere") == "exact" else "shader"
+            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref,
+                                                     evaluation=evaluation).summary)
     maps = {"pbrkit": fit.error}
     if published is not None and np.shape(published[0])[:2] == fit.ltc1.shape[:2]:
         maps["published"] = cell_errors(fit, published[0])
@@ -88,7 +90,8 @@ def write_fit(folder, fit, report=None):
     info = {
         "format": FORMAT,
         "options": {"size": n, "polygons": int(fit.polygons), "seed": int(fit.seed), "epsilon": EPSILON,
-                    "fit_f0": [float(f) for f in getattr(fit, "fit_f0", (1.0,))]},
+                    "fit_f0": [float(f) for f in getattr(fit, "fit_f0", (1.0,))],
+                    "clipping": getattr(fit, "clipping", "sphere")},
         "brdf": "GGX, height-correlated Smith, F = 1 for the matrices; Schlick F through ltc_2 (norm, fresnel)",
         "layout": {"ltc_1": "(m00, m20, m02, m22) / m11 of M^-1, row t, column a",
                    "ltc_2": "(norm = A + B, fresnel = B, 0, sphere form factor)",

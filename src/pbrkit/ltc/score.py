@@ -75,6 +75,7 @@ __all__ = [
     "ltc_table_from_published_layout",
     "ltc_shader_rect",
     "ltc_shader_form_factor",
+    "ltc_exact_rect",
     "rect_lights_towards",
     "edge_vector_form_factor",
     "edge_vector_form_factor_xyz",
@@ -590,6 +591,32 @@ def ltc_shader_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
     return ltc_shader_form_factor(t1, corners) * fresnel
 
 
+def ltc_exact_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
+    """pbrkit's own evaluation of a table in the published layout: the lookups of
+    :func:`ltc_shader_rect` (bilinear, texel centres, the Fresnel split), but the
+    LTC's integral clipped at the true horizon (Heitz et al. 2016, sec. 5.2,
+    ``ClipQuadToHorizon``; :func:`pbrkit.ltc.polygon.transformed_polygon_integrals`
+    of M^-1 = [[x, 0, z], [0, 1, 0], [y, 0, w]], signed by det M^-1) instead of
+    the shaders' sphere approximation; one-sided.  What a table fitted with
+    ``clipping="exact"`` (:func:`pbrkit.ltc.fit.fit_table`) is for."""
+    from .polygon import transformed_polygon_integrals
+
+    table = ltc1 if isinstance(ltc1, LTCTable) else ltc_table_from_published_layout(ltc1, ltc2)
+    nov, roughness, corners, shape = _check_lights(nov, roughness, corners)
+    t1 = _bilinear_published(table.ltc1, roughness, nov)
+    t2 = _bilinear_published(table.ltc2, roughness, nov)
+    m = np.zeros(t1.shape[:-1] + (3, 3))
+    m[..., 0, 0] = t1[..., 0]
+    m[..., 0, 2] = t1[..., 2]
+    m[..., 1, 1] = 1.0
+    m[..., 2, 0] = t1[..., 1]
+    m[..., 2, 2] = t1[..., 3]
+    sign = np.where(t1[..., 0] * t1[..., 3] - t1[..., 2] * t1[..., 1] >= 0.0, 1.0, -1.0)
+    ff = np.maximum(0.0, sign * transformed_polygon_integrals(m, corners))
+    fresnel = f0 * t2[..., 0] + (1.0 - f0) * t2[..., 1]
+    return ff * fresnel
+
+
 def ltc_shader_form_factor(texel, corners):
     """Steps 2-4 of :func:`ltc_shader_rect` for ``ltc_1`` texel values ``texel``
     (..., 4) given directly (no table lookup): the form factor of the
@@ -784,7 +811,7 @@ def _summary(rel, abs_alb, ref, ltc, used):
     }
 
 
-def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_THRESHOLD):
+def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_THRESHOLD, evaluation="shader"):
     """Score LTC tables in the published layout on ``lights`` (:class:`RectLights`)
     with Schlick's F of ``f0`` (1: F = 1): the shader's radiance
     (:func:`ltc_shader_rect`) against the converged reference
@@ -798,12 +825,14 @@ def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_T
     of the relative errors (percentiles by linear interpolation, NumPy's
     default), the share of scored lights where the LTC is 0, and the mean,
     median, 95th percentile and maximum of the absolute errors over the
-    albedo.  Returns :class:`LTCScore`."""
+    albedo.  ``evaluation``: ``shader`` (:func:`ltc_shader_rect`, what engines run)
+    or ``exact`` (:func:`ltc_exact_rect`).  Returns :class:`LTCScore`."""
     table = ltc1 if isinstance(ltc1, LTCTable) else ltc_table_from_published_layout(ltc1, ltc2)
     if reference is None:
         reference = ggx_rect_reference(lights.nov, lights.roughness, lights.corners, f0=f0)
     reference = np.asarray(reference, dtype=float)
-    ltc = ltc_shader_rect(table, None, lights.nov, lights.roughness, lights.corners, f0=f0)
+    evaluate = ltc_exact_rect if evaluation == "exact" else ltc_shader_rect
+    ltc = evaluate(table, None, lights.nov, lights.roughness, lights.corners, f0=f0)
     albedo = directional_albedo(lights.nov, lights.roughness, f0)
     used = reference > threshold * albedo
     diff = np.abs(ltc - reference)
