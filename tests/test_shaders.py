@@ -411,6 +411,32 @@ def _ibl_cases(rng, dfg, splitsum):
     return cases
 
 
+def _ltc_cases(rng):
+    """pbrkit's own LTC evaluation (exact horizon clipping) of rectangles, some
+    crossing the horizon, some seen from behind, against :func:`pbrkit.ltc.score.
+    ltc_exact_rect` with a constant table (its lookup then returns the texel)."""
+    from pbrkit.ltc.score import ltc_exact_rect, random_rect_lights
+
+    lights = random_rect_lights(N, 77)
+    corners = _f32(lights.corners)
+    texel = _f32(np.stack([rng.uniform(0.2, 1.2, N), rng.uniform(-0.3, 0.1, N), rng.uniform(0.0, 0.8, N),
+                           rng.uniform(0.05, 1.2, N)], axis=1))
+    corners[: N // 8] = corners[: N // 8, ::-1]  # reversed winding: seen from behind, 0
+    expected = np.array([ltc_exact_rect(np.tile(texel[i], (2, 2, 1)), np.tile([1.0, 1.0, 0.0, 0.0], (2, 2, 1)),
+                                        0.5, 0.5, corners[i]) for i in range(N)])[:, None]
+    cases = [Case("ltcRect", ("pbrkit_ltcEdgeIntegral", "pbrkit_ltcHorizonCrossing", "pbrkit_ltcFormFactorQuad",
+                              "pbrkit_ltcRect"),
+                  "vec4(pbrkit_ltcRect(vec4(a.w, b.w, c.w, d.w), a.xyz, b.xyz, c.xyz, d.xyz), 0.0, 0.0, 0.0)",
+                  [_vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6)]
+    nov, rough = _f32(rng.uniform(-0.1, 1.1, N)), _f32(rng.uniform(-0.1, 1.1, N))
+    size = _f32(rng.choice([8.0, 32.0, 64.0], N))
+    uv = np.stack([np.clip(rough, 0, 1), np.sqrt(1 - np.clip(nov, 0, 1))], axis=1)  # CONVENTIONS, Area lights
+    cases.append(Case("ltcUv", ("pbrkit_ltcUv",), "vec4(pbrkit_ltcUv(a.x, a.y, a.z), 0.0, 0.0)",
+                      [_vec4s(nov, rough, size)], uv * (size[:, None] - 1) / size[:, None] + 0.5 / size[:, None],
+                      rtol=1e-6, atol=1e-7))
+    return cases
+
+
 @pytest.fixture(scope="module")
 def webgl_results(tmp_path_factory):
     from pbrkit.albedo.tables import lookup_table
@@ -420,7 +446,7 @@ def webgl_results(tmp_path_factory):
     rng = np.random.default_rng(20240510)
     dfg, _ = lookup_table("dfg", 16)
     splitsum, _ = lookup_table("splitsum", 16, "height-correlated")
-    cases = _scalar_cases(rng) + _model_cases(rng) + _ibl_cases(rng, dfg, splitsum)
+    cases = _scalar_cases(rng) + _model_cases(rng) + _ibl_cases(rng, dfg, splitsum) + _ltc_cases(rng)
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
             "lut": {"width": dfg.shape[1], "height": dfg.shape[0], "data": dfg.reshape(-1).tolist()},
             "cases": [{"name": c.name, "expr": c.expr, "count": N,

@@ -15,7 +15,10 @@ group:
   ``BRDF_glTF``, composed from those terms as :mod:`pbrkit.brdf.bxdf`
   composes them;
 - ``pbrkit_ibl.glsl``: lod = r (M - 1), the DFG table lookup at (n.v, r)
-  with texel centres, SH9 irradiance, the split-sum combination.
+  with texel centres, SH9 irradiance, the split-sum combination;
+- ``pbrkit_ltc.glsl``: rectangular area lights with LTC tables as pbrkit
+  evaluates them (``pbrkit ltc --clipping exact``: the LTC's integral clipped at
+  the true horizon), and the tables' texture coordinate.
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each
 function is preceded by a comment whose ``source:``, ``roughness:`` and
@@ -36,7 +39,7 @@ __all__ = ["TARGETS", "GLSL_FILES", "glsl_sources", "functions", "shader_manifes
 #: Shader languages ``pbrkit shaders --target`` writes.
 TARGETS = ("glsl",)
 #: The GLSL files, in the order they may be concatenated.
-GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl")
+GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl")
 #: Version of the manifest's layout.
 MANIFEST_VERSION = 1
 
