@@ -50,8 +50,7 @@ import time
 import numpy as np
 
 from ..core.jit import kernel
-from .polygon import transformed_polygon_form_factor
-from .score import clipped_sphere_form_factor_xyz, edge_vector_form_factor_xyz
+from .score import exact_rect_form_factor, shader_rect_form_factor
 
 #: How the LTC's integral is clipped at the horizon (``pbrkit ltc --clipping``):
 #: ``sphere``, the shaders' approximation from the vector form factor (the
@@ -129,68 +128,17 @@ def fit_lights(nov, roughness, count, seed):
 
 
 @kernel
-def _exact_objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
-    """:func:`_objective_kernel` with the LTC's integral clipped at the true
-    horizon (:func:`pbrkit.ltc.polygon.transformed_polygon_form_factor` of M^-1 =
-    [[x, 0, z], [0, 1, 0], [y, 0, w]] applied to the corners, signed by
-    det M^-1 so that the light's own winding decides its side)."""
-    m = np.zeros((3, 3))
-    m[0, 0] = x
-    m[0, 2] = z
-    m[1, 1] = 1.0
-    m[2, 0] = y
-    m[2, 2] = w
-    sign = 1.0 if x * w - z * y >= 0.0 else -1.0
+def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon, exact):
+    """sum_k ((E FF_k - I_k) / (I_k + eps E))^2 with FF_k the LTC's integral over
+    light k under the texel (x, y, z, w) as the shader evaluates it
+    (:func:`pbrkit.ltc.score.shader_rect_form_factor`) or, with ``exact``, clipped
+    at the true horizon (:func:`pbrkit.ltc.score.exact_rect_form_factor`)."""
     total = 0.0
     for k in range(corners.shape[0]):
-        ff = max(0.0, sign * transformed_polygon_form_factor(m, corners[k]))
-        e = (albedo * ff - reference[k]) / (reference[k] + epsilon * albedo)
-        total += e * e
-    return total
-
-
-@kernel
-def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon):
-    """sum_k ((E FF_k - I_k) / (I_k + eps E))^2 with FF_k the shader's form factor
-    of light k under the texel (x, y, z, w) (:func:`pbrkit.ltc.score.
-    ltc_shader_form_factor`, the same steps by components)."""
-    total = 0.0
-    for k in range(corners.shape[0]):
-        qx = np.empty(4)
-        qy = np.empty(4)
-        qz = np.empty(4)
-        for c in range(4):
-            px = corners[k, c, 0]
-            py = -corners[k, c, 1]  # the shader's frame (T1, T2, N) = (+x, -y, +z)
-            pz = corners[k, c, 2]
-            ux = x * px + z * pz
-            uz = y * px + w * pz
-            length = math.sqrt(ux * ux + py * py + uz * uz)
-            qx[c] = ux / length
-            qy[c] = py / length
-            qz[c] = uz / length
-        fx = 0.0
-        fy = 0.0
-        fz = 0.0
-        for c in range(4):
-            d = (c + 1) % 4
-            ex, ey, ez = edge_vector_form_factor_xyz(qx[c], qy[c], qz[c], qx[d], qy[d], qz[d])
-            fx += ex
-            fy += ey
-            fz += ez
-        ff = clipped_sphere_form_factor_xyz(fx, fy, fz)
-        # one-sided: nothing when the shading point is behind the light
-        e1x = corners[k, 1, 0] - corners[k, 0, 0]
-        e1y = corners[k, 1, 1] - corners[k, 0, 1]
-        e1z = corners[k, 1, 2] - corners[k, 0, 2]
-        e2x = corners[k, 3, 0] - corners[k, 0, 0]
-        e2y = corners[k, 3, 1] - corners[k, 0, 1]
-        e2z = corners[k, 3, 2] - corners[k, 0, 2]
-        nx = e1y * e2z - e1z * e2y
-        ny = e1z * e2x - e1x * e2z
-        nz = e1x * e2y - e1y * e2x
-        if -(nx * corners[k, 0, 0] + ny * corners[k, 0, 1] + nz * corners[k, 0, 2]) < 0.0:
-            ff = 0.0
+        if exact:
+            ff = exact_rect_form_factor(x, y, z, w, corners[k])
+        else:
+            ff = shader_rect_form_factor(x, y, z, w, corners[k])
         e = (albedo * ff - reference[k]) / (reference[k] + epsilon * albedo)
         total += e * e
     return total
@@ -202,11 +150,11 @@ def _objective(texel, corners, reference, albedo, fit_f0=FIT_F0, clipping="spher
     the reference is f0 norm + (1 - f0) fresnel and the LTC's the form factor
     times f0 (A + B) + (1 - f0) B (the shader's Fresnel split)."""
     x, y, z, w = (float(v) for v in texel)
-    objective = _exact_objective_kernel if clipping == "exact" else _objective_kernel
     total = 0.0
     for f0 in fit_f0:
         ref = np.ascontiguousarray(f0 * reference[:, 0] + (1.0 - f0) * reference[:, 1])
-        total += objective(x, y, z, w, corners, ref, f0 * albedo[0] + (1.0 - f0) * albedo[1], EPSILON)
+        total += _objective_kernel(x, y, z, w, corners, ref, f0 * albedo[0] + (1.0 - f0) * albedo[1], EPSILON,
+                                   clipping == "exact")
     return total
 
 

@@ -60,6 +60,7 @@ from ..brdf.fresnel import f_schlick
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, parallel_kernel, select
 from ..core.quadrature import gauss_legendre_01
+from .polygon import transformed_polygon_form_factor
 
 __all__ = [
     "LUT_SIZE",
@@ -76,6 +77,8 @@ __all__ = [
     "ltc_shader_rect",
     "ltc_shader_form_factor",
     "ltc_exact_rect",
+    "shader_rect_form_factor",
+    "exact_rect_form_factor",
     "rect_lights_towards",
     "edge_vector_form_factor",
     "edge_vector_form_factor_xyz",
@@ -594,52 +597,116 @@ def ltc_shader_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
 def ltc_exact_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
     """pbrkit's own evaluation of a table in the published layout: the lookups of
     :func:`ltc_shader_rect` (bilinear, texel centres, the Fresnel split), but the
-    LTC's integral clipped at the true horizon (Heitz et al. 2016, sec. 5.2,
-    ``ClipQuadToHorizon``; :func:`pbrkit.ltc.polygon.transformed_polygon_integrals`
-    of M^-1 = [[x, 0, z], [0, 1, 0], [y, 0, w]], signed by det M^-1) instead of
-    the shaders' sphere approximation; one-sided.  What a table fitted with
-    ``clipping="exact"`` (:func:`pbrkit.ltc.fit.fit_table`) is for."""
-    from .polygon import transformed_polygon_integrals
-
+    LTC's integral clipped at the true horizon (:func:`exact_rect_form_factor`)
+    instead of the shaders' sphere approximation; one-sided.  What a table fitted
+    with ``clipping="exact"`` (:func:`pbrkit.ltc.fit.fit_table`) is for."""
     table = ltc1 if isinstance(ltc1, LTCTable) else ltc_table_from_published_layout(ltc1, ltc2)
     nov, roughness, corners, shape = _check_lights(nov, roughness, corners)
     t1 = _bilinear_published(table.ltc1, roughness, nov)
     t2 = _bilinear_published(table.ltc2, roughness, nov)
-    m = np.zeros(t1.shape[:-1] + (3, 3))
-    m[..., 0, 0] = t1[..., 0]
-    m[..., 0, 2] = t1[..., 2]
-    m[..., 1, 1] = 1.0
-    m[..., 2, 0] = t1[..., 1]
-    m[..., 2, 2] = t1[..., 3]
-    sign = np.where(t1[..., 0] * t1[..., 3] - t1[..., 2] * t1[..., 1] >= 0.0, 1.0, -1.0)
-    ff = np.maximum(0.0, sign * transformed_polygon_integrals(m, corners))
     fresnel = f0 * t2[..., 0] + (1.0 - f0) * t2[..., 1]
-    return ff * fresnel
+    return _rect_form_factors(t1, corners, True) * fresnel
+
+
+@dual_use
+def shader_rect_form_factor(x, y, z, w, corners):
+    """Steps 2-4 of :func:`ltc_shader_rect` for one rectangle ``corners`` (4, 3)
+    under the ``ltc_1`` texel (x, y, z, w), i.e. M^-1 = [[x, 0, z], [0, 1, 0], [y, 0,
+    w]], given directly (no table lookup): the corners in the shader's frame
+    (T1, T2, N) = (+x, -y, +z), M^-1 applied and projected on the unit sphere, the
+    edge terms by Hill and Heitz's rational fit (:func:`edge_vector_form_factor_xyz`)
+    and the horizon clipping by the sphere approximation
+    (:func:`clipped_sphere_form_factor_xyz`); 0 behind the light."""
+    qx = np.empty(4)
+    qy = np.empty(4)
+    qz = np.empty(4)
+    for c in range(4):
+        px = corners[c, 0]
+        py = -corners[c, 1]
+        pz = corners[c, 2]
+        ux = x * px + z * pz
+        uz = y * px + w * pz
+        length = math.sqrt(ux * ux + py * py + uz * uz)
+        qx[c] = ux / length
+        qy[c] = py / length
+        qz[c] = uz / length
+    fx = 0.0
+    fy = 0.0
+    fz = 0.0
+    for c in range(4):
+        d = (c + 1) % 4
+        ex, ey, ez = edge_vector_form_factor_xyz(qx[c], qy[c], qz[c], qx[d], qy[d], qz[d])
+        fx += ex
+        fy += ey
+        fz += ez
+    if not _lit_side(corners):
+        return 0.0
+    return clipped_sphere_form_factor_xyz(fx, fy, fz)
+
+
+@dual_use
+def exact_rect_form_factor(x, y, z, w, corners):
+    """The LTC's integral over one rectangle ``corners`` (4, 3) under M^-1 = [[x, 0,
+    z], [0, 1, 0], [y, 0, w]] clipped at the true horizon (Heitz et al. 2016, sec.
+    5.2, ``ClipQuadToHorizon``; :func:`pbrkit.ltc.polygon.transformed_polygon_form_factor`),
+    signed by det M^-1 so that the light's own winding decides its side, and 0 on
+    the unlit side."""
+    m = np.zeros((3, 3))
+    m[0, 0] = x
+    m[0, 2] = z
+    m[1, 1] = 1.0
+    m[2, 0] = y
+    m[2, 2] = w
+    sign = 1.0 if x * w - z * y >= 0.0 else -1.0
+    return max(0.0, sign * transformed_polygon_form_factor(m, corners))
+
+
+@dual_use
+def _lit_side(corners):
+    """Whether the shading point (the origin) is on the lit side of the rectangle
+    ``corners`` (4, 3): the side cross(c1 - c0, c3 - c0) points to (three.js
+    ``LTC_Evaluate``'s back-side test)."""
+    e1x = corners[1, 0] - corners[0, 0]
+    e1y = corners[1, 1] - corners[0, 1]
+    e1z = corners[1, 2] - corners[0, 2]
+    e2x = corners[3, 0] - corners[0, 0]
+    e2y = corners[3, 1] - corners[0, 1]
+    e2z = corners[3, 2] - corners[0, 2]
+    nx = e1y * e2z - e1z * e2y
+    ny = e1z * e2x - e1x * e2z
+    nz = e1x * e2y - e1y * e2x
+    return -(nx * corners[0, 0] + ny * corners[0, 1] + nz * corners[0, 2]) >= 0.0
+
+
+@parallel_kernel
+def _rect_form_factor_kernel(texels, corners, exact, out):
+    for k in numba.prange(corners.shape[0]):
+        t = texels[k]
+        if exact:
+            out[k] = exact_rect_form_factor(t[0], t[1], t[2], t[3], corners[k])
+        else:
+            out[k] = shader_rect_form_factor(t[0], t[1], t[2], t[3], corners[k])
+
+
+def _rect_form_factors(texel, corners, exact):
+    """:func:`exact_rect_form_factor` or :func:`shader_rect_form_factor` of texels
+    (..., 4) and rectangles (..., 4, 3), broadcast together -> (...)."""
+    corners = np.asarray(corners, dtype=np.float64)
+    texel = np.asarray(texel, dtype=np.float64)
+    shape = np.broadcast_shapes(texel.shape[:-1], corners.shape[:-2])
+    t = np.ascontiguousarray(np.broadcast_to(texel, shape + (4,)).reshape(-1, 4))
+    c = np.ascontiguousarray(np.broadcast_to(corners, shape + (4, 3)).reshape(-1, 4, 3))
+    out = np.empty(c.shape[0])
+    _rect_form_factor_kernel(t, c, bool(exact), out)
+    return out.reshape(shape)
 
 
 def ltc_shader_form_factor(texel, corners):
     """Steps 2-4 of :func:`ltc_shader_rect` for ``ltc_1`` texel values ``texel``
-    (..., 4) given directly (no table lookup): the form factor of the
-    rectangles ``corners`` (..., 4, 3) under M^-1 = [[x, 0, z], [0, 1, 0], [y, 0,
-    w]] as the shader approximates it (edge terms by Hill and Heitz's rational
-    fit, horizon clipping by the sphere approximation), 0 behind the light.  What
-    a table fit for shaders (:mod:`pbrkit.ltc.fit`) must match."""
-    t1 = np.asarray(texel, dtype=float)
-    corners = np.asarray(corners, dtype=float)
-    # the frame (T1, T2, N) = (+x, -y, +z) of the local frame: coordinates (x, -y, z)
-    p = corners * np.array([1.0, -1.0, 1.0])
-    q = np.empty_like(p)
-    q[..., 0] = t1[..., None, 0] * p[..., 0] + t1[..., None, 2] * p[..., 2]
-    q[..., 1] = p[..., 1]
-    q[..., 2] = t1[..., None, 1] * p[..., 0] + t1[..., None, 3] * p[..., 2]
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    f = edge_vector_form_factor(q[..., 0, :], q[..., 1, :])
-    for k in range(1, 4):
-        f = f + edge_vector_form_factor(q[..., k, :], q[..., (k + 1) % 4, :])
-    form_factor = clipped_sphere_form_factor(f)
-    light_normal = np.cross(corners[..., 1, :] - corners[..., 0, :], corners[..., 3, :] - corners[..., 0, :])
-    front = np.sum(light_normal * -corners[..., 0, :], axis=-1) >= 0.0
-    return np.where(front, form_factor, 0.0)
+    (..., 4) given directly (no table lookup) and rectangles ``corners`` (..., 4,
+    3): :func:`shader_rect_form_factor` of each.  What a table fit for shaders
+    (:mod:`pbrkit.ltc.fit`) must match."""
+    return _rect_form_factors(texel, corners, False)
 
 
 # ------------------------------------------------------------------ test set
