@@ -106,6 +106,7 @@ __all__ = [
     "filament_level_of_roughness",
     "BABYLON_LOD_GENERATION_SCALE",
     "babylon_alpha_of_level",
+    "babylon_alpha_g",
     "babylon_level_of_roughness",
     "chain_roughness",
     "ggx_lobe_normalization",
@@ -210,6 +211,14 @@ BABYLON_LOD_GENERATION_SCALE = 0.8
 _BABYLON_MINIMUM_VARIANCE = 0.0005
 
 
+@dual_use
+def babylon_alpha_g(roughness):
+    """Babylon.js's alpha_G = r^2 + 0.0005 of perceptual roughness r
+    (``convertRoughnessToAverageSlope``, its ``MINIMUMVARIANCE``): what its shaders
+    take the lod and the radiance-irradiance mix from."""
+    return roughness * roughness + _BABYLON_MINIMUM_VARIANCE
+
+
 def babylon_alpha_of_level(m, size, scale=BABYLON_LOD_GENERATION_SCALE):
     """GGX alpha of level m of Babylon.js's prefiltered chain for a base size N:
     alpha_m = min(1, 2^(m / scale) / N), level 0 a mirror (alpha 0).  The inverse
@@ -232,7 +241,7 @@ def babylon_level_of_roughness(r, size, scale=BABYLON_LOD_GENERATION_SCALE):
     r = np.asarray(r, dtype=np.float64)
     if not np.all(np.isfinite(r)):
         raise ValueError("roughness must be finite")
-    lod = np.maximum(0.0, float(scale) * np.log2(size * (np.clip(r, 0.0, 1.0) ** 2 + _BABYLON_MINIMUM_VARIANCE)))
+    lod = np.maximum(0.0, float(scale) * np.log2(size * babylon_alpha_g(np.clip(r, 0.0, 1.0))))
     return float(lod) if lod.ndim == 0 else lod
 
 

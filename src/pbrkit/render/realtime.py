@@ -71,6 +71,8 @@ from ..brdf.fresnel import f0_conductor, f_schlick, f_schlick_roughness
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, parallel_kernel
 from ..core.quadrature import gauss_legendre_01
+from ..ibl.prefilter import babylon_alpha_g
+from ..io.engine_targets import TARGET_CHAINS
 from .environment import EnvironmentLight
 from .geometry import Geometry
 from .materials import hit_bxdf, material_tables
@@ -105,8 +107,6 @@ _ENGINE_FILAMENT = 1
 _ENGINE_KHRONOS = 2
 _ENGINE_THREE = 3
 _ENGINE_BABYLON = 4
-#: Babylon.js's ``MINIMUMVARIANCE``: alpha_G = r^2 + this in its shaders.
-_BABYLON_MINIMUM_VARIANCE = 0.0005
 #: three.js's smallest perceptual roughness (``lights_physical_fragment``).
 _THREE_MIN_ROUGHNESS = 0.045
 
@@ -125,10 +125,11 @@ _INV_PI = 1.0 / math.pi
 
 
 def _engine_chain(bake, env, engine):
-    """The chain an engine samples (Filament's levels for filament and three, Babylon's
-    for babylon): the in-memory bake's, or for a bake folder the texels of the
-    engine's target files (:func:`pbrkit.io.bake_files.load_target_chain`)."""
-    curve = "babylon" if engine == "babylon" else "filament"
+    """The chain an engine samples (:data:`pbrkit.io.engine_targets.TARGET_CHAINS`:
+    Filament's levels for filament and three, Babylon's for babylon): the in-memory
+    bake's, or for a bake folder the texels of the engine's target files
+    (:func:`pbrkit.io.bake_files.load_target_chain`)."""
+    curve = TARGET_CHAINS[engine]
     chain = getattr(bake, "chains", {}).get(curve)
     if chain is None and env.spec.bake is not None:
         from ..io.bake_files import load_target_chain
@@ -372,9 +373,8 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
       metallic), and the legacy diffuse base (1 - 0.04) (1 - metallic) E / pi."""
     if engine == _ENGINE_BABYLON:
         f0 = GLTF_DIELECTRIC_F0 + (base - GLTF_DIELECTRIC_F0) * metallic
-        alpha_g = r * r + _BABYLON_MINIMUM_VARIANCE
-        mixed = radiance + (irradiance * _INV_PI - radiance) * alpha_g
-        ec = 1.0 + f0 * (1.0 / max(a + b, 1e-6) - 1.0)
+        mixed = radiance + (irradiance * _INV_PI - radiance) * babylon_alpha_g(r)
+        ec = filament_energy_compensation(f0, max(a + b, 1e-6))
         diffuse = base * (1.0 - GLTF_DIELECTRIC_F0) * (1.0 - metallic)
         return mixed * (f0 * a + b) * ec + diffuse * irradiance * _INV_PI
     if engine == _ENGINE_KHRONOS:
@@ -482,18 +482,17 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
 
     if engine not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}; use one of {', '.join(ENGINES)}")
-    filament_chain = engine in ("filament", "three")  # three.js r187 uses Filament's level curve
+    curve = TARGET_CHAINS.get(engine)  # three.js r187 uses Filament's level curve
+    if curve is not None:
+        bake_options = dict(bake_options or {}, chains=(curve,))
     if engine == "babylon":
         diffuse = "sh"  # its spherical polynomial
-        bake_options = dict(bake_options or {}, chains=("babylon",))
     if engine == "filament":
         energy_compensation = True
     elif engine != "pbrkit":
         energy_compensation = False  # the engines' own multiple-scattering terms (_engine_ibl)
     if engine == "khronos":
         diffuse = "cube"  # the viewer's Lambertian cube
-    if filament_chain:
-        bake_options = dict(bake_options or {}, chains=("filament",))
 
     if diffuse not in ("sh", "cube"):
         raise ValueError(f"unknown diffuse source {diffuse!r}; use 'sh' or 'cube'")
@@ -536,7 +535,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         coat_roughness = np.empty(count)
         _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
                            coat_roughness)
-        chain = _engine_chain(bake, env, engine) if engine in ("filament", "three", "babylon") else bake.specular
+        chain = _engine_chain(bake, env, engine) if curve is not None else bake.specular
         levels = len(chain)
         key = (id(bake), engine)
         sampler = env.samplers.get(key)
@@ -549,7 +548,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             rough_rows = three_roughness(scene.camera, prim.rows, s.n, s.roughness)
             lod = np.asarray(filament_level_of_roughness(rough_rows, levels), dtype=np.float64)
             refl = specular_dominant_direction(s.n, refl, rough_rows)
-        elif filament_chain:
+        elif engine == "filament":
             lod = np.asarray(filament_level_of_roughness(s.roughness, levels), dtype=np.float64)
             refl = specular_dominant_direction(s.n, refl, s.roughness)
         elif engine == "babylon":

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..core import checks
 from ..core.color import TONEMAPS, tonemap
+from ..io.engine_targets import TARGET_CHAINS
 from .budget import check_render_memory
 from .compare import compare_images, error_heatmap
 from .environment import EnvironmentLight
@@ -148,8 +149,8 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     rt = ref = None
     if mode in ("realtime", "compare"):
         stage("bake")
-        chains = {"filament": ("filament",), "three": ("filament",), "babylon": ("babylon",)}.get(engine, ())
-        bake = env.bake(size=bake_size, **({"chains": chains} if chains else {}))
+        curve = TARGET_CHAINS.get(engine)  # the chain the engine samples, prefiltered with the bake
+        bake = env.bake(size=bake_size, **({"chains": (curve,)} if curve else {}))
         stage("realtime")
         rt = render_realtime(scene, geometry, env, bake=bake, diffuse=diffuse,
                              energy_compensation=energy_compensation, bake_size=bake_size, engine=engine)
