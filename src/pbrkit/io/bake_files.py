@@ -178,6 +178,28 @@ def _positive_int(value):
     return isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 1 << 16
 
 
+def _read_manifest(root):
+    """(path, the JSON object) of ``root/manifest.json``; one-line
+    :class:`~pbrkit.core.errors.InputError` naming it when it is missing,
+    unreadable, not JSON or not an object."""
+    from ..core.errors import InputError
+
+    path = root / "manifest.json"
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError("not a bake directory (no manifest.json)", path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read the manifest ({exc.strerror or exc})", path) from None
+    except UnicodeDecodeError:
+        raise InputError("manifest is not UTF-8 text", path) from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"manifest is not valid JSON ({exc.msg} at line {exc.lineno})", path) from None
+    if not isinstance(manifest, dict):
+        raise InputError(f"manifest must be a JSON object; got {type(manifest).__name__}", path)
+    return path, manifest
+
+
 def load_bake(out_dir, prefer="exr"):
     """Read a directory written by :func:`write_bake` into a :class:`Bake`.
 
@@ -198,19 +220,7 @@ def load_bake(out_dir, prefer="exr"):
     if not root.is_dir():
         raise InputError("not a bake directory (no such directory)" if not root.exists()
                          else "not a bake directory (a file)", root)
-    path = root / "manifest.json"
-    try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError("not a bake directory (no manifest.json)", path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read the manifest ({exc.strerror or exc})", path) from None
-    except UnicodeDecodeError:
-        raise InputError("manifest is not UTF-8 text", path) from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"manifest is not valid JSON ({exc.msg} at line {exc.lineno})", path) from None
-    if not isinstance(manifest, dict):
-        raise InputError(f"manifest must be a JSON object; got {type(manifest).__name__}", path)
+    path, manifest = _read_manifest(root)
     if manifest.get("format") != FORMAT:
         raise InputError(f"not a pbrkit bake manifest (format {manifest.get('format')!r})", path)
     levels = _entry(manifest, path, "outputs.specular.levels", _positive_int, "a positive integer")
@@ -261,45 +271,36 @@ def load_bake(out_dir, prefer="exr"):
 def load_target_chain(out_dir, target):
     """The prefiltered chain of an engine target of a bake directory, as that
     engine reads it: a :class:`pbrkit.ibl.bake.Chain` with the texels of the
-    target's file (``filament``: ``filament/ibl.ktx``, R11F_G11F_B10F; ``three``:
-    ``three/specular.ktx2`` mirrored back to pbrkit's frame; both hold the chain
-    at Filament's levels; ``babylon``: ``babylon/specular.dds`` mirrored back) and the
+    target's file (:data:`pbrkit.io.engine_targets.TARGET_CHAIN_FILES`: ``filament``
+    ``filament/ibl.ktx``, R11F_G11F_B10F; ``three`` ``three/specular.ktx2``; both at
+    Filament's levels; ``babylon`` ``babylon/specular.dds``), mirrored back to
+    pbrkit's frame where the target is mirrored (``TARGET_MIRRORS``), and the
     roughness of every level from the manifest.  For rendering as the engine
     does (:func:`pbrkit.render.realtime.render_realtime` ``engine``).  Missing or
     inconsistent files raise :class:`~pbrkit.core.errors.InputError`."""
     from ..core.errors import InputError
     from ..ibl.bake import Chain
+    from ..ibl.cubemap import mirror_cube
+    from .dds import read_dds
+    from .engine_targets import TARGET_CHAIN_FILES, TARGET_CHAINS, TARGET_MIRRORS
     from .ktx1 import read_ktx1
+    from .ktx2 import read_ktx2
 
+    if target not in TARGET_CHAIN_FILES:
+        raise ValueError(f"no chain reader for target {target!r} ({', '.join(TARGET_CHAIN_FILES)})")
     root = Path(out_dir)
-    path = root / "manifest.json"
-    try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"cannot read the manifest ({exc})", path) from None
-    if target not in ("filament", "three", "babylon"):
-        raise ValueError(f"no chain reader for target {target!r} (filament, three, babylon)")
-    if not isinstance(manifest, dict) or target not in (manifest.get("targets") or {}):
+    path, manifest = _read_manifest(root)
+    if target not in (manifest.get("targets") or {}):
         raise InputError(f"the bake has no {target} target (bake it with --target {target})", path)
     roughness = _entry(manifest, path, f"targets.{target}.conventions.roughness",
                        lambda r: np.asarray(r, dtype=np.float64).ndim == 1 and len(r) >= 2,
                        f"a list of roughness values (bake with --target {target})")
-    if target == "filament":
-        file = root / "filament" / "ibl.ktx"
-        levels = read_ktx1(file)[1]
-    elif target == "three":  # stored mirrored in x for three.js: back to pbrkit's frame
-        from ..ibl.cubemap import mirror_cube
-        from .ktx2 import read_ktx2
-
-        file = root / "three" / "specular.ktx2"
-        levels = [mirror_cube(level, "x") for level in read_ktx2(file)[1]]
-    else:  # stored mirrored in z for Babylon.js
-        from ..ibl.cubemap import mirror_cube
-        from .dds import read_dds
-
-        file = root / "babylon" / "specular.dds"
-        levels = [mirror_cube(level, "z") for level in read_dds(file)[1]]
+    file = root / TARGET_CHAIN_FILES[target]
+    read = {".ktx": read_ktx1, ".ktx2": read_ktx2, ".dds": read_dds}[file.suffix]
+    levels = read(file)[1]
+    if target in TARGET_MIRRORS:
+        levels = [mirror_cube(level, TARGET_MIRRORS[target]) for level in levels]
     if len(levels) != len(roughness):
         raise InputError(f"has {len(levels)} levels, the manifest's roughness lists {len(roughness)}", file)
-    return Chain("babylon" if target == "babylon" else "filament", [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
+    return Chain(TARGET_CHAINS[target], [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
                  np.asarray(roughness, dtype=np.float64), [])

@@ -34,7 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["TARGETS", "TARGET_CHAINS", "parse_targets", "chains_for", "write_target"]
+__all__ = ["TARGETS", "TARGET_CHAINS", "TARGET_CHAIN_FILES", "TARGET_MIRRORS", "parse_targets", "chains_for",
+           "write_target"]
 
 #: Engines a bake can be written for: ``generic`` is pbrkit's own files (the
 #: directory's top level); every other target writes a subdirectory named after it.
@@ -42,6 +43,12 @@ TARGETS = ("generic", "filament", "khronos", "babylon", "three")
 #: The extra prefiltered chain (level curve, :data:`pbrkit.ibl.bake.EXTRA_CHAINS`)
 #: each target needs.
 TARGET_CHAINS = {"filament": "filament", "three": "filament", "babylon": "babylon"}
+#: The file of each target that holds its chain, relative to the bake directory.
+TARGET_CHAIN_FILES = {"filament": "filament/ibl.ktx", "three": "three/specular.ktx2",
+                      "babylon": "babylon/specular.dds"}
+#: The coordinate each target's cube content is mirrored in (its engine's lookups
+#: mirror it: :func:`pbrkit.ibl.cubemap.mirror_cube`).
+TARGET_MIRRORS = {"three": "x", "babylon": "z"}
 #: The JavaScript modules pbrkit ships (``pbrkit/js``).
 JS_DIR = Path(__file__).resolve().parent.parent / "js"
 
@@ -70,7 +77,8 @@ def chains_for(targets):
     return tuple(dict.fromkeys(TARGET_CHAINS[t] for t in parse_targets(targets) if t in TARGET_CHAINS))
 
 
-def _chain(b, curve, target):
+def _chain(b, target):
+    curve = TARGET_CHAINS[target]
     chain = b.chains.get(curve)
     if chain is None:
         raise ValueError(f"target {target!r} needs the bake's {curve!r} chain: bake with "
@@ -163,14 +171,14 @@ def _write_filament(folder, b):
     from ..ibl.sh import lambertian_sh_prescaled
     from .ktx1 import filament_sh_text, write_ktx1
 
-    chain = _chain(b, "filament", "filament")
+    chain = _chain(b, "filament")
     # what cmgen writes and createIblFromKtx1 expects (it warns for RGBA16F, which loads too)
     fmt = "R11F_G11F_B10F"
     prescaled = lambertian_sh_prescaled(b.sh)
-    write_ktx1(folder / "ibl.ktx", chain.levels, fmt, cube=True, key_values={"sh": filament_sh_text(prescaled)})
+    write_ktx1(folder.parent / TARGET_CHAIN_FILES["filament"], chain.levels, fmt, cube=True, key_values={"sh": filament_sh_text(prescaled)})
     write_ktx1(folder / "skybox.ktx", chain.levels[:1], fmt, cube=True)
     return {
-        "files": {"ibl": "filament/ibl.ktx", "skybox": "filament/skybox.ktx"},
+        "files": {"ibl": TARGET_CHAIN_FILES["filament"], "skybox": "filament/skybox.ktx"},
         "engine": "Filament (npm filament 1.53.4; C++ ktxreader)",
         "format": "R11F_G11F_B10F (glType 0x8C3A, as cmgen writes it: Filament aborts on the KTX spec's "
                   "0x8C3B), whatever --format says: createIblFromKtx1 warns for any other format",
@@ -211,9 +219,9 @@ def _write_three(folder, b):
     from ..ibl.cubemap import mirror_cube
     from .ktx2 import write_ktx2
 
-    chain = _chain(b, "filament", "three")
-    mirrored = [mirror_cube(level, "x") for level in chain.levels]
-    write_ktx2(folder / "specular.ktx2", mirrored, "R16G16B16A16_SFLOAT", cube=True,
+    chain = _chain(b, "three")
+    mirrored = [mirror_cube(level, TARGET_MIRRORS["three"]) for level in chain.levels]
+    write_ktx2(folder.parent / TARGET_CHAIN_FILES["three"], mirrored, "R16G16B16A16_SFLOAT", cube=True,
                key_values=_key("three", roughness=_roughness(chain), lod="(M - 1) r (2 - r)",
                                orientation="x mirrored: C(b) = L(-b.x, b.y, b.z)"))
     sh = {"coefficients": [float(v) for v in np.asarray(b.sh, dtype=np.float64).reshape(-1)],
@@ -221,7 +229,7 @@ def _write_three(folder, b):
     (folder / "sh.json").write_text(json.dumps(sh, indent=1) + "\n", encoding="utf-8")
     shutil.copyfile(JS_DIR / "pbrkit-three.js", folder / "pbrkit-three.js")
     return {
-        "files": {"specular": "three/specular.ktx2", "module": "three/pbrkit-three.js", "sh": "three/sh.json"},
+        "files": {"specular": TARGET_CHAIN_FILES["three"], "module": "three/pbrkit-three.js", "sh": "three/sh.json"},
         "engine": "three.js (npm three 0.187.0, r187)",
         "format": "R16G16B16A16_SFLOAT (three uploads uncompressed cube data only as RGBA)",
         "conventions": {
@@ -260,13 +268,13 @@ def _write_babylon(folder, b):
     from .babylon_env import write_babylon_env
     from .dds import write_dds
 
-    chain = _chain(b, "babylon", "babylon")
-    mirrored = [mirror_cube(level, "z") for level in chain.levels]
-    polynomial = babylon_polynomial(mirror_sh(b.sh, "z"))
+    chain = _chain(b, "babylon")
+    mirrored = [mirror_cube(level, TARGET_MIRRORS["babylon"]) for level in chain.levels]
+    polynomial = babylon_polynomial(mirror_sh(b.sh, TARGET_MIRRORS["babylon"]))
     write_babylon_env(folder / "environment.env", mirrored, polynomial, BABYLON_LOD_GENERATION_SCALE)
-    write_dds(folder / "specular.dds", mirrored, "R16G16B16A16_FLOAT", cube=True)
+    write_dds(folder.parent / TARGET_CHAIN_FILES["babylon"], mirrored, "R16G16B16A16_FLOAT", cube=True)
     return {
-        "files": {"env": "babylon/environment.env", "dds": "babylon/specular.dds"},
+        "files": {"env": "babylon/environment.env", "dds": TARGET_CHAIN_FILES["babylon"]},
         "engine": "Babylon.js (npm babylonjs / @babylonjs/core 9.35.0)",
         "format": ".env: RGBD 8-bit PNG faces (values above 255 clip); .dds: R16G16B16A16_FLOAT",
         "conventions": {
