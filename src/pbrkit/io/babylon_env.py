@@ -64,7 +64,7 @@ import numpy as np
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
 from .containers import read_container, validate_levels
-from .png import _png_unfilter
+from .png import PNG_SIGNATURE, _png_unfilter, png_file_bytes
 
 __all__ = [
     "ENV_MAGIC",
@@ -88,7 +88,6 @@ _GAMMA = 2.2  # Babylon's LinearEncodePowerApprox
 _EPSILON = 1e-7  # Babylon's maxEps
 _VERSION = 2
 _IMAGE_TYPE = "image/png"
-_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _ZLIB_LEVEL = 3
 
 
@@ -131,10 +130,6 @@ def rgbd_decode(rgba8):
 # ----------------------------------------------------------------- PNG
 
 
-def _png_chunk(tag, body):
-    return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body) & 0xFFFFFFFF)
-
-
 def _png_rgba8(image):
     """Deterministic PNG bytes of an (H, W, 4) uint8 image: Paeth filter on
     every row (ISO/IEC 15948 9.2, computed from the unfiltered bytes, so it
@@ -152,15 +147,13 @@ def _png_rgba8(image):
     predictor = np.where((pa <= pb) & (pa <= pc), a, np.where(pb <= pc, b, c))
     filtered = ((x - predictor) & 0xFF).astype(np.uint8)
     raw = np.concatenate([np.full((height, 1), 4, dtype=np.uint8), filtered], axis=1)
-    ihdr = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
-    return (_PNG_SIGNATURE + _png_chunk(b"IHDR", ihdr)
-            + _png_chunk(b"IDAT", zlib.compress(raw.tobytes(), _ZLIB_LEVEL)) + _png_chunk(b"IEND", b""))
+    return png_file_bytes(width, height, 8, 6, raw, _ZLIB_LEVEL)
 
 
 def _decode_png_rgba8(data, what):
     """(H, W, 4) uint8 of an 8-bit RGBA or RGB PNG (RGB gets alpha 255);
     raises ValueError with a short reason."""
-    if data[:8] != _PNG_SIGNATURE:
+    if data[:8] != PNG_SIGNATURE:
         raise ValueError(f"{what} is not a PNG image")
     pos, header, idat = 8, None, []
     while True:

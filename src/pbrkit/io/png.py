@@ -22,6 +22,9 @@ from .image_checks import (
 
 __all__ = [
     "read_ldr",
+    "PNG_SIGNATURE",
+    "png_chunk",
+    "png_file_bytes",
     "png_bytes16",
     "write_png",
 ]
@@ -145,19 +148,31 @@ def read_ldr(path):
     return _read_ldr(path, fmt)[0]
 
 
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_chunk(tag, body):
+    """One PNG chunk: length, type, data, CRC-32 of type and data (ISO/IEC 15948 sec. 5.3)."""
+    return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body) & 0xFFFFFFFF)
+
+
+def png_file_bytes(width, height, depth, colour_type, filtered, level=6, extra=b""):
+    """The bytes of a non-interlaced PNG from its ``filtered`` scanlines (each row
+    its filter-type byte then the row): signature, IHDR, the ``extra`` chunks,
+    one IDAT (zlib at ``level``), IEND; deterministic (no time or text chunks)."""
+    ihdr = struct.pack(">IIBBBBB", width, height, depth, colour_type, 0, 0, 0)
+    return (PNG_SIGNATURE + png_chunk(b"IHDR", ihdr) + extra
+            + png_chunk(b"IDAT", zlib.compress(np.ascontiguousarray(filtered).tobytes(), level))
+            + png_chunk(b"IEND", b""))
+
+
 def _png_bytes16(a, srgb):
     height, width, channels = a.shape
     ctype = {1: 0, 2: 4, 3: 2, 4: 6}[channels]
     rows = a.astype(">u2").reshape(height, width * channels).view(np.uint8)
     raw = np.concatenate([np.zeros((height, 1), dtype=np.uint8), rows], axis=1)  # filter 0 per row
-
-    def chunk(tag, body):
-        return struct.pack(">I", len(body)) + tag + body + struct.pack(">I", zlib.crc32(tag + body) & 0xFFFFFFFF)
-
-    ihdr = struct.pack(">IIBBBBB", width, height, 16, ctype, 0, 0, 0)
-    colour = chunk(b"sRGB", b"\x00") if srgb else b""  # sRGB chunk (perceptual intent) only for sRGB data
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + colour
-            + chunk(b"IDAT", zlib.compress(raw.tobytes(), 6)) + chunk(b"IEND", b""))
+    colour = png_chunk(b"sRGB", b"\x00") if srgb else b""  # sRGB chunk (perceptual intent) only for sRGB data
+    return png_file_bytes(width, height, 16, ctype, raw, 6, colour)
 
 
 def _quantised(image, bits, srgb):
