@@ -26,40 +26,7 @@
 // Result: {"shfloats", "sky": [[r,g,b,a, ...] per view, rows bottom first], "iblSky",
 //          "probes": [[r,g,b,a] per probe], "iblLevels", "skyLevels", "glRenderer"}.
 
-const fail = (message) => {
-  window.__pbrkitError = String(message && message.stack ? message.stack : message);
-};
-window.addEventListener("error", (e) => fail(e.message));
-window.addEventListener("unhandledrejection", (e) => fail(e.reason));
-
-// Keep a note of each 2D texture's storage so that the render target's colour
-// texture can be found again for reading (texStorage2D is how Filament's GL
-// backend allocates immutable textures).
-const storages = [];
-const texStorage2D = WebGL2RenderingContext.prototype.texStorage2D;
-WebGL2RenderingContext.prototype.texStorage2D = function (target, levels, format, w, h) {
-  texStorage2D.call(this, target, levels, format, w, h);
-  if (target === this.TEXTURE_2D) {
-    storages.push({ texture: this.getParameter(this.TEXTURE_BINDING_2D), format, w, h });
-  }
-};
-
-// Count draw calls: Renderer.render skips a frame (draws nothing) while the GPU
-// fences of earlier frames are pending, so a frame counts only if it drew.
-let draws = 0;
-for (const name of ["drawArrays", "drawElements", "drawElementsInstanced", "drawArraysInstanced"]) {
-  const original = WebGL2RenderingContext.prototype[name];
-  WebGL2RenderingContext.prototype[name] = function (...args) {
-    draws++;
-    return original.apply(this, args);
-  };
-}
-
-const fetchBytes = async (name) => {
-  const response = await fetch(`/data/${name}`);
-  if (!response.ok) throw new Error(`/data/${name}: HTTP ${response.status}`);
-  return new Uint8Array(await response.arrayBuffer());
-};
+import { fail, fetchBytes, readFloatTarget, renderFrame as drawFrame } from "./filament_common.js";
 
 const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
@@ -161,32 +128,9 @@ async function main() {
   view.setRenderTarget(target);
   view.setPostProcessingEnabled(false);
 
-  const renderFrame = async () => {
-    for (let tries = 0; ; tries++) {
-      if (tries > 300) throw new Error("Filament skipped every frame (renderer.render drew nothing)");
-      const before = draws;
-      renderer.render(swapChain, view);
-      await new Promise((ok) => requestAnimationFrame(ok)); // lets WebGL fences signal
-      if (draws > before) return;
-    }
-  };
+  const renderFrame = () => drawFrame(renderer, swapChain, view);
 
-  const readTarget = (w, h) => {
-    const found = storages.filter((s) => s.format === gl.RGBA32F && s.w === n && s.h === n);
-    if (found.length !== 1) throw new Error(`found ${found.length} RGBA32F ${n}x${n} textures`);
-    const previous = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING);
-    const previousPack = gl.getParameter(gl.PIXEL_PACK_BUFFER_BINDING);
-    const fbo = gl.createFramebuffer();
-    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, fbo);
-    gl.framebufferTexture2D(gl.READ_FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, found[0].texture, 0);
-    gl.bindBuffer(gl.PIXEL_PACK_BUFFER, null);
-    const pixels = new Float32Array(w * h * 4);
-    gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, pixels);
-    gl.bindBuffer(gl.PIXEL_PACK_BUFFER, previousPack);
-    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, previous);
-    gl.deleteFramebuffer(fbo);
-    return Array.from(pixels);
-  };
+  const readTarget = (w, h) => Array.from(readFloatTarget(gl, w, h, n, n));
 
   // Sky: one N x N view per face; then the same with the IBL file loaded as a
   // skybox too (createSkyFromKtx1 of its bytes), which shows level 0 of the IBL.
