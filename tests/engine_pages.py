@@ -36,10 +36,11 @@ def needs_engines():
     return pytest.mark.skipif(reason is not None, reason=reason or "")
 
 
-def run_page(page, data=None, query="", screenshot=None, timeout=240):
+def page_report(page, data=None, query="", screenshot=None, timeout=240, retries=1):
     """Open ``pages/<page>`` (``data`` served as ``/data``) and return the harness's
-    JSON: {"result", "error", "console", "errors"}.  Fails the test with the page's
-    error and console when the page reports none."""
+    JSON: {"result", "error", "console", "errors"}, whatever the page reported;
+    ``retries`` more runs when the harness gives no report at all (a browser that
+    failed to start on a loaded machine).  Fails the test when there is none."""
     command = [NODE, str(ENGINES / "harness.mjs"), page, "--timeout", str(timeout)]
     if data is not None:
         command += ["--data", str(Path(data).resolve())]
@@ -48,12 +49,19 @@ def run_page(page, data=None, query="", screenshot=None, timeout=240):
     if screenshot is not None:
         command += ["--screenshot", str(Path(screenshot).resolve())]
     env = dict(os.environ, CHROMIUM=CHROMIUM)
-    proc = subprocess.run(command, capture_output=True, text=True, timeout=timeout + 60, env=env, cwd=ENGINES)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        pytest.fail(f"{page}: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None or proc.returncode != 0:
+    for _attempt in range(1 + int(retries)):
+        proc = subprocess.run(command, capture_output=True, text=True, timeout=timeout + 60, env=env, cwd=ENGINES)
+        lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
+        if lines:
+            return json.loads(lines[-1])
+    pytest.fail(f"{page}: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
+
+
+def run_page(page, data=None, query="", screenshot=None, timeout=240):
+    """:func:`page_report`, failing the test with the page's error and console
+    unless the page reported a result and no error."""
+    report = page_report(page, data, query, screenshot, timeout)
+    if report.get("error") is not None or report.get("result") is None:
         pytest.fail(f"{page}: {report.get('error')}; errors {report.get('errors')}; "
                     f"console {report.get('console')[-20:]}")
     return report

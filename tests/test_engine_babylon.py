@@ -18,15 +18,10 @@ pbrkit's own cube code.  One page run reads back, for both files:
 """
 
 import base64
-import json
-import os
-import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CHROMIUM
-from engine_pages import ENGINES, NODE, needs_engines
+from engine_pages import needs_engines, run_page
 
 from pbrkit.ibl.sh import babylon_polynomial, project_cube
 from pbrkit.io.babylon_env import (
@@ -69,20 +64,8 @@ def coded(m, d):
 
 def run_babylon_page(data, query, timeout=120):
     """harness.mjs on pages/babylon.html: the report's "result" (fails the test
-    with the page's error otherwise).  Judges the report itself: the harness's
-    exit status is 1 even for a result (see the report to the lead)."""
-    command = [NODE, str(ENGINES / "harness.mjs"), "babylon.html", "--timeout", str(timeout),
-               "--data", str(Path(data).resolve()), "--query", query]
-    proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=timeout + 60,
-                          env=dict(os.environ, CHROMIUM=CHROMIUM), cwd=ENGINES)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        pytest.fail(f"babylon.html: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"babylon.html: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
-    return report["result"]
+    with the page's error otherwise)."""
+    return run_page("babylon.html", data=data, query=query, timeout=timeout)["result"]
 
 
 def floats(b64):

@@ -33,14 +33,11 @@ Both formats go through both loaders (two runs, formats swapped).
 from __future__ import annotations
 
 import json
-import os
 import struct
-import subprocess
 
 import numpy as np
 import pytest
-from conftest import CHROMIUM
-from engine_pages import ENGINES, NODE, needs_engines
+from engine_pages import needs_engines, page_report, run_page
 
 from pbrkit.ibl.cubemap import cube_texel_directions, direction_to_cube, face_direction
 from pbrkit.io.ktx1 import filament_sh_text, ktx1_bytes, read_ktx1, write_ktx1
@@ -56,27 +53,11 @@ SH = (np.arange(27, dtype=np.float64).reshape(9, 3) - 13.0) * np.array([0.0123, 
 
 
 def run_filament_page(data, timeout=120, expect_error=False):
-    """``engine_pages.run_page("filament.html", data)``, except that a page that
-    reported a result and no error passes even though harness.mjs (18a558e) exits 1
-    for it: it compares the page's missing error, which puppeteer returns as null,
-    with ``undefined`` (the same work-around as test_engine_three.py)."""
-    command = [NODE, str(ENGINES / "harness.mjs"), "filament.html", "--timeout", str(timeout),
-               "--data", str(data)]
-    for _attempt in range(2):  # one retry when the harness itself gave no report (browser start-up)
-        proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=timeout + 60,
-                              cwd=ENGINES, env=dict(os.environ, CHROMIUM=CHROMIUM))
-        lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-        if lines:
-            break
-    if not lines:
-        pytest.fail(f"filament.html: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
+    """``engine_pages.run_page("filament.html", data)``; with ``expect_error`` the
+    report as the page left it (:func:`engine_pages.page_report`)."""
     if expect_error:
-        return report
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"filament.html: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
-    return report
+        return page_report("filament.html", data=data, timeout=timeout)
+    return run_page("filament.html", data=data, timeout=timeout)
 
 
 def ibl_content(d, m):

@@ -63,8 +63,7 @@ from pathlib import Path
 import imageio.v3 as iio
 import numpy as np
 import pytest
-from conftest import CHROMIUM
-from engine_pages import ENGINES, NODE, needs_engines
+from engine_pages import needs_engines, run_page
 
 from pbrkit.core.color import linear_to_srgb
 from pbrkit.data import environment_path
@@ -209,18 +208,7 @@ def run_render_page(bake_dir, scene_dir, spec="scene.json", timeout=180):
         link = data / name
         if not link.exists():
             link.symlink_to(target.resolve(), target_is_directory=True)
-    command = [NODE, str(ENGINES / "harness.mjs"), "babylon_render.html", "--timeout", str(timeout),
-               "--data", str(data.resolve()), "--query", f"scene=/data/scene/{spec}"]
-    proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=timeout + 60,
-                          env=dict(os.environ, CHROMIUM=CHROMIUM), cwd=ENGINES)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        pytest.fail(f"babylon_render.html: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"babylon_render.html: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
-    return report["result"]
+    return run_page("babylon_render.html", data=data, query=f"scene=/data/scene/{spec}", timeout=timeout)["result"]
 
 
 def engine_linear(result, variant="babylon"):

@@ -65,8 +65,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CHROMIUM
-from engine_pages import ENGINES, NODE, needs_engines
+from engine_pages import needs_engines, run_page
 
 pytestmark = [needs_engines(), pytest.mark.slow]  # bake ~5 s, render ~5 s, Filament page ~10 s
 
@@ -217,23 +216,8 @@ def spheres_glb(path):
 
 
 def run_render_page(data, timeout=180):
-    """``filament_render.html`` on ``data``; tolerates harness.mjs (18a558e) exiting 1
-    for a page that reported a result and no error (see test_engine_filament.py)."""
-    command = [NODE, str(ENGINES / "harness.mjs"), "filament_render.html", "--timeout", str(timeout),
-               "--data", str(Path(data).resolve())]
-    for _attempt in range(2):  # one retry when the harness gave no report (browser start-up)
-        proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=timeout + 60,
-                              cwd=ENGINES, env=dict(os.environ, CHROMIUM=CHROMIUM))
-        lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-        if lines:
-            break
-    if not lines:
-        pytest.fail(f"filament_render.html: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"filament_render.html: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
-    return report
+    """``filament_render.html`` on ``data``: the harness's report."""
+    return run_page("filament_render.html", data=data, timeout=timeout)
 
 
 def engine_linear(bake_dir, scene_dir, variants=({"sh": True, "specularAAVariance": 0.0},)):

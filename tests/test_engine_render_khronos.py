@@ -46,15 +46,12 @@ about 0.2 levels of it).
 from __future__ import annotations
 
 import base64
-import json
 import math
-import os
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
-from engine_pages import CHROMIUM, ENGINES, NODE, needs_engines
+from engine_pages import needs_engines, run_page
 from test_engine_render_three import (
     CAMERA,
     INTENSITY,
@@ -162,17 +159,7 @@ def viewer_canvas(bake_dir):
     bake_dir = Path(bake_dir)
     write_gltf(bake_dir)
     query = "&".join(["folder=khronos/", "gltf=grid.gltf", f"width={W}", f"height={H}", f"intensity={INTENSITY}"])
-    command = [NODE, str(ENGINES / "harness.mjs"), "khronos_render.html", "--timeout", "120",
-               "--data", str(bake_dir.resolve()), "--query", query]
-    proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=180, cwd=ENGINES,
-                          env=dict(os.environ, CHROMIUM=CHROMIUM))
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        pytest.fail(f"khronos_render.html: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"khronos_render.html: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
+    report = run_page("khronos_render.html", data=bake_dir, query=query, timeout=120)
     result = report["result"]
     assert (result["width"], result["height"]) == (W, H) and result["mipCount"] == 5
     rgba = np.frombuffer(base64.b64decode(result["rgba8"]), np.uint8).reshape(H, W, 4)[::-1]

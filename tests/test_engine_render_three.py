@@ -53,12 +53,11 @@ import base64
 import json
 import os
 import re
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
-from engine_pages import CHROMIUM, ENGINES, NODE, needs_engines
+from engine_pages import ENGINES, needs_engines, run_page
 
 from pbrkit.core.color import linear_to_srgb
 
@@ -143,17 +142,7 @@ def _run_page(bake_dir, float_too=False):
     query = "&".join(["cube=three/specular.ktx2", "float=1" if float_too else "float=0",
                       "scene=" + json.dumps({"camera": CAMERA, "spheres": spheres(),
                                              "environment_intensity": INTENSITY})])
-    command = [NODE, str(ENGINES / "harness.mjs"), "three_render.html", "--timeout", "120",
-               "--data", str(Path(bake_dir).resolve()), "--query", query]
-    proc = subprocess.run(command, check=False, capture_output=True, text=True, timeout=180, cwd=ENGINES,
-                          env=dict(os.environ, CHROMIUM=CHROMIUM))
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if not lines:
-        pytest.fail(f"three_render.html: no report (exit {proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    report = json.loads(lines[-1])
-    if report.get("error") is not None or report.get("result") is None:
-        pytest.fail(f"three_render.html: {report.get('error')}; errors {report.get('errors')}; "
-                    f"console {report.get('console')[-20:]}")
+    report = run_page("three_render.html", data=bake_dir, query=query, timeout=120)
     result = report["result"]
     assert result["three"] == "187" and (result["width"], result["height"]) == (W, H)
     rgba = np.frombuffer(base64.b64decode(result["rgba8"]), np.uint8).reshape(H, W, 4)[::-1]  # GL rows: bottom up
