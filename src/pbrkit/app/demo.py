@@ -139,7 +139,7 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
 #: previous demo's) is replaced as a whole; one holding anything else is refused.
 DEMO_ENTRIES = frozenset({"index.html", "summary.json", "realtime.png", "reference.png", "error.png", "lut.png",
                           "realtime.exr", "reference.exr", "reference_stderr.exr", "relative_error.exr", "bake",
-                          "preview", "furnace"})
+                          "preview", "furnace", "area_realtime.png", "area_reference.png", "area_error.png"})
 
 
 def _demo_entries():
@@ -232,7 +232,13 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
     write_exr(out / "relative_error.exr", np.where(valid, rel, 0.0).astype(np.float32))
     step("images")
 
-    # 3. furnace and lookup-table plots
+    # 3. the area-light scene: LTC against the ground truth
+    t = time.perf_counter()
+    area = _area_light_comparison(out, size, spp, seed)
+    timings["area-light scene"] = time.perf_counter() - t
+    step("area")
+
+    # 4. furnace and lookup-table plots
     t = time.perf_counter()
     lobes = [name for name in FURNACE_LOBES if name in furnace_lobes()]
     n_mu, n_rough, samples = furnace
@@ -269,6 +275,7 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
                       "scale_rule": "99th percentile of the compared pixels, rounded up to 1, 2, 2.5 or 5 x 10^k",
                       "percentile_99": p99, "max": peak, "pixels_above_scale": int(np.count_nonzero(rel[valid] > scale))},
         "per_sphere_signed_relative_error": per_sphere,
+        "area_light": area,
         "furnace": {name: furnace_summary["per_lobe"][name] for name in lobes},
         "furnace_options": {"mu": n_mu, "roughness": n_rough, "samples": samples,
                             "monte_carlo": furnace_summary.get("monte_carlo", ""), "figures": furnace_figures},
@@ -279,6 +286,39 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
     write_text(out / "index.html", _page(summary, manifest))
     step("page")
     return summary
+
+
+def _area_light_comparison(out, size, spp, seed):
+    """The built-in ``area`` scene (:func:`pbrkit.render.scene.builtin_scene`) at size x
+    size / 2 in real time (LTC) and as ground truth with occlusion off (like for
+    like), its images and error map written into ``out``; returns its summary."""
+    from ..render.compare import compare_images, relative_error_pixels
+    from ..render.environment import EnvironmentLight
+    from ..render.geometry import Geometry
+    from ..render.realtime import render_realtime
+    from ..render.reference import render_reference
+    from ..render.scene import builtin_scene
+
+    scene = builtin_scene("area", size, max(8, size // 2))
+    geometry = Geometry(scene)
+    env = EnvironmentLight(scene.environment)
+    rt = render_realtime(scene, geometry, env, bake_size=32)
+    ref = render_reference(scene, spp=spp, seed=seed, geometry=geometry, env=env, occlusion=False)
+    mask = rt.mask & ref.mask
+    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
+    rel = metrics.pop("relative_error_map")
+    valid = relative_error_pixels(ref.image, mask)
+    scale, p99, peak = error_scale(rel[valid])
+    _png(out / "area_realtime.png", rt.image)
+    _png(out / "area_reference.png", ref.image)
+    plot_error_map(out / "area_error.png", rel, valid, scale, _ERROR_LABEL)
+    light = scene.area_lights[0]
+    return {"image": {"width": scene.camera.width, "height": scene.camera.height},
+            "light": {"type": light.type, "width": light.width, "height": light.height,
+                      "radiance": list(light.radiance)},
+            "spp": int(spp), "errors": metrics,
+            "error_map": {"scale_max": scale, "percentile_99": p99, "max": peak},
+            "timings": {"realtime": rt.stats["timings"]["total"], "reference": ref.stats["timings"]["total"]}}
 
 
 def _per_sphere_errors(scene, rt, ref):
@@ -389,6 +429,37 @@ so the shares need not add up to it.</p>
 </table>"""
 
 
+def _area_section(summary):
+    """The page's area-light section (summary["area_light"], when present)."""
+    area = summary.get("area_light")
+    if not area:
+        return ""
+    e = area["errors"]
+    rows = [("mean relative error", _percent(e["mean_relative_error"])),
+            ("RMS relative error, ground-truth noise removed", _percent(e.get("rms_relative_error_noise_removed", 0.0))),
+            ("ground-truth noise (mean relative standard error)", _percent(e.get("mean_relative_stderr", 0.0))),
+            ("HDR-FLIP", f"{e.get('flip', float('nan')):.4f}"),
+            ("real time / ground truth (s)", f"{area['timings']['realtime']:.2f} / {area['timings']['reference']:.2f}")]
+    light = area["light"]
+    return f"""<h2>Area light (Linearly Transformed Cosines)</h2>
+<p class="note">Five gold spheres, perceptual roughness 0.1 to 0.9, on a grey glTF floor under a
+{light["width"]:g} &times; {light["height"]:g} m {html.escape(light["type"])} light of radiance
+{light["radiance"][0]:g} cd/m&sup2;, in a dim constant environment; {area["image"]["width"]} &times;
+{area["image"]["height"]} pixels. Real time: pbrkit's LTC table (fitted for the exact horizon clipping) for the
+specular lobe and the exact polygon form factor for the diffuse one, no shadows (as engines). Ground truth
+({area["spp"]} spp): spherical-rectangle light sampling and BRDF sampling with multiple importance sampling,
+without occlusion (like for like).</p>
+<div class="grid">
+<figure><img src="area_realtime.png" alt="area light, real time"><figcaption>real time (LTC)</figcaption></figure>
+<figure><img src="area_reference.png" alt="area light, ground truth"><figcaption>ground truth</figcaption></figure>
+<figure><img src="area_error.png" alt="area light, relative luminance error map">
+<figcaption>relative luminance error, colour scale 0 to {100.0 * area["error_map"]["scale_max"]:g}%</figcaption>
+</figure>
+</div>
+<table>{_rows(rows)}</table>
+"""
+
+
 def _page(summary, manifest):
     e = summary["errors"]
     ref = summary["reference"]
@@ -486,6 +557,7 @@ positive where real time is brighter than the ground truth.</p>
 <h3>Ground-truth samples</h3>
 <table>{_rows(sample_rows)}</table>
 
+{_area_section(summary)}
 <h2>White furnace</h2>
 <p class="note">Directional albedo E(mu) with F = 1 of single-scattering specular lobes, by quadrature (the energy
 lost to multiple scattering is 1 - E), on {fo["mu"]} values of mu = n.v &times; {fo["roughness"]} roughness values.

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .area_lights import area_light_arrays, area_light_hits
 from .gltf import load_gltf
 from .primitives import (
     KIND_NONE,
@@ -87,6 +88,7 @@ class Geometry:
         self.bvh = build_sphere_bvh(self.spheres[:, :3], self.spheres[:, 3])
         self.meshes = []
         self.lights = list(scene.lights)
+        self.area_lights = area_light_arrays(scene.area_lights)
         self.notes = []
         for obj in scene.objects:
             if isinstance(obj, GltfObject):
@@ -114,6 +116,7 @@ class Geometry:
                 TriangleMesh(self._embree, m.positions.astype(np.float32), m.indices.astype(np.int32))
         extent = [np.abs(self.spheres[:, :3]).max() + self.spheres[:, 3].max() if len(self.spheres) else 0.0]
         extent += [np.abs(m.positions).max() for m in self.meshes]
+        extent += [float(np.abs(light.position).max()) + light.radius for light in scene.area_lights]
         self.scale = max(1.0, max(extent))
 
     @property
@@ -170,6 +173,11 @@ class Geometry:
                                      query="OCCLUDED")
                 blocked[rest[np.asarray(r) >= 0]] = True
         return blocked
+
+    def area_light_hits(self, origins, dirs, tmax=None):
+        """Nearest area lights on rays: (t, light index or -1, radiance seen (N, 3))
+        (:func:`pbrkit.render.area_lights.area_light_hit`)."""
+        return area_light_hits(self.area_lights, origins, dirs, tmax)
 
     def offset_origins(self, p, ng, directions):
         """Ray origins just off the surface on the side ``directions`` leave toward

@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .primitives import KIND_NONE
+
 __all__ = [
     "RenderResult",
 ]
@@ -35,6 +37,7 @@ class _Primary:
     rows: np.ndarray        # indices of hit rays
     surface: object         # Surface of the hit rays
     origin: np.ndarray
+    emitted: np.ndarray | None = None  # (P * K, 3) radiance of the area lights camera rays see first
 
 
 def _primary(scene, geometry):
@@ -42,9 +45,27 @@ def _primary(scene, geometry):
     dirs = cam.ray_directions().reshape(-1, 3)
     origins = np.broadcast_to(np.asarray(cam.position, dtype=np.float64), dirs.shape)
     hits = geometry.intersect(origins, dirs)
+    emitted = None
+    if len(geometry.area_lights):  # an area light in front of the surface hides it
+        t, index, radiance = geometry.area_light_hits(origins, dirs, hits.t)
+        seen = index >= 0
+        hits.kind[seen] = KIND_NONE
+        emitted = np.where(seen[:, None], radiance, np.nan)
     rows = np.flatnonzero(hits.hit)
     surface = geometry.surface(hits, origins, dirs, rows)
-    return _Primary(dirs, hits.hit, rows, surface, np.asarray(cam.position, dtype=np.float64))
+    return _Primary(dirs, hits.hit, rows, surface, np.asarray(cam.position, dtype=np.float64), emitted)
+
+
+def _background(prim, env):
+    """Radiance of the camera rays that hit no surface: the environment's background,
+    or the area light they see."""
+    miss = ~prim.hit
+    out = env.background(prim.dirs[miss])
+    if prim.emitted is not None:
+        light = prim.emitted[miss]
+        seen = ~np.isnan(light[:, 0])
+        out[seen] = light[seen]
+    return out
 
 
 

@@ -73,10 +73,11 @@ from ..core.jit import dual_use, parallel_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
+from .area_lights import area_light_ltc
 from .environment import EnvironmentLight
 from .geometry import Geometry
 from .materials import hit_bxdf, material_tables
-from .primary import RenderResult, _primary, _resolve
+from .primary import RenderResult, _background, _primary, _resolve
 from .punctual import punctual_radiance
 
 __all__ = [
@@ -516,7 +517,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     count = prim.rows.size
     v = -prim.dirs[prim.rows]
     radiance = np.zeros((prim.dirs.shape[0], 3))
-    radiance[~prim.hit] = env.background(prim.dirs[~prim.hit])
+    radiance[~prim.hit] = _background(prim, env)
     if count:
         # lookup tables per material
         tables, lut_index, names = [], np.zeros(len(geometry.materials), dtype=np.int64), []
@@ -581,6 +582,18 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
                     bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
+        if len(geometry.area_lights):  # LTC: the same composition, with the lights' integrals for the bake's
+            spec, irr, coat = area_light_ltc(geometry.area_lights, s.p, n_rows, v_rows, s.roughness,
+                                             coat_roughness)
+            area = np.empty((count, 3))
+            _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
+                        np.ones(count), spec, irr, coat, coat_roughness, sheen_albedo_table(),
+                        fresnel_mix_albedo_table(), diffuse_weight == "exact", bool(energy_compensation), 0, area,
+                        np.empty((count, 3)))
+            out += area
+            t6 = time.perf_counter()
+            timings["area_lights"] = t6 - t5
+            t5 = t6
         out += punctual_radiance(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
         out += s.emissive
         radiance[prim.rows] = out

@@ -53,11 +53,12 @@ from ..brdf.bxdf import (
 from ..core import checks
 from ..core.jit import dual_use, parallel_kernel
 from ..sampling.random import _path_key, _uniform
+from .area_lights import area_light_hit, area_light_pdf, area_light_sample
 from .environment import EnvironmentLight, _env_pdf_texel, _env_sample, _env_texel
 from .geometry import Geometry
 from .lights import light_arrays
 from .materials import hit_bxdf, hit_cosines, material_tables
-from .primary import RenderResult, _primary
+from .primary import RenderResult, _background, _primary
 from .primitives import KIND_NONE, KIND_SPHERE, sphere_normal_and_point, trace_analytic
 from .punctual import punctual_at, punctual_radiance
 
@@ -78,17 +79,20 @@ def _power_heuristic(pa, pb):
 
 @dual_use
 def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2,
-            env, func, total, marg, cond, c, s, strategy):
-    """The two samples of one path vertex.  Returns
-    (light direction (3), light contribution (3, unshadowed, MIS-weighted),
-     BRDF direction (3), BRDF weight f cos / pdf (3), BRDF pdf).
-    ``strategy`` 0 = MIS (environment + BRDF sampling), 1 = BRDF sampling only.
-    The BRDF, its sampling routine and pdf are the material's BxDF
-    (:mod:`pbrkit.brdf.bxdf`)."""
+            env, func, total, marg, cond, c, s, strategy, acodes, avalues, averts):
+    """The samples of one path vertex.  Returns
+    (environment direction (3), its contribution (3, unshadowed, MIS-weighted),
+     area-light direction (3), the distance to the light, its contribution (3,
+     unshadowed, MIS-weighted), BRDF direction (3), BRDF weight f cos / pdf (3),
+     BRDF pdf).  ``strategy`` 0 = MIS (environment, area-light and BRDF sampling),
+    1 = BRDF sampling only.  The area light is picked uniformly among the scene's
+    (probability 1 / A), then sampled by :func:`pbrkit.render.area_lights.
+    area_light_sample`.  The BRDF, its sampling routine and pdf are the
+    material's BxDF (:mod:`pbrkit.brdf.bxdf`)."""
     z3 = (0.0, 0.0, 0.0)
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
-        return z3, z3, z3, z3, 0.0
+        return z3, z3, z3, 0.0, z3, z3, z3, 0.0
     b, t, bt = hit_bxdf(mi, mf, m, rough, metal, b0, b1, b2, nx, ny, nz)
     p_spec, p_coat = lobe_probabilities(b, nov)
     # --- environment sample
@@ -104,6 +108,24 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
                 pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
                 w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
                 light_val = (f[0] * env[ei, ej, 0] * w, f[1] * env[ei, ej, 1] * w, f[2] * env[ei, ej, 2] * w)
+    # --- area-light sample
+    area_dir = z3
+    area_dist = 0.0
+    area_val = z3
+    n_area = acodes.shape[0]
+    if strategy == 0 and n_area > 0:
+        li = min(int(_uniform(key, 5) * n_area), n_area - 1)
+        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(acodes, avalues, averts, li, px, py, pz,
+                                                                _uniform(key, 6), _uniform(key, 7))
+        if pdf_a > 0.0 and gx * ax + gy * ay + gz * az > 0.0:
+            pdf_a /= n_area
+            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, ax, ay, az)
+            if cs.nol > 0.0:
+                f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
+                w = _power_heuristic(pdf_a, bxdf_pdf(b, cs, p_spec, p_coat)) * cs.nol / pdf_a
+                area_dir = (ax, ay, az)
+                area_dist = dist
+                area_val = (f[0] * r0 * w, f[1] * r1 * w, f[2] * r2 * w)
     # --- BRDF sample
     tx, ty, tz = t
     bx, by, bz = bt
@@ -116,21 +138,38 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
     lz = llx * tz + lly * bz + llz * nz
     norm = math.sqrt(lx * lx + ly * ly + lz * lz)
     if norm <= 0.0:
-        return light_dir, light_val, z3, z3, 0.0
+        return light_dir, light_val, area_dir, area_dist, area_val, z3, z3, 0.0
     lx /= norm
     ly /= norm
     lz /= norm
     if gx * lx + gy * ly + gz * lz <= 0.0:
-        return light_dir, light_val, (lx, ly, lz), z3, 0.0
+        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
     cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
     if cs.nol <= 0.0:
-        return light_dir, light_val, (lx, ly, lz), z3, 0.0
+        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
     pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
     if pdf_b <= 0.0:
-        return light_dir, light_val, (lx, ly, lz), z3, 0.0
+        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
     f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
     k = cs.nol / pdf_b
-    return light_dir, light_val, (lx, ly, lz), (f[0] * k, f[1] * k, f[2] * k), pdf_b
+    return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), (f[0] * k, f[1] * k, f[2] * k), pdf_b
+
+
+@dual_use
+def _area_emission(strategy, pdf_b, acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t, r0, r1, r2):
+    """Radiance (r0, r1, r2) of area light li, hit at distance t by the BRDF sample d
+    from p, times its MIS weight against the light sampling of :func:`_vertex`."""
+    w = 1.0
+    if strategy == 0:
+        pdf_a = area_light_pdf(acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t) / acodes.shape[0]
+        w = _power_heuristic(pdf_b, pdf_a)
+    return r0 * w, r1 * w, r2 * w
+
+
+@dual_use
+def _area_shadow_t(dist):
+    """How far a shadow ray towards an area light point at ``dist`` looks for blockers."""
+    return dist * (1.0 - 1e-6)
 
 
 @dual_use
@@ -172,7 +211,8 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
 @parallel_kernel
 def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
                   base, mi, mf, env, func, total, marg, cond, c, s, eps, spheres, lo, hi, skip, first, count,
-                  order, planes, sphere_mat, plane_mat, codes, values, out_shift, out_sum, out_sumsq):
+                  order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, out_shift, out_sum,
+                  out_sumsq):
     """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
     rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
     ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
@@ -206,21 +246,38 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
                 t0 = t1 = t2 = 1.0
                 for bounce in range(bounces + 1):
                     key = _path_key(seed, pix, j, bounce)
-                    ldir, lval, bdir, bw, pdf_b = _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx,
-                                                          vy, vz, r, me, b0, b1, b2, env, func, total, marg, cond,
-                                                          c, s, strategy)
+                    ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
+                        key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me, b0, b1, b2, env, func,
+                        total, marg, cond, c, s, strategy, acodes, avalues, averts)
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
                     if lval[0] > 0.0 or lval[1] > 0.0 or lval[2] > 0.0:
                         hk = KIND_NONE
-                        if occlusion:
+                        if occlusion:  # the objects and the area lights hide the environment
                             _, hk, _ = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True,
                                                       spheres, lo, hi, skip, first, count, order, planes)
+                            if hk == KIND_NONE and acodes.shape[0]:
+                                if area_light_hit(acodes, avalues, averts, ox, oy, oz, ldir[0], ldir[1], ldir[2],
+                                                  np.inf)[1] >= 0:
+                                    hk = KIND_SPHERE
                         if hk == KIND_NONE:
                             x0 += t0 * lval[0]
                             x1 += t1 * lval[1]
                             x2 += t2 * lval[2]
+                    if aval[0] > 0.0 or aval[1] > 0.0 or aval[2] > 0.0:
+                        hk = KIND_NONE
+                        if occlusion:  # shadow ray to the light point: objects and other area lights
+                            tmax = _area_shadow_t(adist)
+                            _, hk, _ = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True,
+                                                      spheres, lo, hi, skip, first, count, order, planes)
+                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz, adir[0],
+                                                                  adir[1], adir[2], tmax)[1] >= 0:
+                                hk = KIND_SPHERE
+                        if hk == KIND_NONE:
+                            x0 += t0 * aval[0]
+                            x1 += t1 * aval[1]
+                            x2 += t2 * aval[2]
                     if pdf_b <= 0.0 or (bw[0] <= 0.0 and bw[1] <= 0.0 and bw[2] <= 0.0):
                         break
                     th, hk, hi_ = np.inf, KIND_NONE, -1
@@ -230,6 +287,17 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
                     t0 *= bw[0]
                     t1 *= bw[1]
                     t2 *= bw[2]
+                    if acodes.shape[0]:  # an area light before the next surface (any, without occlusion)
+                        at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, bdir[0], bdir[1],
+                                                            bdir[2], th)
+                        if ai >= 0:
+                            le = _area_emission(strategy, pdf_b, acodes, avalues, averts, ai, px, py, pz, bdir[0],
+                                                bdir[1], bdir[2], at, a0, a1, a2)
+                            x0 += t0 * le[0]
+                            x1 += t1 * le[1]
+                            x2 += t2 * le[2]
+                            if occlusion:  # the light is opaque: the path ends on it
+                                break
                     if hk == KIND_NONE:
                         le = _env_miss(strategy, pdf_b, env, func, total, c, s, bdir[0], bdir[1], bdir[2])
                         x0 += t0 * le[0]
@@ -282,19 +350,33 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
 
 @parallel_kernel
 def _vertex_batch(seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
-                  total, marg, cond, c, s, light_dir, light_val, brdf_dir, brdf_w, brdf_pdf):
+                  total, marg, cond, c, s, acodes, avalues, averts, light_dir, light_val, area_dir, area_dist,
+                  area_val, brdf_dir, brdf_w, brdf_pdf):
     for i in numba.prange(p.shape[0]):
         key = _path_key(seed, pixel[i], sample, bounce)
-        ldir, lval, bdir, bw, pdf_b = _vertex(key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1],
-                                              ng[i, 2], n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2],
-                                              rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], env, func,
-                                              total, marg, cond, c, s, strategy)
+        ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
+            key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
+            v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], env, func, total,
+            marg, cond, c, s, strategy, acodes, avalues, averts)
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
+            area_dir[i, a] = adir[a]
+            area_val[i, a] = aval[a]
             brdf_dir[i, a] = bdir[a]
             brdf_w[i, a] = bw[a]
+        area_dist[i] = _area_shadow_t(adist)
         brdf_pdf[i] = pdf_b
+
+
+@parallel_kernel
+def _area_emission_batch(strategy, pdf_b, acodes, avalues, averts, index, p, d, t, radiance, out):
+    for i in numba.prange(p.shape[0]):
+        le = _area_emission(strategy, pdf_b[i], acodes, avalues, averts, index[i], p[i, 0], p[i, 1], p[i, 2],
+                            d[i, 0], d[i, 1], d[i, 2], t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
+        out[i, 0] = le[0]
+        out[i, 1] = le[1]
+        out[i, 2] = le[2]
 
 
 @parallel_kernel
@@ -309,6 +391,8 @@ def _miss_batch(strategy, pdf_b, d, env, func, total, c, s, out):
 def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, mat_i,
                mat_f):
     func, total, marg, cond = env.distribution
+    area = geometry.area_lights
+    has_area = len(area) > 0
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
@@ -334,6 +418,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 break
             ldir = np.empty((count, 3))
             lval = np.empty((count, 3))
+            adir = np.empty((count, 3))
+            adist = np.empty(count)
+            aval = np.empty((count, 3))
             bdir = np.empty((count, 3))
             bw = np.empty((count, 3))
             bpdf = np.empty(count)
@@ -341,11 +428,17 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                           np.ascontiguousarray(surf_ng), np.ascontiguousarray(surf_n), np.ascontiguousarray(v),
                           np.ascontiguousarray(surf_mat), np.ascontiguousarray(surf_r), np.ascontiguousarray(surf_m),
                           np.ascontiguousarray(surf_b), mat_i, mat_f, env.radiance, func, total, marg, cond, env.cos,
-                          env.sin, ldir, lval, bdir, bw, bpdf)
-            lit = np.flatnonzero(np.any(lval > 0.0, axis=1))
-            if lit.size and occlusion:
-                lit = lit[~geometry.occluded(geometry.offset_origins(surf_p[lit], surf_ng[lit], ldir[lit]), ldir[lit])]
-            np.add.at(x, pix[lit], through[lit] * lval[lit])
+                          env.sin, *area.arrays(), ldir, lval, adir, adist, aval, bdir, bw, bpdf)
+            for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
+                lit = np.flatnonzero(np.any(value > 0.0, axis=1))
+                if lit.size and occlusion:  # the objects and the area lights cast shadows
+                    origins = geometry.offset_origins(surf_p[lit], surf_ng[lit], direction[lit])
+                    far = None if tmax is None else tmax[lit]
+                    blocked = geometry.occluded(origins, direction[lit], far)
+                    if has_area:
+                        blocked |= geometry.area_light_hits(origins, direction[lit], far)[1] >= 0
+                    lit = lit[~blocked]
+                np.add.at(x, pix[lit], through[lit] * value[lit])
             go = np.flatnonzero((bpdf > 0.0) & np.any(bw > 0.0, axis=1))
             if go.size == 0:
                 break
@@ -354,7 +447,20 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             through = through[go] * bw[go]
             pix = pix[go]
             hits = geometry.intersect(origins, dirs) if occlusion else None
-            miss = np.arange(go.size) if hits is None else np.flatnonzero(~hits.hit)
+            escaped = np.ones(go.size, dtype=bool) if hits is None else ~hits.hit
+            if has_area:  # an area light before the next surface (any, without occlusion)
+                at, ai, radiance = geometry.area_light_hits(origins, dirs, None if hits is None else hits.t)
+                seen = np.flatnonzero(ai >= 0)
+                if seen.size:
+                    le = np.empty((seen.size, 3))
+                    _area_emission_batch(strategy, np.ascontiguousarray(bpdf[go][seen]), *area.arrays(),
+                                         ai[seen], np.ascontiguousarray(surf_p[go][seen]),
+                                         np.ascontiguousarray(dirs[seen]), at[seen], radiance[seen], le)
+                    np.add.at(x, pix[seen], through[seen] * le)
+                    if hits is not None:  # the light is opaque: those paths end on it
+                        escaped[seen] = False
+                        hits.kind[seen] = KIND_NONE
+            miss = np.flatnonzero(escaped)
             if miss.size:
                 le = np.empty((miss.size, 3))
                 _miss_batch(strategy, np.ascontiguousarray(bpdf[go][miss]), np.ascontiguousarray(dirs[miss]),
@@ -420,7 +526,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     v = -prim.dirs[prim.rows]
     # deterministic part of each ray: background, or emission + punctual lights at the hit
     base_value = np.zeros((prim.dirs.shape[0], 3))
-    base_value[~prim.hit] = env.background(prim.dirs[~prim.hit])
+    base_value[~prim.hit] = _background(prim, env)
     if prim.rows.size:
         base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, True)
     t2 = time.perf_counter()
@@ -457,7 +563,8 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         _fused_kernel(np.uint64(seed), spp, k2, bounces, code, bool(occlusion), base_value, p, ng, n, vv, mat, rough,
                       metal, base, mat_i, mat_f, env.radiance, func, total, marg, cond, env.cos, env.sin, eps,
                       geometry.spheres, *geometry.bvh, geometry.planes,
-                      geometry.sphere_material, geometry.plane_material, codes, values, shift, total_sum, total_sq)
+                      geometry.sphere_material, geometry.plane_material, codes, values, *geometry.area_lights.arrays(),
+                      shift, total_sum, total_sq)
         engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
     mean_shifted = total_sum / spp

@@ -197,8 +197,8 @@ def comparison_lines(summary):
     occluded, bounces = includes.get("occlusion", False), includes.get("bounces", 0)
     like = not occluded and bounces == 0
     if like:
-        lines = ["ground truth: the same BRDF by Monte Carlo, the environment unoccluded, direct light only "
-                 "(as the real-time path); punctual lights shadowed in both"]
+        lines = ["ground truth: the same BRDF by Monte Carlo, the environment and area lights unoccluded, direct "
+                 "light only (as the real-time path); punctual lights shadowed in both"]
     else:
         lines = [f"ground truth: the same BRDF by Monte Carlo with "
                  f"{'inter-object occlusion' if occluded else 'no occlusion'} and {bounces} "

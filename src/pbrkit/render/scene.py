@@ -69,6 +69,20 @@ relative to the scene file's folder.  Every key is optional except
     outer_cone_angle = 0.5
     falloff = "khr"               # khr (windowed 1/d^2) or ue4 (Karis 2013 eq. 9)
 
+    [[lights]]                    # area lights (pbrkit.render.area_lights): rect, polygon, disk, sphere
+    type = "rect"
+    position = [0.0, 3.0, 0.0]    # centre (rect, disk, sphere)
+    normal = [0.0, -1.0, 0.0]     # the side it emits to (rect, disk)
+    up = [0.0, 0.0, 1.0]          # rect: direction of its height edge (optional)
+    width = 2.0                   # rect
+    height = 1.0                  # rect
+    # radius = 0.5                # disk, sphere
+    # vertices = [[...], ...]     # polygon: 3-32 points, planar, convex, counter-clockwise from the lit side
+    two_sided = false             # rect, polygon, disk
+    color = [1.0, 1.0, 1.0]
+    intensity = 10.0
+    unit = "radiance"             # radiance (cd / m^2) or power (lumens, Lambertian emitter)
+
 Camera conventions (``CONVENTIONS.md``, "Camera"): right-handed world, +Y up;
 the camera looks along ``look_at - position`` (its -Z); image row 0 is the
 top and column 0 the left; without supersampling the ray of pixel (row i,
@@ -80,7 +94,10 @@ through the centres of the k x k sub-pixels (an ordered grid).
 Built-in scenes (:func:`builtin_scene`): ``spheres``, a 7 x 7 grid of
 spheres with perceptual roughness 0, 1/6, ..., 1 across (left to right) and
 metallic 0, 1/6, ..., 1 down (top to bottom), seen from far away with a
-narrow field of view; and ``sphere``, one material ball.
+narrow field of view; ``sphere``, one material ball; and ``area``, five gold
+spheres of perceptual roughness 0.1 to 0.9 on a grey floor under a 4 x 1 m rect
+light (radiance 8 cd / m^2) in a dim constant environment (0.03 cd / m^2), the
+area-light scene of the demo, at width x width / 2.
 """
 
 from __future__ import annotations
@@ -98,6 +115,7 @@ from ..brdf.fresnel import CONDUCTORS, f0_conductor
 from ..brdf.material import Material
 from ..core import checks
 from ..core.errors import InputError
+from .area_lights import AREA_LIGHT_TYPES, AreaLight
 from .lights import LIGHT_TYPES, Light
 
 __all__ = [
@@ -119,7 +137,7 @@ __all__ = [
 
 #: Shading models a scene material may name (those of :mod:`pbrkit.brdf.models`).
 SHADING_MODELS = MODELS
-BUILTIN_SCENES = ("spheres", "sphere")
+BUILTIN_SCENES = ("spheres", "sphere", "area")
 
 
 # ---------------------------------------------------------------- camera
@@ -483,6 +501,7 @@ class Scene:
     materials: dict = field(default_factory=lambda: {"default": MaterialSpec()})
     objects: tuple = ()
     lights: tuple = ()
+    area_lights: tuple = ()
     source: str = "<scene>"
 
     def __post_init__(self):
@@ -610,6 +629,20 @@ _OBJECT_KEYS = {"sphere": {"type", "center", "radius", "material"},
                 "gltf": {"type", "file", "translation", "rotation", "scale"}}
 _LIGHT_KEYS = {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
                "outer_cone_angle", "falloff"}
+_AREA_COMMON = {"type", "color", "intensity", "unit"}
+_AREA_LIGHT_KEYS = {"rect": _AREA_COMMON | {"position", "normal", "up", "width", "height", "two_sided"},
+                    "polygon": _AREA_COMMON | {"vertices", "two_sided"},
+                    "disk": _AREA_COMMON | {"position", "normal", "radius", "two_sided"},
+                    "sphere": _AREA_COMMON | {"position", "radius"}}
+_BOOL = _Check(lambda v: isinstance(v, bool), "true or false")
+_AREA_LIGHT_VALUES = {"type": _STRING, "unit": _STRING, "color": _numbers(3, 0.0, MAX_INTENSITY),
+                      "intensity": _number(0.0, MAX_INTENSITY), "position": _POINT, "normal": _DIRECTION,
+                      "up": _DIRECTION, "width": _number(0.0, MAX_COORDINATE, True),
+                      "height": _number(0.0, MAX_COORDINATE, True), "radius": _number(0.0, MAX_COORDINATE, True),
+                      "two_sided": _BOOL,
+                      "vertices": _Check(lambda v: isinstance(v, list) and 3 <= len(v) <= 32
+                                         and all(_POINT.ok(x) for x in v),
+                                         "a list of 3 to 32 points, each " + _POINT.phrase)}
 
 
 def _check_keys(where, table, allowed):
@@ -639,7 +672,7 @@ def scene_from_dict(data, base_dir=None, source="<scene>"):
                  environment=_environment_from(data.get("environment", {}), base_dir),
                  materials=_materials_from(data.get("materials", {})),
                  objects=_objects_from(data.get("objects", []), base_dir),
-                 lights=_lights_from(data.get("lights", [])), source=source)
+                 **_lights_from(data.get("lights", [])), source=source)
 
 
 def _camera_from(table):
@@ -698,20 +731,30 @@ def _object_from(obj, where, base_dir):
 
 
 def _lights_from(items):
+    """{"lights": punctual lights, "area_lights": area lights} of a scene file's ``lights``."""
     if not isinstance(items, list):
         raise ValueError("lights must be an array of tables")
     lights = []
+    area = []
+    types = LIGHT_TYPES + AREA_LIGHT_TYPES
     for index, light in enumerate(items):
         where = f"lights[{index}]"
-        _check_keys(where, light, _LIGHT_KEYS)
-        if "type" not in light:
-            raise ValueError(f"{where} needs a type ({', '.join(LIGHT_TYPES)})")
-        _check_values(light, _LIGHT_VALUES, lambda key, where=where: f"{where}: {key}")
+        if not isinstance(light, dict) or "type" not in light:
+            raise ValueError(f"{where} needs a type ({', '.join(types)})")
+        kind = light["type"]
+        if not _STRING.ok(kind):
+            raise ValueError(f"{where}: type must be {_STRING.phrase}, got {_show(kind)}")
+        if kind not in types:
+            raise ValueError(f"{where}: unknown light type {_show(kind)}; choose one of {', '.join(types)}")
+        area_light = kind in AREA_LIGHT_TYPES
+        _check_keys(where, light, _AREA_LIGHT_KEYS[kind] if area_light else _LIGHT_KEYS)
+        _check_values(light, _AREA_LIGHT_VALUES if area_light else _LIGHT_VALUES,
+                      lambda key, where=where: f"{where}: {key}")
         try:
-            lights.append(Light(**light))
+            (area if area_light else lights).append((AreaLight if area_light else Light)(**light))
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{where}: {exc}") from None
-    return tuple(lights)
+    return {"lights": tuple(lights), "area_lights": tuple(area)}
 
 
 def load_scene(path):
@@ -738,10 +781,13 @@ def load_scene(path):
 
 
 def builtin_scene(name, width=None, height=None, environment=None):
-    """The built-in scene ``spheres`` or ``sphere`` (module docstring).  ``environment``
+    """The built-in scene ``spheres``, ``sphere`` or ``area`` (module docstring).  ``environment``
     (an :class:`EnvironmentSpec`) replaces the bundled map."""
     if name not in BUILTIN_SCENES:
         raise ValueError(f"unknown built-in scene {name!r}; choose one of {', '.join(BUILTIN_SCENES)}")
+    if name == "area":
+        width = 512 if width is None else width
+        return _area_scene(width, max(1, width // 2) if height is None else height, environment)
     environment = environment or EnvironmentSpec()
     width = 512 if width is None else width
     height = 512 if height is None else height
@@ -770,6 +816,22 @@ def builtin_scene(name, width=None, height=None, environment=None):
                     width=width, height=height)
     return Scene(camera=camera, environment=environment, materials=materials, objects=tuple(objects),
                  source="spheres")
+
+
+def _area_scene(width, height, environment=None):
+    """The built-in ``area`` scene (module docstring)."""
+    camera = Camera(position=(0.0, 2.0, 7.5), look_at=(0.0, 0.7, 0.0), fov=32.0, width=width, height=height)
+    materials = {"default": MaterialSpec(),
+                 "floor": MaterialSpec(name="floor", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=0.6)}
+    objects = [Plane(point=(0.0, 0.0, 0.0), normal=(0.0, 1.0, 0.0), material="floor")]
+    for k, r in enumerate((0.1, 0.3, 0.5, 0.7, 0.9)):
+        name = f"gold_r{k}"
+        materials[name] = MaterialSpec(name=name, base_color=(1.0, 0.78, 0.34), metallic=1.0, roughness=r)
+        objects.append(Sphere(center=(-2.6 + 1.3 * k, 0.55, 0.0), radius=0.55, material=name))
+    light = AreaLight(type="rect", position=(0.0, 2.4, 1.4), normal=(0.0, -1.0, 0.25), width=4.0, height=1.0,
+                      intensity=8.0)
+    return Scene(camera=camera, environment=environment or EnvironmentSpec(color=(0.03, 0.03, 0.03)),
+                 materials=materials, objects=tuple(objects), area_lights=(light,), source="area")
 
 
 def resolve_scene(name_or_path, width=None, height=None, environment=None):
