@@ -65,6 +65,8 @@ from ..core.jit import dual_use, parallel_kernel
 from ..core.vec import orthonormal_basis_xyz
 from ..ltc.polygon import polygon_form_factor, transformed_polygon_form_factor
 from ..sampling.spherical import (
+    MIN_SOLID_ANGLE,
+    area_solid_angle_pdf,
     disk_solid_angle_pdf,
     rectangle_solid_angle,
     sample_disk_area,
@@ -433,12 +435,86 @@ def _polygon_solid_angle(values, vertices, first, count, px, py, pz):
 
 
 @dual_use
+def _rect_solid_angle(values, li, px, py, pz):
+    return rectangle_solid_angle(px, py, pz, values[li, 3], values[li, 4], values[li, 5], values[li, 9],
+                                 values[li, 10], values[li, 11], values[li, 12], values[li, 13], values[li, 14])
+
+
+@dual_use
+def _rect_area(values, li):
+    """|e1 x e2| of rect light li."""
+    cx = values[li, 10] * values[li, 14] - values[li, 11] * values[li, 13]
+    cy = values[li, 11] * values[li, 12] - values[li, 9] * values[li, 14]
+    cz = values[li, 9] * values[li, 13] - values[li, 10] * values[li, 12]
+    return math.sqrt(cx * cx + cy * cy + cz * cz)
+
+
+@dual_use
+def _polygon_area_point(vertices, first, count, u1, u2):
+    """A point uniform by area on a convex polygon (a fan triangle picked in proportion
+    to its area with u1, reused, then the square-root map of Turk 1990 / pbrt-v4
+    sec. A.5.5 ``SampleUniformTriangle``) and the polygon's area."""
+    a = vertices[first]
+    total = 0.0
+    for k in range(1, count - 1):
+        total += _triangle_area(a, vertices[first + k], vertices[first + k + 1])
+    target = u1 * total
+    acc = 0.0
+    k = 1
+    part = 0.0
+    for k in range(1, count - 1):
+        part = _triangle_area(a, vertices[first + k], vertices[first + k + 1])
+        if acc + part >= target or k == count - 2:
+            break
+        acc += part
+    u = min(max((target - acc) / part, 0.0), 1.0) if part > 0.0 else 0.5
+    b = vertices[first + k]
+    c = vertices[first + k + 1]
+    s = math.sqrt(u)
+    w1 = 1.0 - s
+    w2 = u2 * s
+    w0 = 1.0 - w1 - w2
+    return (w1 * a[0] + w2 * b[0] + w0 * c[0], w1 * a[1] + w2 * b[1] + w0 * c[1], w1 * a[2] + w2 * b[2] + w0 * c[2],
+            total)
+
+
+@dual_use
+def _triangle_area(a, b, c):
+    ex, ey, ez = b[0] - a[0], b[1] - a[1], b[2] - a[2]
+    fx, fy, fz = c[0] - a[0], c[1] - a[1], c[2] - a[2]
+    cx = ey * fz - ez * fy
+    cy = ez * fx - ex * fz
+    cz = ex * fy - ey * fx
+    return 0.5 * math.sqrt(cx * cx + cy * cy + cz * cz)
+
+
+@dual_use
+def _towards(values, li, px, py, pz, qx, qy, qz, area):
+    """Direction and distance from p to the point q of planar light li drawn by area,
+    and its solid-angle pdf (:func:`pbrkit.sampling.spherical.area_solid_angle_pdf`)."""
+    dx = qx - px
+    dy = qy - py
+    dz = qz - pz
+    dist = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if not dist > 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    dx /= dist
+    dy /= dist
+    dz /= dist
+    cos_l = abs(dx * values[li, 6] + dy * values[li, 7] + dz * values[li, 8])
+    return dx, dy, dz, dist, area_solid_angle_pdf(dist, cos_l, area)
+
+
+@dual_use
 def area_light_sample(codes, values, vertices, li, px, py, pz, u1, u2):
     """A direction towards light li from p, sampled by solid angle where a closed
     form exists: spherical rectangles (Ureña, Fajardo and King 2013), spherical
     triangles of a polygon's fan, picked in proportion to their solid angles
     (Arvo 1995), the cone of a sphere (pbrt-v4 sec. 6.2.3); disks by area
-    (concentric map, pdf converted to solid angle).  Returns (lx, ly, lz,
+    (concentric map, pdf converted to solid angle), and rects and polygons by
+    area too where they subtend less than
+    :data:`pbrkit.sampling.spherical.MIN_SOLID_ANGLE` (as pbrt-v4's triangles
+    do, sec. 6.5.4), where the spherical parametrisations lose precision.  Returns (lx, ly, lz,
     distance, pdf (solid angle; 0 when p sees no emitting side or the light is
     degenerate from p), radiance (3))."""
     kind = codes[li, 0]
@@ -450,10 +526,17 @@ def area_light_sample(codes, values, vertices, li, px, py, pz, u1, u2):
         if not _front(values, li, codes[li, 1] != 0, px, py, pz):
             return z
         if kind == RECT:
-            lx, ly, lz, dist, pdf = sample_spherical_rectangle(px, py, pz, values[li, 3], values[li, 4],
-                                                               values[li, 5], values[li, 9], values[li, 10],
-                                                               values[li, 11], values[li, 12], values[li, 13],
-                                                               values[li, 14], u1, u2)
+            if _rect_solid_angle(values, li, px, py, pz) < MIN_SOLID_ANGLE:  # tiny: by area
+                lx, ly, lz, dist, pdf = _towards(values, li, px, py, pz,
+                                                 values[li, 3] + u1 * values[li, 9] + u2 * values[li, 12],
+                                                 values[li, 4] + u1 * values[li, 10] + u2 * values[li, 13],
+                                                 values[li, 5] + u1 * values[li, 11] + u2 * values[li, 14],
+                                                 _rect_area(values, li))
+            else:
+                lx, ly, lz, dist, pdf = sample_spherical_rectangle(px, py, pz, values[li, 3], values[li, 4],
+                                                                   values[li, 5], values[li, 9], values[li, 10],
+                                                                   values[li, 11], values[li, 12], values[li, 13],
+                                                                   values[li, 14], u1, u2)
         elif kind == DISK:
             lx, ly, lz, dist, pdf = sample_disk_area(px, py, pz, values[li, 3], values[li, 4], values[li, 5],
                                                      values[li, 6], values[li, 7], values[li, 8], values[li, 15],
@@ -464,6 +547,12 @@ def area_light_sample(codes, values, vertices, li, px, py, pz, u1, u2):
             total = _polygon_solid_angle(values, vertices, first, count, px, py, pz)
             if not total > 0.0:
                 return z
+            if total < MIN_SOLID_ANGLE:  # tiny: by area
+                qx, qy, qz, area = _polygon_area_point(vertices, first, count, u1, u2)
+                lx, ly, lz, dist, pdf = _towards(values, li, px, py, pz, qx, qy, qz, area)
+                if not pdf > 0.0:
+                    return z
+                return lx, ly, lz, dist, pdf, values[li, 0], values[li, 1], values[li, 2]
             ax = vertices[first, 0] - px
             ay = vertices[first, 1] - py
             az = vertices[first, 2] - pz
@@ -501,16 +590,21 @@ def area_light_pdf(codes, values, vertices, li, px, py, pz, dx, dy, dz, t):
         return sphere_cone_pdf(values[li, 3] - px, values[li, 4] - py, values[li, 5] - pz, values[li, 15])
     if not _front(values, li, codes[li, 1] != 0, px, py, pz):
         return 0.0
+    cos_l = abs(dx * values[li, 6] + dy * values[li, 7] + dz * values[li, 8])
     if kind == RECT:
-        omega = rectangle_solid_angle(px, py, pz, values[li, 3], values[li, 4], values[li, 5], values[li, 9],
-                                      values[li, 10], values[li, 11], values[li, 12], values[li, 13],
-                                      values[li, 14])
-        return 1.0 / omega if omega > 0.0 else 0.0
+        omega = _rect_solid_angle(values, li, px, py, pz)
+        if omega < MIN_SOLID_ANGLE:
+            return area_solid_angle_pdf(t, cos_l, _rect_area(values, li)) if omega > 0.0 else 0.0
+        return 1.0 / omega
     if kind == DISK:
-        cos_l = abs(dx * values[li, 6] + dy * values[li, 7] + dz * values[li, 8])
         return disk_solid_angle_pdf(t, cos_l, values[li, 15])
     omega = _polygon_solid_angle(values, vertices, codes[li, 2], codes[li, 3], px, py, pz)
-    return 1.0 / omega if omega > 0.0 else 0.0
+    if omega < MIN_SOLID_ANGLE:
+        if not omega > 0.0:
+            return 0.0
+        _, _, _, area = _polygon_area_point(vertices, codes[li, 2], codes[li, 3], 0.5, 0.5)
+        return area_solid_angle_pdf(t, cos_l, area)
+    return 1.0 / omega
 
 
 @parallel_kernel

@@ -58,6 +58,7 @@ __all__ = [
     "sphere_cone_pdf",
     "sample_sphere_cone",
     "disk_solid_angle_pdf",
+    "area_solid_angle_pdf",
     "sample_disk_area",
     "triangle_solid_angles",
     "rectangle_solid_angles",
@@ -653,20 +654,28 @@ def sample_sphere_cone(cx, cy, cz, radius, u1, u2):
 
 
 @dual_use
-def disk_solid_angle_pdf(distance, abs_cos, radius):
-    """Solid-angle pdf of :func:`sample_disk_area` for a direction that hits the disk
-    at ``distance`` with |cos| = |n . w| between the disk normal and the
-    direction: the area density 1 / (pi r^2) times the Jacobian d^2 / |cos| of
-    area to solid angle, d omega = |cos| dA / d^2 (pbrt-v4 sec. 4.2.3, eq. (4.9)).
-    0 for |cos| <= :data:`DISK_COS_MIN`, r <= 0 or non-finite input."""
+def area_solid_angle_pdf(distance, abs_cos, area):
+    """Solid-angle pdf of a point drawn uniformly by area on a planar shape of area A,
+    seen at ``distance`` with |cos| = |n . w| between its normal and the direction:
+    the area density 1 / A times the Jacobian d^2 / |cos| of area to solid angle,
+    d omega = |cos| dA / d^2 (pbrt-v4 sec. 4.2.3, eq. (4.9)).  0 for |cos| <=
+    :data:`DISK_COS_MIN`, A <= 0 or non-finite input."""
     c = abs(abs_cos)
-    area = _PI * radius * radius
     if not (c > DISK_COS_MIN and area > 0.0 and area < math.inf and distance < math.inf):
         return 0.0
     pdf = distance * distance / (area * c)
     if not (pdf < math.inf):
         return 0.0
     return pdf
+
+
+@dual_use
+def disk_solid_angle_pdf(distance, abs_cos, radius):
+    """Solid-angle pdf of :func:`sample_disk_area` for a direction that hits the disk
+    at ``distance`` with |cos| = |n . w| between the disk normal and the
+    direction: :func:`area_solid_angle_pdf` with A = pi r^2.  0 for |cos| <=
+    :data:`DISK_COS_MIN`, r <= 0 or non-finite input."""
+    return area_solid_angle_pdf(distance, abs_cos, _PI * radius * radius)
 
 
 @dual_use
