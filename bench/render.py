@@ -15,7 +15,14 @@ Prints, measured in one run (Numba compilation excluded by a warm-up call):
   the luminance relative to the squared mean luminance -- for MIS and for BRDF
   sampling alone (issue 5 aim: >= 15 M paths/s on 2 cores, noise per sample no
   worse than BRDF-only sampling).  The spheres do not occlude one another in
-  this measurement (``occlusion=False``) unless ``--occlusion`` is given.
+  this measurement (``occlusion=False``) unless ``--occlusion`` is given;
+- area lights (issue 11): the same real-time grid with a rect, a disk and a
+  sphere light added (LTC, :mod:`pbrkit.render.area_lights`), its time against
+  the grid without them measured in the same run; and the built-in ``area``
+  scene (five spheres on a floor under a rect light) as ground truth with
+  occlusion: paths per second and noise per sample with light sampling + BRDF
+  sampling (MIS) against BRDF sampling alone, the efficiency ratio being what
+  the spherical-rectangle sampling buys.
 """
 
 from __future__ import annotations
@@ -30,6 +37,7 @@ import numpy as np
 from _timing import best_and_median
 
 from pbrkit.core.color import luminance
+from pbrkit.render.area_lights import AreaLight
 from pbrkit.render.environment import EnvironmentLight
 from pbrkit.render.geometry import Geometry
 from pbrkit.render.lights import Light
@@ -113,6 +121,44 @@ def main():
               f"{s['surface_paths'] / 1e6:.2f} M paths in {s['timings']['sampling']:.2f} s = "
               f"{s['paths_per_second'] / 1e6:.2f} M paths/s; noise per sample (relative variance) {noise:.4g}; "
               f"efficiency 1 / (noise x time per path) {s['paths_per_second'] / noise / 1e6:.3g} M")
+
+    area_lights(args, scene, env, baked, best)
+
+
+AREA_LIGHTS = (AreaLight(type="rect", position=(0.0, 12.0, 10.0), normal=(0.0, -0.7, -0.7), width=8.0, height=3.0,
+                         intensity=5.0),
+               AreaLight(type="disk", position=(-10.0, 0.0, 8.0), normal=(0.8, 0.0, -0.6), radius=2.0, intensity=4.0),
+               AreaLight(type="sphere", position=(10.0, -6.0, 6.0), radius=1.5, intensity=6.0))
+
+
+def area_lights(args, scene, env, baked, best_without):
+    """The issue-11 figures (module docstring)."""
+    lit = type(scene)(camera=scene.camera, environment=scene.environment, materials=scene.materials,
+                      objects=scene.objects, lights=scene.lights, area_lights=AREA_LIGHTS,
+                      source="spheres + 4 lights + 3 area lights")
+    geometry = Geometry(lit)
+    render_realtime(lit, geometry, env, bake=baked)  # warm-up (compilation)
+    results = []
+    best, median = best_and_median(lambda: results.append(render_realtime(lit, geometry, env, bake=baked)),
+                                   args.repeat)
+    stage = results[-1].stats["timings"].get("area_lights", float("nan"))
+    print(f"real time {args.size}x{args.size}, 4 lights + IBL + rect, disk and sphere lights (LTC): best {best:.3f} s,"
+          f" median {median:.3f} s = {best / best_without:.2f}x the render without them (area-light stage "
+          f"{stage:.3f} s)")
+    area = builtin_scene("area", args.gt_size)
+    area_geometry = Geometry(area)
+    area_env = EnvironmentLight(area.environment)
+    render_reference(area, spp=2, geometry=area_geometry, env=area_env)  # warm-up
+    figures = {}
+    for strategy in ("mis", "brdf"):
+        res = render_reference(area, spp=args.spp, geometry=area_geometry, env=area_env, strategy=strategy)
+        s = res.stats
+        noise = relative_noise_per_sample(res)
+        figures[strategy] = s["paths_per_second"] / noise
+        print(f"ground truth 'area' {area.camera.width}x{area.camera.height}, {args.spp} spp, occlusion, "
+              f"{strategy:4s}: {s['paths_per_second'] / 1e6:.2f} M paths/s; noise per sample {noise:.4g}; "
+              f"efficiency {figures[strategy] / 1e6:.3g} M")
+    print(f"  light sampling + MIS is {figures['mis'] / figures['brdf']:.1f}x as efficient as BRDF sampling alone")
 
 
 if __name__ == "__main__":

@@ -103,8 +103,10 @@ _TYPE_CODE = {"rect": 0, "polygon": 1, "disk": 2, "sphere": 3}
 RECT, POLYGON, DISK, SPHERE = 0, 1, 2, 3
 #: Most vertices of a polygon light.
 MAX_POLYGON_VERTICES = 32
-#: Sides of the regular polygon a disk or sphere light is integrated as in real time.
-DISK_POLYGON_SIDES = 32
+#: Sides of the regular polygon a disk or sphere light is integrated as in real time:
+#: its form factor is within 2e-5 (median), 1.7e-4 (95th percentile) and 1.1e-3
+#: (largest) of the disk's over 300 random placements, horizon crossings included.
+DISK_POLYGON_SIDES = 16
 #: Relative tolerance of a polygon light's planarity (distance / size).
 PLANARITY_TOLERANCE = 1e-6
 _INF = np.inf
@@ -254,7 +256,8 @@ class AreaLights:
     """Area lights packed for the compiled kernels: ``codes`` (A, 4) int64 [type,
     two-sided, first vertex, vertex count], ``values`` (A, 16) float64 [radiance
     (3), centre (3), unit normal (3), e1 (3), e2 (3), radius], ``vertices`` (V, 3)
-    (polygons; rects: their corner in values and edges e1, e2)."""
+    (polygons, and the polygon a disk is integrated as in real time; rects: their
+    corner in values and edges e1, e2)."""
 
     codes: np.ndarray
     values: np.ndarray
@@ -284,11 +287,12 @@ def area_light_arrays(lights):
             values[i, 3:6] = corner
             values[i, 9:12] = e1
             values[i, 12:15] = e2
-        elif light.type == "polygon":
-            v = np.asarray(light.vertices)
+        elif light.type in ("polygon", "disk"):  # a disk's vertices: its real-time polygon
+            v = area_light_polygon(light)
             codes[i, 2] = sum(len(x) for x in vertices)
             codes[i, 3] = v.shape[0]
-            values[i, 3:6] = v.mean(axis=0)
+            if light.type == "polygon":
+                values[i, 3:6] = v.mean(axis=0)
             vertices.append(v)
     verts = np.concatenate(vertices) if vertices else np.zeros((0, 3))
     return AreaLights(codes, values, np.ascontiguousarray(verts, dtype=np.float64))
@@ -651,34 +655,30 @@ def area_light_pdfs(lights, index, point, directions):
 # ------------------------------------------------------- real time (LTC)
 
 
-def area_light_polygon(light, sides=DISK_POLYGON_SIDES):
+def area_light_polygon(light):
     """The polygon (K, 3) a planar light is integrated as in real time, counter-clockwise
     seen from its lit side: a rect's corners, a polygon's vertices, a disk's regular
-    ``sides``-gon of the same area.  Sphere lights depend on the shading point
-    (:func:`_sphere_polygon`)."""
+    :data:`DISK_POLYGON_SIDES`-gon of the same area (circumradius r sqrt(2 pi / (K
+    sin(2 pi / K)))), starting along the tangent of :func:`pbrkit.core.vec.
+    orthonormal_basis_xyz` (Duff et al. 2017).  A sphere light's depends on the
+    shading point (the disk that subtends its cone, :func:`_local_polygon`)."""
     if light.type == "rect":
         c0, e1, e2 = light.edges
         return np.array([c0, c0 + e1, c0 + e1 + e2, c0 + e2])
     if light.type == "polygon":
         return np.asarray(light.vertices, dtype=np.float64)
     if light.type == "disk":
-        x, y, z = _disk_vertex(*light.position, *light.normal, light.radius, np.arange(sides), sides)
-        return np.stack([x, y, z], axis=-1)
+        t, b = (np.array(x) for x in orthonormal_basis_xyz(*light.normal))
+        rho = light.radius * _CIRCUMRADIUS
+        return np.asarray(light.position) + rho * (_CIRCLE[:, :1] * t + _CIRCLE[:, 1:] * b)
     raise ValueError("a sphere light's polygon depends on the shading point")
 
 
-@dual_use
-def _disk_vertex(cx, cy, cz, nx, ny, nz, radius, k, sides):
-    """Vertex k of the regular ``sides``-gon with the area of the disk (centre c, unit
-    normal n, radius), counter-clockwise about n, starting along the tangent of
-    :func:`pbrkit.core.vec.orthonormal_basis_xyz` (Duff et al. 2017): circumradius
-    radius sqrt(2 pi / (sides sin(2 pi / sides)))."""
-    (ux, uy, uz), (vx, vy, vz) = orthonormal_basis_xyz(nx, ny, nz)
-    rho = radius * math.sqrt(2.0 * math.pi / (sides * math.sin(2.0 * math.pi / sides)))
-    phi = 2.0 * math.pi * k / sides
-    a = np.cos(phi) * rho
-    b = np.sin(phi) * rho
-    return cx + a * ux + b * vx, cy + a * uy + b * vy, cz + a * uz + b * vz
+#: Circumradius of the regular DISK_POLYGON_SIDES-gon with the area of the unit disk.
+_CIRCUMRADIUS = math.sqrt(2.0 * math.pi / (DISK_POLYGON_SIDES * math.sin(2.0 * math.pi / DISK_POLYGON_SIDES)))
+#: (cos, sin) of its vertices' angles.
+_CIRCLE = np.stack([np.cos(2.0 * np.pi * np.arange(DISK_POLYGON_SIDES) / DISK_POLYGON_SIDES),
+                    np.sin(2.0 * np.pi * np.arange(DISK_POLYGON_SIDES) / DISK_POLYGON_SIDES)], axis=-1)
 
 
 @lru_cache(maxsize=1)
@@ -695,13 +695,15 @@ def bundled_ltc_table():
 
 
 @dual_use
-def _table_texel(table, roughness, nov):
+def _table_texel(table, roughness, nov, m):
     """Bilinear lookup of an (N, N, 4) LTC table at uv = (r, sqrt(1 - n.v)) on texel
-    centres, clamp to edge (three.js ``LTC_Uv``; :func:`pbrkit.ltc.score._bilinear_published`)."""
+    centres, clamp to edge (three.js ``LTC_Uv``; :func:`pbrkit.ltc.score._bilinear_published`),
+    written into the 3 x 3 ``m`` as M^-1 = [[x, 0, z], [0, 1, 0], [y, 0, w]]
+    (:func:`pbrkit.ltc.distribution.inverse_from_texel`)."""
     n = table.shape[0]
     x0, x1, ax = texel_pair(min(max(roughness, 0.0), 1.0) * (n - 1), n, CLAMP_TO_EDGE)
     y0, y1, ay = texel_pair(math.sqrt(1.0 - min(max(nov, 0.0), 1.0)) * (n - 1), n, CLAMP_TO_EDGE)
-    m = np.zeros((3, 3))
+    m[:, :] = 0.0
     m[1, 1] = 1.0
     for c in range(4):
         v = ((table[y0, x0, c] * (1.0 - ax) + table[y0, x1, c] * ax) * (1.0 - ay)
@@ -714,7 +716,6 @@ def _table_texel(table, roughness, nov):
             m[0, 2] = v
         else:
             m[2, 2] = v
-    return m
 
 
 @dual_use
@@ -734,16 +735,22 @@ def _local_polygon(codes, values, vertices, li, px, py, pz, tx, ty, tz, bx, by, 
         d = math.sqrt(d2)
         wx, wy, wz = cx / d, cy / d, cz / d
         scale = 1.0 - r * r / d2  # the cap's circle: centre c (1 - r^2/d^2), radius r sqrt(...)
-        rho = r * math.sqrt(scale)
+        rho = r * math.sqrt(scale) * _CIRCUMRADIUS
+        (ux, uy, uz), (vx, vy, vz) = orthonormal_basis_xyz(wx, wy, wz)
+        ox, oy, oz = cx * scale, cy * scale, cz * scale
         for k in range(DISK_POLYGON_SIDES):
-            qx, qy, qz = _disk_vertex(cx * scale, cy * scale, cz * scale, wx, wy, wz, rho, k, DISK_POLYGON_SIDES)
+            a = _CIRCLE[k, 0] * rho
+            b = _CIRCLE[k, 1] * rho
+            qx = ox + a * ux + b * vx
+            qy = oy + a * uy + b * vy
+            qz = oz + a * uz + b * vz
             out[k, 0] = qx * tx + qy * ty + qz * tz
             out[k, 1] = qx * bx + qy * by + qz * bz
             out[k, 2] = qx * nx + qy * ny + qz * nz
         return DISK_POLYGON_SIDES
     if not _front(values, li, codes[li, 1] != 0, px, py, pz):
         return 0
-    if kind == POLYGON:
+    if kind == POLYGON or kind == DISK:
         first = codes[li, 2]
         count = codes[li, 3]
         for k in range(count):
@@ -754,21 +761,20 @@ def _local_polygon(codes, values, vertices, li, px, py, pz, tx, ty, tz, bx, by, 
             out[k, 1] = qx * bx + qy * by + qz * bz
             out[k, 2] = qx * nx + qy * ny + qz * nz
         return count
-    # rect (its corner, e1, e2) or disk (regular polygon of the same area)
-    for k in range(4 if kind == RECT else DISK_POLYGON_SIDES):
-        if kind == RECT:
-            s1 = 1.0 if (k == 1 or k == 2) else 0.0
-            s2 = 1.0 if k >= 2 else 0.0
-            qx = values[li, 3] + s1 * values[li, 9] + s2 * values[li, 12] - px
-            qy = values[li, 4] + s1 * values[li, 10] + s2 * values[li, 13] - py
-            qz = values[li, 5] + s1 * values[li, 11] + s2 * values[li, 14] - pz
-        else:
-            qx, qy, qz = _disk_vertex(values[li, 3] - px, values[li, 4] - py, values[li, 5] - pz, values[li, 6],
-                                      values[li, 7], values[li, 8], values[li, 15], k, DISK_POLYGON_SIDES)
+    for k in range(4):  # rect: its corner c0 and edges e1, e2
+        s1 = 1.0 if (k == 1 or k == 2) else 0.0
+        s2 = 1.0 if k >= 2 else 0.0
+        qx = values[li, 3] + s1 * values[li, 9] + s2 * values[li, 12] - px
+        qy = values[li, 4] + s1 * values[li, 10] + s2 * values[li, 13] - py
+        qz = values[li, 5] + s1 * values[li, 11] + s2 * values[li, 14] - pz
         out[k, 0] = qx * tx + qy * ty + qz * tz
         out[k, 1] = qx * bx + qy * by + qz * bz
         out[k, 2] = qx * nx + qy * ny + qz * nz
-    return 4 if kind == RECT else DISK_POLYGON_SIDES
+    return 4
+
+
+#: Points per work item of the real-time kernel (its scratch arrays are allocated once per item).
+_CHUNK = 256
 
 
 @parallel_kernel
@@ -776,44 +782,51 @@ def _ltc_kernel(codes, values, vertices, ltc1, p, n, v, rough, coat_rough, out_s
     """Per point: sum over lights of L FF_ltc (specular, and at the clear coat's
     roughness where coat_rough >= 0) and pi L FF_cos (irradiance)."""
     cap = max(MAX_POLYGON_VERTICES, DISK_POLYGON_SIDES)
-    for i in numba.prange(p.shape[0]):
+    count = p.shape[0]
+    for chunk in numba.prange((count + _CHUNK - 1) // _CHUNK):
         poly = np.empty((cap, 3))
-        nx, ny, nz = n[i, 0], n[i, 1], n[i, 2]
-        nov = nx * v[i, 0] + ny * v[i, 1] + nz * v[i, 2]
-        tx = v[i, 0] - nov * nx
-        ty = v[i, 1] - nov * ny
-        tz = v[i, 2] - nov * nz
-        tl = math.sqrt(tx * tx + ty * ty + tz * tz)
-        if tl < 1e-9:  # view along the normal: any tangent (the lobe is symmetric)
-            (tx, ty, tz), _ = orthonormal_basis_xyz(nx, ny, nz)
-            tl = 1.0
-        tx /= tl
-        ty /= tl
-        tz /= tl
-        bx = ny * tz - nz * ty
-        by = nz * tx - nx * tz
-        bz = nx * ty - ny * tx
-        nov = max(nov, 1e-4)
-        m = _table_texel(ltc1, rough[i], nov)
-        coated = coat_rough[i] >= 0.0
-        mc = _table_texel(ltc1, coat_rough[i], nov) if coated else m
-        for c in range(3):
-            out_spec[i, c] = 0.0
-            out_irr[i, c] = 0.0
-            out_coat[i, c] = 0.0
-        for li in range(codes.shape[0]):
-            k = _local_polygon(codes, values, vertices, li, p[i, 0], p[i, 1], p[i, 2], tx, ty, tz, bx, by, bz,
-                               nx, ny, nz, poly)
-            if k == 0:
-                continue
-            verts = poly[:k]
-            spec = abs(transformed_polygon_form_factor(m, verts))
-            diff = abs(polygon_form_factor(verts)) * math.pi
-            coat = abs(transformed_polygon_form_factor(mc, verts)) if coated else 0.0
+        m = np.empty((3, 3))
+        mc = np.empty((3, 3))
+        for i in range(chunk * _CHUNK, min(count, (chunk + 1) * _CHUNK)):
             for c in range(3):
-                out_spec[i, c] += values[li, c] * spec
-                out_irr[i, c] += values[li, c] * diff
-                out_coat[i, c] += values[li, c] * coat
+                out_spec[i, c] = 0.0
+                out_irr[i, c] = 0.0
+                out_coat[i, c] = 0.0
+            nx, ny, nz = n[i, 0], n[i, 1], n[i, 2]
+            nov = nx * v[i, 0] + ny * v[i, 1] + nz * v[i, 2]
+            tx = v[i, 0] - nov * nx
+            ty = v[i, 1] - nov * ny
+            tz = v[i, 2] - nov * nz
+            tl = math.sqrt(tx * tx + ty * ty + tz * tz)
+            if tl < 1e-9:  # view along the normal: any tangent (the lobe is symmetric)
+                (tx, ty, tz), _ = orthonormal_basis_xyz(nx, ny, nz)
+                tl = 1.0
+            tx /= tl
+            ty /= tl
+            tz /= tl
+            bx = ny * tz - nz * ty
+            by = nz * tx - nx * tz
+            bz = nx * ty - ny * tx
+            nov = max(nov, 1e-4)
+            _table_texel(ltc1, rough[i], nov, m)
+            coated = coat_rough[i] >= 0.0
+            if coated:
+                _table_texel(ltc1, coat_rough[i], nov, mc)
+            for li in range(codes.shape[0]):
+                k = _local_polygon(codes, values, vertices, li, p[i, 0], p[i, 1], p[i, 2], tx, ty, tz, bx, by, bz,
+                                   nx, ny, nz, poly)
+                if k == 0:
+                    continue
+                verts = poly[:k]
+                diff = abs(polygon_form_factor(verts))
+                if diff == 0.0:  # wholly below the horizon
+                    continue
+                spec = abs(transformed_polygon_form_factor(m, verts))
+                coat = abs(transformed_polygon_form_factor(mc, verts)) if coated else 0.0
+                for c in range(3):
+                    out_spec[i, c] += values[li, c] * spec
+                    out_irr[i, c] += values[li, c] * diff * math.pi
+                    out_coat[i, c] += values[li, c] * coat
 
 
 def area_light_ltc(lights, p, n, v, roughness, coat_roughness=None, table=None):
