@@ -15,6 +15,14 @@ r = sqrt(1 + u^2 + v^2) and its solid angle du dv / r^3.  So the result is
 the sum over grid cells of winding x integrand x solid angle: a polygon
 counter-clockwise as seen from the shading point counts +1, the sign
 convention of :mod:`pbrkit.ltc.polygon`.
+
+:func:`rect_lobe_quadrature` integrates a microfacet lobe written here from its
+terms, f = D G2 / (4 n.l n.v) with D, Lambda and G2 passed in (pbrkit.brdf's
+term functions: ``d_beckmann``, ``lambda_beckmann``, ``g2_separable``, ...),
+over a rectangle by a composite tensor Gauss-Legendre rule in the rectangle's
+own parameters with the area-to-solid-angle Jacobian |cos theta'| / d^2: no
+clipping, no adaptivity, nothing in common with :mod:`pbrkit.ltc.score`'s
+cubature (fan, triangles, error estimate) or its lobe (``specular_lobe``).
 """
 
 from __future__ import annotations
@@ -22,7 +30,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["polygon_quadrature", "tangent_basis", "upper_hemisphere_form_factor"]
+__all__ = ["polygon_quadrature", "tangent_basis", "upper_hemisphere_form_factor", "rect_lobe_quadrature"]
 
 
 @numba.njit(cache=True)
@@ -102,3 +110,38 @@ def polygon_quadrature(vertices, integrand, points=2_000_000, axis=None, chunk=2
 def upper_hemisphere_form_factor(vertices, **kwargs):
     """Brute-force integral of max(0, z) / pi over the polygon (:func:`polygon_quadrature`)."""
     return polygon_quadrature(vertices, lambda x, y, z: np.maximum(z, 0.0) / np.pi, **kwargs)
+
+
+def rect_lobe_quadrature(nov, alpha, corners, d, lam, g2, panels=64, order=8):
+    """(integral of f (n.l) dl, integral of f (1 - v.h)^5 (n.l) dl) over the
+    rectangle ``corners`` (4, 3) (c0 + s (c1 - c0) + t (c3 - c0), s, t in [0, 1];
+    it must lie wholly above the horizon), f = d(n.h, alpha) g2(lam(n.l, alpha),
+    lam(n.v, alpha)) / (4 n.l n.v) for the view v = (sqrt(1 - nov^2), 0, nov),
+    by ``panels`` x ``panels`` Gauss-Legendre panels of ``order`` x ``order``
+    nodes."""
+    c = np.asarray(corners, dtype=np.float64)
+    x, w = np.polynomial.legendre.leggauss(order)
+    edges = np.linspace(0.0, 1.0, panels + 1)
+    h = np.diff(edges)
+    s = (edges[:-1, None] + 0.5 * h[:, None] * (x[None, :] + 1.0)).reshape(-1)
+    ws = (0.5 * h[:, None] * w[None, :]).reshape(-1)
+    e1, e3 = c[1] - c[0], c[3] - c[0]
+    normal = np.cross(e1, e3)
+    area = np.linalg.norm(normal)
+    normal /= area
+    v = np.array([np.sqrt(1.0 - nov * nov), 0.0, nov])
+    out = np.zeros(2)
+    for i in range(0, s.size, 64):
+        p = c[0] + s[i:i + 64, None, None] * e1 + s[None, :, None] * e3
+        dist = np.linalg.norm(p, axis=-1)
+        l = p / dist[..., None]
+        nol = l[..., 2]
+        if np.any(nol <= 0.0):
+            raise ValueError("the rectangle must lie above the horizon")
+        hv = l + v
+        hv /= np.linalg.norm(hv, axis=-1, keepdims=True)
+        f = d(hv[..., 2], alpha) * g2(lam(nol, alpha), lam(nov, alpha)) / (4.0 * nol * nov)
+        g = f * nol * np.abs(l @ normal) / dist ** 2 * area * ws[i:i + 64, None] * ws[None, :]
+        fc = (1.0 - hv @ v) ** 5
+        out += (g.sum(), (g * fc).sum())
+    return out

@@ -565,7 +565,7 @@ def approximations(
 @user_errors
 def render(
     scene: str = typer.Argument(..., metavar="SCENE",
-                                help="Scene file (.toml or .json) or a built-in scene: spheres, sphere."),
+                                help="Scene file (.toml or .json) or a built-in scene: spheres, sphere, area."),
     out: Path = typer.Option(..., "-o", "--out", metavar="FILE",
                              help="Output image: .exr (linear float32) or .png (tone-mapped, sRGB)."),
     mode: str = _choice("realtime", "--mode", MODES, "mode",
@@ -605,7 +605,7 @@ def render(
              "so compare's error measures the approximations only)."),
     quiet: bool = _quiet_option(),
 ):
-    """Render a scene in real time (split-sum IBL + punctual lights), as Monte Carlo
+    """Render a scene in real time (split-sum IBL, punctual lights, LTC area lights), as Monte Carlo
     ground truth, or both side by side with an error heat map (compare)."""
     from rich.markup import escape
 
@@ -663,11 +663,12 @@ def demo(
     seed: int = _seed_option("Seed of the random numbers (ground truth and furnace)."),
     quiet: bool = _quiet_option(),
 ):
-    """Bake the bundled environment, render the sphere grid in real time and as ground
-    truth, plot the furnace test and the lookup table, and write OUT/index.html."""
+    """Bake the bundled environment, render the sphere grid and the area-light scene in
+    real time and as ground truth, plot the furnace test and the lookup table, and
+    write OUT/index.html."""
     from .demo import run_demo
 
-    steps = ("bake", "realtime", "reference", "images", "furnace", "lut", "page")
+    steps = ("bake", "realtime", "reference", "images", "area", "furnace", "lut", "page")
     with _Stages("demo", quiet, len(steps)) as stages:
         stages.start(steps[0])
 
@@ -765,6 +766,16 @@ def ltc(
                             "Horizon clipping the table is fitted for: sphere (the shaders' approximation, what "
                             "engines run: the drop-in table) or exact (pbrkit's own evaluation, "
                             "pbrkit.ltc.score.ltc_exact_rect; same layout)."),
+    distribution: str = _choice("ggx", "--distribution", ("ggx", "beckmann"),  # pbrkit.ltc.score.LTC_DISTRIBUTIONS
+                                "distribution",
+                                "Microfacet distribution of the lobe the tables are fitted for: ggx or beckmann "
+                                "(cook_torrance's; alpha = r^2 for both)."),
+    masking: str = _choice("height-correlated", "--masking",
+                           ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4"),  # LTC_MASKINGS
+                           "masking",
+                           "Smith masking-shadowing G2 of the lobe: height-correlated or separable (exact Smith, "
+                           "the distribution's own Lambda), or with ggx only schlick-ggx (k = alpha / 2) or "
+                           "schlick-ggx-ue4 (k = (r + 1)^2 / 8)."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "
                          "on the same test set, with per-cell error maps."),
@@ -775,16 +786,18 @@ def ltc(
     quiet: bool = _quiet_option(),
 ):
     """Fit Linearly Transformed Cosines tables (Heitz et al. 2016) for GGX with
-    height-correlated Smith, for the polygon integrals a shader computes, and write
-    them in the published layout: ltc_1 / ltc_2 as .npy, RGBA32F / RGBA16F .dds and
-    .ktx2, and an ES module for three.js."""
+    height-correlated Smith (or --distribution / --masking), for the polygon
+    integrals a shader computes, and write them in the published layout: ltc_1 /
+    ltc_2 as .npy, RGBA32F / RGBA16F .dds and .ktx2, and an ES module for three.js."""
     import numpy as np
 
     from ..core import checks
     from ..core.atomic import atomic_directory, check_output_directory
     from ..ltc.fit import fit_table
     from ..ltc.report import score_fit, write_fit
+    from ..ltc.score import lobe_codes
 
+    lobe_codes(distribution, masking)  # a pair the fit has no lobe for: one line naming the choices
     size = checks.integer(size, "--size", 2, 256)
     polygons = checks.integer(polygons, "--polygons", 4, 4096)
     try:
@@ -812,15 +825,16 @@ def ltc(
             if done < total:
                 stages.start(f"fit roughness column {done + 1}/{total}", done + 1)
 
-        fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s, clipping=clipping)
+        fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s, clipping=clipping,
+                        distribution=distribution, masking=masking)
         stages.start("score" if report else "write", size + 1)
         scores = score_fit(fit, table) if report else None
         stages.start("write", size + 2)
         with atomic_directory(out, force) as tmp:
             write_fit(tmp, fit, scores)
     if not quiet:
-        print(f"wrote {out}: {size} x {size} LTC tables fitted in {fit.seconds:.1f} s; per-cell error median "
-              f"{np.median(fit.error):.3f}")
+        print(f"wrote {out}: {size} x {size} LTC tables ({distribution}, {masking}) fitted in {fit.seconds:.1f} s; "
+              f"per-cell error median {np.median(fit.error):.3f}")
         if scores is not None:
             for name, by_f in scores["scores"].items():
                 s = by_f["F=1"]

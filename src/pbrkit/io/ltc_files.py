@@ -26,7 +26,8 @@ R16G16B16A16_FLOAT), ``.rgba32f.ktx2`` / ``.rgba16f.ktx2`` (VK R32G32B32A32_SFLO
 / R16G16B16A16_SFLOAT), and one ES module ``ltc_tables.js`` that exports the two
 arrays under three.js's names and an ``init(THREE)`` that installs them as
 three.js's ``RectAreaLightUniformsLib`` does (float and half-float
-``DataTexture``s in ``UniformsLib``), all together or none
+``DataTexture``s in ``UniformsLib``; its comments name the BRDF the tables are
+fitted for, the rest is the same for every table), all together or none
 (:func:`pbrkit.core.atomic.atomic_group`).  :func:`read_ltc_npy` reads a table back.
 """
 
@@ -62,18 +63,21 @@ def _numbers(table):
     return ", ".join(f"{float(x):.9g}" for x in table.reshape(-1))
 
 
-def ltc_module_text(ltc1, ltc2, note=""):
+def ltc_module_text(ltc1, ltc2, note="", brdf=None):
     """The ES module: ``LTC_MAT_1``, ``LTC_MAT_2`` (row-major, row 0 first, as
     three.js's arrays) and ``init(THREE)``, which builds the float and half-float
     textures (RGBA, linear filtering, clamp to edge, no mipmaps) and installs them
     in ``THREE.UniformsLib`` under ``LTC_FLOAT_1``, ``LTC_FLOAT_2``, ``LTC_HALF_1``,
     ``LTC_HALF_2``, as three.js's ``RectAreaLightUniformsLib.init()`` does; call it
-    instead of that one."""
+    instead of that one.  ``note`` and ``brdf`` (the lobe the tables are for, e.g.
+    "GGX D, height-correlated Smith G2, alpha = r^2") are comment lines only: the
+    exports are the same for every table."""
     n = ltc1.shape[0]
+    lobe = "" if brdf is None else f"// BRDF: {brdf}\n"
     return f"""// pbrkit LTC tables in the published layout (Heitz et al. 2016): {n} x {n} RGBA,
 // row t = sqrt(1 - cos theta_v) * {n - 1}, column a = perceptual roughness * {n - 1}.
 // LTC_MAT_1: (m00, m20, m02, m22) / m11 of the inverse matrix; LTC_MAT_2: (norm, fresnel, 0, sphere).
-// {note}
+{lobe}// {note}
 // Usage with three.js: import * as THREE from "three"; import {{ init }} from "./ltc_tables.js";
 // init(THREE);  // instead of RectAreaLightUniformsLib.init()
 export const LTC_SIZE = {n};
@@ -107,10 +111,11 @@ export function init(THREE) {{
 """
 
 
-def write_ltc_tables(out_dir, ltc1, ltc2, note=""):
+def write_ltc_tables(out_dir, ltc1, ltc2, note="", brdf=None):
     """Write the drop-in files (module doc) of ``ltc1`` and ``ltc2`` ((N, N, 4)
-    float, row t, column a) into ``out_dir``; all of them or none.  Returns the
-    paths."""
+    float, row t, column a) into ``out_dir``; all of them or none; ``note`` and
+    ``brdf`` go into the ES module's comments (:func:`ltc_module_text`).  Returns
+    the paths."""
     from .dds import write_dds
     from .ktx2 import write_ktx2
 
@@ -123,7 +128,7 @@ def write_ltc_tables(out_dir, ltc1, ltc2, note=""):
         for path, tmp in zip(paths, temps):
             name = path.name
             if name == "ltc_tables.js":
-                tmp.write_text(ltc_module_text(tables["ltc_1"], tables["ltc_2"], note), encoding="utf-8")
+                tmp.write_text(ltc_module_text(tables["ltc_1"], tables["ltc_2"], note, brdf), encoding="utf-8")
                 continue
             stem, suffix = name.split(".", 1)
             fmt = _SUFFIXES["." + suffix]

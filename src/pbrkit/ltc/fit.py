@@ -18,9 +18,13 @@ directly (:func:`fit_cell`):
   and 0.8 rad; drawn from the same seed in every cell, so that the lights, and
   the fitted entries, vary smoothly from cell to cell (bilinear lookups
   interpolate them), and the fit is deterministic;
-- their converged GGX integrals (height-correlated Smith, F = 1;
-  :func:`pbrkit.ltc.score.ggx_rect_integrals`) and the converged albedo E
-  (:func:`pbrkit.albedo.tables.specular_integrals`);
+- their converged integrals of the lobe (F = 1; :func:`pbrkit.ltc.score.lobe_rect_integrals`):
+  GGX with height-correlated Smith by default, or ``distribution`` (GGX,
+  Beckmann) and ``masking`` (the Smith-family terms of ``cook_torrance``,
+  :data:`pbrkit.ltc.score.MASKINGS_FOR`; ``pbrkit ltc --distribution
+  --masking``), and the same lobe's converged albedo E
+  (:func:`pbrkit.ltc.score.lobe_split_integrals`: :func:`pbrkit.albedo.tables.specular_integrals`
+  where it has the lobe, else :func:`pbrkit.albedo.furnace.albedo_quadrature`);
 - the objective sum_k ((E FF_k - I_k) / (I_k + eps E))^2, the shader's form factor
   FF_k under the candidate matrix against the reference I_k: relative errors
   where a light matters, errors relative to eps of the albedo where it does not
@@ -35,11 +39,16 @@ directly (:func:`fit_cell`):
   only w is fitted (x = 1, y = z = 0).
 
 ``ltc_2`` holds (norm, fresnel, 0, sphere) = (A + B, B) of the converged split
-integrals (:func:`pbrkit.albedo.tables.specular_integrals`; Schlick's F: f0 norm
+integrals (:func:`pbrkit.ltc.score.lobe_split_integrals`; Schlick's F: f0 norm
 + (1 - f0) fresnel) and the sphere table (:func:`sphere_form_factor_table`).
 Roughness: column a holds perceptual roughness r = a / (N - 1) with alpha = r^2
-(:func:`pbrkit.brdf.distributions.alpha_from_roughness`, clamped at its ALPHA_MIN);
+for GGX and Beckmann alike (:func:`pbrkit.brdf.distributions.alpha_from_roughness`,
+clamped at its ALPHA_MIN);
 row t holds cos theta_v = 1 - (t / (N - 1))^2, at most 89.95 degrees.
+The lights a cell is fitted on do not depend on the lobe (its lobe-centred
+lights follow GGX's visible normals of the same alpha, which cover a Beckmann
+lobe of that alpha too), so tables of different lobes are fitted on the same
+lights.
 """
 
 from __future__ import annotations
@@ -50,7 +59,13 @@ import time
 import numpy as np
 
 from ..core.jit import kernel
-from .score import exact_rect_form_factor, shader_rect_form_factor
+from .score import (
+    LTC_DISTRIBUTIONS,
+    LTC_MASKINGS,
+    exact_rect_form_factor,
+    lobe_codes,
+    shader_rect_form_factor,
+)
 
 #: How the LTC's integral is clipped at the horizon (``pbrkit ltc --clipping``):
 #: ``sphere``, the shaders' approximation from the vector form factor (the
@@ -59,8 +74,14 @@ from .score import exact_rect_form_factor, shader_rect_form_factor
 #: :func:`pbrkit.ltc.score.ltc_exact_rect`).
 CLIPPINGS = ("sphere", "exact")
 
-__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "CLIPPINGS", "MAX_THETA", "cell_view", "fit_lights", "cell_data", "references", "fit_cell", "fit_table",
-           "sphere_form_factor_table", "LTCFit", "cell_errors"]
+__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "CLIPPINGS", "DISTRIBUTIONS", "MASKINGS", "MAX_THETA", "cell_view",
+           "fit_lights", "cell_data", "albedos", "references", "fit_cell", "fit_table", "sphere_form_factor_table",
+           "LTCFit", "cell_errors"]
+
+#: ``pbrkit ltc --distribution`` / ``--masking`` (:data:`pbrkit.ltc.score.LTC_DISTRIBUTIONS`,
+#: :data:`pbrkit.ltc.score.LTC_MASKINGS`; which pairs: :data:`pbrkit.ltc.score.MASKINGS_FOR`).
+DISTRIBUTIONS = LTC_DISTRIBUTIONS
+MASKINGS = LTC_MASKINGS
 
 #: Floor of the objective's relative errors, as a share of the albedo.
 EPSILON = 0.01
@@ -158,27 +179,37 @@ def _objective(texel, corners, reference, albedo, fit_f0=FIT_F0, clipping="spher
     return total
 
 
-def cell_data(nov, roughness, polygons=32, seed=0):
-    """What a cell is fitted on: its lights' corners (K, 4, 3) (:func:`fit_lights`)
-    and the albedo (A + B, B) of :func:`pbrkit.albedo.tables.specular_integrals`;
+def cell_data(nov, roughness, polygons=32, seed=0, distribution="ggx", masking="height-correlated"):
+    """What a cell is fitted on: its lights' corners (K, 4, 3) (:func:`fit_lights`;
+    the same for every lobe) and the lobe's albedo (A + B, B) (:func:`albedos`);
     the lights' references come from :func:`references` (batched)."""
-    from ..albedo.tables import specular_integrals
-
     lights = fit_lights(nov, roughness, polygons, seed)
-    a, b = specular_integrals([nov], [roughness])[0, 0]
-    return np.ascontiguousarray(lights.corners, dtype=np.float64), float(a + b), float(b)
+    norm, fresnel = albedos([nov], [roughness], distribution, masking)[0]
+    return np.ascontiguousarray(lights.corners, dtype=np.float64), float(norm), float(fresnel)
 
 
-def references(nov, roughness, corners):
-    """Converged GGX integrals of lights (:func:`pbrkit.ltc.score.ggx_rect_integrals`
+def albedos(nov, roughness, distribution="ggx", masking="height-correlated"):
+    """``ltc_2``'s (norm, fresnel) = (A + B, B) of the lobe's converged split
+    integrals (:func:`pbrkit.ltc.score.lobe_split_integrals`) per cell: ``nov``,
+    ``roughness`` (C,) -> (C, 2)."""
+    from .score import lobe_split_integrals
+
+    ab = lobe_split_integrals(np.asarray(nov, dtype=float), np.asarray(roughness, dtype=float), distribution,
+                              masking)
+    return np.stack([ab[..., 0] + ab[..., 1], ab[..., 1]], axis=-1)
+
+
+def references(nov, roughness, corners, distribution="ggx", masking="height-correlated"):
+    """Converged integrals of lights for the lobe (:func:`pbrkit.ltc.score.lobe_rect_integrals`
     at 1e-5), (norm, fresnel) parts: ``nov``, ``roughness`` (C,), ``corners``
     (C, K, 4, 3) -> (C, K, 2)."""
-    from .score import ggx_rect_integrals
+    from .score import lobe_rect_integrals
 
     c, k = corners.shape[:2]
     mu = np.repeat(np.asarray(nov, dtype=float), k)
     r = np.repeat(np.asarray(roughness, dtype=float), k)
-    return ggx_rect_integrals(mu, r, corners.reshape(c * k, 4, 3), tol=1e-5).reshape(c, k, 2)
+    return lobe_rect_integrals(mu, r, corners.reshape(c * k, 4, 3), distribution, masking,
+                               tol=1e-5).reshape(c, k, 2)
 
 
 
@@ -216,12 +247,17 @@ class LTCFit:
     """A fitted table: ``ltc1``, ``ltc2`` (N, N, 4) float32 in the published
     layout, ``error`` (N, N) the RMS objective error per cell, ``seconds``, and
     what each cell was fitted on (``corners`` (N, N, K, 4, 3), ``reference``
-    (N, N, K)), to score other tables on the same lights (:func:`cell_errors`)."""
+    (N, N, K, 2)), to score other tables on the same lights (:func:`cell_errors`);
+    the lobe it was fitted for (``distribution``, ``masking``), ``fit_f0`` and
+    ``clipping``."""
 
-    def __init__(self, ltc1, ltc2, error, seconds, polygons, seed, corners, reference):
+    def __init__(self, ltc1, ltc2, error, seconds, polygons, seed, corners, reference, distribution="ggx",
+                 masking="height-correlated", fit_f0=FIT_F0, clipping="sphere"):
         self.ltc1, self.ltc2, self.error, self.seconds = ltc1, ltc2, error, seconds
         self.polygons, self.seed = polygons, seed
         self.corners, self.reference = corners, reference
+        self.distribution, self.masking = distribution, masking
+        self.fit_f0, self.clipping = tuple(fit_f0), clipping
 
 
 def cell_errors(fit, ltc1):
@@ -240,10 +276,14 @@ def cell_errors(fit, ltc1):
     return out
 
 
-def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0, clipping="sphere"):
-    """Fit an N x N table (module doc) for the normal reflectances ``fit_f0``.
-    ``progress(done, total)`` after each roughness column.  Deterministic: the
-    same arguments give the same table."""
+def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0, clipping="sphere", distribution="ggx",
+              masking="height-correlated"):
+    """Fit an N x N table (module doc) for the lobe of ``distribution`` and
+    ``masking`` (:data:`DISTRIBUTIONS`, :data:`MASKINGS`; the pairs of
+    :data:`pbrkit.ltc.score.MASKINGS_FOR`, else a one-line ValueError) and the
+    normal reflectances ``fit_f0``.  ``progress(done, total)`` after each
+    roughness column.  Deterministic: the same arguments give the same table."""
+    lobe_codes(distribution, masking)
     if clipping not in CLIPPINGS:
         raise ValueError(f"--clipping: choose one of {', '.join(CLIPPINGS)}, got {clipping!r}")
     fit_f0 = tuple(float(f) for f in fit_f0)
@@ -260,9 +300,10 @@ def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0, clipping=
     for a in range(n - 1, -1, -1):
         views = [cell_view(t, a, n) for t in range(n)]
         # the same draws in every cell: the lights move smoothly with (n.v, r), and so do the fitted entries
-        data = [cell_data(nov, r, polygons, int(seed)) for nov, r in views]
-        corners = np.stack([d[0] for d in data])
-        refs = references([v[0] for v in views], [v[1] for v in views], corners)
+        corners = np.stack([np.ascontiguousarray(fit_lights(nov, r, polygons, int(seed)).corners, dtype=np.float64)
+                            for nov, r in views])
+        norms = albedos([v[0] for v in views], [v[1] for v in views], distribution, masking)
+        refs = references([v[0] for v in views], [v[1] for v in views], corners, distribution, masking)
         all_corners[:, a] = corners
         all_refs[:, a] = refs
         for t in range(n):
@@ -272,20 +313,17 @@ def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0, clipping=
                 start = previous_column
             else:
                 start = np.array([1.0, 0.0, 0.0, 1.0])  # r = 1 at normal incidence: close to the cosine
-            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], (data[t][1], data[t][2]), fit_f0,
+            texel, rms = fit_cell(views[t][0], start, corners[t], refs[t], (norms[t, 0], norms[t, 1]), fit_f0,
                                   clipping)
             ltc1[t, a] = texel
-            ltc2[t, a, :2] = (data[t][1], data[t][2])
+            ltc2[t, a, :2] = norms[t]
             error[t, a] = rms
         previous_column = ltc1[0, a]
         if progress is not None:
             progress(n - a, n)
     ltc2[..., 3] = sphere_form_factor_table(n)
-    fit = LTCFit(ltc1.astype(np.float32), ltc2.astype(np.float32), error, time.perf_counter() - t0, polygons,
-                 seed, all_corners, all_refs)
-    fit.fit_f0 = fit_f0
-    fit.clipping = clipping
-    return fit
+    return LTCFit(ltc1.astype(np.float32), ltc2.astype(np.float32), error, time.perf_counter() - t0, polygons,
+                  seed, all_corners, all_refs, distribution, masking, fit_f0, clipping)
 
 
 def _clipped_cap_form_factor(sigma, cos_omega, nodes=96):

@@ -22,16 +22,24 @@ def _round(summary):
     return {k: (round(v, 6) if isinstance(v, float) else v) for k, v in summary.items()}
 
 
+def _lobe(fit):
+    return getattr(fit, "distribution", "ggx"), getattr(fit, "masking", "height-correlated")
+
+
 def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0):
     """Scores (:func:`pbrkit.ltc.score.score_table`, F = 1 and f0 = 0.04) of the fit
-    and, given ``published`` = (ltc1, ltc2), of that table on the same lights;
-    and the published table's per-cell error on the fit's own lights
+    and, given ``published`` = (ltc1, ltc2), of that table on the same lights,
+    both against the converged integrals of the lobe the fit is for
+    (``fit.distribution``, ``fit.masking``; the published table is GGX's, so for
+    another lobe its score says what using it instead would cost); and the
+    published table's per-cell error on the fit's own lights
     (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match)."""
     from .fit import cell_errors
-    from .score import ggx_rect_integrals, random_rect_lights, score_table
+    from .score import lobe_rect_integrals, random_rect_lights, score_table
 
+    distribution, masking = _lobe(fit)
     test = random_rect_lights(lights, seed)
-    pair = ggx_rect_integrals(test.nov, test.roughness, test.corners)
+    pair = lobe_rect_integrals(test.nov, test.roughness, test.corners, distribution, masking)
     tables = {"pbrkit": (fit.ltc1, fit.ltc2)}
     if published is not None:
         tables["published"] = published
@@ -41,12 +49,13 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0):
         for label, f0 in (("F=1", 1.0), ("f0=0.04", 0.04)):
             ref = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
             evaluation = "exact" if name == "pbrkit" and getattr(fit, "clipping", "sphere") == "exact" else "shader"
-            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref,
-                                                     evaluation=evaluation).summary)
+            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref, evaluation=evaluation,
+                                                     distribution=distribution, masking=masking).summary)
     maps = {"pbrkit": fit.error}
     if published is not None and np.shape(published[0])[:2] == fit.ltc1.shape[:2]:
         maps["published"] = cell_errors(fit, published[0])
     return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.score.random_rect_lights"},
+            "brdf": {"distribution": distribution, "masking": masking},
             "scores": scores, "cell_error_maps": maps}
 
 
@@ -81,18 +90,28 @@ def write_fit(folder, fit, report=None):
 
     from ..io.ltc_files import LTC_FILES, write_ltc_tables
     from .fit import EPSILON, MAX_THETA
+    from .score import lobe_name
 
     folder = Path(folder)
     n = fit.ltc1.shape[0]
-    write_ltc_tables(folder, fit.ltc1, fit.ltc2, note=f"fitted by pbrkit (pbrkit ltc --size {n} --polygons "
-                                                     f"{fit.polygons} --seed {fit.seed})")
+    distribution, masking = _lobe(fit)
+    f0s = [float(f) for f in getattr(fit, "fit_f0", (1.0,))]
+    clipping = getattr(fit, "clipping", "sphere")
+    command = (f"pbrkit ltc --size {n} --polygons {fit.polygons} --seed {fit.seed} --fit-f0 "
+               f"{','.join(f'{f:g}' for f in f0s)} --clipping {clipping} --distribution {distribution} "
+               f"--masking {masking}")
+    write_ltc_tables(folder, fit.ltc1, fit.ltc2, note=f"fitted by pbrkit ({command})",
+                     brdf=f"{lobe_name(distribution, masking)} (cook_torrance, F = 1; Schlick F by ltc_2)")
     np.save(folder / "fit_error.npy", fit.error.astype(np.float32), allow_pickle=False)
     info = {
         "format": FORMAT,
         "options": {"size": n, "polygons": int(fit.polygons), "seed": int(fit.seed), "epsilon": EPSILON,
-                    "fit_f0": [float(f) for f in getattr(fit, "fit_f0", (1.0,))],
-                    "clipping": getattr(fit, "clipping", "sphere")},
-        "brdf": "GGX, height-correlated Smith, F = 1 for the matrices; Schlick F through ltc_2 (norm, fresnel)",
+                    "fit_f0": f0s, "clipping": clipping, "distribution": distribution, "masking": masking},
+        "brdf": {"distribution": distribution, "masking": masking,
+                 "roughness": "alpha = r^2 (pbrkit.brdf.distributions.alpha_from_roughness: at least 1e-3), for "
+                              "GGX and Beckmann alike",
+                 "lobe": f"{lobe_name(distribution, masking)}, F = 1 for the matrices; Schlick F through ltc_2 "
+                         "(norm, fresnel)"},
         "layout": {"ltc_1": "(m00, m20, m02, m22) / m11 of M^-1, row t, column a",
                    "ltc_2": "(norm = A + B, fresnel = B, 0, sphere form factor)",
                    "column": f"perceptual roughness a / {n - 1}, alpha = r^2",
@@ -108,7 +127,8 @@ def write_fit(folder, fit, report=None):
             {k: v for k, v in report.items() if k != "cell_error_maps"}, indent=2) + "\n", encoding="utf-8")
         lines = ["# LTC tables: pbrkit's fit and the published one", "",
                  f"Test set: {report['test_set']['lights']} rectangular lights (seed {report['test_set']['seed']}), "
-                 "scored with three.js's shader evaluation against converged GGX integrals.", "",
+                 "scored with three.js's shader evaluation against converged integrals of the lobe the table is "
+                 f"fitted for: {lobe_name(distribution, masking)}.", "",
                  "| table | F | median | mean | p95 | abs. error / albedo |", "|---|---|---|---|---|---|"]
         for name, by_f in report["scores"].items():
             for label, s in by_f.items():

@@ -1,5 +1,6 @@
 """Scoring Linearly Transformed Cosine tables against ground truth: the
-converged GGX integral over rectangular lights, the evaluation a shader does
+converged integral of a microfacet lobe (GGX by default, or Beckmann; a
+Smith-family masking) over rectangular lights, the evaluation a shader does
 with a table in the published layout, and the test set and statistics that
 compare the two.
 
@@ -23,10 +24,17 @@ Area lights): a shading point behind the light's plane receives nothing, in
 the reference as in the shader.  Radiance is 1 and the quantity is the
 reflected radiance L_o = integral over the light of f_r(v, l) (n.l) dl.
 
-- :func:`ggx_rect_integrals` / :func:`ggx_rect_reference`: that integral for
-  GGX D (alpha = r^2), height-correlated Smith G2 and Schlick F, by adaptive
-  cubature in the light's plane, clipped at the horizon; converged to 1e-6
-  relative by its own estimate and tested against Monte Carlo.
+- :func:`lobe_rect_integrals` / :func:`lobe_rect_reference`: that integral for
+  the lobe of ``distribution`` (:data:`LTC_DISTRIBUTIONS`: GGX or Beckmann,
+  alpha = r^2 for both) and ``masking`` (:data:`MASKINGS_FOR`: height-correlated
+  or separable Smith, or for GGX Schlick-GGX) with Schlick F, the lobe
+  evaluated by :mod:`pbrkit.brdf.bxdf`'s own ``specular_lobe`` (one code path
+  for every lobe), by adaptive cubature in the light's plane, clipped at the
+  horizon; converged to 1e-6 relative by its own estimate and tested against
+  Monte Carlo and a composite Gauss-Legendre rule.  :func:`ggx_rect_integrals`
+  / :func:`ggx_rect_reference` are the default lobe's, GGX with
+  height-correlated Smith.  :func:`lobe_split_integrals` /
+  :func:`directional_albedo`: the same lobe's converged albedo.
 - :func:`ltc_shader_rect`: what three.js's ``LTC_Evaluate`` computes with a
   table in the published layout (:func:`ltc_table_from_published_layout`).
 - :func:`random_rect_lights`: the test set; :func:`score_table`: relative and
@@ -47,16 +55,16 @@ from pathlib import Path
 import numba
 import numpy as np
 
-from ..albedo.tables import specular_integrals
+from ..albedo.tables import VISIBILITIES, specular_integrals
 from ..brdf.bxdf import (
-    MASK_HEIGHT_CORRELATED,
-    MODEL_COOK_TORRANCE,
+    PARAM_COLUMNS,
     isotropic_cosines,
-    lobe_bxdf,
+    make_bxdf,
     specular_lobe,
 )
 from ..brdf.distributions import alpha_from_roughness
 from ..brdf.fresnel import f_schlick
+from ..brdf.models import model_codes
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, parallel_kernel, select
 from ..core.quadrature import gauss_legendre_01
@@ -70,9 +78,19 @@ __all__ = [
     "LTCTable",
     "RectLights",
     "LTCScore",
+    "LTC_DISTRIBUTIONS",
+    "LTC_MASKINGS",
+    "MASKINGS_FOR",
+    "lobe_codes",
+    "lobe_name",
     "rect_corners",
+    "lobe_rect_integrals",
+    "lobe_rect_reference",
     "ggx_rect_integrals",
     "ggx_rect_reference",
+    "ALBEDO_NODES",
+    "TABLE_NODES",
+    "lobe_split_integrals",
     "ltc_table_from_published_layout",
     "ltc_shader_rect",
     "ltc_shader_form_factor",
@@ -104,6 +122,71 @@ REFERENCE_TOLERANCE = 1e-6
 #: relative error measures nothing a viewer sees); the albedo-normalised
 #: errors include every light.
 RELATIVE_THRESHOLD = 1e-3
+
+
+# --------------------------------------------------------------------- lobes
+
+#: The microfacet distributions LTC tables are fitted and scored for (``pbrkit ltc
+#: --distribution``; :data:`pbrkit.brdf.bxdf.DISTRIBUTIONS` of ``cook_torrance``),
+#: both with alpha = r^2 (:func:`pbrkit.brdf.distributions.alpha_from_roughness`).
+#: Blinn-Phong is left out: pbrkit pairs it with Beckmann's Smith Lambda (an
+#: approximation, no Smith masking of its own), and a Blinn-Phong lobe of
+#: exponent 2 / alpha^2 - 2 is Beckmann's to within that approximation.
+LTC_DISTRIBUTIONS = ("ggx", "beckmann")
+#: The Smith-family masking-shadowing terms of ``cook_torrance``
+#: (:data:`pbrkit.brdf.bxdf.MASKINGS`, ``pbrkit ltc --masking``):
+#: exact Smith G2 height-correlated (Heitz 2014, eq. 99) or separable (eq. 98)
+#: with the distribution's own Lambda, and Schlick's approximation of the
+#: separable Smith-GGX G1 with k = alpha / 2 (Karis 2013, IBL) or UE4's
+#: direct-light k = (r + 1)^2 / 8.  Left out: ``kelemen`` (Kelemen and
+#: Szirmay-Kalos 2001: 1 / (v.h)^2 approximates Cook-Torrance's V-cavity G, not a
+#: Smith term, and does not depend on roughness) and ``implicit`` (G = n.l n.v:
+#: no masking at all).
+LTC_MASKINGS = ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4")
+#: The maskings each distribution takes: Schlick-GGX's k fits GGX's Smith G1, not
+#: Beckmann's, so Beckmann takes the exact Smith terms only.
+MASKINGS_FOR = {"ggx": LTC_MASKINGS, "beckmann": ("height-correlated", "separable")}
+
+
+def lobe_codes(distribution="ggx", masking="height-correlated"):
+    """The integer code row (1, :data:`pbrkit.brdf.bxdf.CODE_COLUMNS`) of the
+    Fresnel-free specular lobe the LTC machinery integrates: ``cook_torrance``
+    with ``distribution`` and ``masking``, Fresnel and diffuse "none"
+    (:func:`pbrkit.brdf.models.model_codes`).  A ValueError of one line names
+    the option (``--distribution`` / ``--masking``) and the choices for a
+    distribution or masking outside :data:`LTC_DISTRIBUTIONS` /
+    :data:`MASKINGS_FOR`."""
+    if distribution not in LTC_DISTRIBUTIONS:
+        raise ValueError(f"--distribution: unknown distribution {distribution!r}; choose one of "
+                         f"{', '.join(LTC_DISTRIBUTIONS)}")
+    allowed = MASKINGS_FOR[distribution]
+    if masking not in allowed:
+        if masking in LTC_MASKINGS:
+            raise ValueError(f"--masking: {masking} is Schlick's approximation of GGX's Smith masking, not "
+                             f"{distribution}'s; with --distribution {distribution} choose one of {', '.join(allowed)}")
+        raise ValueError(f"--masking: unknown masking {masking!r}; choose one of {', '.join(allowed)}"
+                         + ("" if distribution == "ggx" else f" (with --distribution {distribution})"))
+    return model_codes("cook_torrance", distribution, masking, fresnel="none", diffuse="none")
+
+
+def lobe_name(distribution="ggx", masking="height-correlated"):
+    """A one-line description of the lobe, for reports and file metadata."""
+    lobe_codes(distribution, masking)
+    d = {"ggx": "GGX", "beckmann": "Beckmann"}[distribution]
+    g = {"height-correlated": "height-correlated Smith G2", "separable": "separable Smith G2",
+         "schlick-ggx": "Schlick-GGX G2 (k = alpha / 2)",
+         "schlick-ggx-ue4": "Schlick-GGX G2 (UE4 direct, k = (r + 1)^2 / 8)"}[masking]
+    return f"{d} D, {g}, alpha = r^2"
+
+
+@dual_use
+def _lobe_of(codes, roughness):
+    """The :class:`pbrkit.brdf.bxdf.BxDF` of the lobe of code row ``codes``
+    (:func:`lobe_codes`) at perceptual roughness ``roughness``
+    (:func:`pbrkit.brdf.bxdf.make_bxdf`: alpha = max(r^2, 1e-3), isotropic,
+    white, metallic)."""
+    params = np.zeros((1, PARAM_COLUMNS))
+    return make_bxdf(codes, 0, params, 0, roughness, 1.0, 1.0, 1.0, 1.0)
 
 
 # ------------------------------------------------------------------ geometry
@@ -143,11 +226,13 @@ def _check_lights(nov, roughness, corners):
 
 
 @dual_use
-def _lobe_per_area(x, y, ox, oy, oz, ux, uy, uz, wx, wy, wz, delta, nov, sin_v, alpha):
+def _lobe_per_area(x, y, ox, oy, oz, ux, uy, uz, wx, wy, wz, delta, nov, sin_v, lobe):
     """(f (n.l) dl/dA, the same times Fc = (1 - v.h)^5) at the point
     o + x u + y w of the light's plane (distance ``delta`` from the origin):
-    f = D V of GGX with height-correlated Smith (the models' own composition,
-    :func:`pbrkit.brdf.bxdf.specular_lobe` of a ``cook_torrance`` lobe) and
+    f = D V of the Fresnel-free specular lobe ``lobe``, a
+    :class:`pbrkit.brdf.bxdf.BxDF` of ``cook_torrance`` with the chosen
+    distribution and masking codes (:func:`_lobe_of`), evaluated by the models'
+    own composition (:func:`pbrkit.brdf.bxdf.specular_lobe`), and
     dl = delta / |p|^3 dA (the area-to-solid-angle Jacobian cos theta' / d^2,
     e.g. Pharr, Jakob and Humphreys 2023, pbrt-v4 sec. 4.2.3)."""
     px = ox + x * ux + y * wx
@@ -159,13 +244,12 @@ def _lobe_per_area(x, y, ox, oy, oz, ux, uy, uz, wx, wy, wz, delta, nov, sin_v, 
     if lz <= 0.0:
         return 0.0, 0.0
     c = isotropic_cosines(0.0, 0.0, 1.0, sin_v, 0.0, nov, px / d, py / d, lz)
-    b = lobe_bxdf(MODEL_COOK_TORRANCE, MASK_HEIGHT_CORRELATED, alpha)
-    g = specular_lobe(b, c) * c.nol * delta / (d2 * d)
+    g = specular_lobe(lobe, c) * c.nol * delta / (d2 * d)
     return g, g * f_schlick(c.voh, 0.0, 1.0)
 
 
 @dual_use
-def _triangle_rule(ax, ay, bx, by, cx, cy, geo, nov, sin_v, alpha, gx, gw):
+def _triangle_rule(ax, ay, bx, by, cx, cy, geo, nov, sin_v, lobe, gx, gw):
     """Collapsed (Duffy) tensor Gauss-Legendre rule on the triangle (A, B, C):
     P = A + xi (B - A) + xi eta (C - B), dA = 2 area xi dxi deta; the nodes
     cluster at A (where the fan puts the lobe's peak)."""
@@ -182,7 +266,7 @@ def _triangle_rule(ax, ay, bx, by, cx, cy, geo, nov, sin_v, alpha, gx, gw):
         for j in range(n):
             eta = gx[j]
             g0, g1 = _lobe_per_area(px + eta * qx, py + eta * qy, geo[0], geo[1], geo[2], geo[3], geo[4], geo[5],
-                                    geo[6], geo[7], geo[8], geo[9], nov, sin_v, alpha)
+                                    geo[6], geo[7], geo[8], geo[9], nov, sin_v, lobe)
             wt = gw[i] * gw[j] * xi
             s0 += wt * g0
             s1 += wt * g1
@@ -206,15 +290,15 @@ def _children(t):
 
 
 @dual_use
-def _assess(t, geo, nov, sin_v, alpha, gx, gw):
+def _assess(t, geo, nov, sin_v, lobe, gx, gw):
     """(integral over t by its four children (two channels), error estimate
     |rule(t) - sum of rule(children)| of channel 0)."""
-    p0, _ = _triangle_rule(t[0], t[1], t[2], t[3], t[4], t[5], geo, nov, sin_v, alpha, gx, gw)
+    p0, _ = _triangle_rule(t[0], t[1], t[2], t[3], t[4], t[5], geo, nov, sin_v, lobe, gx, gw)
     ch = _children(t)
     s0 = 0.0
     s1 = 0.0
     for k in range(4):
-        a, b = _triangle_rule(ch[k, 0], ch[k, 1], ch[k, 2], ch[k, 3], ch[k, 4], ch[k, 5], geo, nov, sin_v, alpha,
+        a, b = _triangle_rule(ch[k, 0], ch[k, 1], ch[k, 2], ch[k, 3], ch[k, 4], ch[k, 5], geo, nov, sin_v, lobe,
                               gx, gw)
         s0 += a
         s1 += b
@@ -248,11 +332,26 @@ def _angular_size(t, geo):
     return math.acos(max(-1.0, min(1.0, smallest)))
 
 
+#: The reflected lobe's width, in the plane of incidence, is about 2 alpha (radians)
+#: about the mirror direction r, for GGX as for Beckmann (across it 2 alpha n.v: the
+#: collapsed rule's nodes, clustered at the fan centre, and the adaptive refinement
+#: resolve that).  The fan's triangles at a centre on the peak are split until they
+#: span at most _PEAK_SIZE widths ...
+_PEAK_SIZE = 2.0
+#: ... and a peak outside the light but within _PEAK_REACH widths of its edge is taken
+#: as on it (beyond, a Beckmann lobe is below e^-25 of its peak, and GGX's tail is
+#: smooth on the triangles' scale).
+_PEAK_REACH = 5.0
+
+
 @kernel
-def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
+def _rect_integral(corners, nov, roughness, codes, tol, max_triangles, gx, gw, out):
     """out = (integral of f (n.l) dl, integral of f Fc (n.l) dl, error estimate,
-    triangles) over one light (module doc; :func:`ggx_rect_integrals`)."""
+    triangles) over one light (module doc; :func:`lobe_rect_integrals`) for the
+    lobe of perceptual roughness ``roughness`` and the code row ``codes`` (1,
+    CODE_COLUMNS) (:func:`lobe_codes`)."""
     out[:] = 0.0
+    lobe = _lobe_of(codes, roughness)
     c0 = corners[0]
     e1 = corners[1] - c0
     e3 = corners[3] - c0
@@ -293,8 +392,11 @@ def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
             m += 1
     if m < 3:
         return
-    # fan centre: where the mirror direction meets the light, if inside, else the centroid
+    # fan centre: where the mirror direction meets the light, if inside, else the closest
+    # point of its edges if that is on the lobe's peak, else the centroid
     sin_v = math.sqrt(max(0.0, 1.0 - nov * nov))
+    width = 2.0 * lobe.alpha  # the reflected lobe's angular width (module constants _PEAK_*)
+    peak = False
     fx = 0.0
     fy = 0.0
     for k in range(m):
@@ -321,9 +423,38 @@ def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
         if inside:
             fx = px
             fy = py
+            peak = True
+        else:
+            # the mirror direction misses the light: if the closest point of its boundary is
+            # within _PEAK_REACH widths of it, the lobe's peak is at the edge; centre the fan there
+            best = math.inf
+            cx = fx
+            cy = fy
+            for k in range(m):
+                ax, ay = poly[k, 0], poly[k, 1]
+                ex, ey = poly[(k + 1) % m, 0] - ax, poly[(k + 1) % m, 1] - ay
+                e2 = ex * ex + ey * ey
+                f = 0.0 if e2 <= 0.0 else min(1.0, max(0.0, ((px - ax) * ex + (py - ay) * ey) / e2))
+                d2 = (ax + f * ex - px) ** 2 + (ay + f * ey - py) ** 2
+                if d2 < best:
+                    best = d2
+                    cx = ax + f * ex
+                    cy = ay + f * ey
+            dx = o[0] + cx * u[0] + cy * w[0]
+            dy = o[1] + cx * u[1] + cy * w[1]
+            dz = o[2] + cx * u[2] + cy * w[2]
+            cos_r = (nov * dz - sin_v * dx) / math.sqrt(dx * dx + dy * dy + dz * dz)
+            if math.acos(max(-1.0, min(1.0, cos_r))) <= _PEAK_REACH * width:
+                fx = cx
+                fy = cy
+                peak = True
     # fan triangles from the centre, split until each spans at most _MAX_ANGLE as seen
     # from the shading point (so no feature of the integrand on the sphere is hidden
-    # between the nodes of a huge triangle), then adaptively
+    # between the nodes of a huge triangle) and, when the centre is on the lobe's peak,
+    # those at the centre (child 0 keeps it first) until they span at most _PEAK_SIZE
+    # of the lobe's widths: a lobe much narrower than a triangle can fall between the
+    # nodes of its rule and of its children's, and the error estimate would miss it
+    # (Beckmann's lobe has no tail to give it away); then adaptively
     tris = np.empty((max_triangles, 6))
     vals = np.zeros((max_triangles, 2))
     errs = np.zeros(max_triangles)
@@ -336,7 +467,9 @@ def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
     while top > 0:
         top -= 1
         t = stack[top].copy()
-        if _angular_size(t, geo) > _MAX_ANGLE and top + 4 <= max_triangles and count + top + 4 <= max_triangles:
+        size = _angular_size(t, geo)
+        at_peak = peak and t[0] == fx and t[1] == fy and size > _PEAK_SIZE * width
+        if (size > _MAX_ANGLE or at_peak) and top + 4 <= max_triangles and count + top + 4 <= max_triangles:
             ch = _children(t)
             for k in range(4):
                 stack[top, :] = ch[k]
@@ -350,7 +483,7 @@ def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
     total1 = 0.0
     err_total = 0.0
     for i in range(count):
-        a, b, e = _assess(tris[i], geo, nov, sin_v, alpha, gx, gw)
+        a, b, e = _assess(tris[i], geo, nov, sin_v, lobe, gx, gw)
         vals[i, 0] = a
         vals[i, 1] = b
         errs[i] = e
@@ -370,7 +503,7 @@ def _rect_integral(corners, nov, alpha, tol, max_triangles, gx, gw, out):
                 slot = count
                 count += 1
             tris[slot, :] = ch[k]
-            a, b, e = _assess(ch[k], geo, nov, sin_v, alpha, gx, gw)
+            a, b, e = _assess(ch[k], geo, nov, sin_v, lobe, gx, gw)
             vals[slot, 0] = a
             vals[slot, 1] = b
             errs[slot] = e
@@ -389,22 +522,27 @@ _RULE_POINTS = 5
 
 
 @parallel_kernel
-def _rect_integrals(corners, nov, alpha, tol, max_triangles, gx, gw, out):
+def _rect_integrals(corners, nov, roughness, codes, tol, max_triangles, gx, gw, out):
     """:func:`_rect_integral` of every light, in parallel."""
     for k in numba.prange(corners.shape[0]):
         one = np.zeros(4)
-        _rect_integral(corners[k], nov[k], alpha[k], tol, max_triangles, gx, gw, one)
+        _rect_integral(corners[k], nov[k], roughness[k], codes, tol, max_triangles, gx, gw, one)
         for c in range(4):
             out[k, c] = one[c]
 
 
-def ggx_rect_integrals(nov, roughness, corners, tol=REFERENCE_TOLERANCE, max_triangles=40000, return_error=False):
+def lobe_rect_integrals(nov, roughness, corners, distribution="ggx", masking="height-correlated",
+                        tol=REFERENCE_TOLERANCE, max_triangles=40000, return_error=False):
     """(norm, fresnel) = (integral of f (n.l) dl, integral of f Fc (n.l) dl) over
     each rectangular light (unit radiance), f = D G2 / (4 n.l n.v) the
-    Fresnel-free GGX lobe (alpha = r^2, :func:`~pbrkit.brdf.distributions.alpha_from_roughness`;
-    Walter et al. 2007) with height-correlated Smith G2 (Heitz 2014, eq. 99),
-    Fc = (1 - v.h)^5, so that with Schlick's F (Schlick 1994) the radiance is
-    f0 norm + (1 - f0) fresnel (the split of ltc_code's second table).
+    Fresnel-free microfacet lobe of ``distribution`` (GGX, Walter et al. 2007, or
+    Beckmann) and the Smith-family ``masking`` G2 (:data:`LTC_MASKINGS`;
+    :func:`lobe_codes`), alpha = r^2 for both distributions
+    (:func:`~pbrkit.brdf.distributions.alpha_from_roughness`, at least 1e-3),
+    evaluated by :func:`pbrkit.brdf.bxdf.specular_lobe` of a ``cook_torrance``
+    BxDF (:func:`pbrkit.brdf.bxdf.make_bxdf`), Fc = (1 - v.h)^5, so that with
+    Schlick's F (Schlick 1994) the radiance is f0 norm + (1 - f0) fresnel (the
+    split of ltc_code's second table).
 
     ``nov`` (...), ``roughness`` (...) and ``corners`` (..., 4, 3) broadcast
     over the lights, in the local shading frame of the module doc.  Only the
@@ -415,41 +553,130 @@ def ggx_rect_integrals(nov, roughness, corners, tol=REFERENCE_TOLERANCE, max_tri
     area-to-solid-angle Jacobian dl = delta / |p|^3 dA (delta the plane's
     distance), over the rectangle clipped to z > 0 (Sutherland-Hodgman), split
     into a fan of triangles about the point where the mirror direction meets
-    the light (else the centroid) so that the lobe's peak is a vertex, split
-    until no triangle spans more than 0.3 rad as seen from the shading point; then globally adaptive cubature: a 5 x 5 collapsed
+    the light (else the closest point of its edges when that is within 5 lobe
+    widths, 2 alpha, of the mirror direction, else the centroid) so that the
+    lobe's peak is a vertex, split until no triangle spans more than 0.3 rad as
+    seen from the shading point and those at a centre on the peak no more than
+    two lobe widths (a lobe without a tail, Beckmann's, could otherwise fall
+    between the nodes of a triangle and of its children, unseen by the error
+    estimate); then globally adaptive cubature: a 5 x 5 collapsed
     Gauss-Legendre rule per triangle (degree 9), the error of a triangle
     estimated as |rule(T) - sum of rule(children)|, and the triangle with
     the largest estimate split into four until the summed estimate is below
     ``tol`` times the integral (or ``max_triangles`` are used).  The estimate
     is conservative (it bounds the error of the parents, the sum of the
     children is returned): at the default tol = 1e-6 the result agrees with a
-    run at tol = 1e-9 to 1e-6 (tested; typically 1e-8) and with Monte Carlo within its
-    standard error (``tests/test_ltc_score.py``), so the reference is
-    converged to 1e-4 relative with a wide margin.
+    run at tol = 1e-9 to 1e-6 (tested; typically 1e-8), with Monte Carlo within its
+    standard error for GGX and with a composite Gauss-Legendre rule over the
+    rectangle for Beckmann and separable Smith (``tests/test_ltc_score.py``), so
+    the reference is converged to 1e-4 relative with a wide margin.
 
     Returns (..., 2); with ``return_error`` also the summed error estimate
     (...) of channel 0 and the triangle count (...).
     """
+    codes = lobe_codes(distribution, masking)
     nov, roughness, corners, shape = _check_lights(nov, roughness, corners)
     gx, gw = gauss_legendre_01(_RULE_POINTS)
     flat_c = np.ascontiguousarray(corners.reshape(-1, 4, 3))
-    flat_mu = nov.reshape(-1)
-    flat_alpha = np.asarray(alpha_from_roughness(roughness.reshape(-1)), dtype=float)
+    flat_mu = np.ascontiguousarray(nov.reshape(-1), dtype=np.float64)
+    flat_r = np.ascontiguousarray(roughness.reshape(-1), dtype=np.float64)
     result = np.zeros((flat_c.shape[0], 4))
-    _rect_integrals(flat_c, np.ascontiguousarray(flat_mu, dtype=np.float64), flat_alpha, float(tol),
-                    int(max_triangles), gx, gw, result)
+    _rect_integrals(flat_c, flat_mu, flat_r, codes, float(tol), int(max_triangles), gx, gw, result)
     values = result[:, :2].reshape(shape + (2,))
     if return_error:
         return values, result[:, 2].reshape(shape), result[:, 3].astype(np.int64).reshape(shape)
     return values
 
 
-def ggx_rect_reference(nov, roughness, corners, f0=1.0, tol=REFERENCE_TOLERANCE):
-    """The reflected radiance of a unit-radiance rectangular light off the GGX
-    specular lobe with Schlick's F of ``f0`` (1: F = 1): f0 norm + (1 - f0)
-    fresnel of :func:`ggx_rect_integrals` (its arguments and accuracy)."""
-    pair = ggx_rect_integrals(nov, roughness, corners, tol=tol)
+def lobe_rect_reference(nov, roughness, corners, f0=1.0, distribution="ggx", masking="height-correlated",
+                        tol=REFERENCE_TOLERANCE):
+    """The reflected radiance of a unit-radiance rectangular light off the
+    specular lobe of ``distribution`` and ``masking`` with Schlick's F of ``f0``
+    (1: F = 1): f0 norm + (1 - f0) fresnel of :func:`lobe_rect_integrals` (its
+    arguments and accuracy)."""
+    pair = lobe_rect_integrals(nov, roughness, corners, distribution, masking, tol=tol)
     return f0 * pair[..., 0] + (1.0 - f0) * pair[..., 1]
+
+
+def ggx_rect_integrals(nov, roughness, corners, tol=REFERENCE_TOLERANCE, max_triangles=40000, return_error=False):
+    """:func:`lobe_rect_integrals` of the default lobe: GGX (alpha = r^2) with
+    height-correlated Smith G2 (Heitz 2014, eq. 99)."""
+    return lobe_rect_integrals(nov, roughness, corners, "ggx", "height-correlated", tol=tol,
+                               max_triangles=max_triangles, return_error=return_error)
+
+
+def ggx_rect_reference(nov, roughness, corners, f0=1.0, tol=REFERENCE_TOLERANCE):
+    """:func:`lobe_rect_reference` of GGX with height-correlated Smith."""
+    return lobe_rect_reference(nov, roughness, corners, f0, "ggx", "height-correlated", tol=tol)
+
+
+#: Gauss-Legendre nodes (theta_h, phi) of :func:`lobe_split_integrals`'s half-vector
+#: quadrature (:func:`pbrkit.albedo.furnace.albedo_quadrature`): converged to about
+#: 1e-9 relative for Beckmann and UE4's Schlick-GGX from n.v = 1 to 8.7e-4 (the
+#: fit's grazing row) and alpha from 1e-3 to 1, against 256 x 96 nodes.
+ALBEDO_NODES = (96, 48)
+#: Nodes of :func:`pbrkit.albedo.tables.specular_integrals` (theta, grazing theta,
+#: phi) for the GGX lobes it has: converged to 3e-8 relative over the same range
+#: (its default (12, 24, 6), for lookup tables, is good to ~5e-5).
+TABLE_NODES = (48, 96, 24)
+
+
+def _furnace_lobe(distribution, masking):
+    """``brdf(l, v, n, r)`` of :func:`pbrkit.albedo.furnace.albedo_quadrature` with two
+    channels, f (1 - Fc) and f Fc, Fc = (1 - v.h)^5: ``cook_torrance`` (NumPy API,
+    :func:`pbrkit.brdf.models.cook_torrance`) with Schlick's F for a white metal
+    (F = 1) minus that for a black one (F = Fc), and the latter."""
+    from ..brdf.material import Material
+    from ..brdf.models import cook_torrance
+
+    def brdf(l, v, n, roughness):
+        def lobe(base):
+            material = Material(base_color=np.full(3, base), metallic=1.0, roughness=roughness)
+            return cook_torrance(l, v, n, material, distribution=distribution, masking=masking, fresnel="schlick",
+                                 diffuse="none")[..., 0]
+
+        fc = lobe(0.0)
+        return np.stack([lobe(1.0) - fc, fc], axis=-1)
+
+    return brdf
+
+
+def lobe_split_integrals(nov, roughness, distribution="ggx", masking="height-correlated"):
+    """(A, B) = (integral of f (1 - Fc) (n.l) dl, integral of f Fc (n.l) dl) over the
+    hemisphere, the split integrals of the directional albedo f0 A + B with
+    Schlick's F (Karis 2013), for the lobe of :func:`lobe_rect_integrals` (the
+    same alpha = max(r^2, 1e-3)), per (n.v, r) pair (...) -> (..., 2), by
+    converged quadrature over the half vector:
+
+    - where :func:`pbrkit.albedo.tables.specular_integrals` has the lobe (GGX
+      with height-correlated, separable or Schlick-GGX (k = alpha / 2) masking),
+      that, with :data:`TABLE_NODES` and at roughness sqrt(max(r^2, 1e-3)) (the
+      tables themselves do not clamp alpha);
+    - otherwise (Beckmann; UE4's k = (r + 1)^2 / 8),
+      :func:`pbrkit.albedo.furnace.albedo_quadrature` of the ``cook_torrance``
+      lobe (:func:`pbrkit.brdf.models.cook_torrance`; nodes :data:`ALBEDO_NODES`).
+
+    Both agree with the sum of :func:`lobe_rect_integrals` over the six faces of
+    a cube about the shading point (tested) wherever that cubature converges."""
+    lobe_codes(distribution, masking)  # checks the pair
+    nov, roughness = np.broadcast_arrays(np.asarray(nov, dtype=float), np.asarray(roughness, dtype=float))
+    out = np.empty(nov.shape + (2,))
+    flat_out = out.reshape(-1, 2)
+    flat_mu = nov.reshape(-1)
+    flat_r = roughness.reshape(-1)
+    if distribution == "ggx" and masking in VISIBILITIES:
+        r_alpha = np.sqrt(alpha_from_roughness(flat_r))  # table_alpha(r_alpha) = alpha_from_roughness(r)
+        for r in np.unique(r_alpha):
+            at = np.flatnonzero(r_alpha == r)
+            flat_out[at] = specular_integrals(flat_mu[at], [r], masking, nodes=TABLE_NODES)[0]
+        return out
+    from ..albedo.furnace import albedo_quadrature
+
+    brdf = _furnace_lobe(distribution, masking)
+    for r in np.unique(flat_r):
+        at = np.flatnonzero(flat_r == r)
+        flat_out[at] = albedo_quadrature(brdf, flat_mu[at], [r], *ALBEDO_NODES)[:, 0]
+    return out
 
 
 # --------------------------------------------------- the shader's evaluation
@@ -834,19 +1061,13 @@ def rect_lights_towards(nov, roughness, direction, distance, half_angle, tilt, t
 # ------------------------------------------------------------------- scoring
 
 
-def directional_albedo(nov, roughness, f0=1.0):
-    """The specular directional albedo E(n.v, r) = f0 A + B of GGX with
-    height-correlated Smith and Schlick F (:func:`pbrkit.albedo.tables.specular_integrals`,
-    converged quadrature), per (n.v, r) pair (...)."""
-    nov = np.asarray(nov, dtype=float)
-    roughness = np.asarray(roughness, dtype=float)
-    nov, roughness = np.broadcast_arrays(nov, roughness)
-    out = np.empty(nov.shape)
-    flat_out = out.reshape(-1)
-    for k, (m, r) in enumerate(zip(nov.reshape(-1), roughness.reshape(-1))):
-        ab = specular_integrals([m], [r], "height-correlated")[0, 0]
-        flat_out[k] = f0 * ab[0] + ab[1]
-    return out
+def directional_albedo(nov, roughness, f0=1.0, distribution="ggx", masking="height-correlated"):
+    """The specular directional albedo E(n.v, r) = f0 A + B of the lobe of
+    ``distribution`` and ``masking`` (default GGX with height-correlated Smith)
+    and Schlick F (:func:`lobe_split_integrals`, converged quadrature), per
+    (n.v, r) pair (...)."""
+    ab = lobe_split_integrals(nov, roughness, distribution, masking)
+    return f0 * ab[..., 0] + ab[..., 1]
 
 
 @dataclass
@@ -878,15 +1099,17 @@ def _summary(rel, abs_alb, ref, ltc, used):
     }
 
 
-def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_THRESHOLD, evaluation="shader"):
+def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_THRESHOLD, evaluation="shader",
+                distribution="ggx", masking="height-correlated"):
     """Score LTC tables in the published layout on ``lights`` (:class:`RectLights`)
     with Schlick's F of ``f0`` (1: F = 1): the shader's radiance
-    (:func:`ltc_shader_rect`) against the converged reference
-    (:func:`ggx_rect_reference`; pass ``reference`` (K,) to reuse one).
+    (:func:`ltc_shader_rect`) against the converged reference of the lobe of
+    ``distribution`` and ``masking`` (:func:`lobe_rect_reference`; pass
+    ``reference`` (K,) to reuse one, computed for the same lobe).
 
     Per light: the relative error |ltc - ref| / ref, over the lights whose
     reference exceeds ``threshold`` times the directional albedo
-    E(n.v, r) with the same f0 (:func:`directional_albedo`; NaN elsewhere), and
+    E(n.v, r) of the same lobe and f0 (:func:`directional_albedo`; NaN elsewhere), and
     the absolute error over that albedo, |ltc - ref| / E, over every light.
     ``summary``: the count scored, median, mean, 95th percentile and maximum
     of the relative errors (percentiles by linear interpolation, NumPy's
@@ -895,12 +1118,13 @@ def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_T
     albedo.  ``evaluation``: ``shader`` (:func:`ltc_shader_rect`, what engines run)
     or ``exact`` (:func:`ltc_exact_rect`).  Returns :class:`LTCScore`."""
     table = ltc1 if isinstance(ltc1, LTCTable) else ltc_table_from_published_layout(ltc1, ltc2)
+    lobe_codes(distribution, masking)
     if reference is None:
-        reference = ggx_rect_reference(lights.nov, lights.roughness, lights.corners, f0=f0)
+        reference = lobe_rect_reference(lights.nov, lights.roughness, lights.corners, f0, distribution, masking)
     reference = np.asarray(reference, dtype=float)
     evaluate = ltc_exact_rect if evaluation == "exact" else ltc_shader_rect
     ltc = evaluate(table, None, lights.nov, lights.roughness, lights.corners, f0=f0)
-    albedo = directional_albedo(lights.nov, lights.roughness, f0)
+    albedo = directional_albedo(lights.nov, lights.roughness, f0, distribution, masking)
     used = reference > threshold * albedo
     diff = np.abs(ltc - reference)
     rel = np.where(used, diff / np.where(used, reference, 1.0), np.nan)

@@ -118,6 +118,8 @@ APPROXIMATIONS = {
     "fstar": "diffuse weight 1 - F*(n.v, 0.04, r) instead of the exact albedo of 1 - F(v.h) (glTF diffuse)",
     "split_sum": "prefiltered environment (n = v = r) x DFG table instead of the integral of the lobe "
                  "against the environment (specular), with what remains",
+    "split_sum_ltc": "split sum (environment) and LTC (area lights) instead of the integrals of the lobe "
+                     "against the environment and over the lights (specular), with what remains",
 }
 
 _INV_PI = 1.0 / math.pi

@@ -78,7 +78,8 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
     by swapping one approximation at a time for an exact computation, in order:
     the SH irradiance for the irradiance cube (an exact convolution), then the
     F* diffuse weight for the exact albedo of the model's diffuse weighting;
-    what remains against the reference is the split sum.  Each entry is the RMS
+    what remains against the reference is the split sum (``split_sum``), and
+    with area lights the split sum and the LTC (``split_sum_ltc``).  Each entry is the RMS
     relative luminance difference the swap makes
     (:func:`pbrkit.render.compare.rms_relative_error`, over the pixels the
     headline measures; the last one against the reference with its variance
@@ -102,7 +103,8 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
         current = cube
     exact = render_realtime(scene, geometry, env, bake=bake, diffuse="cube", diffuse_weight="exact", **options).image
     split["fstar"] = share(current, exact)
-    split["split_sum"] = rms_relative_error(exact, reference, valid, stderr)
+    remainder = "split_sum_ltc" if len(geometry.area_lights) else "split_sum"
+    split[remainder] = rms_relative_error(exact, reference, valid, stderr)
     return {name: {"rms_relative_error": value, "description": APPROXIMATIONS[name]} for name, value in split.items()}
 
 
