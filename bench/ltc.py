@@ -20,6 +20,9 @@ prints:
   400-light mean moves from draw to draw;
 - the issue's figures for the published table (issue 11: median 8%, mean 29%,
   p95 100%, abs / albedo 1.25%) beside them, and the time taken;
+- pbrkit's bundled tables (``pbrkit ltc --clipping exact --fresnel``, what
+  ``pbrkit render`` shades area lights with), exact clipping, with one table
+  and Fresnel-aware, at f0 = 1, 0.2 and 0.04 (default lobe only);
 - with ``--fit``: pbrkit's fit (:func:`pbrkit.ltc.fit.fit_table`, the table
   ``pbrkit ltc`` writes, for the same lobe) timed on this machine, and scored
   on the same sets beside the published table.
@@ -51,7 +54,7 @@ ISSUE = {"relative_median": 0.08, "relative_mean": 0.29, "relative_p95": 1.00, "
 
 
 def _line(label, s):
-    text = (f"{label:28s} {s['scored']:4d} {100 * s['relative_median']:7.1f}% {100 * s['relative_mean']:7.1f}% "
+    text = (f"{label:34s} {s['scored']:4d} {100 * s['relative_median']:7.1f}% {100 * s['relative_mean']:7.1f}% "
             f"{100 * s['relative_p95']:7.1f}% {100 * s['abs_over_albedo_mean']:8.2f}%")
     if "ltc_zero_share" in s:
         text += f"   (LTC = 0 on {100 * s['ltc_zero_share']:.1f}% of the scored lights)"
@@ -86,7 +89,7 @@ def main():
         print(f"published table not found ({exc}); scoring pbrkit's fit alone")
     print(f"lobe: {lobe_name(**lobe)}")
     print(f"relative errors over lights with ref > {RELATIVE_THRESHOLD:g} x albedo\n")
-    print(f"{'set':28s} {'n':>4s} {'median':>8s} {'mean':>8s} {'p95':>8s} {'abs/E':>9s}")
+    print(f"{'set':34s} {'n':>4s} {'median':>8s} {'mean':>8s} {'p95':>8s} {'abs/E':>9s}")
     if t1 is not None and lobe == {"distribution": "ggx", "masking": "height-correlated"}:
         print(_line("issue 11 (published table)", {"scored": args.count, **ISSUE}))
 
@@ -100,6 +103,18 @@ def main():
             reference = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
             s = score_table(t1, t2, lights, f0=f0, reference=reference, **lobe).summary
             print(_line(f"seed {args.seed}, F = 1" if f0 == 1.0 else f"seed {args.seed}, f0 = {f0:g}", s))
+    if lobe == {"distribution": "ggx", "masking": "height-correlated"}:
+        # the tables pbrkit renders area lights with: --clipping exact, and --fresnel's second one
+        from pbrkit.render.area_lights import bundled_fresnel_table, bundled_ltc_table
+
+        b1, b2 = bundled_ltc_table()
+        fc = bundled_fresnel_table()
+        for f0 in (1.0, 0.2, 0.04):
+            reference = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
+            for label, fresnel in (("bundled, exact", None), ("bundled, Fresnel-aware", fc)):
+                s = score_table(b1, b2, lights, f0=f0, reference=reference, evaluation="exact",
+                                fresnel_ltc1=fresnel, **lobe).summary
+                print(_line(f"{label}, f0 = {f0:g}", s))
     print(f"\nreference: {args.count} lights in {t_ref:.2f} s ({1e3 * t_ref / args.count:.1f} ms a light, tol 1e-6)"
           f"; {100 * lights.crossing.mean():.0f}% of the lights cross the horizon\n")
 

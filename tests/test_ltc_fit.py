@@ -215,3 +215,25 @@ def test_lobe_options_are_listed_and_bad_ones_refused(tmp_path):
         result = runner.invoke(app, ["ltc", "-o", str(out), "--size", "4", *args])
         assert result.exit_code != 0 and message in result.stderr, result.output
         assert len(result.stderr.strip().splitlines()) <= 2 and not out.exists()
+
+
+def test_fresnel_aware_fit_writes_its_second_table_deterministically(tmp_path):
+    """``--clipping exact --fresnel`` adds the f Fc lobe's matrices (fresnel_ltc_1.*, the
+    layout of ltc_1) and records them in fit.json; twice, the same bytes; without the
+    exact clipping it is refused before any work."""
+    runner = CliRunner()
+    args = ["--size", "4", "--polygons", "6", "--clipping", "exact", "--fresnel", "-q"]
+    for name in ("a", "b"):
+        result = runner.invoke(app, ["ltc", "-o", str(tmp_path / name), *args])
+        assert result.exit_code == 0, result.output
+    a, b = tmp_path / "a", tmp_path / "b"
+    for name in ("fresnel_ltc_1.npy", "fresnel_ltc_1.rgba32f.ktx2", "fresnel_ltc_1.rgba16f.dds", "ltc_1.npy"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    info = json.loads((a / "fit.json").read_text())
+    assert "fresnel_ltc_1.npy" in info["files"] and info["fresnel"]["fit_error"]["median"] >= 0.0
+    fc = np.load(a / "fresnel_ltc_1.npy")
+    assert fc.shape == (4, 4, 4) and np.all(np.isfinite(fc))
+    assert not np.allclose(fc, np.load(a / "ltc_1.npy"))  # a different lobe, a different shape
+    result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "c"), "--size", "4", "--fresnel"])
+    assert result.exit_code != 0 and "--clipping exact" in result.output
+    assert not (tmp_path / "c").exists()

@@ -776,6 +776,11 @@ def ltc(
                            "Smith masking-shadowing G2 of the lobe: height-correlated or separable (exact Smith, "
                            "the distribution's own Lambda), or with ggx only schlick-ggx (k = alpha / 2) or "
                            "schlick-ggx-ue4 (k = (r + 1)^2 / 8)."),
+    fresnel: bool = _flag(False, ("--fresnel",),
+                          "With --clipping exact: also fit the f Fc lobe's matrices (fresnel_ltc_1.*) for pbrkit's "
+                          "Fresnel-aware LTC, f0 norm LTC_1 + (1 - f0) fresnel LTC_Fc "
+                          "(pbrkit.ltc.score.ltc_fresnel_rect), far better for dielectrics; the table pbrkit "
+                          "renders with is --clipping exact --fresnel."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "
                          "on the same test set, with per-cell error maps."),
@@ -818,7 +823,10 @@ def ltc(
                 raise ValueError(f"{published}: not three.js's LTC tables ({exc})") from None
             print(f"pbrkit ltc: note: the published table is not installed ({exc}); the report scores pbrkit's "
                   "table alone", file=sys.stderr)
-    with _Stages("ltc", quiet, size + 2) as stages:
+    if fresnel and clipping != "exact":
+        raise ValueError("--fresnel: the Fresnel-aware LTC is evaluated with the exact horizon clipping; "
+                         "add --clipping exact")
+    with _Stages("ltc", quiet, 2 * size + 2 if fresnel else size + 2) as stages:
         stages.start(f"fit roughness column 1/{size}")
 
         def column(done, total):
@@ -827,18 +835,31 @@ def ltc(
 
         fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s, clipping=clipping,
                         distribution=distribution, masking=masking)
-        stages.start("score" if report else "write", size + 1)
-        scores = score_fit(fit, table) if report else None
-        stages.start("write", size + 2)
+        second = None
+        if fresnel:  # the f Fc lobe's matrices: pbrkit.ltc.score.ltc_fresnel_rect
+            stages.start(f"fit the f Fc lobe, roughness column 1/{size}", size + 1)
+
+            def fc_column(done, total):
+                if done < total:
+                    stages.start(f"fit the f Fc lobe, roughness column {done + 1}/{total}", size + done + 1)
+
+            second = fit_table(size, polygons, seed, progress=fc_column, fit_f0=(0.0,), clipping="exact",
+                               distribution=distribution, masking=masking)
+        stages.start("score" if report else "write", stages.total - 1)
+        scores = score_fit(fit, table, fresnel=second) if report else None
+        stages.start("write", stages.total)
         with atomic_directory(out, force) as tmp:
-            write_fit(tmp, fit, scores)
+            write_fit(tmp, fit, scores, fresnel=second)
     if not quiet:
-        print(f"wrote {out}: {size} x {size} LTC tables ({distribution}, {masking}) fitted in {fit.seconds:.1f} s; "
+        seconds = fit.seconds + (second.seconds if second is not None else 0.0)
+        print(f"wrote {out}: {size} x {size} LTC tables ({distribution}, {masking}"
+              f"{', Fresnel-aware' if second is not None else ''}) fitted in {seconds:.1f} s; "
               f"per-cell error median {np.median(fit.error):.3f}")
         if scores is not None:
             for name, by_f in scores["scores"].items():
-                s = by_f["F=1"]
-                print(f"{name}: relative error median {100 * s['relative_median']:.1f}%, mean "
+                label = "f0=0.04" if "Fresnel" in name else "F=1"
+                s = by_f[label]
+                print(f"{name} ({label}): relative error median {100 * s['relative_median']:.1f}%, mean "
                       f"{100 * s['relative_mean']:.1f}%, p95 {100 * s['relative_p95']:.1f}%; "
                       f"abs. error / albedo {100 * s['abs_over_albedo_mean']:.2f}%")
 

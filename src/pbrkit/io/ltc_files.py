@@ -29,6 +29,10 @@ three.js's ``RectAreaLightUniformsLib`` does (float and half-float
 ``DataTexture``s in ``UniformsLib``; its comments name the BRDF the tables are
 fitted for, the rest is the same for every table), all together or none
 (:func:`pbrkit.core.atomic.atomic_group`).  :func:`read_ltc_npy` reads a table back.
+
+pbrkit's Fresnel-aware LTC (:func:`pbrkit.ltc.score.ltc_fresnel_rect`) adds a
+third table in ``ltc_1``'s layout, ``fresnel_ltc_1``: the matrices of the f Fc
+lobe (Fc = (1 - v.h)^5), written in the same formats (:func:`write_fresnel_table`).
 """
 
 from __future__ import annotations
@@ -39,7 +43,8 @@ import numpy as np
 
 from ..core.atomic import atomic_group
 
-__all__ = ["LTC_SIZE", "LTC_FILES", "check_ltc_table", "ltc_module_text", "write_ltc_tables", "read_ltc_npy"]
+__all__ = ["LTC_SIZE", "LTC_FILES", "FRESNEL_FILES", "check_ltc_table", "ltc_module_text", "write_ltc_tables",
+           "write_fresnel_table", "read_ltc_npy"]
 
 #: Cells per side of the published layout.
 LTC_SIZE = 64
@@ -47,6 +52,8 @@ _SUFFIXES = {".npy": None, ".rgba32f.dds": "R32G32B32A32_FLOAT", ".rgba16f.dds":
              ".rgba32f.ktx2": "R32G32B32A32_SFLOAT", ".rgba16f.ktx2": "R16G16B16A16_SFLOAT"}
 #: Every file :func:`write_ltc_tables` writes.
 LTC_FILES = tuple(f"{name}{suffix}" for name in ("ltc_1", "ltc_2") for suffix in _SUFFIXES) + ("ltc_tables.js",)
+#: Every file :func:`write_fresnel_table` writes.
+FRESNEL_FILES = tuple(f"fresnel_ltc_1{suffix}" for suffix in _SUFFIXES)
 
 
 def check_ltc_table(table, name="table"):
@@ -116,19 +123,33 @@ def write_ltc_tables(out_dir, ltc1, ltc2, note="", brdf=None):
     float, row t, column a) into ``out_dir``; all of them or none; ``note`` and
     ``brdf`` go into the ES module's comments (:func:`ltc_module_text`).  Returns
     the paths."""
-    from .dds import write_dds
-    from .ktx2 import write_ktx2
-
     tables = {"ltc_1": check_ltc_table(ltc1, "ltc_1"), "ltc_2": check_ltc_table(ltc2, "ltc_2")}
     if tables["ltc_1"].shape != tables["ltc_2"].shape:
         raise ValueError(f"ltc_1 and ltc_2 differ in shape: {tables['ltc_1'].shape} vs {tables['ltc_2'].shape}")
+    module = ltc_module_text(tables["ltc_1"], tables["ltc_2"], note, brdf)
+    return _write_tables(out_dir, LTC_FILES, tables, module)
+
+
+def write_fresnel_table(out_dir, ltc1):
+    """Write the Fresnel-aware LTC's second matrix table ``fresnel_ltc_1`` ((N, N, 4),
+    ``ltc_1``'s layout) as ``.npy``, ``.rgba32f/16f.dds`` and ``.rgba32f/16f.ktx2``
+    (:data:`FRESNEL_FILES`) into ``out_dir``, all or none.  Returns the paths."""
+    return _write_tables(out_dir, FRESNEL_FILES, {"fresnel_ltc_1": check_ltc_table(ltc1, "fresnel_ltc_1")})
+
+
+def _write_tables(out_dir, names, tables, module=None):
+    """The files ``names`` of ``tables`` (stem -> array; ``ltc_tables.js`` from
+    ``module``) in ``out_dir``, all of them or none."""
+    from .dds import write_dds
+    from .ktx2 import write_ktx2
+
     out = Path(out_dir)
-    paths = [out / name for name in LTC_FILES]
+    paths = [out / name for name in names]
     with atomic_group(paths) as temps:
         for path, tmp in zip(paths, temps):
             name = path.name
             if name == "ltc_tables.js":
-                tmp.write_text(ltc_module_text(tables["ltc_1"], tables["ltc_2"], note, brdf), encoding="utf-8")
+                tmp.write_text(module, encoding="utf-8")
                 continue
             stem, suffix = name.split(".", 1)
             fmt = _SUFFIXES["." + suffix]

@@ -26,32 +26,41 @@ def _lobe(fit):
     return getattr(fit, "distribution", "ggx"), getattr(fit, "masking", "height-correlated")
 
 
-def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0):
+def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     """Scores (:func:`pbrkit.ltc.score.score_table`, F = 1 and f0 = 0.04) of the fit
     and, given ``published`` = (ltc1, ltc2), of that table on the same lights,
     both against the converged integrals of the lobe the fit is for
     (``fit.distribution``, ``fit.masking``; the published table is GGX's, so for
     another lobe its score says what using it instead would cost); and the
     published table's per-cell error on the fit's own lights
-    (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match)."""
+    (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match).  With ``fresnel``
+    (the fit of the f Fc lobe, ``pbrkit ltc --fresnel``) pbrkit's Fresnel-aware
+    evaluation (:func:`pbrkit.ltc.score.ltc_fresnel_rect`) is scored too, as
+    ``pbrkit, Fresnel-aware``."""
     from .fit import cell_errors
     from .score import lobe_rect_integrals, random_rect_lights, score_table
 
     distribution, masking = _lobe(fit)
     test = random_rect_lights(lights, seed)
     pair = lobe_rect_integrals(test.nov, test.roughness, test.corners, distribution, masking)
-    tables = {"pbrkit": (fit.ltc1, fit.ltc2)}
+    tables = {"pbrkit": (fit.ltc1, fit.ltc2, None)}
+    if fresnel is not None:
+        tables["pbrkit, Fresnel-aware"] = (fit.ltc1, fit.ltc2, fresnel.ltc1)
     if published is not None:
-        tables["published"] = published
+        tables["published"] = (*published, None)
     scores = {}
-    for name, (t1, t2) in tables.items():
+    for name, (t1, t2, fresnel1) in tables.items():
         scores[name] = {}
         for label, f0 in (("F=1", 1.0), ("f0=0.04", 0.04)):
             ref = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
-            evaluation = "exact" if name == "pbrkit" and getattr(fit, "clipping", "sphere") == "exact" else "shader"
-            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref, evaluation=evaluation,
-                                                     distribution=distribution, masking=masking).summary)
+            own = name.startswith("pbrkit") and getattr(fit, "clipping", "sphere") == "exact"
+            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref,
+                                                     evaluation="exact" if own else "shader",
+                                                     distribution=distribution, masking=masking,
+                                                     fresnel_ltc1=fresnel1).summary)
     maps = {"pbrkit": fit.error}
+    if fresnel is not None:
+        maps["pbrkit f Fc lobe"] = fresnel.error
     if published is not None and np.shape(published[0])[:2] == fit.ltc1.shape[:2]:
         maps["published"] = cell_errors(fit, published[0])
     return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.score.random_rect_lights"},
@@ -79,16 +88,23 @@ def _plot(path, maps):
     plt.close(fig)
 
 
-def write_fit(folder, fit, report=None):
+def write_fit(folder, fit, report=None, fresnel=None):
     """Write the fit into ``folder`` (an existing, empty temporary directory of
     :func:`pbrkit.core.atomic.atomic_directory`): the drop-in tables
     (:func:`pbrkit.io.ltc_files.write_ltc_tables`), ``fit_error.npy`` (float32
     (N, N)), ``fit.json`` (options, layout, error summary; no timings, so the
     same options give the same bytes) and, with ``report`` (:func:`score_fit`),
-    ``report.json``, ``report.md`` and ``report.png``."""
+    ``report.json``, ``report.md`` and ``report.png``; with ``fresnel`` (the fit of
+    the f Fc lobe) its matrices as ``fresnel_ltc_1.*``
+    (:func:`pbrkit.io.ltc_files.write_fresnel_table`) and its error in ``fit.json``."""
     from pathlib import Path
 
-    from ..io.ltc_files import LTC_FILES, write_ltc_tables
+    from ..io.ltc_files import (
+        FRESNEL_FILES,
+        LTC_FILES,
+        write_fresnel_table,
+        write_ltc_tables,
+    )
     from .fit import EPSILON, MAX_THETA
     from .score import lobe_name
 
@@ -122,6 +138,15 @@ def write_fit(folder, fit, report=None):
                       "max": round(float(np.max(fit.error)), 6)},
         "files": list(LTC_FILES) + ["fit_error.npy"],
     }
+    if fresnel is not None:
+        write_fresnel_table(folder, fresnel.ltc1)
+        info["fresnel"] = {
+            "lobe": "f Fc, Fc = (1 - v.h)^5 (the Schlick F's second lobe: f F = f0 f + (1 - f0) f Fc), fitted as "
+                    "--fit-f0 0 with the exact clipping; evaluated by pbrkit.ltc.score.ltc_fresnel_rect",
+            "fit_error": {"median": round(float(np.median(fresnel.error)), 6),
+                          "p95": round(float(np.percentile(fresnel.error, 95)), 6),
+                          "max": round(float(np.max(fresnel.error)), 6)}}
+        info["files"] += list(FRESNEL_FILES)
     if report is not None:
         (folder / "report.json").write_text(json.dumps(
             {k: v for k, v in report.items() if k != "cell_error_maps"}, indent=2) + "\n", encoding="utf-8")

@@ -95,6 +95,7 @@ __all__ = [
     "ltc_shader_rect",
     "ltc_shader_form_factor",
     "ltc_exact_rect",
+    "ltc_fresnel_rect",
     "shader_rect_form_factor",
     "exact_rect_form_factor",
     "rect_lights_towards",
@@ -835,6 +836,27 @@ def ltc_exact_rect(ltc1, ltc2, nov, roughness, corners, f0=1.0):
     return _rect_form_factors(t1, corners, True) * fresnel
 
 
+def ltc_fresnel_rect(ltc1, ltc2, fresnel_ltc1, nov, roughness, corners, f0=1.0):
+    """pbrkit's Fresnel-aware LTC: Schlick's F = f0 + (1 - f0) Fc, Fc = (1 - v.h)^5,
+    splits the lobe f F cos into f0 f cos + (1 - f0) f Fc cos, two lobes of
+    different shapes (the second leans further to grazing), each with its own LTC:
+    ``ltc1`` fitted for f (F = 1) and ``fresnel_ltc1`` for f Fc (``pbrkit ltc
+    --fit-f0 0``), both evaluated with the exact horizon clipping
+    (:func:`exact_rect_form_factor`) and scaled by their albedos, the norm and the
+    fresnel column of ``ltc2`` (Hill's split, Heitz et al. 2016 sec. 4 and Hill and
+    Heitz 2016, used here per lobe):
+    f0 norm FF(M_1) + (1 - f0) fresnel FF(M_Fc).  The same layout and lookups as
+    :func:`ltc_exact_rect`; one more table lookup and polygon integral per light."""
+    table = ltc1 if isinstance(ltc1, LTCTable) else ltc_table_from_published_layout(ltc1, ltc2)
+    fresnel = ltc_table_from_published_layout(fresnel_ltc1, table.ltc2)
+    nov, roughness, corners, shape = _check_lights(nov, roughness, corners)
+    t1 = _bilinear_published(table.ltc1, roughness, nov)
+    tc = _bilinear_published(fresnel.ltc1, roughness, nov)
+    t2 = _bilinear_published(table.ltc2, roughness, nov)
+    return (f0 * t2[..., 0] * _rect_form_factors(t1, corners, True)
+            + (1.0 - f0) * t2[..., 1] * _rect_form_factors(tc, corners, True))
+
+
 @dual_use
 def shader_rect_form_factor(x, y, z, w, corners):
     """Steps 2-4 of :func:`ltc_shader_rect` for one rectangle ``corners`` (4, 3)
@@ -1100,7 +1122,7 @@ def _summary(rel, abs_alb, ref, ltc, used):
 
 
 def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_THRESHOLD, evaluation="shader",
-                distribution="ggx", masking="height-correlated"):
+                distribution="ggx", masking="height-correlated", fresnel_ltc1=None):
     """Score LTC tables in the published layout on ``lights`` (:class:`RectLights`)
     with Schlick's F of ``f0`` (1: F = 1): the shader's radiance
     (:func:`ltc_shader_rect`) against the converged reference of the lobe of
@@ -1116,14 +1138,21 @@ def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_T
     default), the share of scored lights where the LTC is 0, and the mean,
     median, 95th percentile and maximum of the absolute errors over the
     albedo.  ``evaluation``: ``shader`` (:func:`ltc_shader_rect`, what engines run)
-    or ``exact`` (:func:`ltc_exact_rect`).  Returns :class:`LTCScore`."""
+    or ``exact`` (:func:`ltc_exact_rect`); with ``fresnel_ltc1`` (the matrices of
+    the f Fc lobe) ``exact`` is the Fresnel-aware :func:`ltc_fresnel_rect`.
+    Returns :class:`LTCScore`."""
     table = ltc1 if isinstance(ltc1, LTCTable) else ltc_table_from_published_layout(ltc1, ltc2)
     lobe_codes(distribution, masking)
     if reference is None:
         reference = lobe_rect_reference(lights.nov, lights.roughness, lights.corners, f0, distribution, masking)
     reference = np.asarray(reference, dtype=float)
-    evaluate = ltc_exact_rect if evaluation == "exact" else ltc_shader_rect
-    ltc = evaluate(table, None, lights.nov, lights.roughness, lights.corners, f0=f0)
+    if fresnel_ltc1 is not None:
+        if evaluation != "exact":
+            raise ValueError("the Fresnel-aware LTC is evaluated with the exact clipping (evaluation='exact')")
+        ltc = ltc_fresnel_rect(table, None, fresnel_ltc1, lights.nov, lights.roughness, lights.corners, f0=f0)
+    else:
+        evaluate = ltc_exact_rect if evaluation == "exact" else ltc_shader_rect
+        ltc = evaluate(table, None, lights.nov, lights.roughness, lights.corners, f0=f0)
     albedo = directional_albedo(lights.nov, lights.roughness, f0, distribution, masking)
     used = reference > threshold * albedo
     diff = np.abs(ltc - reference)

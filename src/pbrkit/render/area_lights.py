@@ -94,6 +94,8 @@ __all__ = [
     "area_light_hits",
     "area_light_polygon",
     "bundled_ltc_table",
+    "bundled_fresnel_table",
+    "LTCLighting",
     "area_light_ltc",
 ]
 
@@ -682,6 +684,16 @@ _CIRCLE = np.stack([np.cos(2.0 * np.pi * np.arange(DISK_POLYGON_SIDES) / DISK_PO
 
 
 @lru_cache(maxsize=1)
+def bundled_fresnel_table():
+    """The ``ltc_1`` matrices of pbrkit's Fresnel-aware LTC (:func:`pbrkit.ltc.score.
+    ltc_fresnel_rect`): fitted for the f Fc lobe, Fc = (1 - v.h)^5, with the exact
+    horizon clipping (``pbrkit ltc --clipping exact --fit-f0 0``), bundled with the
+    package: float64 (64, 64, 4), indexed [t, a, channel]."""
+    with resources.as_file(resources.files("pbrkit.data") / "ltc" / "fresnel_ltc_1.npy") as path:
+        return np.ascontiguousarray(np.load(path, allow_pickle=False).astype(np.float64))
+
+
+@lru_cache(maxsize=1)
 def bundled_ltc_table():
     """pbrkit's LTC table fitted for the exact horizon clipping (``pbrkit ltc
     --clipping exact``; the published layout, :func:`pbrkit.ltc.score.
@@ -695,27 +707,26 @@ def bundled_ltc_table():
 
 
 @dual_use
-def _table_texel(table, roughness, nov, m):
-    """Bilinear lookup of an (N, N, 4) LTC table at uv = (r, sqrt(1 - n.v)) on texel
-    centres, clamp to edge (three.js ``LTC_Uv``; :func:`pbrkit.ltc.score._bilinear_published`),
-    written into the 3 x 3 ``m`` as M^-1 = [[x, 0, z], [0, 1, 0], [y, 0, w]]
-    (:func:`pbrkit.ltc.distribution.inverse_from_texel`)."""
+def _table_value(table, roughness, nov, c):
+    """Channel c of an (N, N, 4) LTC table at uv = (r, sqrt(1 - n.v)) on texel centres,
+    bilinear, clamp to edge (three.js ``LTC_Uv``; :func:`pbrkit.ltc.score._bilinear_published`)."""
     n = table.shape[0]
     x0, x1, ax = texel_pair(min(max(roughness, 0.0), 1.0) * (n - 1), n, CLAMP_TO_EDGE)
     y0, y1, ay = texel_pair(math.sqrt(1.0 - min(max(nov, 0.0), 1.0)) * (n - 1), n, CLAMP_TO_EDGE)
+    return ((table[y0, x0, c] * (1.0 - ax) + table[y0, x1, c] * ax) * (1.0 - ay)
+            + (table[y1, x0, c] * (1.0 - ax) + table[y1, x1, c] * ax) * ay)
+
+
+@dual_use
+def _table_texel(table, roughness, nov, m):
+    """The ``ltc_1`` texel at (r, n.v) (:func:`_table_value`) written into the 3 x 3 ``m``
+    as M^-1 = [[x, 0, z], [0, 1, 0], [y, 0, w]] (:func:`pbrkit.ltc.distribution.inverse_from_texel`)."""
     m[:, :] = 0.0
     m[1, 1] = 1.0
-    for c in range(4):
-        v = ((table[y0, x0, c] * (1.0 - ax) + table[y0, x1, c] * ax) * (1.0 - ay)
-             + (table[y1, x0, c] * (1.0 - ax) + table[y1, x1, c] * ax) * ay)
-        if c == 0:
-            m[0, 0] = v
-        elif c == 1:
-            m[2, 0] = v
-        elif c == 2:
-            m[0, 2] = v
-        else:
-            m[2, 2] = v
+    m[0, 0] = _table_value(table, roughness, nov, 0)
+    m[2, 0] = _table_value(table, roughness, nov, 1)
+    m[0, 2] = _table_value(table, roughness, nov, 2)
+    m[2, 2] = _table_value(table, roughness, nov, 3)
 
 
 @dual_use
@@ -778,18 +789,24 @@ _CHUNK = 256
 
 
 @parallel_kernel
-def _ltc_kernel(codes, values, vertices, ltc1, p, n, v, rough, coat_rough, out_spec, out_irr, out_coat):
-    """Per point: sum over lights of L FF_ltc (specular, and at the clear coat's
-    roughness where coat_rough >= 0) and pi L FF_cos (irradiance)."""
+def _ltc_kernel(codes, values, vertices, ltc1, ltc2, fresnel1, p, n, v, rough, coat_rough, out_spec, out_fresnel,
+                out_split, out_irr, out_coat):
+    """Per point: sums over lights of L FF (specular: the LTC of the f lobe, of the
+    f Fc lobe where ``fresnel1`` has rows, and of the f lobe at the clear coat's
+    roughness where coat_rough >= 0) and pi L FF_cos (irradiance); and (norm,
+    fresnel) of ``ltc2``."""
     cap = max(MAX_POLYGON_VERTICES, DISK_POLYGON_SIDES)
     count = p.shape[0]
+    fresnel_aware = fresnel1.shape[0] > 0
     for chunk in numba.prange((count + _CHUNK - 1) // _CHUNK):
         poly = np.empty((cap, 3))
         m = np.empty((3, 3))
+        mfr = np.empty((3, 3))
         mc = np.empty((3, 3))
         for i in range(chunk * _CHUNK, min(count, (chunk + 1) * _CHUNK)):
             for c in range(3):
                 out_spec[i, c] = 0.0
+                out_fresnel[i, c] = 0.0
                 out_irr[i, c] = 0.0
                 out_coat[i, c] = 0.0
             nx, ny, nz = n[i, 0], n[i, 1], n[i, 2]
@@ -809,6 +826,10 @@ def _ltc_kernel(codes, values, vertices, ltc1, p, n, v, rough, coat_rough, out_s
             bz = nx * ty - ny * tx
             nov = max(nov, 1e-4)
             _table_texel(ltc1, rough[i], nov, m)
+            out_split[i, 0] = _table_value(ltc2, rough[i], nov, 0)
+            out_split[i, 1] = _table_value(ltc2, rough[i], nov, 1)
+            if fresnel_aware:
+                _table_texel(fresnel1, rough[i], nov, mfr)
             coated = coat_rough[i] >= 0.0
             if coated:
                 _table_texel(ltc1, coat_rough[i], nov, mc)
@@ -822,29 +843,53 @@ def _ltc_kernel(codes, values, vertices, ltc1, p, n, v, rough, coat_rough, out_s
                 if diff == 0.0:  # wholly below the horizon
                     continue
                 spec = abs(transformed_polygon_form_factor(m, verts))
+                fres = abs(transformed_polygon_form_factor(mfr, verts)) if fresnel_aware else spec
                 coat = abs(transformed_polygon_form_factor(mc, verts)) if coated else 0.0
                 for c in range(3):
                     out_spec[i, c] += values[li, c] * spec
+                    out_fresnel[i, c] += values[li, c] * fres
                     out_irr[i, c] += values[li, c] * diff * math.pi
                     out_coat[i, c] += values[li, c] * coat
 
 
-def area_light_ltc(lights, p, n, v, roughness, coat_roughness=None, table=None):
+def area_light_ltc(lights, p, n, v, roughness, coat_roughness=None, table=None, fresnel_table=None):
     """Real-time area lighting (module docstring) at points p with shading normals n
-    and view directions v (N, 3), perceptual roughness (N,): returns (specular (N, 3):
-    sum of L times the LTC's normalised integral over each light, to be scaled by the
-    specular albedo as IBL's prefiltered radiance is; irradiance (N, 3): sum of pi L
-    times the polygon's form factor; coat (N, 3): the specular term at
-    ``coat_roughness`` where it is >= 0).  ``table``: (ltc_1, ltc_2) in the published
-    layout, default :func:`bundled_ltc_table` (the norm and Fresnel columns are not
-    used: the albedo comes from the split-sum table the IBL uses)."""
-    ltc1 = np.ascontiguousarray((table or bundled_ltc_table())[0], dtype=np.float64)
+    and view directions v (N, 3), perceptual roughness (N,).  Returns
+    :class:`LTCLighting`: ``specular`` (N, 3), the sum of L times the LTC's
+    normalised integral over each light (to be scaled by the specular albedo as
+    IBL's prefiltered radiance is), ``fresnel`` (N, 3) the same for the LTC of the
+    f Fc lobe (equal to ``specular`` without a Fresnel table), ``split`` (N, 2) the
+    table's (norm, fresnel), ``irradiance`` (N, 3), the sum of pi L times each
+    polygon's form factor, and ``coat`` (N, 3) the specular term at
+    ``coat_roughness`` where it is >= 0.  ``table``: (ltc_1, ltc_2) in the published
+    layout, default :func:`bundled_ltc_table`; ``fresnel_table``: the f Fc lobe's
+    ltc_1, default the bundled one with the bundled table
+    (:func:`bundled_fresnel_table`), none with another table."""
+    if table is None:
+        table = bundled_ltc_table()
+        if fresnel_table is None:
+            fresnel_table = bundled_fresnel_table()
+    ltc1 = np.ascontiguousarray(table[0], dtype=np.float64)
+    ltc2 = np.ascontiguousarray(table[1], dtype=np.float64)
+    fresnel1 = (np.zeros((0, 1, 4)) if fresnel_table is None
+                else np.ascontiguousarray(fresnel_table, dtype=np.float64))
     count = np.asarray(p).shape[0]
     coat_roughness = np.full(count, -1.0) if coat_roughness is None else coat_roughness
-    spec = np.empty((count, 3))
-    irr = np.empty((count, 3))
-    coat = np.empty((count, 3))
+    out = LTCLighting(*(np.empty((count, 3)) for _ in range(2)), np.empty((count, 2)),
+                      *(np.empty((count, 3)) for _ in range(2)))
     if count:
-        _ltc_kernel(*lights.arrays(), ltc1, *(np.ascontiguousarray(x, dtype=np.float64)
-                                              for x in (p, n, v, roughness, coat_roughness)), spec, irr, coat)
-    return spec, irr, coat
+        _ltc_kernel(*lights.arrays(), ltc1, ltc2, fresnel1,
+                    *(np.ascontiguousarray(x, dtype=np.float64) for x in (p, n, v, roughness, coat_roughness)),
+                    out.specular, out.fresnel, out.split, out.irradiance, out.coat)
+    return out
+
+
+@dataclass
+class LTCLighting:
+    """What :func:`area_light_ltc` returns (its docstring)."""
+
+    specular: np.ndarray
+    fresnel: np.ndarray
+    split: np.ndarray
+    irradiance: np.ndarray
+    coat: np.ndarray

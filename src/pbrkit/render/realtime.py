@@ -453,6 +453,30 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
             out[i, c] = (spec + diff) * occlusion[i]
 
 
+@parallel_kernel
+def _area_specular_kernel(mi, mf, mat, n, rough, metal, base, spec, fresnel, split, out):
+    """The area lights' specular term in the form of a prefiltered radiance, for
+    :func:`_ibl_kernel` to multiply by the split-sum albedo: with Schlick's F = f0 +
+    (1 - f0) Fc, the lights' LTC integrals of the f lobe (``spec``) and of the f Fc
+    lobe (``fresnel``) weighted by f0 norm and (1 - f0) fresnel (``split``, the LTC
+    table's), divided by their sum (:func:`pbrkit.ltc.score.ltc_fresnel_rect`; f0
+    per channel from :func:`split_sum_f0`); a constant F (``fresnel = "none"``)
+    keeps the f lobe."""
+    for i in numba.prange(n.shape[0]):
+        b, _, _ = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                           n[i, 2])
+        constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE
+        for c in range(3):
+            out[i, c] = spec[i, c]
+            if constant_f:
+                continue
+            f0 = split_sum_f0(b, c)
+            a = f0 * split[i, 0]
+            d = (1.0 - f0) * split[i, 1]
+            if a + d > 0.0:
+                out[i, c] = (a * spec[i, c] + d * fresnel[i, c]) / (a + d)
+
+
 def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", energy_compensation=False,
                     shadows=True, bake_size=256, bake_options=None, diffuse_weight="fstar", engine="pbrkit"):
     """Real-time shading of ``scene`` (module docstring).  ``diffuse``: ``sh`` (the
@@ -585,8 +609,11 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
         if len(geometry.area_lights):  # LTC: the same composition, with the lights' integrals for the bake's
-            spec, irr, coat = area_light_ltc(geometry.area_lights, s.p, n_rows, v_rows, s.roughness,
-                                             coat_roughness)
+            lt = area_light_ltc(geometry.area_lights, s.p, n_rows, v_rows, s.roughness, coat_roughness)
+            spec = np.empty((count, 3))
+            _area_specular_kernel(mat_i, mat_f, mat, n_rows, s.roughness, s.metallic, base_rows, lt.specular,
+                                  lt.fresnel, lt.split, spec)
+            irr, coat = lt.irradiance, lt.coat
             area = np.empty((count, 3))
             _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
                         np.ones(count), spec, irr, coat, coat_roughness, sheen_albedo_table(),
