@@ -428,6 +428,16 @@ def _ltc_cases(rng):
                               "pbrkit_ltcRect"),
                   "vec4(pbrkit_ltcRect(vec4(a.w, b.w, c.w, d.w), a.xyz, b.xyz, c.xyz, d.xyz), 0.0, 0.0, 0.0)",
                   [_vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6)]
+    from pbrkit.ltc.score import ltc_fresnel_rect
+
+    tfc, split, f0 = np.array([0.9, -0.1, 0.2, 0.7]), np.array([0.8, 0.3]), 0.04
+    table2 = np.tile([split[0], split[1], 0.0, 0.0], (2, 2, 1))
+    expected = np.array([ltc_fresnel_rect(np.tile(texel[i], (2, 2, 1)), table2, np.tile(tfc, (2, 2, 1)), 0.5, 0.5,
+                                          corners[i], f0) for i in range(N)])[:, None]
+    cases.append(Case("ltcRectFresnel", ("pbrkit_ltcRectFresnel",),
+                      "vec4(pbrkit_ltcRectFresnel(vec4(a.w, b.w, c.w, d.w), vec4(0.9, -0.1, 0.2, 0.7), "
+                      "vec2(0.8, 0.3), 0.04, a.xyz, b.xyz, c.xyz, d.xyz), 0.0, 0.0, 0.0)",
+                      [_vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6))
     nov, rough = _f32(rng.uniform(-0.1, 1.1, N)), _f32(rng.uniform(-0.1, 1.1, N))
     size = _f32(rng.choice([8.0, 32.0, 64.0], N))
     uv = np.stack([np.clip(rough, 0, 1), np.sqrt(1 - np.clip(nov, 0, 1))], axis=1)  # CONVENTIONS, Area lights

@@ -80,6 +80,18 @@ float pbrkit_ltcRect(vec4 t, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
     return max(0.0, sgn * pbrkit_ltcFormFactorQuad(minv * p0, minv * p1, minv * p2, minv * p3));
 }
 
+// pbrkit_ltcRectFresnel: pbrkit's Fresnel-aware LTC of a unit-radiance rectangle with
+// Schlick's F: f0 norm LTC_1 + (1 - f0) fresnel LTC_Fc, the f lobe under the ltc_1
+// texel t1 and the f Fc lobe (Fc = (1 - v.h)^5) under the fresnel_ltc_1 texel tfc,
+// split = (norm, fresnel) of ltc_2 (pbrkit ltc --clipping exact --fresnel).
+// source: Heitz et al. 2016, sec. 3-5, with Schlick's F split into two lobes (pbrkit)
+// roughness: none (the texels are looked up at perceptual roughness, alpha = r^2: pbrkit_ltcUv)
+// pbrkit: pbrkit.ltc.score.ltc_fresnel_rect
+float pbrkit_ltcRectFresnel(vec4 t1, vec4 tfc, vec2 split, float f0, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
+    return f0 * split.x * pbrkit_ltcRect(t1, p0, p1, p2, p3)
+        + (1.0 - f0) * split.y * pbrkit_ltcRect(tfc, p0, p1, p2, p3);
+}
+
 // pbrkit_ltcUv: the texture coordinate of (n.v, perceptual roughness) in an N x N table
 // of the published layout (u = r, v = sqrt(1 - n.v), at texel centres).
 // source: Heitz et al. 2016 (ltc_code, LUT_SCALE / LUT_BIAS); three.js LTC_Uv
