@@ -603,6 +603,11 @@ def render(
         help="Ground truth: objects occlude one another's environment light.  Default: on for reference "
              "(the scene's ground truth), off for compare (like for like: real-time IBL has no occlusion, "
              "so compare's error measures the approximations only)."),
+    style: Optional[str] = typer.Option(
+        None, "--style", metavar="NAME|FILE",
+        help="Real time in a non-photorealistic style: a preset (pbr, toon, toon-per-light, mtoon, hatching, "
+             "outline) or a .toml / .json file with a [style] table (pbrkit.npr.style); replaces the scene's "
+             "[style]."),
     quiet: bool = _quiet_option(),
 ):
     """Render a scene in real time (split-sum IBL, punctual lights, LTC area lights), as Monte Carlo
@@ -627,11 +632,16 @@ def render(
     if fix_nonfinite:
         scene_obj = dataclasses.replace(scene_obj, environment=dataclasses.replace(scene_obj.environment,
                                                                                    fix_nonfinite=True))
+    style_obj = None
+    if style is not None:
+        from ..npr.style import resolve_style
+
+        style_obj = resolve_style(style)
     with _Stages("render", quiet, len(STAGES[mode])) as stages:
         summary = render_scene(scene_obj, out, mode=mode, spp=spp, bounces=bounces, seed=seed,
                                tonemap_name=tonemap_name, exposure=exposure, diffuse=diffuse,
                                energy_compensation=energy_compensation, bake_size=bake_size, occlusion=occlusion,
-                               progress=stages.start, engine=engine)
+                               progress=stages.start, engine=engine, style=style_obj)
     if quiet:
         return
     for note in summary["notes"]:
@@ -865,6 +875,31 @@ def ltc(
 
 
 SHADER_TARGETS = ("glsl",)  # pbrkit.shaders.TARGETS
+
+
+@app.command(cls=_Command, short_help="Write a tonal art map for hatching (Praun et al. 2001) as images.")
+@user_errors
+def hatching(
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder (absent or empty unless --force)."),
+    tones: int = typer.Option(6, "--tones", metavar="N", help="Tones, light to dark (2-16)."),
+    size: int = typer.Option(256, "--size", metavar="N", help="Side of the finest level (a power of two)."),
+    seed: int = _seed_option("Seed of the strokes' placement; the same seed gives the same bytes."),
+    force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
+    quiet: bool = _quiet_option(),
+):
+    """Generate a tonal art map (pbrkit.npr.hatching): every tone's mip chain as 8-bit
+    PNG (tone{k}_mip{l}.png; each darker tone holds the strokes of the lighter ones,
+    each level keeps the stroke width in pixels), RGB atlases of three tones, a
+    preview and manifest.json, for use as hatching textures in an engine."""
+    from ..npr.hatching import tonal_art_map, write_tam
+
+    with _Stages("hatching", quiet, 2) as stages:
+        stages.start("strokes")
+        tam = tonal_art_map(tones=tones, size=size, seed=seed)
+        stages.start("write", 2)
+        write_tam(out, tam, force=force)
+    if not quiet:
+        print(f"wrote {out}: {tones} tones, levels {', '.join(str(n) for n in tam.sizes)}")
 
 
 @app.command(cls=_Command, short_help="Write shader functions that match pbrkit's models and bakes.")

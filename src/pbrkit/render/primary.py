@@ -38,6 +38,7 @@ class _Primary:
     surface: object         # Surface of the hit rays
     origin: np.ndarray
     emitted: np.ndarray | None = None  # (P * K, 3) radiance of the area lights camera rays see first
+    hits: object = None     # the Hits of every ray (t, kind, index: G-buffers for styles)
 
 
 def _primary(scene, geometry):
@@ -53,7 +54,7 @@ def _primary(scene, geometry):
         emitted = np.where(seen[:, None], radiance, np.nan)
     rows = np.flatnonzero(hits.hit)
     surface = geometry.surface(hits, origins, dirs, rows)
-    return _Primary(dirs, hits.hit, rows, surface, np.asarray(cam.position, dtype=np.float64), emitted)
+    return _Primary(dirs, hits.hit, rows, surface, np.asarray(cam.position, dtype=np.float64), emitted, hits)
 
 
 def _background(prim, env):

@@ -110,7 +110,7 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
 
 def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
                  diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=None,
-                 split=True, progress=None, engine="pbrkit"):
+                 split=True, progress=None, engine="pbrkit", style=None):
     """Render ``scene`` in ``mode`` and write ``out`` (.exr or .png); reference and
     compare modes also write ``<out stem>.stderr.exr``, committed together with
     ``out``.  Nothing is written unless rendering succeeds.  Returns a summary
@@ -124,7 +124,10 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     its error measures the real-time approximations only (split sum, F*, SH;
     with ``split`` each one's share, :func:`approximation_split`).  ``engine``
     (:data:`pbrkit.render.realtime.ENGINES`) picks whose IBL evaluation the real-time
-    image follows.  ``progress(stage)`` is called with each stage's name as it starts."""
+    image follows.  ``style`` (a :class:`pbrkit.npr.style.Style`; default the scene's
+    ``[style]``) renders the real-time image in that style
+    (:func:`pbrkit.npr.render.render_styled`; real-time mode only).  ``progress(stage)``
+    is called with each stage's name as it starts."""
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
     if tonemap_name not in TONEMAPS:
@@ -154,8 +157,17 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
         curve = TARGET_CHAINS.get(engine)  # the chain the engine samples, prefiltered with the bake
         bake = env.bake(size=bake_size, **({"chains": (curve,)} if curve else {}))
         stage("realtime")
-        rt = render_realtime(scene, geometry, env, bake=bake, diffuse=diffuse,
-                             energy_compensation=energy_compensation, bake_size=bake_size, engine=engine)
+        style = style or scene.style
+        if style is not None and (style.shading != "pbr" or style.outline != "none"):
+            if mode != "realtime":
+                raise ValueError(f"a style ({style.shading}, outline {style.outline}) applies to --mode realtime; "
+                                 "compare and reference render the scene's materials as they are")
+            from ..npr.render import render_styled
+
+            rt = render_styled(scene, style, geometry, env, bake=bake)
+        else:
+            rt = render_realtime(scene, geometry, env, bake=bake, diffuse=diffuse,
+                                 energy_compensation=energy_compensation, bake_size=bake_size, engine=engine)
         summary["realtime"] = rt.stats
     if mode in ("reference", "compare"):
         stage("reference")

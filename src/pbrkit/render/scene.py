@@ -83,6 +83,10 @@ relative to the scene file's folder.  Every key is optional except
     intensity = 10.0
     unit = "radiance"             # radiance (cd / m^2) or power (lumens, Lambertian emitter)
 
+    [style]                       # optional: non-photorealistic style (pbrkit.npr.style), real time only
+    shading = "toon"              # pbr, toon, mtoon, hatching
+    outline = "image"             # none, image, geometry, both
+
 Camera conventions (``CONVENTIONS.md``, "Camera"): right-handed world, +Y up;
 the camera looks along ``look_at - position`` (its -Z); image row 0 is the
 top and column 0 the left; without supersampling the ray of pixel (row i,
@@ -503,6 +507,7 @@ class Scene:
     lights: tuple = ()
     area_lights: tuple = ()
     source: str = "<scene>"
+    style: object = None  # a pbrkit.npr.style.Style, from [style]
 
     def __post_init__(self):
         if not self.objects:
@@ -618,7 +623,7 @@ def _check_values(table, checks, label):
             raise ValueError(f"{label(key)} must be {check.phrase}, got {_show(value)}")
 
 
-_SECTIONS = {"camera", "environment", "materials", "objects", "lights"}
+_SECTIONS = {"camera", "environment", "materials", "objects", "lights", "style"}
 _CAMERA_KEYS = {"position", "look_at", "up", "fov", "width", "height", "supersample"}
 _ENV_KEYS = {"file", "bake", "color", "intensity", "rotation"}
 _MATERIAL_KEYS = {"base_color", "metallic", "roughness", "reflectance", "emissive", "model", "distribution",
@@ -672,7 +677,14 @@ def scene_from_dict(data, base_dir=None, source="<scene>"):
                  environment=_environment_from(data.get("environment", {}), base_dir),
                  materials=_materials_from(data.get("materials", {})),
                  objects=_objects_from(data.get("objects", []), base_dir),
-                 **_lights_from(data.get("lights", [])), source=source)
+                 **_lights_from(data.get("lights", [])), source=source,
+                 style=_style_from(data["style"], base_dir) if "style" in data else None)
+
+
+def _style_from(table, base_dir):
+    from ..npr.style import style_from_dict
+
+    return style_from_dict(table, base_dir)
 
 
 def _camera_from(table):

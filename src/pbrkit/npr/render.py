@@ -1,0 +1,389 @@
+"""Styled real-time rendering (:func:`render_styled`): the real-time path's hits,
+lights and bake, shaded as a :class:`pbrkit.npr.style.Style` asks, then outlined.
+
+Shadings (the terms are those of :mod:`pbrkit.npr.toon`; lights in the units of
+:mod:`pbrkit.render.lights`, so a white surface facing a light has the luminance
+the PBR Lambert gives it, E / pi):
+
+- ``toon``: per punctual light its illuminance E_i (colour x intensity x falloff,
+  at normal incidence), n.l_i and shadow ray visibility V_i.  ``summed`` bands the
+  value x = sum_i Y(E_i) max(n.l_i, 0) V_i / sum_i Y(E_i) (the direct irradiance
+  over its largest possible value, scale-free) and shades base / pi sum_i E_i
+  shade(tone(x)); ``per_light`` sums base / pi E_i shade(tone(max(n.l_i, 0) V_i))
+  (Lake et al. 2000 per light).  shade(t) is mix(shadow colour, 1, t) or the ramp
+  image.  Highlights: strength x tone of D(n.h) / D(1) of the material's GGX lobe
+  (alpha = r^2, :func:`pbrkit.brdf.distributions.d_ggx`) x E_i V_i / pi.  The
+  environment (``environment = true``): the bake's SH irradiance banded relative
+  to its brightest direction (a banded SH irradiance), and the prefiltered
+  specular in the mirror direction kept where its luminance exceeds the highlight
+  threshold of its level's brightest texel (a thresholded prefiltered specular).
+  Rim: MToon's parametric rim, tinted by the lighting by ``rim_mix``.
+- ``mtoon``: VRM MToon 1.0 (its specification's Lighting, Global Illumination and
+  Rim Lighting): per light mix(shade colour, base, linearstep(-1 + toony, 1 -
+  toony, n.l + shift) V) E / pi; GI = the SH irradiance equalised towards the mean
+  of up and down by ``gi_equalization``, times base / pi; the parametric rim.
+- ``hatching``: the tone 1 - x (x over the lights and the environment as in
+  ``summed``) drawn with a tonal art map (:mod:`pbrkit.npr.hatching`, Praun et al.
+  2001) in object space (world coordinates box-mapped on the axis plane nearest the
+  normal, ``hatching_scale`` repeats per unit), the mip level from the pixel's
+  footprint, over the base colour lit by the brightest light.
+- ``pbr``: the real-time image (:func:`pbrkit.render.realtime.render_realtime`).
+
+Outlines (``outline``): ``image``: edges of the G-buffers (depth along the camera
+ray, shading normal, object and material ids; :mod:`pbrkit.npr.outlines`),
+``geometry``: silhouette, crease, boundary and material edges of the triangle
+meshes drawn as lines visible against the depth buffer (:mod:`pbrkit.npr.edges`),
+``both``; constant width in pixels, anti-aliased.  Area lights are not part of the
+toon lighting (they light the ``pbr`` shading only).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from functools import lru_cache
+
+import numba
+import numpy as np
+
+from ..core.color import luminance
+from ..core.jit import parallel_kernel
+from ..render.lights import light_incidence
+from .style import Style
+from .toon import (
+    gi_equalized,
+    highlight_tone,
+    mtoon_shading,
+    parametric_rim,
+    ramp_lookup,
+    toon_tone,
+)
+
+__all__ = ["render_styled", "gbuffers", "GBuffers"]
+
+
+class GBuffers:
+    """Per camera ray (rows of the sub-pixel image, H k x W k): ``depth`` (distance
+    along the unit ray, inf where nothing is hit), ``normal`` (shading normal, 0 where
+    nothing is hit), ``object_id`` (-1 for none), ``material_id`` (-1 for none)."""
+
+    def __init__(self, depth, normal, object_id, material_id, supersample):
+        self.depth = depth
+        self.normal = normal
+        self.object_id = object_id
+        self.material_id = material_id
+        self.supersample = supersample
+
+
+def _ray_image(scene, per_ray):
+    """Rays (pixel-major, k^2 sub-rays per pixel) -> the (H k, W k, ...) sub-pixel image."""
+    cam = scene.camera
+    k = cam.supersample
+    a = np.asarray(per_ray).reshape(cam.height, cam.width, k, k, *np.shape(per_ray)[1:])
+    a = np.moveaxis(a, 2, 1)  # (H, k, W, k, ...)
+    return a.reshape(cam.height * k, cam.width * k, *np.shape(per_ray)[1:])
+
+
+def gbuffers(scene, prim):
+    """:class:`GBuffers` of the primary hits ``prim`` (:func:`pbrkit.render.primary._primary`)."""
+    n_rays = prim.dirs.shape[0]
+    depth = np.full(n_rays, np.inf)
+    normal = np.zeros((n_rays, 3))
+    object_id = np.full(n_rays, -1, dtype=np.int64)
+    material_id = np.full(n_rays, -1, dtype=np.int64)
+    if prim.rows.size:
+        depth[prim.rows] = np.linalg.norm(prim.surface.p - prim.origin, axis=1)
+        normal[prim.rows] = prim.surface.n
+        kind = prim.hits.kind[prim.rows]
+        object_id[prim.rows] = kind * (1 << 40) + prim.hits.index[prim.rows]
+        material_id[prim.rows] = prim.surface.material
+    return GBuffers(_ray_image(scene, depth), _ray_image(scene, normal), _ray_image(scene, object_id),
+                    _ray_image(scene, material_id), scene.camera.supersample)
+
+
+def _shade(style, tone):
+    """The colour multiplier (..., 3) of tones: the ramp image, or mix(shadow colour, 1, tone)."""
+    if style.ramp_colors is not None:
+        return ramp_lookup(style.ramp_colors, tone)
+    shadow = np.asarray(style.shadow_color)
+    return shadow + (1.0 - shadow) * np.asarray(tone)[..., None]
+
+
+def _lights(geometry, s, shadows=True):
+    """Per punctual light: (illuminance at normal incidence (N, 3), n.l (N,), visibility
+    (N,), direction to the light (N, 3)), shadow rays traced as the real-time path does."""
+    from ..render.lights import light_arrays
+
+    out = []
+    if not geometry.lights or s.p.shape[0] == 0:
+        return out
+    codes, values = light_arrays(geometry.lights)
+    count = s.p.shape[0]
+    p = np.ascontiguousarray(s.p, dtype=np.float64)
+    for li in range(codes.shape[0]):
+        direction = np.empty((count, 3))
+        dist = np.empty(count)
+        factor = np.empty(count)
+        _incidence_kernel(codes, values, li, p, direction, dist, factor)
+        e = factor[:, None] * values[li, 0:3][None, :]
+        nol = np.sum(s.n * direction, axis=1)
+        vis = np.ones(s.p.shape[0])
+        lit = np.flatnonzero((np.sum(s.ng * direction, axis=1) > 0.0) & (factor > 0.0))
+        if shadows and lit.size:
+            origins = geometry.offset_origins(s.p[lit], s.ng[lit], direction[lit])
+            far = np.where(np.isfinite(dist[lit]), dist[lit] * (1.0 - 1e-6), np.inf)
+            vis[lit[geometry.occluded(origins, direction[lit], far)]] = 0.0
+        vis[np.sum(s.ng * direction, axis=1) <= 0.0] = 0.0
+        out.append((e, nol, vis, direction))
+    return out
+
+
+@parallel_kernel
+def _incidence_kernel(codes, values, li, p, out_dir, out_dist, out_factor):
+    """:func:`pbrkit.render.lights.light_incidence` of light li at every point."""
+    for i in numba.prange(p.shape[0]):
+        lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
+        out_dir[i, 0] = lx
+        out_dir[i, 1] = ly
+        out_dir[i, 2] = lz
+        out_dist[i] = d
+        out_factor[i] = f
+
+
+def _fibonacci_normals(n=256):
+    """n unit vectors spread over the sphere (a Fibonacci lattice)."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    phi = math.pi * (3.0 - math.sqrt(5.0)) * i
+    r = np.sqrt(np.maximum(1.0 - z * z, 0.0))
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
+
+
+def _environment(env, bake, s, v, style):
+    """(SH irradiance at n (N, 3), at +Y and -Y (3,), at the brightest of 256 directions
+    (3,), prefiltered specular in the mirror direction (N, 3) and the luminance of its
+    level's brightest texel (N,))."""
+    from ..ibl.cubemap import CubeSampler
+    from ..ibl.prefilter import level_of_roughness
+    from ..ibl.sh import irradiance_from_sh
+
+    sh = np.asarray(bake.sh)
+
+    def irradiance(normals):
+        return irradiance_from_sh(sh, env.to_env_frame(normals)) * env.intensity
+
+    e_n = irradiance(s.n)
+    e_up, e_down = irradiance(np.array([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]))
+    probes = irradiance(_fibonacci_normals())
+    e_max = probes[int(np.argmax(luminance(probes)))]
+    chain = [np.asarray(level) for level in bake.specular]
+    nov = np.sum(s.n * v, axis=1, keepdims=True)
+    refl = 2.0 * nov * s.n - v
+    lod = np.asarray(level_of_roughness(s.roughness, len(chain)), dtype=np.float64)
+    prefiltered = CubeSampler(chain)(env.to_env_frame(refl), lod) * env.intensity
+    level_max = np.array([float(luminance(level).max()) for level in chain]) * env.intensity
+    return e_n, e_up, e_down, e_max, prefiltered, level_max[np.clip(np.rint(lod).astype(int), 0, len(chain) - 1)]
+
+
+def _spec_color(s):
+    """Highlight colour: white for dielectrics, the base colour for metals (mixed by metallic)."""
+    m = s.metallic[:, None]
+    return 1.0 + (s.base_color - 1.0) * m
+
+
+def _toon(style, geometry, env, bake, s, v):
+    from ..brdf.distributions import alpha_from_roughness, d_ggx
+
+    lights = _lights(geometry, s)
+    base = s.base_color
+    thresholds = style.threshold_values
+    out = np.zeros_like(base)
+    nov = np.clip(np.sum(s.n * v, axis=1), 0.0, 1.0)
+    alpha = np.maximum(alpha_from_roughness(s.roughness), 1e-3)
+    spec_color = _spec_color(s)
+    lighting = np.zeros_like(base)  # what tints the rim
+    if lights:
+        y = np.array([float(luminance(e.max(axis=0))) for e, _, _, _ in lights])
+        if style.lighting == "summed":
+            weight = sum(luminance(e) * np.maximum(nol, 0.0) * vis for e, nol, vis, _ in lights)
+            norm = sum(luminance(e) for e, _, _, _ in lights)
+            x = np.where(norm > 0.0, weight / np.where(norm > 0.0, norm, 1.0), 0.0)
+            total = sum(e for e, _, _, _ in lights)
+            out += base / math.pi * total * _shade(style, toon_tone(x, thresholds, style.softness))
+        else:
+            for e, nol, vis, _ in lights:
+                out += base / math.pi * e * _shade(style, toon_tone(np.maximum(nol, 0.0) * vis, thresholds,
+                                                                   style.softness))
+        if style.specular > 0.0:
+            for (e, nol, vis, direction), _ in zip(lights, y):
+                h = direction + v
+                h /= np.maximum(np.linalg.norm(h, axis=1, keepdims=True), 1e-300)
+                noh = np.clip(np.sum(s.n * h, axis=1), 0.0, 1.0)
+                tone = highlight_tone(d_ggx(noh, alpha), d_ggx(1.0, alpha), style.specular_threshold,
+                                      style.specular_softness) * (nol > 0.0) * vis
+                out += style.specular * spec_color * e / math.pi * tone[:, None]
+        lighting += sum(e * (np.maximum(nol, 0.0) * vis)[:, None] for e, nol, vis, _ in lights) / math.pi
+    if style.environment and bake is not None:
+        e_n, _, _, e_max, prefiltered, level_max = _environment(env, bake, s, v, style)
+        y_max = max(float(luminance(e_max)), 1e-300)
+        tone = toon_tone(luminance(e_n) / y_max, thresholds, style.softness)
+        out += base / math.pi * e_max * _shade(style, tone)
+        if style.specular > 0.0:
+            keep = highlight_tone(luminance(prefiltered), level_max, style.specular_threshold, style.specular_softness)
+            out += style.specular * spec_color * prefiltered * keep[:, None]
+        lighting += e_n / math.pi
+    rim = np.asarray(style.rim_color)[None, :] * parametric_rim(nov, style.rim_power, style.rim_lift)[:, None]
+    out += rim * (1.0 + (lighting - 1.0) * style.rim_mix)
+    return out + s.emissive
+
+
+def _mtoon(style, geometry, env, bake, s, v):
+    lights = _lights(geometry, s)
+    base = s.base_color
+    shade = np.asarray(style.shade_color)[None, :]
+    out = np.zeros_like(base)
+    lighting = np.zeros_like(base)
+    for e, nol, vis, _ in lights:
+        shading = (mtoon_shading(nol, style.shading_shift, style.shading_toony) * vis)[:, None]
+        out += (shade + (base - shade) * shading) * e / math.pi
+        lighting += e / math.pi
+    if bake is not None:
+        e_n, e_up, e_down, _, _, _ = _environment(env, bake, s, v, style)
+        gi = gi_equalized(e_n, e_up[None, :], e_down[None, :], style.gi_equalization)
+        out += gi / math.pi * base
+        lighting += gi / math.pi
+    nov = np.clip(np.sum(s.n * v, axis=1), 0.0, 1.0)
+    rim = np.asarray(style.rim_color)[None, :] * parametric_rim(nov, style.rim_power, style.rim_lift)[:, None]
+    out += rim * (1.0 + (lighting - 1.0) * style.rim_mix)
+    return out + s.emissive
+
+
+def render_styled(scene, style=None, geometry=None, env=None, bake=None, bake_size=256):
+    """Render ``scene`` in ``style`` (module docstring; default the scene's own
+    ``style``, else plain PBR).  Returns a :class:`pbrkit.render.primary.RenderResult`
+    whose stats hold the timings of the shading and of the outlines."""
+    from ..render.environment import EnvironmentLight
+    from ..render.geometry import Geometry
+    from ..render.primary import RenderResult, _background, _primary, _resolve
+    from ..render.realtime import render_realtime
+
+    style = style or getattr(scene, "style", None) or Style()
+    timings = {}
+    t0 = time.perf_counter()
+    geometry = geometry or Geometry(scene)
+    env = env or EnvironmentLight(scene.environment)
+    if bake is None and (style.shading == "pbr" or style.environment or style.shading == "mtoon"):
+        bake = env.bake(size=bake_size)
+    t1 = time.perf_counter()
+    timings["load_and_bake"] = t1 - t0
+    prim = _primary(scene, geometry)
+    if style.shading == "pbr":
+        base = render_realtime(scene, geometry, env, bake=bake)
+        image, mask = base.image, base.mask
+    else:
+        radiance = np.zeros((prim.dirs.shape[0], 3))
+        radiance[~prim.hit] = _background(prim, env)
+        s = prim.surface
+        if prim.rows.size:
+            v = -prim.dirs[prim.rows]
+            if style.shading == "toon":
+                radiance[prim.rows] = _toon(style, geometry, env, bake, s, v)
+            elif style.shading == "mtoon":
+                radiance[prim.rows] = _mtoon(style, geometry, env, bake, s, v)
+            else:
+                radiance[prim.rows] = _hatching(style, scene, geometry, env, bake, s, v, prim)
+        image, mask = _resolve(scene, radiance, prim.hit)
+    t2 = time.perf_counter()
+    timings["shading"] = t2 - t1
+    if style.outline != "none":
+        image = _outline(style, scene, geometry, prim, image)
+    timings["outlines"] = time.perf_counter() - t2
+    timings["total"] = time.perf_counter() - t0
+    stats = {"mode": "styled", "shading": style.shading, "outline": style.outline, "timings": timings,
+             "pixels": int(scene.camera.width * scene.camera.height)}
+    return RenderResult(image, mask, None, stats)
+
+
+@lru_cache(maxsize=4)
+def _tam(tones):
+    """The default tonal art map of ``tones`` tones (:func:`pbrkit.npr.hatching.tonal_art_map`, seed 0)."""
+    from .hatching import tonal_art_map
+
+    return tonal_art_map(tones=tones, size=256, seed=0)
+
+
+def box_uv(p, n, scale):
+    """Object-space texture coordinates: the world position on the axis plane most
+    nearly facing the normal (box mapping), times ``scale`` repeats per unit."""
+    axis = np.argmax(np.abs(n), axis=1)
+    u = np.where(axis == 0, p[:, 2], p[:, 0])
+    v = np.where(axis == 1, p[:, 2], p[:, 1])
+    return np.stack([u, v], axis=-1) * scale
+
+
+def _hatching(style, scene, geometry, env, bake, s, v, prim):
+    from .hatching import hatch
+
+    lights = _lights(geometry, s)
+    weight = np.zeros(s.p.shape[0])
+    norm = 0.0
+    reference = np.zeros(3)
+    for e, nol, vis, _ in lights:
+        weight = weight + luminance(e) * np.maximum(nol, 0.0) * vis
+        norm = norm + luminance(e)
+        reference = reference + e.max(axis=0)
+    if style.environment and bake is not None:
+        e_n, _, _, e_max, _, _ = _environment(env, bake, s, v, style)
+        weight = weight + luminance(e_n)
+        norm = norm + float(luminance(e_max))
+        reference = reference + e_max
+    norm = np.asarray(norm, dtype=np.float64)
+    x = np.where(norm > 0.0, weight / np.where(norm > 0.0, norm, 1.0), 0.0)
+    tam = _tam(style.hatching_tones)
+    cam = scene.camera
+    depth = np.linalg.norm(s.p - prim.origin, axis=1)
+    pixel = depth * 2.0 * math.tan(math.radians(cam.fov) / 2.0) / cam.height / cam.supersample
+    slant = np.maximum(np.abs(np.sum(s.n * v, axis=1)), 0.25)
+    footprint = pixel / slant * style.hatching_scale * tam.sizes[0]
+    ink = hatch(np.clip(1.0 - x, 0.0, 1.0), box_uv(s.p, s.n, style.hatching_scale), tam,
+                footprint=np.maximum(footprint, 1e-6))
+    return s.base_color * reference / math.pi * ink[:, None] + s.emissive
+
+
+def _outline(style, scene, geometry, prim, image):
+    """``image`` with the style's outlines composited over it (module docstring)."""
+    from .outlines import composite, outline_mask
+
+    g = gbuffers(scene, prim)
+    cam = scene.camera
+    coverage = np.zeros((cam.height, cam.width))
+    if style.outline in ("image", "both"):
+        thresholds = {"depth": style.outline_depth, "normal": style.outline_normal, "object_id": 0.25,
+                      "material_id": 0.25}
+        coverage = np.maximum(coverage, outline_mask(g.depth, g.normal, g.object_id, g.material_id,
+                                                     thresholds=thresholds, width_px=style.outline_width,
+                                                     supersample=g.supersample))
+    if style.outline in ("geometry", "both") and geometry.meshes:
+        coverage = np.maximum(coverage, _mesh_lines(style, cam, geometry, g))
+    return composite(image, coverage, np.asarray(style.outline_color))
+
+
+def _mesh_lines(style, cam, geometry, g):
+    """Coverage of the meshes' silhouette, crease (dihedral angle above
+    ``outline_normal``), boundary and material edges, drawn at ``outline_width``
+    pixels against the depth buffer (:mod:`pbrkit.npr.edges`)."""
+    from .edges import draw_lines, mesh_edges, silhouette_edges
+
+    positions, indices, material = [], [], []
+    offset = 0
+    for mesh in geometry.meshes:  # one mesh for all: material edges between primitives too
+        positions.append(mesh.positions)
+        indices.append(mesh.indices + offset)
+        material.append(np.full(mesh.indices.shape[0], mesh.material, dtype=np.int64))
+        offset += mesh.positions.shape[0]
+    edges = mesh_edges(np.concatenate(positions), np.concatenate(indices), material=np.concatenate(material),
+                       crease_angle_deg=style.outline_normal)
+    chosen = edges.crease | edges.boundary | edges.material_edge | silhouette_edges(edges, eye=cam)
+    k = g.supersample
+    depth = g.depth.reshape(cam.height, k, cam.width, k).min(axis=(1, 3))  # the nearest sub-ray per pixel
+    return draw_lines(edges.segments(chosen), cam, depth, width_px=style.outline_width)

@@ -1,0 +1,119 @@
+"""Toon shading terms: bands of a lighting value, thresholded highlights, rim light,
+and VRM MToon 1.0's shading, GI equalisation and parametric rim.
+
+Every term is a NumPy function of arrays (or scalars) that broadcast, used
+per pixel by the styled renderer (:mod:`pbrkit.npr.render`).
+
+Bands (cel shading; Lake, Marshall, Harris and Blackstein, "Stylized Rendering
+Techniques for Scalable Real-Time 3D Animation", NPAR 2000, sec. 3: the diffuse
+term quantised through a one-dimensional texture): a value x in [0, 1] (n.l of a
+light, or the summed lighting relative to its largest possible value) is mapped to
+a tone by K thresholds t_1 < ... < t_K, tone(x) = (1 / K) sum_k step_s(x - t_k),
+so K thresholds give K + 1 tones 0, 1/K, ..., 1; ``softness`` s > 0 replaces each
+step by a smoothstep of width s centred on its threshold (anti-aliased bands).  A
+tone becomes a colour multiplier by a two-colour ramp mix(shadow colour, 1, tone)
+or by a ramp image (:func:`ramp_lookup`).
+
+MToon (VRM Consortium, "VRMC_materials_mtoon 1.0" specification, sections
+Lighting, Global Illumination, Rim Lighting): shading = linearstep(-1 + toony,
+1 - toony, n.l + shift), colour = mix(shade colour, lit colour, shading) x light;
+GI lerps the irradiance towards the mean of the up and down directions by the
+equalisation factor; the parametric rim is pow(saturate(1 - n.v + lift), power).
+No roughness remap is involved in any of these.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "smooth_step_band",
+    "toon_tone",
+    "default_thresholds",
+    "ramp_lookup",
+    "linearstep",
+    "mtoon_shading",
+    "parametric_rim",
+    "gi_equalized",
+    "highlight_tone",
+]
+
+
+def smooth_step_band(x, edge, softness):
+    """0 below ``edge`` and 1 above it: a step, or with ``softness`` s > 0 the
+    smoothstep 3u^2 - 2u^3 of u = saturate((x - edge) / s + 1/2), a transition of
+    width s centred on the edge (GLSL ``smoothstep``; Lake et al. 2000 use the hard
+    step, anti-aliasing by supersampling)."""
+    x = np.asarray(x, dtype=np.float64)
+    if softness <= 0.0:
+        return np.where(x >= edge, 1.0, 0.0)
+    u = np.clip((x - edge) / softness + 0.5, 0.0, 1.0)
+    return u * u * (3.0 - 2.0 * u)
+
+
+def toon_tone(x, thresholds, softness):
+    """The tone in [0, 1] of a lighting value x (module docstring): the mean of the
+    steps at the K ``thresholds``; K + 1 tones with hard steps."""
+    thresholds = np.asarray(thresholds, dtype=np.float64)
+    k = thresholds.shape[0]
+    if k == 0:
+        return np.clip(x, 0.0, 1.0)
+    total = np.zeros(np.shape(x))
+    for edge in thresholds:  # K steps, each over every pixel
+        total = total + smooth_step_band(x, edge, softness)
+    return total / k
+
+
+def default_thresholds(tones):
+    """Thresholds that split [0, 1] into ``tones`` equal bands: k / tones, k = 1 ..
+    tones - 1 (so ``tones`` tones)."""
+    tones = int(tones)
+    if tones < 2:
+        raise ValueError(f"toon bands need at least 2 tones; got {tones}")
+    return np.arange(1, tones, dtype=np.float64) / tones
+
+
+def ramp_lookup(ramp, tone):
+    """Linear lookup of a ramp (M, 3) at ``tone`` (...) in [0, 1]: texel centres at
+    (i + 0.5) / M, clamp to edge (a 1-D texture as Lake et al. 2000 use;
+    :func:`pbrkit.core.filtering.texel_pair`).  Returns (..., 3)."""
+    from ..core.filtering import CLAMP_TO_EDGE, texel_pair
+
+    ramp = np.asarray(ramp, dtype=np.float64)
+    i0, i1, f = texel_pair(np.clip(np.asarray(tone, dtype=np.float64), 0.0, 1.0) * ramp.shape[0] - 0.5,
+                           ramp.shape[0], CLAMP_TO_EDGE)
+    f = np.asarray(f)[..., None]
+    return ramp[i0] * (1.0 - f) + ramp[i1] * f
+
+
+def linearstep(a, b, x):
+    """saturate((x - a) / (b - a)) (MToon 1.0, "Lighting", its ``linearstep``)."""
+    return np.minimum(np.maximum((x - a) / (b - a), 0.0), 1.0)
+
+
+def mtoon_shading(nol, shift, toony):
+    """MToon 1.0's shading factor linearstep(-1 + toony, 1 - toony, n.l + shift)
+    ("Lighting", Implementation; toony < 1)."""
+    return linearstep(-1.0 + toony, 1.0 - toony, nol + shift)
+
+
+def parametric_rim(nov, power, lift):
+    """MToon 1.0's parametric rim pow(saturate(1 - n.v + lift), max(power, 1e-5))
+    ("Rim Lighting", Parametric Rim Lighting: the epsilon the specification asks for)."""
+    return np.power(np.minimum(np.maximum(1.0 - nov + lift, 0.0), 1.0), np.maximum(power, 1e-5))
+
+
+def gi_equalized(gi, gi_up, gi_down, factor):
+    """MToon 1.0's equalised global illumination lerp(gi(n), (gi(up) + gi(down)) / 2,
+    factor) ("Global Illumination", Implementation)."""
+    return gi + ((gi_up + gi_down) * 0.5 - gi) * factor
+
+
+def highlight_tone(d, d_peak, threshold, softness):
+    """A toon highlight: the microfacet distribution's value D(n.h) relative to its
+    peak D(1), thresholded (the specular term of Lake et al. 2000's cel shading,
+    here on the material's own D so the highlight keeps the lobe's shape:
+    ``threshold`` 0.5 draws the lobe's half-maximum)."""
+    d_peak = np.asarray(d_peak, dtype=np.float64)
+    ratio = np.where(d_peak > 0.0, np.asarray(d, dtype=np.float64) / np.where(d_peak > 0.0, d_peak, 1.0), 0.0)
+    return smooth_step_band(ratio, threshold, softness)

@@ -1,0 +1,154 @@
+"""Toon and MToon shading (pbrkit.npr.toon, pbrkit.npr.render), checked against the
+analytic n.l of a sphere computed here, the MToon 1.0 specification's formulas, and
+the style's one-line errors."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from pbrkit.app.cli import app
+from pbrkit.npr.render import render_styled
+from pbrkit.npr.style import Style, style_from_dict
+from pbrkit.npr.toon import default_thresholds, linearstep, toon_tone
+from pbrkit.render.lights import Light
+from pbrkit.render.scene import (
+    Camera,
+    EnvironmentSpec,
+    MaterialSpec,
+    Scene,
+    Sphere,
+    scene_from_dict,
+)
+
+BASE = np.array([0.8, 0.3, 0.2])
+E = 2.0
+TO_LIGHT = np.array([0.6, 0.3, 0.74])
+TO_LIGHT = TO_LIGHT / np.linalg.norm(TO_LIGHT)
+
+
+def sphere_scene(size=96):
+    cam = Camera(position=(0.0, 0.0, 5.0), look_at=(0.0, 0.0, 0.0), fov=26.0, width=size, height=size)
+    light = Light(type="directional", direction=tuple(-TO_LIGHT), intensity=E)
+    mat = MaterialSpec(name="m", base_color=tuple(BASE), metallic=0.0, roughness=0.5)
+    return Scene(camera=cam, environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)),
+                 materials={"default": MaterialSpec(), "m": mat},
+                 objects=(Sphere(center=(0.0, 0.0, 0.0), radius=1.0, material="m"),), lights=(light,))
+
+
+def analytic_nol(scene):
+    """n.l at every pixel centre from the ray-sphere intersection (NaN off the sphere)."""
+    cam = scene.camera
+    d = cam.ray_directions().reshape(cam.height, cam.width, 3)
+    o = np.asarray(cam.position)
+    b = d @ o
+    disc = b * b - (o @ o - 1.0)
+    t = -b - np.sqrt(np.where(disc >= 0, disc, np.nan))
+    n = o + t[..., None] * d
+    return n @ TO_LIGHT
+
+
+PLAIN = dict(environment=False, specular=0.0, rim_color=(0.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize("tones, thresholds", [(3, None), (4, None), (5, None), (3, (0.2, 0.6))])
+def test_toon_sphere_has_the_requested_tones_where_n_dot_l_crosses_the_thresholds(tones, thresholds):
+    scene = sphere_scene()
+    style = Style(shading="toon", tones=tones, thresholds=thresholds, **PLAIN)
+    result = render_styled(scene, style)
+    nol = analytic_nol(scene)
+    on = result.mask & np.isfinite(nol)
+    levels = np.unique(np.round(result.image[on][:, 0], 12))
+    assert levels.size == (len(thresholds) + 1 if thresholds else tones)
+    edges = np.asarray(thresholds) if thresholds else default_thresholds(tones)
+    expected_tone = toon_tone(np.maximum(nol, 0.0), edges, 0.0)
+    shadow = np.asarray(style.shadow_color)
+    expected = BASE / math.pi * E * (shadow + (1 - shadow) * expected_tone[..., None])
+    wrong = on & ~np.isclose(result.image, expected, rtol=1e-9, atol=1e-12).all(axis=-1)
+    # a pixel may differ only where a threshold passes between its n.l and a neighbour's (within a pixel)
+    lo = np.minimum.reduce([np.roll(nol, s, a) for s in (-1, 0, 1) for a in (0, 1)])
+    hi = np.maximum.reduce([np.roll(nol, s, a) for s in (-1, 0, 1) for a in (0, 1)])
+    near = np.zeros_like(on)
+    for t in edges:
+        near |= (lo <= t) & (t <= hi)
+    assert not np.any(wrong & ~near), np.argwhere(wrong & ~near)[:5]
+    assert np.count_nonzero(wrong) <= 0.01 * np.count_nonzero(on)
+
+
+def test_summed_and_per_light_agree_for_one_light_and_differ_for_two():
+    scene = sphere_scene(48)
+    a = render_styled(scene, Style(shading="toon", lighting="summed", **PLAIN)).image
+    b = render_styled(scene, Style(shading="toon", lighting="per_light", **PLAIN)).image
+    np.testing.assert_allclose(a, b, rtol=1e-12)
+    two = Scene(camera=scene.camera, environment=scene.environment, materials=scene.materials, objects=scene.objects,
+                lights=scene.lights + (Light(type="directional", direction=(0.7, 0.0, -0.7), intensity=1.0),))
+    a = render_styled(two, Style(shading="toon", lighting="summed", **PLAIN)).image
+    b = render_styled(two, Style(shading="toon", lighting="per_light", **PLAIN)).image
+    assert np.abs(a - b).max() > 1e-3
+    # summed: the number of distinct tones stays the requested one, whatever the lights
+    on = render_styled(two, Style(shading="toon", **PLAIN)).mask
+    assert np.unique(np.round(a[on][:, 0] / a[on][:, 0].max(), 9)).size == 3
+
+
+def test_mtoon_follows_the_specification():
+    """mix(shade, base, linearstep(-1 + toony, 1 - toony, n.l + shift) V) E / pi with no
+    environment light (MToon 1.0, Lighting), V the shadow term: 0 where the surface
+    faces away from the light (its own shadow)."""
+    scene = sphere_scene(48)
+    shade = np.array([0.1, 0.05, 0.3])
+    style = Style(shading="mtoon", shade_color=tuple(shade), shading_shift=-0.2, shading_toony=0.6,
+                  rim_color=(0.0, 0.0, 0.0))
+    result = render_styled(scene, style, bake_size=16)
+    nol = analytic_nol(scene)
+    on = result.mask & np.isfinite(nol)
+    s = (linearstep(-1 + 0.6, 1 - 0.6, nol - 0.2) * (nol > 0))[..., None]
+    expected = (shade + (BASE - shade) * s) * E / math.pi
+    np.testing.assert_allclose(result.image[on], expected[on], rtol=1e-3, atol=1e-6)
+
+
+def test_styles_are_deterministic_and_rim_and_highlights_add_light():
+    scene = sphere_scene(48)
+    style = Style(shading="toon", rim_color=(0.3, 0.3, 0.3), outline="none")
+    a = render_styled(scene, style, bake_size=16).image
+    b = render_styled(scene, style, bake_size=16).image
+    assert a.tobytes() == b.tobytes()
+    plain = render_styled(scene, Style(shading="toon", **PLAIN)).image
+    assert np.all(a >= plain - 1e-12) and np.any(a > plain + 1e-6)
+
+
+def test_scene_style_section_and_its_errors():
+    base = {"objects": [{"type": "sphere"}]}
+    scene = scene_from_dict({**base, "style": {"shading": "toon", "tones": 4}})
+    assert scene.style.shading == "toon" and scene.style.tones == 4
+    for table, fragment in [({"shading": "cel"}, "style shading must be one of"),
+                            ({"tones": 1}, "style tones must be an integer in [2, 64]"),
+                            ({"tones": 2.5}, "style tones must be an integer"),
+                            ({"thresholds": [0.6, 0.2]}, "increase"),
+                            ({"softness": -1}, "style softness"),
+                            ({"bands": 3}, "unknown key 'bands'"),
+                            ({"environment": "yes"}, "true or false")]:
+        with pytest.raises(ValueError) as info:
+            style_from_dict(table)
+        assert fragment in str(info.value)
+        assert "\n" not in str(info.value)
+
+
+def test_cli_style_presets_files_and_refusals(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "toon.png"
+    r = runner.invoke(app, ["render", "sphere", "-o", str(out), "--width", "32", "--height", "32", "--style", "toon",
+                            "--bake-size", "16", "-q"])
+    assert r.exit_code == 0, r.output
+    assert out.exists()
+    r = runner.invoke(app, ["render", "sphere", "-o", str(tmp_path / "x.png"), "--style", "watercolour", "-q"])
+    assert r.exit_code != 0 and "presets" in r.output and not (tmp_path / "x.png").exists()
+    bad = tmp_path / "style.toml"
+    bad.write_text('[style]\nshading = "toon"\ntones = 0\n')
+    r = runner.invoke(app, ["render", "sphere", "-o", str(tmp_path / "y.png"), "--style", str(bad), "-q"])
+    assert r.exit_code != 0 and "style.toml" in r.output and "tones" in r.output
+    r = runner.invoke(app, ["render", "sphere", "-o", str(tmp_path / "z.png"), "--style", "toon", "--mode", "compare",
+                            "--spp", "1", "-q"])
+    assert r.exit_code != 0 and "--mode realtime" in r.output and not (tmp_path / "z.png").exists()
