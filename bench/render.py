@@ -22,7 +22,9 @@ Prints, measured in one run (Numba compilation excluded by a warm-up call):
   scene (five spheres on a floor under a rect light) as ground truth with
   occlusion: paths per second and noise per sample with light sampling + BRDF
   sampling (MIS) against BRDF sampling alone, the efficiency ratio being what
-  the spherical-rectangle sampling buys.
+  the spherical-rectangle sampling buys;
+- styles (issue 12): each ``--style`` preset on the same grid, against the plain
+  real-time render of the same run (goal: at most 1.5x).
 """
 
 from __future__ import annotations
@@ -123,6 +125,7 @@ def main():
               f"efficiency 1 / (noise x time per path) {s['paths_per_second'] / noise / 1e6:.3g} M")
 
     area_lights(args, scene, env, baked, best)
+    styles(args, scene, env, baked, best)
 
 
 AREA_LIGHTS = (AreaLight(type="rect", position=(0.0, 12.0, 10.0), normal=(0.0, -0.7, -0.7), width=8.0, height=3.0,
@@ -159,6 +162,24 @@ def area_lights(args, scene, env, baked, best_without):
               f"{strategy:4s}: {s['paths_per_second'] / 1e6:.2f} M paths/s; noise per sample {noise:.4g}; "
               f"efficiency {figures[strategy] / 1e6:.3g} M")
     print(f"  light sampling + MIS is {figures['mis'] / figures['brdf']:.1f}x as efficient as BRDF sampling alone")
+
+def styles(args, scene, env, baked, best_without):
+    """Issue 12's figure: each style preset on the same 1024^2 grid with its 4 lights,
+    against the plain real-time render measured in the same run (goal: at most 1.5x)."""
+    from pbrkit.npr.render import render_styled
+    from pbrkit.npr.style import STYLE_PRESETS
+
+    geometry = Geometry(scene)
+    for name in ("toon", "toon-per-light", "mtoon", "hatching", "outline"):
+        style = STYLE_PRESETS[name]
+        render_styled(scene, style, geometry, env, bake=baked)  # warm-up (compilation, the hatching map)
+        results = []
+        best, median = best_and_median(lambda: results.append(render_styled(scene, style, geometry, env,
+                                                                            bake=baked)), args.repeat)
+        t = results[-1].stats["timings"]
+        print(f"style {name:15s} {args.size}x{args.size}: best {best:.3f} s, median {median:.3f} s = "
+              f"{best / best_without:.2f}x the plain real-time render (shading {t['shading']:.3f} s, outlines "
+              f"{t['outlines']:.3f} s)")
 
 
 if __name__ == "__main__":

@@ -152,3 +152,29 @@ def test_cli_style_presets_files_and_refusals(tmp_path):
     r = runner.invoke(app, ["render", "sphere", "-o", str(tmp_path / "z.png"), "--style", "toon", "--mode", "compare",
                             "--spp", "1", "-q"])
     assert r.exit_code != 0 and "--mode realtime" in r.output and not (tmp_path / "z.png").exists()
+
+
+def test_inverted_hull_of_a_sphere_is_a_ring_of_the_requested_width():
+    """The hull of a unit sphere 5 units away, pushed out by w pixels' worth of its
+    distance: outline pixels form a ring from the sphere's silhouette to that of the
+    grown sphere, about w pixels wide (measured along the image's middle row)."""
+    from pbrkit.npr.hull import hull_pixel_size
+
+    size = 160
+    scene = sphere_scene(size)
+    width = 4.0
+    result = render_styled(scene, Style(shading="toon", outline="hull", outline_width=width,
+                                        outline_color=(0.0, 1.0, 0.0), **PLAIN))
+    ring = (result.image[..., 1] > 0.99) & (result.image[..., 0] < 1e-9)
+    row = ring[size // 2]
+    assert abs(np.count_nonzero(row) / 2 - width) <= 1.0, np.count_nonzero(row)
+    # the ring's outer radius is where rays graze the grown sphere: asin((r + w px d) / d)
+    cam = scene.camera
+    d = 5.0
+    grown = 1.0 + width * hull_pixel_size(cam) * d
+    f = (size / 2) / math.tan(math.radians(cam.fov) / 2)
+    outer = f * math.tan(math.asin(grown / d))
+    cols = np.flatnonzero(row)
+    measured = (cols.max() + 0.5 - size / 2)
+    assert abs(measured - outer) <= 1.0, (measured, outer)
+    assert not ring[result.mask].any()  # never over the sphere itself

@@ -678,7 +678,7 @@ def demo(
     write OUT/index.html."""
     from .demo import run_demo
 
-    steps = ("bake", "realtime", "reference", "images", "area", "furnace", "lut", "page")
+    steps = ("bake", "realtime", "reference", "images", "area", "npr", "furnace", "lut", "page")
     with _Stages("demo", quiet, len(steps)) as stages:
         stages.start(steps[0])
 

@@ -139,7 +139,8 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
 #: previous demo's) is replaced as a whole; one holding anything else is refused.
 DEMO_ENTRIES = frozenset({"index.html", "summary.json", "realtime.png", "reference.png", "error.png", "lut.png",
                           "realtime.exr", "reference.exr", "reference_stderr.exr", "relative_error.exr", "bake",
-                          "preview", "furnace", "area_realtime.png", "area_reference.png", "area_error.png"})
+                          "preview", "furnace", "area_realtime.png", "area_reference.png", "area_error.png",
+                          "npr_toon.png", "npr_mtoon.png", "npr_hatching.png"})
 
 
 def _demo_entries():
@@ -238,6 +239,12 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
     timings["area-light scene"] = time.perf_counter() - t
     step("area")
 
+    # the sphere grid in the non-photorealistic styles, lit by the environment and a key light
+    t = time.perf_counter()
+    npr = _npr_gallery(out, scene, env, baked, max(16, size // 2))
+    timings["styles"] = time.perf_counter() - t
+    step("npr")
+
     # 4. furnace and lookup-table plots
     t = time.perf_counter()
     lobes = [name for name in FURNACE_LOBES if name in furnace_lobes()]
@@ -276,6 +283,7 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
                       "percentile_99": p99, "max": peak, "pixels_above_scale": int(np.count_nonzero(rel[valid] > scale))},
         "per_sphere_signed_relative_error": per_sphere,
         "area_light": area,
+        "npr": npr,
         "furnace": {name: furnace_summary["per_lobe"][name] for name in lobes},
         "furnace_options": {"mu": n_mu, "roughness": n_rough, "samples": samples,
                             "monte_carlo": furnace_summary.get("monte_carlo", ""), "figures": furnace_figures},
@@ -286,6 +294,53 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
     write_text(out / "index.html", _page(summary, manifest))
     step("page")
     return summary
+
+
+#: The styles of the demo's NPR section (pbrkit.npr.style.STYLE_PRESETS) and the key light they add.
+NPR_STYLES = ("toon", "mtoon", "hatching")
+NPR_KEY_LIGHT = {"type": "directional", "direction": (-0.45, -0.5, -0.74), "intensity": 3.0}
+
+
+def _npr_gallery(out, scene, env, baked, size):
+    """The sphere grid at size^2 with a key light in each of :data:`NPR_STYLES`
+    (:func:`pbrkit.npr.render.render_styled`), written as ``npr_<style>.png``."""
+    from dataclasses import replace
+
+    from ..npr.render import render_styled
+    from ..npr.style import STYLE_PRESETS
+    from ..render.geometry import Geometry
+    from ..render.lights import Light
+
+    lit = replace(scene.with_camera(width=size, height=size), lights=(Light(**NPR_KEY_LIGHT),))
+    geometry = Geometry(lit)
+    entries = {}
+    for name in NPR_STYLES:
+        result = render_styled(lit, STYLE_PRESETS[name], geometry, env, bake=baked)
+        _png(out / f"npr_{name}.png", result.image)
+        entries[name] = {"file": f"npr_{name}.png", "seconds": result.stats["timings"]["total"],
+                         "outline": result.stats["outline"]}
+    return {"size": size, "key_light": {k: list(v) if isinstance(v, tuple) else v for k, v in NPR_KEY_LIGHT.items()},
+            "styles": entries}
+
+
+def _npr_section(summary):
+    """The page's styles section (summary["npr"], when present)."""
+    npr = summary.get("npr")
+    if not npr:
+        return ""
+    figures = "\n".join(
+        f'<figure><img src="{html.escape(e["file"])}" alt="sphere grid, {html.escape(name)} style">'
+        f"<figcaption><b>{html.escape(name)}</b>, outline {html.escape(e['outline'])} "
+        f"({e['seconds']:.2f} s)</figcaption></figure>" for name, e in npr["styles"].items())
+    return f"""<h2>Non-photorealistic styles</h2>
+<p class="note">The sphere grid ({npr["size"]}&sup2;) with a key light added, rendered in real time with
+<code>pbrkit render --style</code>'s presets (<code>pbrkit.npr</code>): toon bands over the summed lighting with
+thresholded highlights, a banded SH irradiance and rim light; VRM MToon 1.0; hatching with pbrkit's tonal art
+map; outlines from the G-buffers.</p>
+<div class="grid">
+{figures}
+</div>
+"""
 
 
 def _area_light_comparison(out, size, spp, seed):
@@ -558,6 +613,7 @@ positive where real time is brighter than the ground truth.</p>
 <table>{_rows(sample_rows)}</table>
 
 {_area_section(summary)}
+{_npr_section(summary)}
 <h2>White furnace</h2>
 <p class="note">Directional albedo E(mu) with F = 1 of single-scattering specular lobes, by quadrature (the energy
 lost to multiple scattering is 1 - E), on {fo["mu"]} values of mu = n.v &times; {fo["roughness"]} roughness values.

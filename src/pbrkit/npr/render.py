@@ -33,7 +33,9 @@ Outlines (``outline``): ``image``: edges of the G-buffers (depth along the camer
 ray, shading normal, object and material ids; :mod:`pbrkit.npr.outlines`),
 ``geometry``: silhouette, crease, boundary and material edges of the triangle
 meshes drawn as lines visible against the depth buffer (:mod:`pbrkit.npr.edges`),
-``both``; constant width in pixels, anti-aliased.  Area lights are not part of the
+``both``; ``hull``: the inverted hull of spheres and meshes cast as rays
+(:mod:`pbrkit.npr.hull`); constant width in pixels, anti-aliased (the hull by
+``supersample``).  Area lights are not part of the
 toon lighting (they light the ``pbr`` shading only).
 """
 
@@ -365,6 +367,11 @@ def _outline(style, scene, geometry, prim, image):
                                                      supersample=g.supersample))
     if style.outline in ("geometry", "both") and geometry.meshes:
         coverage = np.maximum(coverage, _mesh_lines(style, cam, geometry, g))
+    if style.outline == "hull":
+        from .hull import hull_rays
+
+        rays = hull_rays(scene, geometry, prim, style.outline_width).astype(np.float64)
+        coverage = rays.reshape(cam.height, cam.width, cam.supersample ** 2).mean(axis=2)
     return composite(image, coverage, np.asarray(style.outline_color))
 
 

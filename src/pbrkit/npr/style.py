@@ -21,7 +21,7 @@ with their parameters (:class:`Style`; every key optional)::
     rim_mix = 1.0                 # how much the lighting tints the rim
     environment = true            # banded SH irradiance and thresholded prefiltered specular
     # mtoon: shade_color = [0, 0, 0], shading_shift = 0.0, shading_toony = 0.9, gi_equalization = 0.9
-    outline = "none"              # none, image (G-buffer edges), geometry (mesh edges), both
+    outline = "none"              # none, image (G-buffer edges), geometry (mesh edges), both, hull (inverted hull)
     outline_width = 1.5           # pixels
     outline_color = [0.0, 0.0, 0.0]
     outline_depth = 0.02          # image: relative depth step that is an edge
@@ -44,7 +44,7 @@ __all__ = ["SHADINGS", "LIGHTINGS", "OUTLINES", "Style", "STYLE_PRESETS", "style
 
 SHADINGS = ("pbr", "toon", "mtoon", "hatching")
 LIGHTINGS = ("per_light", "summed")
-OUTLINES = ("none", "image", "geometry", "both")
+OUTLINES = ("none", "image", "geometry", "both", "hull")
 
 
 @dataclass(frozen=True)
