@@ -447,6 +447,122 @@ def _ltc_cases(rng):
     return cases
 
 
+RAMP_ROW = 8  # pbrkit reads a ramp image's middle row: row H // 2 of the 16-row table the page uploads as u_lut
+TAM_SIZE = 32
+TAM_LEVELS = 3
+
+
+def _npr_cases(rng, dfg):
+    """The toon, MToon and hatching terms (:mod:`pbrkit.npr.toon`, :func:`pbrkit.npr.hatching.hatch`).
+    Small absolute tolerances where a float32 difference of nearly equal inputs makes the value
+    small (a smoothstep or linearstep just past its lower end, a rim with n.v near 1 + lift)."""
+    from types import SimpleNamespace
+
+    from pbrkit.npr import hatching, toon
+    from pbrkit.npr.render import _shade
+
+    cases = []
+    add = cases.append
+    def soft_or_hard():  # 30% hard steps (softness 0)
+        return _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.0, 0.3, N)))
+
+    x, edge, soft = _f32(rng.uniform(-0.2, 1.2, N)), _f32(rng.uniform(0.0, 1.0, N)), soft_or_hard()
+    x[: N // 8] = edge[: N // 8]  # on the edge: the hard step gives 1
+    x[N // 8: N // 4] = _f32(edge[N // 8: N // 4] + rng.uniform(-1.0, 1.0, N // 8) * soft[N // 8: N // 4])
+    add(Case("smoothStepBand", ("pbrkit_smoothStepBand",), "pbrkit_smoothStepBand(a.x, a.y, a.z)",
+             [_vec4s(x, edge, soft)],
+             np.array([toon.smooth_step_band(x[i], edge[i], soft[i]) for i in range(N)])[:, None], atol=1e-6))
+
+    count = rng.integers(0, 9, N)
+    count[:9] = np.arange(9)
+    thresholds = _f32(rng.uniform(0.0, 1.0, (N, 8)))  # entries past the count are ignored
+    for i in range(N):
+        thresholds[i, : count[i]] = np.sort(thresholds[i, : count[i]])
+    thresholds[9:40, :3], count[9:40] = toon.default_thresholds(4), 3  # pbrkit's default bands
+    x, soft = _f32(rng.uniform(-0.2, 1.2, N)), soft_or_hard()
+    x[40:72] = thresholds[40:72, 0] * (count[40:72] > 0)
+    add(Case("toonTone", ("pbrkit_toonTone",),
+             "pbrkit_toonTone(a.x, float[8](b.x, b.y, b.z, b.w, c.x, c.y, c.z, c.w), int(a.y), a.z)",
+             [_vec4s(x, count, soft), _vec4s(thresholds[:, :4]), _vec4s(thresholds[:, 4:])],
+             np.array([toon.toon_tone(x[i], thresholds[i, : count[i]], soft[i]) for i in range(N)])[:, None],
+             atol=1e-6))
+
+    shadow, tone = _f32(rng.uniform(0.0, 1.0, (N, 3))), _f32(rng.uniform(0.0, 1.0, N))
+    add(Case("toonShade", ("pbrkit_toonShade",), "pbrkit_toonShade(b.xyz, a.x)", [_vec4s(tone), _vec4s(shadow)],
+             _shade(SimpleNamespace(ramp_colors=None, shadow_color=shadow), tone), atol=1e-7))
+
+    # the ramp: the middle row of the (DFG1, DFG2) table the page uploads as u_lut (RG32F: blue reads 0)
+    ramp = np.concatenate([dfg[RAMP_ROW].astype(np.float64), np.zeros((dfg.shape[1], 1))], axis=1)
+    tone = _f32(rng.uniform(-0.1, 1.1, N))
+    tone[:dfg.shape[1]] = (np.arange(dfg.shape[1]) + 0.5) / dfg.shape[1]  # texel centres
+    tone[dfg.shape[1]: dfg.shape[1] + 4] = (0.0, 1.0, 0.5 / dfg.shape[1], 1.0 - 0.5 / dfg.shape[1])
+    tone = _f32(tone)
+    looked_up = _shade(SimpleNamespace(ramp_colors=ramp), tone)
+    assert np.array_equal(looked_up, toon.ramp_lookup(ramp, tone))
+    add(Case("fetchRamp", ("pbrkit_fetchRamp",), "pbrkit_fetchRamp(u_lut, a.x)", [_vec4s(tone)], looked_up,
+             rtol=1e-5, atol=1e-6))
+    step = np.abs(np.diff(ramp, axis=0)).max()  # the GPU's filter weights: see sampleDFG
+    add(Case("sampleRamp", ("pbrkit_sampleRamp",), "pbrkit_sampleRamp(u_lut, a.x)", [_vec4s(tone)], looked_up,
+             rtol=0.0, atol=step / 256.0))
+
+    alpha, noh = _alphas(rng, 0.02), _cosines(rng)
+    d, d_peak = _f32(distributions.d_ggx(noh, alpha)), _f32(distributions.d_ggx(1.0, alpha))
+    d_peak[:8] = 0.0  # no peak: no highlight
+    threshold, soft = _f32(rng.uniform(0.1, 0.9, N)), soft_or_hard()
+    add(Case("highlightTone", ("pbrkit_highlightTone",), "pbrkit_highlightTone(a.x, a.y, a.z, a.w)",
+             [_vec4s(d, d_peak, threshold, soft)],
+             np.array([toon.highlight_tone(d[i], d_peak[i], threshold[i], soft[i]) for i in range(N)])[:, None],
+             atol=1e-6))
+
+    lo, width, x = _f32(rng.uniform(-1.0, 1.0, N)), rng.uniform(0.05, 1.0, N), _f32(rng.uniform(-1.5, 1.5, N))
+    hi = _f32(lo + np.where(rng.uniform(size=N) < 0.5, width, -width))  # b < a too
+    nol, shift, toony = _f32(rng.uniform(-1.0, 1.0, N)), _f32(rng.uniform(-0.5, 0.5, N)), _f32(rng.uniform(0, 0.9, N))
+    add(Case("mtoon", ("pbrkit_linearstep", "pbrkit_mtoonShading"),
+             "vec2(pbrkit_linearstep(a.x, a.y, a.z), pbrkit_mtoonShading(b.x, b.y, b.z))",
+             [_vec4s(lo, hi, x), _vec4s(nol, shift, toony)],
+             np.stack([toon.linearstep(lo, hi, x), toon.mtoon_shading(nol, shift, toony)], axis=1), atol=1e-6))
+    nov, power, lift = _cosines(rng), _f32(rng.uniform(1.0, 8.0, N)), _f32(rng.uniform(-0.3, 0.5, N))
+    power[:16] = (0.0, 1e-6, 0.5, 5.0) * 4  # the epsilon, and MToon's default 5
+    lift[:4] = 0.0
+    add(Case("parametricRim", ("pbrkit_parametricRim",), "pbrkit_parametricRim(a.x, a.y, a.z)",
+             [_vec4s(nov, power, lift)], toon.parametric_rim(nov, power, lift)[:, None], atol=2e-6))
+    gi, up, down = (_f32(rng.uniform(0.0, 4.0, (N, 3))) for _ in range(3))
+    factor = _f32(rng.uniform(0.0, 1.0, N))
+    factor[:2] = (0.0, 1.0)
+    add(Case("giEqualized", ("pbrkit_giEqualized",), "pbrkit_giEqualized(a.xyz, b.xyz, c.xyz, a.w)",
+             [_vec4s(gi, factor), _vec4s(up), _vec4s(down)], toon.gi_equalized(gi, up, down, factor[:, None]),
+             atol=1e-6))
+
+    # Hatching: small TAMs of 2, 3, 6 and 8 tones.  Tone k is sampled at the pixel as hatch() samples it
+    # (bilinear, REPEAT, trilinear at the level): hatch at the tone (k + 1) / T, which selects it alone;
+    # the shader blends those samples for the pixel's tone and must give hatch at that tone.
+    tone, tones, level = np.zeros(N), np.zeros(N), np.zeros(N)
+    samples, expected = _f32(rng.uniform(0.0, 1.0, (N, 8))), np.zeros(N)  # entries past T are ignored
+    groups = np.array_split(np.arange(N), 4)
+    for rows, count in zip(groups, (2, 3, 6, 8)):
+        tam = hatching.tonal_art_map(tones=count, size=TAM_SIZE, levels=TAM_LEVELS, seed=count)
+        t = _f32(rng.uniform(-0.1, 1.1, rows.size))
+        t[: count + 1] = _f32(np.arange(count + 1) / count)  # the images themselves
+        uv = _f32(rng.uniform(-1.0, 2.0, (rows.size, 2)))
+        lam = _f32(rng.uniform(-0.5, TAM_LEVELS - 0.5, rows.size))
+        for k in range(count):
+            samples[rows, k] = hatching.hatch((k + 1) / count, uv, tam, level=lam)
+        tone[rows], tones[rows], level[rows] = t, count, lam
+        expected[rows] = hatching.hatch(t, uv, tam, level=lam)
+        # the level pbrkit_hatchLevel gives is the one hatch() takes from a footprint
+        footprint = 2.0 ** rng.uniform(-3.0, 4.0, rows.size)
+        assert np.array_equal(hatching.hatch(t, uv, tam, footprint=footprint),
+                              hatching.hatch(t, uv, tam, level=np.clip(np.log2(footprint), 0.0, TAM_LEVELS - 1)))
+    add(Case("hatchBlend", ("pbrkit_hatchBlend",), "pbrkit_hatchBlend(a.x, int(a.y), b, c)",
+             [_vec4s(tone, tones), _vec4s(samples[:, :4]), _vec4s(samples[:, 4:])], expected[:, None], atol=1e-6))
+    footprint = _f32(2.0 ** rng.uniform(-3.0, 8.0, N))
+    footprint[:3] = (1.0, 2.0, 0.5)
+    levels = _f32(rng.integers(1, 10, N))
+    add(Case("hatchLevel", ("pbrkit_hatchLevel",), "pbrkit_hatchLevel(a.x, a.y)", [_vec4s(footprint, levels)],
+             np.clip(np.log2(footprint), 0.0, levels - 1.0)[:, None], atol=1e-6))
+    return cases
+
+
 @pytest.fixture(scope="module")
 def webgl_results(tmp_path_factory):
     from pbrkit.albedo.tables import lookup_table
@@ -456,7 +572,8 @@ def webgl_results(tmp_path_factory):
     rng = np.random.default_rng(20240510)
     dfg, _ = lookup_table("dfg", 16)
     splitsum, _ = lookup_table("splitsum", 16, "height-correlated")
-    cases = _scalar_cases(rng) + _model_cases(rng) + _ibl_cases(rng, dfg, splitsum) + _ltc_cases(rng)
+    cases = (_scalar_cases(rng) + _model_cases(rng) + _ibl_cases(rng, dfg, splitsum) + _ltc_cases(rng)
+             + _npr_cases(rng, dfg))
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
             "lut": {"width": dfg.shape[1], "height": dfg.shape[0], "data": dfg.reshape(-1).tolist()},
             "cases": [{"name": c.name, "expr": c.expr, "count": N,

@@ -1,8 +1,11 @@
 """The files of ``pbrkit ltc``: a fitted table in the published layout, its
 per-cell fit error, and with ``--report`` the scores of pbrkit's table and of the
 published one (Heitz et al. 2016, as three.js ships it) on the same test set with
-the same shader evaluation (:mod:`pbrkit.ltc.score`), and their per-cell error
-maps side by side."""
+the same shader evaluation (:mod:`pbrkit.ltc.score`), and two kinds of per-cell
+error maps side by side: the polygon-integral error on the fit's lights
+(:func:`pbrkit.ltc.fit.cell_errors`) and the lobe error, how far each cell's LTC
+is from the BRDF lobe it approximates, by Monte Carlo
+(:func:`pbrkit.ltc.lobe_error.lobe_error_map`)."""
 
 from __future__ import annotations
 
@@ -36,8 +39,17 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match).  With ``fresnel``
     (the fit of the f Fc lobe, ``pbrkit ltc --fresnel``) pbrkit's Fresnel-aware
     evaluation (:func:`pbrkit.ltc.score.ltc_fresnel_rect`) is scored too, as
-    ``pbrkit, Fresnel-aware``."""
+    ``pbrkit, Fresnel-aware``.
+
+    ``lobe_error_maps``: the per-cell lobe error (N, N) of pbrkit's table and,
+    when given and the sizes match, of the published one
+    (:func:`pbrkit.ltc.lobe_error.lobe_error_map`: relative L2 distance between
+    the LTC and the lobe f cos / E over the sphere, by Monte Carlo, against the
+    fit's lobe with E = the fit's ``ltc_2`` norm, its converged albedo, for both
+    tables), and ``lobe_error`` their summaries (median, p95, max) and how they
+    were computed."""
     from .fit import cell_errors
+    from .lobe_error import SAMPLES, lobe_error_map, lobe_error_summary
     from .score import lobe_rect_integrals, random_rect_lights, score_table
 
     distribution, masking = _lobe(fit)
@@ -63,26 +75,70 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
         maps["pbrkit f Fc lobe"] = fresnel.error
     if published is not None and np.shape(published[0])[:2] == fit.ltc1.shape[:2]:
         maps["published"] = cell_errors(fit, published[0])
+    albedo = np.asarray(fit.ltc2, dtype=np.float64)[..., 0] if getattr(fit, "ltc2", None) is not None else None
+    lobe_maps = {"pbrkit": lobe_error_map(fit.ltc1, distribution, masking, albedo=albedo)}
+    if published is not None and np.shape(published[0])[:2] == fit.ltc1.shape[:2]:
+        lobe_maps["published"] = lobe_error_map(published[0], distribution, masking, albedo=albedo)
+    lobe = {"measure": "relative L2 distance over the sphere between the LTC's D and the lobe f cos / E (F = 1), "
+                       "sqrt(int (D - f cos / E)^2 / int (f cos / E)^2), per cell",
+            "estimator": "Monte Carlo: the same scrambled Sobol points in every cell, from a mixture of the lobe's "
+                         "VNDF sampling, the LTC and the uniform sphere (pbrkit.ltc.lobe_error.lobe_error_map)",
+            "samples": SAMPLES, "seed": 0}
+    lobe.update({name: lobe_error_summary(m) for name, m in lobe_maps.items()})
     return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.score.random_rect_lights"},
             "brdf": {"distribution": distribution, "masking": masking},
-            "scores": scores, "cell_error_maps": maps}
+            "scores": scores, "lobe_error": lobe, "cell_error_maps": maps, "lobe_error_maps": lobe_maps}
 
 
-def _plot(path, maps):
+#: The report's maps: the keys of :func:`score_fit`'s dict, each plotted as a row.
+_MAP_KINDS = ("cell_error_maps", "lobe_error_maps")
+
+
+def _plot(path, maps, lobe_maps=None):
+    """report.png: a row of polygon-integral error maps (``maps``, linear colours up
+    to the 99th percentile) and, with ``lobe_maps``, a row of lobe-error maps
+    (logarithmic colours from 1e-3: the error spans 1e-3 for smooth symmetric
+    cells to over 10 where an LTC is far sharper than its lobe), one column per
+    table, the same table in the same column.  Deterministic (no metadata)."""
+    import textwrap
+
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
 
-    fig, axes = plt.subplots(1, len(maps), figsize=(4.2 * len(maps), 3.6), squeeze=False)
+    rows = [maps] + ([lobe_maps] if lobe_maps else [])
+    names = list(maps) + [k for k in (lobe_maps or {}) if k not in maps]
+    fig, axes = plt.subplots(len(rows), len(names), figsize=(4.2 * len(names), 3.6 * len(rows)), squeeze=False)
     top = max(float(np.percentile(m, 99)) for m in maps.values())
-    for ax, (name, m) in zip(axes[0], maps.items()):
-        im = ax.imshow(m, origin="lower", vmin=0.0, vmax=top, cmap="magma", extent=(0, 1, 0, 1))
-        ax.set_title(f"{name}: median {np.median(m):.3f}")
-        ax.set_xlabel("roughness a / (N - 1)")
-        ax.set_ylabel("sqrt(1 - cos theta_v)")
-        fig.colorbar(im, ax=ax, fraction=0.046)
-    fig.suptitle("per-cell RMS error of polygon integrals\n(relative, floor 1% of albedo)", fontsize=9)
+    if lobe_maps:
+        high = max(float(np.max(m)) for m in lobe_maps.values())
+        lobe_norm = LogNorm(vmin=1e-3, vmax=10.0 ** max(0, math.ceil(math.log10(max(high, 1e-3)))))
+    for row, kind in enumerate(rows):
+        for col, name in enumerate(names):
+            ax = axes[row, col]
+            if name not in kind:
+                ax.axis("off")
+                continue
+            m = np.asarray(kind[name], dtype=np.float64)
+            if row == 0:
+                im = ax.imshow(m, origin="lower", vmin=0.0, vmax=top, cmap="magma", extent=(0, 1, 0, 1))
+                ax.set_title(f"{name}: median {np.median(m):.3f}", fontsize=9)
+            else:
+                im = ax.imshow(np.maximum(m, 1e-3), origin="lower", norm=lobe_norm, cmap="viridis",
+                               extent=(0, 1, 0, 1))
+                ax.set_title(f"{name}: lobe error median {np.median(m):.3f}, p95 {np.percentile(m, 95):.3f}",
+                             fontsize=9)
+            ax.set_xlabel("roughness a / (N - 1)")
+            ax.set_ylabel("sqrt(1 - cos theta_v)")
+            fig.colorbar(im, ax=ax, fraction=0.046)
+    title = ["per-cell RMS error of polygon integrals (relative, floor 1% of albedo)"]
+    if lobe_maps:
+        title = ["top: " + title[0], "bottom: per-cell lobe error, relative L2 distance between the LTC and "
+                 "f cos / E over the sphere (Monte Carlo; log scale)"]
+    width = 50 * len(names)  # characters that fit above the columns at fontsize 9
+    fig.suptitle("\n".join(textwrap.fill(line, width) for line in title), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=90, metadata={"Software": None})
     plt.close(fig)
@@ -94,7 +150,9 @@ def write_fit(folder, fit, report=None, fresnel=None):
     (:func:`pbrkit.io.ltc_files.write_ltc_tables`), ``fit_error.npy`` (float32
     (N, N)), ``fit.json`` (options, layout, error summary; no timings, so the
     same options give the same bytes) and, with ``report`` (:func:`score_fit`),
-    ``report.json``, ``report.md`` and ``report.png``; with ``fresnel`` (the fit of
+    ``report.json``, ``report.md`` and ``report.png`` (summaries in the JSON, the
+    maps in the picture), and the lobe-error maps as ``lobe_error_pbrkit.npy`` /
+    ``lobe_error_published.npy`` (float32 (N, N)); with ``fresnel`` (the fit of
     the f Fc lobe) its matrices as ``fresnel_ltc_1.*``
     (:func:`pbrkit.io.ltc_files.write_fresnel_table`) and its error in ``fit.json``."""
     from pathlib import Path
@@ -149,7 +207,10 @@ def write_fit(folder, fit, report=None, fresnel=None):
         info["files"] += list(FRESNEL_FILES)
     if report is not None:
         (folder / "report.json").write_text(json.dumps(
-            {k: v for k, v in report.items() if k != "cell_error_maps"}, indent=2) + "\n", encoding="utf-8")
+            {k: v for k, v in report.items() if k not in _MAP_KINDS}, indent=2) + "\n", encoding="utf-8")
+        lobe_maps = report.get("lobe_error_maps") or {}
+        for name, m in lobe_maps.items():
+            np.save(folder / f"lobe_error_{name}.npy", np.asarray(m, dtype=np.float32), allow_pickle=False)
         lines = ["# LTC tables: pbrkit's fit and the published one", "",
                  f"Test set: {report['test_set']['lights']} rectangular lights (seed {report['test_set']['seed']}), "
                  "scored with three.js's shader evaluation against converged integrals of the lobe the table is "
@@ -160,8 +221,15 @@ def write_fit(folder, fit, report=None, fresnel=None):
                 lines.append(f"| {name} | {label} | {100 * s['relative_median']:.1f}% | "
                              f"{100 * s['relative_mean']:.1f}% | {100 * s['relative_p95']:.1f}% | "
                              f"{100 * s['abs_over_albedo_mean']:.2f}% |")
+        if lobe_maps:
+            lines += ["", ("Lobe error per cell: the relative L2 distance over the sphere between the LTC and the lobe "
+                           "f cos / E it approximates (F = 1), by Monte Carlo (pbrkit.ltc.lobe_error; 0 is exact, "
+                           "1 or more where the two do not overlap)."), ""]
+            for name in lobe_maps:
+                s = report["lobe_error"][name]
+                lines.append(f"- {name}: lobe error median {s['median']:.4f}, p95 {s['p95']:.4f}")
         (folder / "report.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
-        _plot(folder / "report.png", report["cell_error_maps"])
-        info["files"] += ["report.json", "report.md", "report.png"]
+        _plot(folder / "report.png", report["cell_error_maps"], lobe_maps)
+        info["files"] += ["report.json", "report.md", "report.png"] + [f"lobe_error_{name}.npy" for name in lobe_maps]
     (folder / "fit.json").write_text(json.dumps(info, indent=2) + "\n", encoding="utf-8")
     return folder

@@ -18,7 +18,15 @@ group:
   with texel centres, SH9 irradiance, the split-sum combination;
 - ``pbrkit_ltc.glsl``: rectangular area lights with LTC tables as pbrkit
   evaluates them (``pbrkit ltc --clipping exact``: the LTC's integral clipped at
-  the true horizon), and the tables' texture coordinate.
+  the true horizon), and the tables' texture coordinate;
+- ``pbrkit_npr.glsl``: the non-photorealistic terms of :mod:`pbrkit.npr.toon`
+  (toon bands ``pbrkit_smoothStepBand`` and ``pbrkit_toonTone`` with up to 8
+  thresholds in a ``float[8]`` and their count, the two-colour shade, the ramp
+  image's lookup from ``texelFetch`` or the GPU's filter, the thresholded
+  highlight, MToon 1.0's ``linearstep``, shading, parametric rim and GI
+  equalisation) and of :func:`pbrkit.npr.hatching.hatch` (the blend of a tonal
+  art map's tones, sampled by the engine, for a continuous tone, and the mip
+  level log2(footprint) clamped to [0, L - 1]).
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each
 function is preceded by a comment whose ``source:``, ``roughness:`` and
@@ -39,7 +47,7 @@ __all__ = ["TARGETS", "GLSL_FILES", "glsl_sources", "functions", "shader_manifes
 #: Shader languages ``pbrkit shaders --target`` writes.
 TARGETS = ("glsl",)
 #: The GLSL files, in the order they may be concatenated.
-GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl")
+GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_npr.glsl")
 #: Version of the manifest's layout.
 MANIFEST_VERSION = 1
 
