@@ -48,8 +48,10 @@ from functools import lru_cache
 import numba
 import numpy as np
 
-from ..core.color import luminance
-from ..core.jit import parallel_kernel
+from ..brdf.distributions import alpha_from_roughness, d_ggx
+from ..core.color import luminance, rec709_luminance
+from ..core.filtering import CLAMP_TO_EDGE, texel_pair
+from ..core.jit import dual_use, parallel_kernel
 from ..render.lights import light_incidence
 from .style import Style
 from .toon import (
@@ -58,6 +60,7 @@ from .toon import (
     mtoon_shading,
     parametric_rim,
     ramp_lookup,
+    toon_shade,
     toon_tone,
 )
 
@@ -107,8 +110,7 @@ def _shade(style, tone):
     """The colour multiplier (..., 3) of tones: the ramp image, or mix(shadow colour, 1, tone)."""
     if style.ramp_colors is not None:
         return ramp_lookup(style.ramp_colors, tone)
-    shadow = np.asarray(style.shadow_color)
-    return shadow + (1.0 - shadow) * np.asarray(tone)[..., None]
+    return toon_shade(np.asarray(style.shadow_color), np.asarray(tone)[..., None])
 
 
 def _lights(geometry, s, shadows=True):
@@ -122,27 +124,30 @@ def _lights(geometry, s, shadows=True):
     codes, values = light_arrays(geometry.lights)
     count = s.p.shape[0]
     p = np.ascontiguousarray(s.p, dtype=np.float64)
+    n = np.ascontiguousarray(s.n, dtype=np.float64)
+    ng = np.ascontiguousarray(s.ng, dtype=np.float64)
     for li in range(codes.shape[0]):
         direction = np.empty((count, 3))
         dist = np.empty(count)
         factor = np.empty(count)
-        _incidence_kernel(codes, values, li, p, direction, dist, factor)
+        nol = np.empty(count)
+        vis = np.empty(count)
+        _incidence_kernel(codes, values, li, p, n, ng, direction, dist, factor, nol, vis)
         e = factor[:, None] * values[li, 0:3][None, :]
-        nol = np.sum(s.n * direction, axis=1)
-        vis = np.ones(s.p.shape[0])
-        lit = np.flatnonzero((np.sum(s.ng * direction, axis=1) > 0.0) & (factor > 0.0))
+        lit = np.flatnonzero(vis > 0.0)
         if shadows and lit.size:
             origins = geometry.offset_origins(s.p[lit], s.ng[lit], direction[lit])
             far = np.where(np.isfinite(dist[lit]), dist[lit] * (1.0 - 1e-6), np.inf)
             vis[lit[geometry.occluded(origins, direction[lit], far)]] = 0.0
-        vis[np.sum(s.ng * direction, axis=1) <= 0.0] = 0.0
         out.append((e, nol, vis, direction))
     return out
 
 
 @parallel_kernel
-def _incidence_kernel(codes, values, li, p, out_dir, out_dist, out_factor):
-    """:func:`pbrkit.render.lights.light_incidence` of light li at every point."""
+def _incidence_kernel(codes, values, li, p, n, ng, out_dir, out_dist, out_factor, out_nol, out_vis):
+    """:func:`pbrkit.render.lights.light_incidence` of light li at every point, n.l,
+    and 1 where the light can reach the point (in front of its geometric normal,
+    inside the light's range), else 0 (before shadow rays)."""
     for i in numba.prange(p.shape[0]):
         lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
         out_dir[i, 0] = lx
@@ -150,6 +155,9 @@ def _incidence_kernel(codes, values, li, p, out_dir, out_dist, out_factor):
         out_dir[i, 2] = lz
         out_dist[i] = d
         out_factor[i] = f
+        out_nol[i] = n[i, 0] * lx + n[i, 1] * ly + n[i, 2] * lz
+        front = ng[i, 0] * lx + ng[i, 1] * ly + ng[i, 2] * lz > 0.0
+        out_vis[i] = 1.0 if front and f > 0.0 else 0.0
 
 
 def _fibonacci_normals(n=256):
@@ -193,50 +201,102 @@ def _spec_color(s):
     return 1.0 + (s.base_color - 1.0) * m
 
 
-def _toon(style, geometry, env, bake, s, v):
-    from ..brdf.distributions import alpha_from_roughness, d_ggx
+@dual_use
+def _tone_colour(ramp, shadow, tone, c):
+    """Channel c of the colour multiplier of a tone: the ramp (M, 3) (linear, texel
+    centres, clamp to edge, as :func:`pbrkit.npr.toon.ramp_lookup`) when it has rows,
+    else :func:`pbrkit.npr.toon.toon_shade` of the shadow colour."""
+    m = ramp.shape[0]
+    if m == 0:
+        return toon_shade(shadow[c], tone)
+    i0, i1, f = texel_pair(min(max(tone, 0.0), 1.0) * m - 0.5, m, CLAMP_TO_EDGE)
+    return ramp[i0, c] * (1.0 - f) + ramp[i1, c] * f
 
+
+@parallel_kernel
+def _toon_kernel(n, v, base, rough, metal, emissive, light_e, light_dir, light_vis, summed, thresholds, softness,
+                 shadow, ramp, specular, spec_threshold, spec_softness, has_env, e_n, e_max, prefiltered,
+                 level_max, rim_color, rim_power, rim_lift, rim_mix, out):
+    """The toon shading of every pixel (module docstring) in one pass."""
+    n_lights = light_e.shape[0]
+    y_max = max(rec709_luminance(e_max[0], e_max[1], e_max[2]), 1e-300)
+    for i in numba.prange(n.shape[0]):
+        nov = min(max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 0.0), 1.0)
+        alpha = alpha_from_roughness(rough[i])
+        d_peak = d_ggx(1.0, alpha)
+        o = np.zeros(3)
+        lighting = np.zeros(3)
+        weight = 0.0
+        norm = 0.0
+        total = np.zeros(3)
+        for li in range(n_lights):
+            e0, e1, e2 = light_e[li, i, 0], light_e[li, i, 1], light_e[li, i, 2]
+            dx, dy, dz = light_dir[li, i, 0], light_dir[li, i, 1], light_dir[li, i, 2]
+            nol = n[i, 0] * dx + n[i, 1] * dy + n[i, 2] * dz
+            lit = max(nol, 0.0) * light_vis[li, i]
+            y = rec709_luminance(e0, e1, e2)
+            weight += y * lit
+            norm += y
+            total[0] += e0
+            total[1] += e1
+            total[2] += e2
+            lighting[0] += e0 * lit / np.pi
+            lighting[1] += e1 * lit / np.pi
+            lighting[2] += e2 * lit / np.pi
+            if not summed:
+                tone = toon_tone(lit, thresholds, softness)
+                o[0] += base[i, 0] / np.pi * e0 * _tone_colour(ramp, shadow, tone, 0)
+                o[1] += base[i, 1] / np.pi * e1 * _tone_colour(ramp, shadow, tone, 1)
+                o[2] += base[i, 2] / np.pi * e2 * _tone_colour(ramp, shadow, tone, 2)
+            if specular > 0.0 and nol > 0.0 and light_vis[li, i] > 0.0:
+                hx, hy, hz = dx + v[i, 0], dy + v[i, 1], dz + v[i, 2]
+                hl = max(math.sqrt(hx * hx + hy * hy + hz * hz), 1e-300)
+                noh = min(max((n[i, 0] * hx + n[i, 1] * hy + n[i, 2] * hz) / hl, 0.0), 1.0)
+                h = highlight_tone(d_ggx(noh, alpha), d_peak, spec_threshold, spec_softness) * light_vis[li, i]
+                for c in range(3):
+                    sc = 1.0 + (base[i, c] - 1.0) * metal[i]
+                    o[c] += specular * sc * light_e[li, i, c] / np.pi * h
+        if summed and n_lights > 0:
+            x = weight / norm if norm > 0.0 else 0.0
+            tone = toon_tone(x, thresholds, softness)
+            for c in range(3):
+                o[c] += base[i, c] / np.pi * total[c] * _tone_colour(ramp, shadow, tone, c)
+        if has_env:
+            tone = toon_tone(rec709_luminance(e_n[i, 0], e_n[i, 1], e_n[i, 2]) / y_max, thresholds, softness)
+            keep = 0.0
+            if specular > 0.0:
+                keep = highlight_tone(rec709_luminance(prefiltered[i, 0], prefiltered[i, 1], prefiltered[i, 2]),
+                                      level_max[i], spec_threshold, spec_softness)
+            for c in range(3):
+                o[c] += base[i, c] / np.pi * e_max[c] * _tone_colour(ramp, shadow, tone, c)
+                o[c] += specular * (1.0 + (base[i, c] - 1.0) * metal[i]) * prefiltered[i, c] * keep
+                lighting[c] += e_n[i, c] / np.pi
+        rim = parametric_rim(nov, rim_power, rim_lift)
+        for c in range(3):
+            out[i, c] = o[c] + rim_color[c] * rim * (1.0 + (lighting[c] - 1.0) * rim_mix) + emissive[i, c]
+
+
+def _toon(style, geometry, env, bake, s, v):
+    count = s.p.shape[0]
     lights = _lights(geometry, s)
-    base = s.base_color
-    thresholds = style.threshold_values
-    out = np.zeros_like(base)
-    nov = np.clip(np.sum(s.n * v, axis=1), 0.0, 1.0)
-    alpha = np.maximum(alpha_from_roughness(s.roughness), 1e-3)
-    spec_color = _spec_color(s)
-    lighting = np.zeros_like(base)  # what tints the rim
-    if lights:
-        y = np.array([float(luminance(e.max(axis=0))) for e, _, _, _ in lights])
-        if style.lighting == "summed":
-            weight = sum(luminance(e) * np.maximum(nol, 0.0) * vis for e, nol, vis, _ in lights)
-            norm = sum(luminance(e) for e, _, _, _ in lights)
-            x = np.where(norm > 0.0, weight / np.where(norm > 0.0, norm, 1.0), 0.0)
-            total = sum(e for e, _, _, _ in lights)
-            out += base / math.pi * total * _shade(style, toon_tone(x, thresholds, style.softness))
-        else:
-            for e, nol, vis, _ in lights:
-                out += base / math.pi * e * _shade(style, toon_tone(np.maximum(nol, 0.0) * vis, thresholds,
-                                                                   style.softness))
-        if style.specular > 0.0:
-            for (e, nol, vis, direction), _ in zip(lights, y):
-                h = direction + v
-                h /= np.maximum(np.linalg.norm(h, axis=1, keepdims=True), 1e-300)
-                noh = np.clip(np.sum(s.n * h, axis=1), 0.0, 1.0)
-                tone = highlight_tone(d_ggx(noh, alpha), d_ggx(1.0, alpha), style.specular_threshold,
-                                      style.specular_softness) * (nol > 0.0) * vis
-                out += style.specular * spec_color * e / math.pi * tone[:, None]
-        lighting += sum(e * (np.maximum(nol, 0.0) * vis)[:, None] for e, nol, vis, _ in lights) / math.pi
-    if style.environment and bake is not None:
+    light_e = np.ascontiguousarray(np.stack([e for e, _, _, _ in lights]) if lights else np.zeros((0, count, 3)))
+    light_dir = np.ascontiguousarray(np.stack([d for _, _, _, d in lights]) if lights else np.zeros((0, count, 3)))
+    light_vis = np.ascontiguousarray(np.stack([vis for _, _, vis, _ in lights]) if lights else np.zeros((0, count)))
+    has_env = bool(style.environment and bake is not None)
+    if has_env:
         e_n, _, _, e_max, prefiltered, level_max = _environment(env, bake, s, v, style)
-        y_max = max(float(luminance(e_max)), 1e-300)
-        tone = toon_tone(luminance(e_n) / y_max, thresholds, style.softness)
-        out += base / math.pi * e_max * _shade(style, tone)
-        if style.specular > 0.0:
-            keep = highlight_tone(luminance(prefiltered), level_max, style.specular_threshold, style.specular_softness)
-            out += style.specular * spec_color * prefiltered * keep[:, None]
-        lighting += e_n / math.pi
-    rim = np.asarray(style.rim_color)[None, :] * parametric_rim(nov, style.rim_power, style.rim_lift)[:, None]
-    out += rim * (1.0 + (lighting - 1.0) * style.rim_mix)
-    return out + s.emissive
+    else:
+        e_n, e_max, prefiltered, level_max = np.zeros((1, 3)), np.zeros(3), np.zeros((1, 3)), np.zeros(1)
+    ramp = np.zeros((0, 3)) if style.ramp_colors is None else np.ascontiguousarray(style.ramp_colors)
+    out = np.empty((count, 3))
+    c = np.ascontiguousarray
+    _toon_kernel(c(s.n), c(v), c(s.base_color), c(s.roughness), c(s.metallic), c(s.emissive), light_e, light_dir,
+                 light_vis, style.lighting == "summed", c(style.threshold_values), style.softness,
+                 np.asarray(style.shadow_color), ramp, style.specular, style.specular_threshold,
+                 style.specular_softness, has_env, c(e_n), c(np.asarray(e_max, dtype=np.float64)), c(prefiltered),
+                 c(np.asarray(level_max, dtype=np.float64)), np.asarray(style.rim_color), style.rim_power,
+                 style.rim_lift, style.rim_mix, out)
+    return out
 
 
 def _mtoon(style, geometry, env, bake, s, v):

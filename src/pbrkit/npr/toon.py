@@ -1,8 +1,9 @@
 """Toon shading terms: bands of a lighting value, thresholded highlights, rim light,
 and VRM MToon 1.0's shading, GI equalisation and parametric rim.
 
-Every term is a NumPy function of arrays (or scalars) that broadcast, used
-per pixel by the styled renderer (:mod:`pbrkit.npr.render`).
+Every term except :func:`ramp_lookup` and :func:`default_thresholds` is a
+``dual_use`` function (:mod:`pbrkit.core.jit`): NumPy arrays from Python, scalars
+inside the styled renderer's kernel (:mod:`pbrkit.npr.render`), one formula for both.
 
 Bands (cel shading; Lake, Marshall, Harris and Blackstein, "Stylized Rendering
 Techniques for Scalable Real-Time 3D Animation", NPAR 2000, sec. 3: the diffuse
@@ -26,10 +27,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.jit import dual_use, select
+
 __all__ = [
     "smooth_step_band",
     "toon_tone",
     "default_thresholds",
+    "toon_shade",
     "ramp_lookup",
     "linearstep",
     "mtoon_shading",
@@ -39,29 +43,34 @@ __all__ = [
 ]
 
 
+@dual_use
 def smooth_step_band(x, edge, softness):
     """0 below ``edge`` and 1 above it: a step, or with ``softness`` s > 0 the
     smoothstep 3u^2 - 2u^3 of u = saturate((x - edge) / s + 1/2), a transition of
     width s centred on the edge (GLSL ``smoothstep``; Lake et al. 2000 use the hard
     step, anti-aliasing by supersampling)."""
-    x = np.asarray(x, dtype=np.float64)
-    if softness <= 0.0:
-        return np.where(x >= edge, 1.0, 0.0)
-    u = np.clip((x - edge) / softness + 0.5, 0.0, 1.0)
-    return u * u * (3.0 - 2.0 * u)
+    u = np.minimum(np.maximum((x - edge) / max(softness, 1e-300) + 0.5, 0.0), 1.0)
+    return select(softness > 0.0, u * u * (3.0 - 2.0 * u), select(x >= edge, 1.0, 0.0))
 
 
+@dual_use
 def toon_tone(x, thresholds, softness):
     """The tone in [0, 1] of a lighting value x (module docstring): the mean of the
     steps at the K ``thresholds``; K + 1 tones with hard steps."""
-    thresholds = np.asarray(thresholds, dtype=np.float64)
     k = thresholds.shape[0]
     if k == 0:
-        return np.clip(x, 0.0, 1.0)
-    total = np.zeros(np.shape(x))
-    for edge in thresholds:  # K steps, each over every pixel
-        total = total + smooth_step_band(x, edge, softness)
+        return np.minimum(np.maximum(x, 0.0), 1.0)
+    total = 0.0 * x
+    for i in range(k):  # K steps, each over every pixel
+        total = total + smooth_step_band(x, thresholds[i], softness)
     return total / k
+
+
+@dual_use
+def toon_shade(shadow, tone):
+    """The colour multiplier of a tone by the two-colour ramp mix(shadow colour, 1,
+    tone) (one channel, or arrays that broadcast)."""
+    return shadow + (1.0 - shadow) * tone
 
 
 def default_thresholds(tones):
@@ -86,34 +95,38 @@ def ramp_lookup(ramp, tone):
     return ramp[i0] * (1.0 - f) + ramp[i1] * f
 
 
+@dual_use
 def linearstep(a, b, x):
     """saturate((x - a) / (b - a)) (MToon 1.0, "Lighting", its ``linearstep``)."""
     return np.minimum(np.maximum((x - a) / (b - a), 0.0), 1.0)
 
 
+@dual_use
 def mtoon_shading(nol, shift, toony):
     """MToon 1.0's shading factor linearstep(-1 + toony, 1 - toony, n.l + shift)
     ("Lighting", Implementation; toony < 1)."""
     return linearstep(-1.0 + toony, 1.0 - toony, nol + shift)
 
 
+@dual_use
 def parametric_rim(nov, power, lift):
     """MToon 1.0's parametric rim pow(saturate(1 - n.v + lift), max(power, 1e-5))
     ("Rim Lighting", Parametric Rim Lighting: the epsilon the specification asks for)."""
     return np.power(np.minimum(np.maximum(1.0 - nov + lift, 0.0), 1.0), np.maximum(power, 1e-5))
 
 
+@dual_use
 def gi_equalized(gi, gi_up, gi_down, factor):
     """MToon 1.0's equalised global illumination lerp(gi(n), (gi(up) + gi(down)) / 2,
     factor) ("Global Illumination", Implementation)."""
     return gi + ((gi_up + gi_down) * 0.5 - gi) * factor
 
 
+@dual_use
 def highlight_tone(d, d_peak, threshold, softness):
     """A toon highlight: the microfacet distribution's value D(n.h) relative to its
     peak D(1), thresholded (the specular term of Lake et al. 2000's cel shading,
     here on the material's own D so the highlight keeps the lobe's shape:
     ``threshold`` 0.5 draws the lobe's half-maximum)."""
-    d_peak = np.asarray(d_peak, dtype=np.float64)
-    ratio = np.where(d_peak > 0.0, np.asarray(d, dtype=np.float64) / np.where(d_peak > 0.0, d_peak, 1.0), 0.0)
+    ratio = select(d_peak > 0.0, d / np.maximum(d_peak, 1e-300), 0.0)
     return smooth_step_band(ratio, threshold, softness)
