@@ -169,10 +169,10 @@ def _fibonacci_normals(n=256):
     return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
 
 
-def _environment(env, bake, s, v, style):
+def _environment(env, bake, s, v, style, specular=True):
     """(SH irradiance at n (N, 3), at +Y and -Y (3,), at the brightest of 256 directions
     (3,), prefiltered specular in the mirror direction (N, 3) and the luminance of its
-    level's brightest texel (N,))."""
+    level's brightest texel (N,)); without ``specular`` the last two are None."""
     from ..ibl.cubemap import CubeSampler
     from ..ibl.prefilter import level_of_roughness
     from ..ibl.sh import irradiance_from_sh
@@ -186,6 +186,8 @@ def _environment(env, bake, s, v, style):
     e_up, e_down = irradiance(np.array([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]))
     probes = irradiance(_fibonacci_normals())
     e_max = probes[int(np.argmax(luminance(probes)))]
+    if not specular:
+        return e_n, e_up, e_down, e_max, None, None
     chain = [np.asarray(level) for level in bake.specular]
     nov = np.sum(s.n * v, axis=1, keepdims=True)
     refl = 2.0 * nov * s.n - v
@@ -310,7 +312,7 @@ def _mtoon(style, geometry, env, bake, s, v):
         out += (shade + (base - shade) * shading) * e / math.pi
         lighting += e / math.pi
     if bake is not None:
-        e_n, e_up, e_down, _, _, _ = _environment(env, bake, s, v, style)
+        e_n, e_up, e_down, _, _, _ = _environment(env, bake, s, v, style, specular=False)
         gi = gi_equalized(e_n, e_up[None, :], e_down[None, :], style.gi_equalization)
         out += gi / math.pi * base
         lighting += gi / math.pi
@@ -395,7 +397,7 @@ def _hatching(style, scene, geometry, env, bake, s, v, prim):
         norm = norm + luminance(e)
         reference = reference + e.max(axis=0)
     if style.environment and bake is not None:
-        e_n, _, _, e_max, _, _ = _environment(env, bake, s, v, style)
+        e_n, _, _, e_max, _, _ = _environment(env, bake, s, v, style, specular=False)
         weight = weight + luminance(e_n)
         norm = norm + float(luminance(e_max))
         reference = reference + e_max
