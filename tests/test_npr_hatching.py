@@ -271,4 +271,4 @@ def test_cli_writes_the_tonal_art_map_deterministically(tmp_path):
     assert "tone2_mip0.png" in files and "manifest.json" in files
     assert all((tmp_path / "a" / f).read_bytes() == (tmp_path / "b" / f).read_bytes() for f in files)
     r = runner.invoke(app, ["hatching", "-o", str(tmp_path / "c"), "--size", "100", "-q"])
-    assert r.exit_code != 0 and "power of two" in r.output and not (tmp_path / "c").exists()
+    assert r.exit_code != 0 and "--size must be a power of two" in r.output and not (tmp_path / "c").exists()

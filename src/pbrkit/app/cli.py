@@ -891,8 +891,11 @@ def hatching(
     PNG (tone{k}_mip{l}.png; each darker tone holds the strokes of the lighter ones,
     each level keeps the stroke width in pixels), RGB atlases of three tones, a
     preview and manifest.json, for use as hatching textures in an engine."""
+    from ..core import checks
     from ..npr.hatching import tonal_art_map, write_tam
 
+    checks.integer(tones, "--tones", 2, 16)
+    checks.power_of_two(size, "--size", 8, 4096)
     with _Stages("hatching", quiet, 2) as stages:
         stages.start("strokes")
         tam = tonal_art_map(tones=tones, size=size, seed=seed)
