@@ -50,7 +50,6 @@ import numpy as np
 
 from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import luminance, rec709_luminance
-from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, parallel_kernel
 from ..render.lights import light_incidence
 from .style import Style
@@ -59,6 +58,7 @@ from .toon import (
     highlight_tone,
     mtoon_shading,
     parametric_rim,
+    ramp_channel,
     ramp_lookup,
     toon_shade,
     toon_tone,
@@ -205,14 +205,12 @@ def _spec_color(s):
 
 @dual_use
 def _tone_colour(ramp, shadow, tone, c):
-    """Channel c of the colour multiplier of a tone: the ramp (M, 3) (linear, texel
-    centres, clamp to edge, as :func:`pbrkit.npr.toon.ramp_lookup`) when it has rows,
-    else :func:`pbrkit.npr.toon.toon_shade` of the shadow colour."""
-    m = ramp.shape[0]
-    if m == 0:
+    """Channel c of the colour multiplier of a tone: the ramp (M, 3) when it has rows
+    (:func:`pbrkit.npr.toon.ramp_channel`), else :func:`pbrkit.npr.toon.toon_shade`
+    of the shadow colour (:func:`_shade` in a kernel)."""
+    if ramp.shape[0] == 0:
         return toon_shade(shadow[c], tone)
-    i0, i1, f = texel_pair(min(max(tone, 0.0), 1.0) * m - 0.5, m, CLAMP_TO_EDGE)
-    return ramp[i0, c] * (1.0 - f) + ramp[i1, c] * f
+    return ramp_channel(ramp, tone, c)
 
 
 @parallel_kernel

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, select
 
 __all__ = [
@@ -34,6 +35,7 @@ __all__ = [
     "toon_tone",
     "default_thresholds",
     "toon_shade",
+    "ramp_channel",
     "ramp_lookup",
     "linearstep",
     "mtoon_shading",
@@ -82,17 +84,21 @@ def default_thresholds(tones):
     return np.arange(1, tones, dtype=np.float64) / tones
 
 
-def ramp_lookup(ramp, tone):
-    """Linear lookup of a ramp (M, 3) at ``tone`` (...) in [0, 1]: texel centres at
+@dual_use
+def ramp_channel(ramp, tone, c):
+    """Channel c of a ramp (M, 3) at ``tone`` in [0, 1]: linear between texel centres
     (i + 0.5) / M, clamp to edge (a 1-D texture as Lake et al. 2000 use;
-    :func:`pbrkit.core.filtering.texel_pair`).  Returns (..., 3)."""
-    from ..core.filtering import CLAMP_TO_EDGE, texel_pair
+    :func:`pbrkit.core.filtering.texel_pair`)."""
+    i0, i1, f = texel_pair(np.minimum(np.maximum(tone, 0.0), 1.0) * ramp.shape[0] - 0.5, ramp.shape[0],
+                           CLAMP_TO_EDGE)
+    return ramp[i0, c] * (1.0 - f) + ramp[i1, c] * f
 
+
+def ramp_lookup(ramp, tone):
+    """:func:`ramp_channel` of every channel: the ramp (M, 3) at tones (...) -> (..., 3)."""
     ramp = np.asarray(ramp, dtype=np.float64)
-    i0, i1, f = texel_pair(np.clip(np.asarray(tone, dtype=np.float64), 0.0, 1.0) * ramp.shape[0] - 0.5,
-                           ramp.shape[0], CLAMP_TO_EDGE)
-    f = np.asarray(f)[..., None]
-    return ramp[i0] * (1.0 - f) + ramp[i1] * f
+    tone = np.asarray(tone, dtype=np.float64)
+    return np.stack([ramp_channel(ramp, tone, c) for c in range(3)], axis=-1)
 
 
 @dual_use

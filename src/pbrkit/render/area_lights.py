@@ -76,6 +76,7 @@ from ..sampling.spherical import (
     sphere_cone_pdf,
     triangle_solid_angle,
 )
+from .lights import checked_emission
 from .primitives import _ray_sphere
 
 __all__ = [
@@ -146,13 +147,8 @@ class AreaLight:
             raise ValueError(f"unknown area light type {self.type!r}; choose one of {', '.join(AREA_LIGHT_TYPES)}")
         if self.unit not in AREA_UNITS:
             raise ValueError(f"unknown light unit {self.unit!r}; choose one of {', '.join(AREA_UNITS)}")
-        color = checks.vector(self.color, "light color")
-        if np.any(color < 0.0):
-            raise ValueError(f"light color must be non-negative; got {self.color!r}")
-        set_(self, "color", tuple(color))
-        intensity = float(self.intensity)
-        if not np.isfinite(intensity) or intensity < 0.0:
-            raise ValueError(f"light intensity must be finite and >= 0; got {self.intensity!r}")
+        color, intensity = checked_emission(self.color, self.intensity)
+        set_(self, "color", color)
         set_(self, "intensity", intensity)
         set_(self, "two_sided", bool(self.two_sided))
         set_(self, "position", tuple(checks.vector(self.position, "light position")))

@@ -48,6 +48,7 @@ __all__ = [
     "LIGHT_TYPES",
     "FALLOFFS",
     "Light",
+    "checked_emission",
     "window_ue4",
     "falloff_khr",
     "falloff_ue4",
@@ -99,6 +100,18 @@ def spot_attenuation(cos_angle, cos_inner, cos_outer):
     return a * a
 
 
+def checked_emission(color, intensity):
+    """A light's (color as a tuple of 3 non-negative floats, intensity as a finite
+    float >= 0), or ValueError naming the one that is not (punctual and area lights)."""
+    c = checks.vector(color, "light color")
+    if np.any(c < 0.0):
+        raise ValueError(f"light color must be non-negative; got {color!r}")
+    value = float(intensity)
+    if not np.isfinite(value) or value < 0.0:
+        raise ValueError(f"light intensity must be finite and >= 0; got {intensity!r}")
+    return tuple(c), value
+
+
 @dataclass(frozen=True)
 class Light:
     """A punctual light (see the module docstring for units and conventions)."""
@@ -119,13 +132,8 @@ class Light:
             raise ValueError(f"unknown light type {self.type!r}; choose one of {', '.join(LIGHT_TYPES)}")
         if self.falloff not in FALLOFFS:
             raise ValueError(f"unknown light falloff {self.falloff!r}; choose one of {', '.join(FALLOFFS)}")
-        color = checks.vector(self.color, "light color")
-        if np.any(color < 0.0):
-            raise ValueError(f"light color must be non-negative; got {self.color!r}")
-        set_(self, "color", tuple(color))
-        intensity = float(self.intensity)
-        if not np.isfinite(intensity) or intensity < 0.0:
-            raise ValueError(f"light intensity must be finite and >= 0; got {self.intensity!r}")
+        color, intensity = checked_emission(self.color, self.intensity)
+        set_(self, "color", color)
         set_(self, "intensity", intensity)
         set_(self, "position", tuple(checks.vector(self.position, "light position")))
         set_(self, "direction", tuple(checks.vector(self.direction, "light direction", unit=True)))

@@ -44,7 +44,7 @@ import numpy as np
 
 from ..core.jit import dual_use, parallel_kernel
 from ..core.vec import orthonormal_basis_xyz
-from .warps import warp_concentric_disk
+from .warps import unit_square, warp_concentric_disk
 
 __all__ = [
     "MIN_SOLID_ANGLE",
@@ -811,15 +811,6 @@ def _points(value, name):
     return a
 
 
-def _square(u):
-    u = np.asarray(u, dtype=np.float64)
-    if u.ndim == 0 or u.shape[-1] != 2:
-        raise ValueError(f"u must have 2 components (u1, u2) in its last axis; got shape {u.shape}")
-    if not np.all((u >= 0.0) & (u <= 1.0)):
-        raise ValueError("u must lie in the unit square [0, 1]^2 (and be finite)")
-    return u
-
-
 def _radius(value):
     r = np.asarray(value, dtype=np.float64)
     if not np.all(np.isfinite(r) & (r >= 0.0)):
@@ -877,7 +868,7 @@ def sample_spherical_triangles(o, v0, v1, v2, u):
     u (..., 2) broadcast; returns (directions (..., 3), distances (...), pdf (...)),
     all zero where no sample is possible."""
     shape, (o, a, b, c, u), _ = _broadcast([_points(o, "o"), _points(v0, "v0"), _points(v1, "v1"),
-                                            _points(v2, "v2"), _square(u)])
+                                            _points(v2, "v2"), unit_square(u)])
     out = _outputs(o.shape[0])
     _triangle_kernel(o, a, b, c, u, *out)
     return _reshape(shape, *out)
@@ -916,7 +907,7 @@ def sample_spherical_rectangles(o, corner, ex, ey, u):
     ex = _points(ex, "ex")
     ey = _points(ey, "ey")
     _check_orthogonal(ex, ey)
-    shape, (o, s, ex, ey, u), _ = _broadcast([_points(o, "o"), _points(corner, "corner"), ex, ey, _square(u)])
+    shape, (o, s, ex, ey, u), _ = _broadcast([_points(o, "o"), _points(corner, "corner"), ex, ey, unit_square(u)])
     out = _outputs(o.shape[0])
     _rectangle_kernel(o, s, ex, ey, u, *out)
     return _reshape(shape, *out)
@@ -936,7 +927,7 @@ def sample_sphere_cones(o, center, radius, u):
     (:func:`sample_sphere_cone`, pbrt-v4 sec. 6.2).  o, center (..., 3), radius (...)
     and u (..., 2) broadcast; returns (directions (..., 3), distances to the near
     hit (...), pdf (...)), all zero for points inside a sphere."""
-    shape, (o, c, u), (r,) = _broadcast([_points(o, "o"), _points(center, "center"), _square(u)],
+    shape, (o, c, u), (r,) = _broadcast([_points(o, "o"), _points(center, "center"), unit_square(u)],
                                         [_radius(radius)])
     out = _outputs(o.shape[0])
     _sphere_kernel(o, c, r, u, *out)
@@ -949,7 +940,7 @@ def sample_disks(o, center, normal, radius, u):
     radius (...) and u (..., 2) broadcast; returns (directions (..., 3),
     distances (...), solid-angle pdf (...)), all zero where no sample is possible."""
     shape, (o, c, n, u), (r,) = _broadcast([_points(o, "o"), _points(center, "center"), _points(normal, "normal"),
-                                            _square(u)], [_radius(radius)])
+                                            unit_square(u)], [_radius(radius)])
     out = _outputs(o.shape[0])
     _disk_kernel(o, c, n, r, u, *out)
     return _reshape(shape, *out)

@@ -33,6 +33,7 @@ from ..core.jit import dual_use, select
 
 __all__ = [
     "ONE_MINUS_EPSILON",
+    "unit_square",
     "warp_uniform_sphere",
     "warp_uniform_hemisphere",
     "warp_concentric_disk",
@@ -407,12 +408,18 @@ def pdf_light_from_half(pdf_h, voh):
 # =========================================================================
 
 
-def _square(u):
+def unit_square(u):
+    """``u`` as float64 (..., 2) points of the unit square [0, 1]^2, or ValueError."""
     u = np.asarray(u, dtype=np.float64)
     if u.ndim == 0 or u.shape[-1] != 2:
         raise ValueError(f"u must have 2 components (u1, u2) in its last axis; got shape {u.shape}")
     if not np.all((u >= 0.0) & (u <= 1.0)):
         raise ValueError("u must lie in the unit square [0, 1]^2 (and be finite)")
+    return u
+
+
+def _square(u):
+    u = unit_square(u)
     return u[..., 0], u[..., 1]
 
 
