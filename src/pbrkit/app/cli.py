@@ -926,5 +926,14 @@ def shaders(
         print(f"wrote {out}: " + ", ".join(names))
 
 
+# Commands with their own modules (each keeps `pbrkit --help` light: the module
+# imports only Typer and this one, and its command imports its work in its body).
+from . import batch_cli as _batch_cli  # noqa: E402
+from . import explore_cli as _explore_cli  # noqa: E402
+
+_explore_cli.register(app)
+_batch_cli.register(app)
+
+
 if __name__ == "__main__":  # pragma: no cover
     app(prog_name="pbrkit")
