@@ -45,10 +45,11 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.jit import dual_use
+from ..core.jit import dual_use, parallel_kernel
 from .cubemap import cube_texel_directions, cube_texel_solid_angles
 from .equirect import equirect_pixel_angles
 
@@ -313,9 +314,28 @@ def project_cube(cube):
 
 def eval_sh(coeffs, d):
     """sum_lm c_lm Y_lm(d): coefficients (9,) or (9, C) at unit directions
-    (..., 3) -> (...) or (..., C)."""
+    (..., 3) -> (...) or (..., C).  One compiled pass over the directions
+    (:func:`_eval_sh_kernel`: the basis of :func:`sh9` summed in place, no (..., 9)
+    array)."""
     c = _check_coeffs(coeffs)
-    return np.tensordot(sh_basis(d), c, axes=([-1], [0]))
+    d = np.asarray(d, dtype=np.float64)
+    if d.ndim < 1 or d.shape[-1] != 3:
+        raise InputError(f"directions must have shape (..., 3), got {d.shape}")
+    flat = np.ascontiguousarray(c.reshape(SH_COUNT, -1), dtype=np.float64)
+    out = np.empty((int(np.prod(d.shape[:-1], dtype=np.int64)), flat.shape[1]))
+    _eval_sh_kernel(flat, np.ascontiguousarray(d.reshape(-1, 3)), out)
+    return out.reshape(d.shape[:-1] + c.shape[1:])
+
+
+@parallel_kernel
+def _eval_sh_kernel(coeffs, d, out):
+    """out[i, c] = sum_lm coeffs[lm, c] Y_lm(d[i]) (:func:`sh9`)."""
+    for i in numba.prange(d.shape[0]):
+        y = sh9(d[i, 0], d[i, 1], d[i, 2])
+        for c in range(coeffs.shape[1]):
+            out[i, c] = (coeffs[0, c] * y[0] + coeffs[1, c] * y[1] + coeffs[2, c] * y[2] + coeffs[3, c] * y[3]
+                         + coeffs[4, c] * y[4] + coeffs[5, c] * y[5] + coeffs[6, c] * y[6]
+                         + coeffs[7, c] * y[7] + coeffs[8, c] * y[8])
 
 
 def irradiance_from_sh(coeffs, normals, window=None, width=3.0):

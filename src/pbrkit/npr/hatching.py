@@ -80,11 +80,13 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numba
 import numpy as np
 
 from ..core.atomic import atomic_directory
 from ..core.checks import integer, power_of_two
 from ..core.filtering import REPEAT, texel_pair
+from ..core.jit import dual_use, parallel_kernel, select
 from ..io.png import write_png
 
 __all__ = ["TonalArtMap", "tonal_art_map", "default_directions", "hatch", "tam_atlas", "preview_image",
@@ -410,16 +412,38 @@ def _check_tam(tam):
         raise ValueError(f"tam must be a TonalArtMap (from tonal_art_map); got {type(tam).__name__}")
 
 
-def _sample_stack(stack, uv, index):
-    """Bilinear REPEAT samples of the images ``stack`` (T, n, n) at ``uv`` (M, 2)
-    for sequence indices ``index`` (M,): 0 is paper white, k + 1 is tone k."""
+@dual_use
+def tam_sample(stack, u, v, index):
+    """A bilinear REPEAT sample of the images ``stack`` (T, n, n) at (u, v) for the
+    sequence index ``index``: 0 is paper white, k + 1 is tone k (OpenGL 4.6 sec.
+    8.14.2 filtering, :func:`pbrkit.core.filtering.texel_pair`)."""
     n = stack.shape[1]
-    j0, j1, fx = texel_pair(uv[:, 0] * n - 0.5, n, REPEAT)
-    i0, i1, fy = texel_pair(uv[:, 1] * n - 0.5, n, REPEAT)
+    j0, j1, fx = texel_pair(u * n - 0.5, n, REPEAT)
+    i0, i1, fy = texel_pair(v * n - 0.5, n, REPEAT)
     k = np.maximum(index - 1, 0)
     value = ((stack[k, i0, j0] * (1.0 - fx) + stack[k, i0, j1] * fx) * (1.0 - fy)
              + (stack[k, i1, j0] * (1.0 - fx) + stack[k, i1, j1] * fx) * fy)
-    return np.where(index == 0, 1.0, value)
+    return select(index == 0, 1.0, value)
+
+
+@parallel_kernel
+def _hatch_kernel(images, tones, uv, t, lam, out):
+    """:func:`hatch` at every point: the two tones around t T blended linearly,
+    each trilinear between mip levels floor(lambda) and the next."""
+    top = len(images) - 1
+    for i in numba.prange(uv.shape[0]):
+        m0 = min(int(math.floor(lam[i])), max(top - 1, 0))
+        g = lam[i] - m0
+        m1 = min(m0 + 1, top)
+        s = t[i] * tones
+        e0 = min(int(math.floor(s)), tones - 1)
+        f = s - e0
+        u, v = uv[i, 0], uv[i, 1]
+        a = (1.0 - f) * tam_sample(images[m0], u, v, e0) + f * tam_sample(images[m0], u, v, e0 + 1)
+        b = a
+        if m1 != m0:
+            b = (1.0 - f) * tam_sample(images[m1], u, v, e0) + f * tam_sample(images[m1], u, v, e0 + 1)
+        out[i] = (1.0 - g) * a + g * b
 
 
 def _per_point(value, name, count):
@@ -470,25 +494,10 @@ def hatch(tone, uv, tam, *, footprint=None, level=None):
         lam = _per_point(level, "level", count)
     else:
         lam = np.zeros(count)
-    top = tam.levels - 1
-    lam = np.clip(lam, 0.0, float(top))
-    m0 = np.minimum(np.floor(lam).astype(np.int64), max(top - 1, 0))
-    g = lam - m0
-    m1 = np.minimum(m0 + 1, top)
-    tones = tam.tones
-    s = t * tones
-    e0 = np.minimum(np.floor(s).astype(np.int64), tones - 1)
-    f = s - e0
-    e1 = e0 + 1
-    result = np.zeros(count)
-    for m in range(tam.levels):
-        weight = np.where(m0 == m, 1.0 - g, 0.0) + np.where(m1 == m, g, 0.0)
-        sel = np.nonzero(weight > 0.0)[0]
-        if sel.size == 0:
-            continue
-        stack, p = tam.images[m], uv[sel]
-        value = (1.0 - f[sel]) * _sample_stack(stack, p, e0[sel]) + f[sel] * _sample_stack(stack, p, e1[sel])
-        result[sel] += weight[sel] * value
+    lam = np.clip(lam, 0.0, float(tam.levels - 1))
+    result = np.empty(count)
+    _hatch_kernel(tam.images, tam.tones, np.ascontiguousarray(uv), np.ascontiguousarray(t),
+                  np.ascontiguousarray(lam), result)
     return result
 
 

@@ -111,9 +111,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
-from ..core.jit import kernel
+from ..core.jit import dual_use, kernel, parallel_kernel, select
 
 __all__ = [
     "OPERATORS",
@@ -226,34 +227,106 @@ def _pad(a, linear=False):
     return np.pad(a, widths, mode="edge")
 
 
+@dual_use
+def depth_step(w_p, w_q, w_pp, w_qq, v_p, v_q, v_pp, v_qq):
+    """Plane-compensated relative depth step of the pair (p, q) (module docstring)
+    from the inverse depths w and validity v of p, q, the pixel beyond p (pp) and
+    the one beyond q (qq): constant extrapolation next to the background, 1 where
+    one side is background, 0 where both are."""
+    pred_q = select(v_pp, 2.0 * w_p - w_pp, w_p)
+    pred_p = select(v_qq, 2.0 * w_q - w_qq, w_q)
+    big = np.maximum(w_p, w_q)
+    d = np.minimum(np.abs(w_q - pred_q), np.abs(w_p - pred_p)) / select(big > 0.0, big, 1.0)
+    d = select(v_p & v_q, np.minimum(d, 1.0), 0.0)
+    return select(v_p ^ v_q, 1.0, d)
+
+
+@dual_use
+def normal_angle(ax, ay, az, bx, by, bz):
+    """The angle (degrees) between unit normals a and b from the half chord
+    |a - b| / 2 = sin(angle / 2) (accurate at small angles too)."""
+    dx = ax - bx
+    dy = ay - by
+    dz = az - bz
+    half = 0.5 * np.sqrt(dx * dx + dy * dy + dz * dz)
+    return 2.0 * np.arcsin(np.minimum(half, 1.0)) * (180.0 / math.pi)
+
+
 def _depth_pair(wp, valid, p, s, shape):
-    """Plane-compensated relative depth step (module docstring) of the pairs
-    (p, p + s) of every pixel; ``wp``, ``valid``: padded inverse depth and mask."""
+    """:func:`depth_step` of the pairs (p, p + s) of every pixel; ``wp``,
+    ``valid``: padded inverse depth and mask."""
     q = (p[0] + s[0], p[1] + s[1])
     pp = (p[0] - s[0], p[1] - s[1])                         # beyond p
     qq = (q[0] + s[0], q[1] + s[1])                         # beyond q
-    w_p, w_q, w_pp, w_qq = (_view(wp, *o, shape) for o in (p, q, pp, qq))
-    v_p, v_q, v_pp, v_qq = (_view(valid, *o, shape) for o in (p, q, pp, qq))
-    pred_q = np.where(v_pp, 2.0 * w_p - w_pp, w_p)         # constant extrapolation next to the background
-    pred_p = np.where(v_qq, 2.0 * w_q - w_qq, w_q)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d = np.minimum(np.abs(w_q - pred_q), np.abs(w_p - pred_p)) / np.maximum(w_p, w_q)
-    d = np.where(v_p & v_q, np.minimum(d, 1.0), 0.0)
-    return np.where(v_p ^ v_q, 1.0, d)
+    w = [_view(wp, *o, shape) for o in (p, q, pp, qq)]
+    v = [_view(valid, *o, shape) for o in (p, q, pp, qq)]
+    return depth_step(*w, *v)
 
 
 def _normal_pair(npad, valid, p, s, shape):
     q = (p[0] + s[0], p[1] + s[1])
-    diff = _view(npad, *p, shape) - _view(npad, *q, shape)
-    # the angle from the half chord |n_p - n_q| / 2 = sin(angle / 2): accurate at small angles too
-    half = 0.5 * np.sqrt(np.einsum("ijk,ijk->ij", diff, diff))
-    angle = np.degrees(2.0 * np.arcsin(np.minimum(half, 1.0)))
+    a, b = _view(npad, *p, shape), _view(npad, *q, shape)
+    angle = normal_angle(a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2])
     return np.where(_view(valid, *p, shape) & _view(valid, *q, shape), angle, 0.0)
 
 
 def _id_pair(ipad, p, s, shape):
     q = (p[0] + s[0], p[1] + s[1])
     return (_view(ipad, *p, shape) != _view(ipad, *q, shape)).astype(np.float64)
+
+
+@parallel_kernel
+def _crack_depth(wp, vp, out):
+    """The ``"crack"`` responses of :func:`depth_step` (padded inputs, pairs leaving
+    the image 0) in one pass."""
+    h, w = out.shape[0], out.shape[1]
+    for i in numba.prange(h):
+        a = i + _PAD
+        for j in range(w):
+            b = j + _PAD
+            out[i, j, 0] = 0.0 if j == w - 1 else depth_step(
+                wp[a, b], wp[a, b + 1], wp[a, b - 1], wp[a, b + 2], vp[a, b], vp[a, b + 1], vp[a, b - 1], vp[a, b + 2])
+            out[i, j, 1] = 0.0 if i == h - 1 else depth_step(
+                wp[a, b], wp[a + 1, b], wp[a - 1, b], wp[a + 2, b], vp[a, b], vp[a + 1, b], vp[a - 1, b], vp[a + 2, b])
+
+
+@parallel_kernel
+def _crack_normal(npad, out):
+    """The ``"crack"`` responses of :func:`normal_angle` of the normalised normals
+    (0 where either side has no normal: zero or non-finite length) in one pass."""
+    h, w = out.shape[0], out.shape[1]
+    for i in numba.prange(h):
+        a = i + _PAD
+        for j in range(w):
+            b = j + _PAD
+            la = math.sqrt(npad[a, b, 0] ** 2 + npad[a, b, 1] ** 2 + npad[a, b, 2] ** 2)
+            for k in range(2):
+                c, d = (a, b + 1) if k == 0 else (a + 1, b)
+                lc = math.sqrt(npad[c, d, 0] ** 2 + npad[c, d, 1] ** 2 + npad[c, d, 2] ** 2)
+                last = j == w - 1 if k == 0 else i == h - 1
+                if last or not (math.isfinite(la) and la > 0.0 and math.isfinite(lc) and lc > 0.0):
+                    out[i, j, k] = 0.0
+                else:
+                    out[i, j, k] = normal_angle(npad[a, b, 0] / la, npad[a, b, 1] / la, npad[a, b, 2] / la,
+                                                npad[c, d, 0] / lc, npad[c, d, 1] / lc, npad[c, d, 2] / lc)
+
+
+@parallel_kernel
+def _crack_ids(ipad, out):
+    """The ``"crack"`` responses of an id buffer (1 on a change) in one pass."""
+    h, w = out.shape[0], out.shape[1]
+    for i in numba.prange(h):
+        a = i + _PAD
+        for j in range(w):
+            b = j + _PAD
+            out[i, j, 0] = 0.0 if j == w - 1 or ipad[a, b] == ipad[a, b + 1] else 1.0
+            out[i, j, 1] = 0.0 if i == h - 1 or ipad[a, b] == ipad[a + 1, b] else 1.0
+
+
+def _crack(kernel, shape, *padded):
+    out = np.empty(shape + (2,))
+    kernel(*(np.ascontiguousarray(x) for x in padded), out)
+    return out
 
 
 def _combine(pair, operator, shape):
@@ -343,8 +416,11 @@ def edge_strength(depth=None, normal=None, object_id=None, material_id=None, ope
         valid = np.isfinite(z) & (z > 0.0)
         w = np.where(valid, 1.0 / np.where(valid, z, 1.0), 0.0)
         wp, vp = _pad(w, linear=True), _pad(valid)
-        out["depth"] = _combine(lambda p, s: _depth_pair(wp, vp, p, s, shape), operator, shape)
-    if "normal" in bufs:
+        out["depth"] = (_crack(_crack_depth, shape, wp, vp) if operator == "crack" else
+                        _combine(lambda p, s: _depth_pair(wp, vp, p, s, shape), operator, shape))
+    if "normal" in bufs and operator == "crack":
+        out["normal"] = _crack(_crack_normal, shape, _pad(bufs["normal"]))
+    elif "normal" in bufs:
         n = bufs["normal"]
         with np.errstate(over="ignore", invalid="ignore"):
             length = np.sqrt(np.einsum("ijk,ijk->ij", n, n))
@@ -356,7 +432,8 @@ def edge_strength(depth=None, normal=None, object_id=None, material_id=None, ope
     for name in ("object_id", "material_id"):
         if name in bufs:
             ipad = _pad(bufs[name])
-            out[name] = _combine(lambda p, s, ipad=ipad: _id_pair(ipad, p, s, shape), operator, shape)
+            out[name] = (_crack(_crack_ids, shape, ipad) if operator == "crack" else
+                         _combine(lambda p, s, ipad=ipad: _id_pair(ipad, p, s, shape), operator, shape))
     return EdgeResponses(operator=operator, **out)
 
 

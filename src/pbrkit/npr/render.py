@@ -52,6 +52,7 @@ from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import luminance, rec709_luminance
 from ..core.jit import dual_use, parallel_kernel
 from ..render.lights import light_incidence
+from ..render.primitives import KIND_NONE, trace_analytic
 from .style import Style
 from .toon import (
     gi_equalized,
@@ -113,51 +114,91 @@ def _shade(style, tone):
     return toon_shade(np.asarray(style.shadow_color), np.asarray(tone)[..., None])
 
 
+class _Lit:
+    """The punctual lights at the shaded points, one row per light: ``e`` illuminance at
+    normal incidence (L, N, 3), ``nol`` n.l (L, N), ``vis`` visibility (L, N),
+    ``direction`` to the light (L, N, 3)."""
+
+    def __init__(self, e, nol, vis, direction):
+        self.e, self.nol, self.vis, self.direction = e, nol, vis, direction
+
+    def __len__(self):
+        return self.e.shape[0]
+
+
 def _lights(geometry, s, shadows=True):
-    """Per punctual light: (illuminance at normal incidence (N, 3), n.l (N,), visibility
-    (N,), direction to the light (N, 3)), shadow rays traced as the real-time path does."""
+    """:class:`_Lit` of the punctual lights at the surface points ``s``, shadow rays
+    traced as the real-time path does."""
     from ..render.lights import light_arrays
 
-    out = []
-    if not geometry.lights or s.p.shape[0] == 0:
-        return out
-    codes, values = light_arrays(geometry.lights)
     count = s.p.shape[0]
+    n_lights = len(geometry.lights) if count else 0
+    lit = _Lit(np.zeros((n_lights, count, 3)), np.zeros((n_lights, count)), np.zeros((n_lights, count)),
+               np.zeros((n_lights, count, 3)))
+    if not n_lights:
+        return lit
+    codes, values = light_arrays(geometry.lights)
     p = np.ascontiguousarray(s.p, dtype=np.float64)
     n = np.ascontiguousarray(s.n, dtype=np.float64)
     ng = np.ascontiguousarray(s.ng, dtype=np.float64)
-    for li in range(codes.shape[0]):
-        direction = np.empty((count, 3))
-        dist = np.empty(count)
-        factor = np.empty(count)
-        nol = np.empty(count)
-        vis = np.empty(count)
-        _incidence_kernel(codes, values, li, p, n, ng, direction, dist, factor, nol, vis)
-        e = factor[:, None] * values[li, 0:3][None, :]
-        lit = np.flatnonzero(vis > 0.0)
-        if shadows and lit.size:
-            origins = geometry.offset_origins(s.p[lit], s.ng[lit], direction[lit])
-            far = np.where(np.isfinite(dist[lit]), dist[lit] * (1.0 - 1e-6), np.inf)
-            vis[lit[geometry.occluded(origins, direction[lit], far)]] = 0.0
-        out.append((e, nol, vis, direction))
-    return out
+    if shadows and not geometry.has_meshes:  # analytic scene: every light and its shadow ray in one pass
+        _incidence_analytic_kernel(codes, values, p, n, ng, 1e-7 * geometry.scale, geometry.spheres,
+                                   *geometry.bvh, geometry.planes, lit.direction, lit.e, lit.nol, lit.vis)
+        return lit
+    dist = np.empty(count)
+    for li in range(n_lights):
+        _incidence_kernel(codes, values, li, p, n, ng, lit.direction[li], dist, lit.e[li], lit.nol[li], lit.vis[li])
+        reach = np.flatnonzero(lit.vis[li] > 0.0)
+        if shadows and reach.size:
+            direction = lit.direction[li, reach]
+            origins = geometry.offset_origins(s.p[reach], s.ng[reach], direction)
+            far = np.where(np.isfinite(dist[reach]), dist[reach] * (1.0 - 1e-6), np.inf)
+            lit.vis[li, reach[geometry.occluded(origins, direction, far)]] = 0.0
+    return lit
 
 
 @parallel_kernel
-def _incidence_kernel(codes, values, li, p, n, ng, out_dir, out_dist, out_factor, out_nol, out_vis):
-    """:func:`pbrkit.render.lights.light_incidence` of light li at every point, n.l,
-    and 1 where the light can reach the point (in front of its geometric normal,
-    inside the light's range), else 0 (before shadow rays)."""
+def _incidence_kernel(codes, values, li, p, n, ng, out_dir, out_dist, out_e, out_nol, out_vis):
+    """:func:`pbrkit.render.lights.light_incidence` of light li at every point: the
+    direction and distance to it, its illuminance at normal incidence (colour x
+    intensity x falloff), n.l, and 1 where the light can reach the point (in front of
+    its geometric normal, inside the light's range), else 0 (before shadow rays)."""
     for i in numba.prange(p.shape[0]):
         lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
         out_dir[i, 0] = lx
         out_dir[i, 1] = ly
         out_dir[i, 2] = lz
         out_dist[i] = d
-        out_factor[i] = f
+        for c in range(3):
+            out_e[i, c] = f * values[li, c]
         out_nol[i] = n[i, 0] * lx + n[i, 1] * ly + n[i, 2] * lz
         front = ng[i, 0] * lx + ng[i, 1] * ly + ng[i, 2] * lz > 0.0
         out_vis[i] = 1.0 if front and f > 0.0 else 0.0
+
+
+@parallel_kernel
+def _incidence_analytic_kernel(codes, values, p, n, ng, eps, spheres, lo, hi, skip, first, count, order, planes,
+                               out_dir, out_e, out_nol, out_vis):
+    """:func:`_incidence_kernel` for every light of an analytic scene, with the shadow
+    ray traced in the kernel (:func:`pbrkit.render.primitives.trace_analytic`, as
+    :func:`pbrkit.render.punctual.punctual_at` does)."""
+    for i in numba.prange(p.shape[0]):
+        for li in range(codes.shape[0]):
+            lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
+            out_dir[li, i, 0] = lx
+            out_dir[li, i, 1] = ly
+            out_dir[li, i, 2] = lz
+            for c in range(3):
+                out_e[li, i, c] = f * values[li, c]
+            out_nol[li, i] = n[i, 0] * lx + n[i, 1] * ly + n[i, 2] * lz
+            gl = ng[i, 0] * lx + ng[i, 1] * ly + ng[i, 2] * lz
+            visible = 0.0
+            if gl > 0.0 and f > 0.0:
+                _, k, _ = trace_analytic(p[i, 0] + eps * ng[i, 0], p[i, 1] + eps * ng[i, 1], p[i, 2] + eps * ng[i, 2],
+                                         lx, ly, lz, 0.0, d * (1.0 - 1e-6), True, spheres, lo, hi, skip, first,
+                                         count, order, planes)
+                visible = 1.0 if k == KIND_NONE else 0.0
+            out_vis[li, i] = visible
 
 
 def _fibonacci_normals(n=256):
@@ -278,10 +319,7 @@ def _toon_kernel(n, v, base, rough, metal, emissive, light_e, light_dir, light_v
 
 def _toon(style, geometry, env, bake, s, v):
     count = s.p.shape[0]
-    lights = _lights(geometry, s)
-    light_e = np.ascontiguousarray(np.stack([e for e, _, _, _ in lights]) if lights else np.zeros((0, count, 3)))
-    light_dir = np.ascontiguousarray(np.stack([d for _, _, _, d in lights]) if lights else np.zeros((0, count, 3)))
-    light_vis = np.ascontiguousarray(np.stack([vis for _, _, vis, _ in lights]) if lights else np.zeros((0, count)))
+    lit = _lights(geometry, s)
     has_env = bool(style.environment and bake is not None)
     if has_env:
         e_n, _, _, e_max, prefiltered, level_max = _environment(env, bake, s, v, style)
@@ -290,8 +328,8 @@ def _toon(style, geometry, env, bake, s, v):
     ramp = np.zeros((0, 3)) if style.ramp_colors is None else np.ascontiguousarray(style.ramp_colors)
     out = np.empty((count, 3))
     c = np.ascontiguousarray
-    _toon_kernel(c(s.n), c(v), c(s.base_color), c(s.roughness), c(s.metallic), c(s.emissive), light_e, light_dir,
-                 light_vis, style.lighting == "summed", c(style.threshold_values), style.softness,
+    _toon_kernel(c(s.n), c(v), c(s.base_color), c(s.roughness), c(s.metallic), c(s.emissive), lit.e, lit.direction,
+                 lit.vis, style.lighting == "summed", c(style.threshold_values), style.softness,
                  np.asarray(style.shadow_color), ramp, style.specular, style.specular_threshold,
                  style.specular_softness, has_env, c(e_n), c(np.asarray(e_max, dtype=np.float64)), c(prefiltered),
                  c(np.asarray(level_max, dtype=np.float64)), np.asarray(style.rim_color), style.rim_power,
@@ -305,7 +343,7 @@ def _mtoon(style, geometry, env, bake, s, v):
     shade = np.asarray(style.shade_color)[None, :]
     out = np.zeros_like(base)
     lighting = np.zeros_like(base)
-    for e, nol, vis, _ in lights:
+    for e, nol, vis in zip(lights.e, lights.nol, lights.vis):
         shading = (mtoon_shading(nol, style.shading_shift, style.shading_toony) * vis)[:, None]
         out += (shade + (base - shade) * shading) * e / math.pi
         lighting += e / math.pi
@@ -340,7 +378,7 @@ def render_styled(scene, style=None, geometry=None, env=None, bake=None, bake_si
     timings["load_and_bake"] = t1 - t0
     prim = _primary(scene, geometry)
     if style.shading == "pbr":
-        base = render_realtime(scene, geometry, env, bake=bake)
+        base = render_realtime(scene, geometry, env, bake=bake, primary=prim)
         image, mask = base.image, base.mask
     else:
         radiance = np.zeros((prim.dirs.shape[0], 3))
@@ -387,13 +425,10 @@ def _hatching(style, scene, geometry, env, bake, s, v, prim):
     from .hatching import hatch
 
     lights = _lights(geometry, s)
-    weight = np.zeros(s.p.shape[0])
-    norm = 0.0
-    reference = np.zeros(3)
-    for e, nol, vis, _ in lights:
-        weight = weight + luminance(e) * np.maximum(nol, 0.0) * vis
-        norm = norm + luminance(e)
-        reference = reference + e.max(axis=0)
+    y = luminance(lights.e)  # (L, N)
+    weight = np.einsum("ln,ln->n", y, np.maximum(lights.nol, 0.0) * lights.vis)
+    norm = y.sum(axis=0)
+    reference = lights.e.max(axis=1).sum(axis=0)
     if style.environment and bake is not None:
         e_n, _, _, e_max, _, _ = _environment(env, bake, s, v, style, specular=False)
         weight = weight + luminance(e_n)

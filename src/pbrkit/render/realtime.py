@@ -478,7 +478,8 @@ def _area_specular_kernel(mi, mf, mat, n, rough, metal, base, spec, fresnel, spl
 
 
 def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", energy_compensation=False,
-                    shadows=True, bake_size=256, bake_options=None, diffuse_weight="fstar", engine="pbrkit"):
+                    shadows=True, bake_size=256, bake_options=None, diffuse_weight="fstar", engine="pbrkit",
+                    primary=None):
     """Real-time shading of ``scene`` (module docstring).  ``diffuse``: ``sh`` (the
     bake's 9 SH coefficients) or ``cube`` (its irradiance cube); ``diffuse_weight``:
     ``fstar`` (what engines do) or ``exact`` (:func:`diffuse_ibl_weight`).
@@ -497,7 +498,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     N, ``babylon/specular.dds`` for a bake folder) at lod = 0.8 log2(N (r^2 +
     0.0005)), SH, :func:`_engine_ibl`'s Babylon.js terms.  The engine modes shade
     metallic-roughness materials (base colour, metallic, roughness) as the engine
-    does, whatever the material's model.  Returns a :class:`RenderResult`;
+    does, whatever the material's model.  ``primary``: the camera rays' hits when the
+    caller has cast them already (:func:`pbrkit.render.primary._primary`; styles).
+    Returns a :class:`RenderResult`;
     ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
     from ..ibl.prefilter import (
@@ -535,7 +538,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         bake = env.bake(size=bake_size, **(bake_options or {}))
     t2 = time.perf_counter()
     timings["bake"] = t2 - t1
-    prim = _primary(scene, geometry)
+    prim = _primary(scene, geometry) if primary is None else primary
     t3 = time.perf_counter()
     timings["primary_rays"] = t3 - t2
     s = prim.surface
