@@ -210,3 +210,29 @@ def test_demo_replaces_a_previous_demo_as_a_whole(demo_dir):
     assert result.exit_code == 0, result.output
     assert not stale.exists() and (demo_dir / "index.html").is_file()
     assert sorted(p.name for p in demo_dir.parent.iterdir()) == siblings
+
+
+def test_npr_section_shows_the_grid_and_a_gltf_model_in_each_style(demo_dir):
+    import imageio.v3 as iio
+    import pygltflib
+
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    parser = _Links()
+    parser.feed(page)
+    summary = json.loads((demo_dir / "summary.json").read_text())["npr"]
+    model = summary["model"]["styles"]
+    assert set(model) == {"pbr", "toon", "mtoon", "hatching", "outline"}
+    assert model["hatching"]["outline"] == "geometry" and model["mtoon"]["outline"] == "hull"
+    images = {}
+    for name, entry in list(summary["styles"].items()) + [("model " + k, v) for k, v in model.items()]:
+        assert entry["file"] in parser.images
+        images[name] = iio.imread(demo_dir / entry["file"]).astype(float)
+        assert images[name].shape[:2] == (summary["size"], summary["size"])
+    # each style changes the model's image (the outline style draws on top of the PBR one)
+    for name in ("toon", "mtoon", "hatching", "outline"):
+        assert np.abs(images["model " + name] - images["model pbr"]).mean() > 1.0, name
+    # the model is a glTF 2.0 file an independent reader loads: the knot with its UVs and the box
+    assert "model.glb" in parser.links
+    gltf = pygltflib.GLTF2().load(str(demo_dir / "model.glb"))
+    assert [m.name for m in gltf.materials] == ["knot", "pedestal"]
+    assert gltf.meshes[0].primitives[0].attributes.TEXCOORD_0 is not None

@@ -140,7 +140,9 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
 DEMO_ENTRIES = frozenset({"index.html", "summary.json", "realtime.png", "reference.png", "error.png", "lut.png",
                           "realtime.exr", "reference.exr", "reference_stderr.exr", "relative_error.exr", "bake",
                           "preview", "furnace", "area_realtime.png", "area_reference.png", "area_error.png",
-                          "npr_toon.png", "npr_mtoon.png", "npr_hatching.png"})
+                          "npr_toon.png", "npr_mtoon.png", "npr_hatching.png", "model.glb", "npr_model_pbr.png",
+                          "npr_model_toon.png", "npr_model_mtoon.png", "npr_model_hatching.png",
+                          "npr_model_outline.png"})
 
 
 def _demo_entries():
@@ -301,15 +303,37 @@ NPR_STYLES = ("toon", "mtoon", "hatching")
 NPR_KEY_LIGHT = {"type": "directional", "direction": (-0.45, -0.5, -0.74), "intensity": 3.0}
 
 
-def _npr_gallery(out, scene, env, baked, size):
-    """The sphere grid at size^2 with a key light in each of :data:`NPR_STYLES`
-    (:func:`pbrkit.npr.render.render_styled`), written as ``npr_<style>.png``."""
+#: The demo model's camera (:mod:`pbrkit.app.demo_model`: the knot on its box).
+NPR_MODEL_CAMERA = {"position": (0.0, 4.2, 7.5), "look_at": (0.0, 0.9, 0.0), "fov": 40.0}
+
+
+def _npr_model_styles():
+    """The styles the demo model is shown in: the presets with the outlines that
+    need a mesh (geometric edges, the inverted hull) and texture-space hatching."""
     from dataclasses import replace
 
+    from ..npr.style import STYLE_PRESETS
+
+    return {"pbr": STYLE_PRESETS["pbr"], "toon": replace(STYLE_PRESETS["toon"], outline="both"),
+            "mtoon": replace(STYLE_PRESETS["mtoon"], outline="hull"),
+            "hatching": replace(STYLE_PRESETS["hatching"], outline="geometry", hatching_space="texture"),
+            "outline": STYLE_PRESETS["outline"]}
+
+
+def _npr_gallery(out, scene, env, baked, size):
+    """The sphere grid at size^2 with a key light in each of :data:`NPR_STYLES`
+    (:func:`pbrkit.npr.render.render_styled`), written as ``npr_<style>.png``; then
+    the demo model (:mod:`pbrkit.app.demo_model`, written as ``model.glb``) under the
+    same lights in each of :func:`_npr_model_styles`, as ``npr_model_<style>.png``."""
+    from dataclasses import replace
+
+    from ..io.gltf_writer import write_glb
     from ..npr.render import render_styled
     from ..npr.style import STYLE_PRESETS
     from ..render.geometry import Geometry
     from ..render.lights import Light
+    from ..render.scene import Camera, GltfObject, Scene
+    from .demo_model import demo_model_primitives
 
     lit = replace(scene.with_camera(width=size, height=size), lights=(Light(**NPR_KEY_LIGHT),))
     geometry = Geometry(lit)
@@ -319,8 +343,18 @@ def _npr_gallery(out, scene, env, baked, size):
         _png(out / f"npr_{name}.png", result.image)
         entries[name] = {"file": f"npr_{name}.png", "seconds": result.stats["timings"]["total"],
                          "outline": result.stats["outline"]}
+    write_glb(out / "model.glb", demo_model_primitives())
+    model = Scene(camera=Camera(width=size, height=size, **NPR_MODEL_CAMERA), environment=scene.environment,
+                  objects=(GltfObject(file=str(out / "model.glb")),), lights=lit.lights, source="model.glb")
+    geometry = Geometry(model)
+    model_entries = {}
+    for name, style in _npr_model_styles().items():
+        result = render_styled(model, style, geometry, env, bake=baked)
+        _png(out / f"npr_model_{name}.png", result.image)
+        model_entries[name] = {"file": f"npr_model_{name}.png", "seconds": result.stats["timings"]["total"],
+                               "shading": style.shading, "outline": style.outline}
     return {"size": size, "key_light": {k: list(v) if isinstance(v, tuple) else v for k, v in NPR_KEY_LIGHT.items()},
-            "styles": entries}
+            "styles": entries, "model": {"file": "model.glb", "styles": model_entries}}
 
 
 def _npr_section(summary):
@@ -332,6 +366,11 @@ def _npr_section(summary):
         f'<figure><img src="{html.escape(e["file"])}" alt="sphere grid, {html.escape(name)} style">'
         f"<figcaption><b>{html.escape(name)}</b>, outline {html.escape(e['outline'])} "
         f"({e['seconds']:.2f} s)</figcaption></figure>" for name, e in npr["styles"].items())
+    model = npr.get("model", {}).get("styles", {})
+    model_figures = "\n".join(
+        f'<figure><img src="{html.escape(e["file"])}" alt="model, {html.escape(name)} style">'
+        f"<figcaption><b>{html.escape(name)}</b>: {html.escape(e['shading'])}, outline {html.escape(e['outline'])} "
+        f"({e['seconds']:.2f} s)</figcaption></figure>" for name, e in model.items())
     return f"""<h2>Non-photorealistic styles</h2>
 <p class="note">The sphere grid ({npr["size"]}&sup2;) with a key light added, rendered in real time with
 <code>pbrkit render --style</code>'s presets (<code>pbrkit.npr</code>): toon bands over the summed lighting with
@@ -339,6 +378,13 @@ thresholded highlights, a banded SH irradiance and rim light; VRM MToon 1.0; hat
 map; outlines from the G-buffers.</p>
 <div class="grid">
 {figures}
+</div>
+<p class="note">A glTF model (<a href="model.glb">model.glb</a>: a torus knot on a box that pbrkit generates, CC0)
+in the same light: toon with G-buffer and mesh outlines (silhouettes, the box's creases, the edge between the two
+materials), MToon with the inverted hull, hatching in texture space (the strokes follow the mesh's TEXCOORD_0)
+with mesh outlines, and PBR with both outlines.</p>
+<div class="grid">
+{model_figures}
 </div>
 """
 

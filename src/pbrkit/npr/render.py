@@ -24,9 +24,13 @@ the PBR Lambert gives it, E / pi):
   of up and down by ``gi_equalization``, times base / pi; the parametric rim.
 - ``hatching``: the tone 1 - x (x over the lights and the environment as in
   ``summed``) drawn with a tonal art map (:mod:`pbrkit.npr.hatching`, Praun et al.
-  2001) in object space (world coordinates box-mapped on the axis plane nearest the
-  normal, ``hatching_scale`` repeats per unit), the mip level from the pixel's
-  footprint, over the base colour lit by the brightest light.
+  2001) in object space (``hatching_space = "object"``: world coordinates box-mapped
+  on the axis plane nearest the normal, ``hatching_scale`` repeats per unit) or in
+  texture space (``"texture"``: the mesh's TEXCOORD_0 times ``hatching_scale``;
+  hits without texture coordinates fall back to object space), the mip level from
+  the pixel's footprint (its world size over the slant, times the map's repeats per
+  world unit: per triangle sqrt(UV area / world area) in texture space), over the
+  base colour lit by the brightest light.
 - ``pbr``: the real-time image (:func:`pbrkit.render.realtime.render_realtime`).
 
 Outlines (``outline``): ``image``: edges of the G-buffers (depth along the camera
@@ -441,10 +445,36 @@ def _hatching(style, scene, geometry, env, bake, s, v, prim):
     depth = np.linalg.norm(s.p - prim.origin, axis=1)
     pixel = depth * 2.0 * math.tan(math.radians(cam.fov) / 2.0) / cam.height / cam.supersample
     slant = np.maximum(np.abs(np.sum(s.n * v, axis=1)), 0.25)
-    footprint = pixel / slant * style.hatching_scale * tam.sizes[0]
-    ink = hatch(np.clip(1.0 - x, 0.0, 1.0), box_uv(s.p, s.n, style.hatching_scale), tam,
-                footprint=np.maximum(footprint, 1e-6))
+    uv = box_uv(s.p, s.n, style.hatching_scale)
+    density = np.full(uv.shape[0], style.hatching_scale)  # map repeats per world unit
+    if style.hatching_space == "texture" and s.uv is not None:
+        textured = np.flatnonzero(np.isfinite(s.uv[:, 0]))
+        uv[textured] = s.uv[textured] * style.hatching_scale
+        density[textured] = style.hatching_scale * _uv_density(geometry, prim, textured)
+    footprint = pixel / slant * density * tam.sizes[0]
+    ink = hatch(np.clip(1.0 - x, 0.0, 1.0), uv, tam, footprint=np.maximum(footprint, 1e-6))
     return s.base_color * reference / math.pi * ink[:, None] + s.emissive
+
+
+def _uv_density(geometry, prim, textured):
+    """UV units per world unit at the hits ``textured`` (rows of the surface): per
+    triangle sqrt(UV area / world area), the isotropic scale of its texture mapping
+    (Praun et al. 2001 sample the TAM with the hardware's mip selection, which this
+    stands in for in a ray caster without screen-space derivatives)."""
+    rows = prim.rows[textured]
+    mesh_of, triangle = prim.hits.index[rows], prim.hits.prim[rows]
+    out = np.ones(rows.size)
+    for mi in np.unique(mesh_of):
+        mesh = geometry.meshes[mi]
+        sel = np.flatnonzero(mesh_of == mi)
+        tri = mesh.indices[triangle[sel]]
+        p0, p1, p2 = (mesh.positions[tri[:, c]] for c in range(3))
+        t0, t1, t2 = (mesh.texcoords[0][tri[:, c]] for c in range(3))
+        world = np.linalg.norm(np.cross(p1 - p0, p2 - p0), axis=1)
+        e1, e2 = t1 - t0, t2 - t0
+        texture = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+        out[sel] = np.sqrt(np.where(world > 0.0, texture / np.where(world > 0.0, world, 1.0), 1.0))
+    return np.where(out > 0.0, out, 1.0)
 
 
 def _outline(style, scene, geometry, prim, image):

@@ -27,7 +27,8 @@ with their parameters (:class:`Style`; every key optional)::
     outline_depth = 0.02          # image: relative depth step that is an edge
     outline_normal = 40.0         # image: normal angle (degrees) that is an edge; geometry: crease angle
     hatching_tones = 6            # hatching: tones of the tonal art map
-    hatching_scale = 1.0          # repeats of the map per unit (object space, box-mapped)
+    hatching_scale = 1.0          # repeats of the map per unit (object space) or per UV unit (texture space)
+    hatching_space = "object"     # object (world position, box-mapped) or texture (the mesh's TEXCOORD_0)
 """
 
 from __future__ import annotations
@@ -40,11 +41,12 @@ from pathlib import Path
 from ..core import checks
 from ..core.errors import InputError
 
-__all__ = ["SHADINGS", "LIGHTINGS", "OUTLINES", "Style", "STYLE_PRESETS", "style_from_dict", "resolve_style"]
+__all__ = ["SHADINGS", "LIGHTINGS", "OUTLINES", "HATCHING_SPACES", "Style", "STYLE_PRESETS", "style_from_dict", "resolve_style"]
 
 SHADINGS = ("pbr", "toon", "mtoon", "hatching")
 LIGHTINGS = ("per_light", "summed")
 OUTLINES = ("none", "image", "geometry", "both", "hull")
+HATCHING_SPACES = ("object", "texture")
 
 
 @dataclass(frozen=True)
@@ -77,11 +79,13 @@ class Style:
     outline_normal: float = 40.0
     hatching_tones: int = 6
     hatching_scale: float = 1.0
+    hatching_space: str = "object"
     ramp_colors: object = field(default=None, compare=False, repr=False)  # (M, 3) linear, loaded from ``ramp``
 
     def __post_init__(self):
         set_ = object.__setattr__
-        for name, choices in (("shading", SHADINGS), ("lighting", LIGHTINGS), ("outline", OUTLINES)):
+        for name, choices in (("shading", SHADINGS), ("lighting", LIGHTINGS), ("outline", OUTLINES),
+                              ("hatching_space", HATCHING_SPACES)):
             if getattr(self, name) not in choices:
                 raise ValueError(f"style {name} must be one of {', '.join(choices)}; got {getattr(self, name)!r}")
         set_(self, "tones", checks.integer(self.tones, "style tones", 2, 64))
@@ -171,7 +175,7 @@ def style_from_dict(table, base_dir=None):
             raise ValueError(f"style {key} must be an integer; got {args[key]!r}")
     if "environment" in args and not isinstance(args["environment"], bool):
         raise ValueError(f"style environment must be true or false; got {args['environment']!r}")
-    for key in ("shading", "lighting", "outline", "ramp"):
+    for key in ("shading", "lighting", "outline", "ramp", "hatching_space"):
         if key in args and not isinstance(args[key], str):
             raise ValueError(f"style {key} must be a string; got {args[key]!r}")
     if "ramp" in args:

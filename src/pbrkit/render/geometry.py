@@ -55,7 +55,8 @@ class Hits:
 class Surface:
     """Shading data at hit points (N rows): position p, geometric normal ng and
     shading normal n (both facing the incoming ray for double-sided materials),
-    material index, and the textured parameters."""
+    material index, the textured parameters, and ``uv``: the mesh's TEXCOORD_0 at
+    each hit (NaN where the hit has none: analytic shapes, meshes without it)."""
 
     p: np.ndarray
     ng: np.ndarray
@@ -66,6 +67,7 @@ class Surface:
     roughness: np.ndarray
     occlusion: np.ndarray
     emissive: np.ndarray
+    uv: np.ndarray | None = None
 
 
 class Geometry:
@@ -300,5 +302,12 @@ class Geometry:
         back = (np.einsum("ij,ij->i", ng, d) > 0.0) & self._two_sided[mat]
         ng[back] = -ng[back]
         n[back] = -n[back]
-        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive)
+        uv0 = np.full((n_rows, 2), np.nan)
+        if 0 in uv_sets:
+            with_uv = np.zeros(n_rows, dtype=bool)
+            for mi in np.unique(idx[tri_rows]):
+                if self.meshes[mi].texcoords:
+                    with_uv[tri_rows[idx[tri_rows] == mi]] = True
+            uv0[with_uv] = uv_sets[0][with_uv]
+        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0)
 
