@@ -178,3 +178,67 @@ def test_inverted_hull_of_a_sphere_is_a_ring_of_the_requested_width():
     measured = (cols.max() + 0.5 - size / 2)
     assert abs(measured - outer) <= 1.0, (measured, outer)
     assert not ring[result.mask].any()  # never over the sphere itself
+
+
+def _hull_ring_outer_radius(scene, style):
+    result = render_styled(scene, style)
+    ring = (result.image[..., 1] > 0.99) & (result.image[..., 0] < 1e-9)
+    cols = np.flatnonzero(ring[scene.camera.height // 2])
+    assert not ring[result.mask].any()
+    return cols.max() + 0.5 - scene.camera.width / 2
+
+
+@pytest.mark.parametrize("mode, width", [("world", 0.05), ("screen", 0.02)])
+def test_hull_width_in_world_and_screen_units(mode, width):
+    """MToon's outlineWidthMode: ``world`` pushes the unit sphere's hull out by the width
+    in scene units (the ring's outer edge is where rays graze a sphere of radius 1 + w);
+    ``screen`` makes the ring a fraction of the image height wide, at any distance."""
+    size = 160
+    scene = sphere_scene(size)
+    cam = scene.camera
+    style = Style(shading="toon", outline="hull", outline_width=width, outline_width_mode=mode,
+                  outline_color=(0.0, 1.0, 0.0), **PLAIN)
+    f = (size / 2) / math.tan(math.radians(cam.fov) / 2)
+    measured = _hull_ring_outer_radius(scene, style)
+    silhouette = f * math.tan(math.asin(1.0 / 5.0))
+    if mode == "world":
+        assert abs(measured - f * math.tan(math.asin((1.0 + width) / 5.0))) <= 1.0
+        # twice as far, the same world width covers about half the pixels
+        far = Scene(camera=Camera(position=(0.0, 0.0, 10.0), look_at=(0.0, 0.0, 0.0), fov=cam.fov, width=size,
+                                  height=size), environment=scene.environment, materials=scene.materials,
+                    objects=scene.objects, lights=scene.lights)
+        expected = f * (math.tan(math.asin((1.0 + width) / 10.0)) - math.tan(math.asin(1.0 / 10.0)))
+        assert abs(_hull_ring_outer_radius(far, style) - f * math.tan(math.asin(0.1)) - expected) <= 1.0
+    else:
+        assert abs((measured - silhouette) - width * size) <= 1.5
+
+
+def test_mtoon_style_maps_the_vrm_extension(tmp_path):
+    """A VRMC_materials_mtoon 1.0 object (as a glTF material carries it) becomes a
+    ``mtoon`` style with the specification's meaning of each property."""
+    import json
+
+    from pbrkit.npr.style import mtoon_style, resolve_style
+
+    ext = {"specVersion": "1.0", "shadeColorFactor": [0.3, 0.2, 0.4], "shadingShiftFactor": -0.1,
+           "shadingToonyFactor": 0.8, "giEqualizationFactor": 0.5, "parametricRimColorFactor": [0.2, 0.1, 0.0],
+           "parametricRimFresnelPowerFactor": 3.0, "parametricRimLiftFactor": 0.1, "rimLightingMixFactor": 0.25,
+           "outlineWidthMode": "worldCoordinates", "outlineWidthFactor": 0.02, "outlineColorFactor": [0.1, 0.0, 0.0],
+           "matcapFactor": [1, 1, 1]}
+    s = mtoon_style(ext)
+    assert (s.shading, s.shade_color, s.shading_shift, s.shading_toony, s.gi_equalization) == \
+        ("mtoon", (0.3, 0.2, 0.4), -0.1, 0.8, 0.5)
+    assert (s.rim_color, s.rim_power, s.rim_lift, s.rim_mix) == ((0.2, 0.1, 0.0), 3.0, 0.1, 0.25)
+    assert (s.outline, s.outline_width_mode, s.outline_width, s.outline_color) == ("hull", "world", 0.02,
+                                                                                   (0.1, 0.0, 0.0))
+    assert mtoon_style({**ext, "outlineWidthMode": "screenCoordinates"}).outline_width_mode == "screen"
+    assert mtoon_style({"specVersion": "1.0"}).outline == "none"  # the specification's default mode
+    path = tmp_path / "material.json"
+    path.write_text(json.dumps({"name": "skin", "VRMC_materials_mtoon": ext}))
+    assert resolve_style(path) == s
+    for bad in ({"outlineWidthMode": "pixels"}, {"shadingToonyFactor": "x"}, {"shadeColorFactor": [1, 2]},
+                {"rimColor": [0, 0, 0]}):
+        with pytest.raises(ValueError, match="VRMC_materials_mtoon"):
+            mtoon_style({**ext, **bad})
+    with pytest.raises(ValueError, match="world"):
+        Style(outline="image", outline_width_mode="world")

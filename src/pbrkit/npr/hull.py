@@ -7,7 +7,9 @@ The method engines use for toon outlines (GAMES202's NPR lecture; VRM MToon 1.0,
 with front faces culled), cast here as rays: a camera ray that meets a back face
 of an object's shell before it meets any object is an outline ray.  The push is
 the outline width in pixels times the world size of a pixel at the vertex's
-distance from the camera, so the outline keeps a constant width in pixels.
+distance from the camera, so the outline keeps a constant width in pixels; or, for
+MToon's ``worldCoordinates`` (``world``), the width itself in scene units, so the
+outline narrows with distance.
 
 - spheres: the shell of a sphere of radius r is the sphere of radius r + w, w =
   width x pixel size at the centre's distance; its back face is the far root of
@@ -60,11 +62,12 @@ def smoothed_normals(positions, indices):
 
 
 def _sphere_hull(origin, dirs, t_object, spheres, width, pixel):
-    """Rays (N,) that meet a sphere's shell (radius r + w) before any object."""
+    """Rays (N,) that meet a sphere's shell (radius r + w) before any object; ``pixel``
+    None: ``width`` is in scene units."""
     hit = np.zeros(dirs.shape[0], dtype=bool)
     for cx, cy, cz, r in spheres:
         c = np.array([cx, cy, cz])
-        grow = width * pixel * float(np.linalg.norm(c - origin))
+        grow = width if pixel is None else width * pixel * float(np.linalg.norm(c - origin))
         f = origin - c
         b = dirs @ f
         disc = b * b - (f @ f - (r + grow) ** 2)
@@ -75,7 +78,8 @@ def _sphere_hull(origin, dirs, t_object, spheres, width, pixel):
 
 
 def _mesh_hull(origin, dirs, t_object, meshes, width, pixel):
-    """Rays (N,) that meet a back face of the meshes' shell before any object."""
+    """Rays (N,) that meet a back face of the meshes' shell before any object; ``pixel``
+    None: ``width`` is in scene units."""
     from embreex import rtcore_scene
     from embreex.mesh_construction import TriangleMesh
 
@@ -83,7 +87,8 @@ def _mesh_hull(origin, dirs, t_object, meshes, width, pixel):
     offset = 0
     for mesh in meshes:
         n = smoothed_normals(mesh.positions, mesh.indices)
-        grow = width * pixel * np.linalg.norm(mesh.positions - origin, axis=1)
+        grow = (np.full(mesh.positions.shape[0], float(width)) if pixel is None
+                else width * pixel * np.linalg.norm(mesh.positions - origin, axis=1))
         shell_p.append(mesh.positions + n * grow[:, None])
         shell_i.append(np.asarray(mesh.indices, dtype=np.int64) + offset)
         offset += mesh.positions.shape[0]
@@ -117,17 +122,18 @@ def _mesh_hull(origin, dirs, t_object, meshes, width, pixel):
     return hit
 
 
-def hull_rays(scene, geometry, prim, width_px):
+def hull_rays(scene, geometry, prim, width, world=False):
     """Per camera ray (P K,): True where the ray meets the inverted hull of a sphere or
-    mesh (module docstring) before any object, ``width_px`` pixels wide."""
+    mesh (module docstring) before any object, ``width`` pixels wide (``world``: pushed
+    out by ``width`` scene units)."""
     cam = scene.camera
     origin = np.asarray(cam.position, dtype=np.float64)
     dirs = np.ascontiguousarray(prim.dirs, dtype=np.float64)
     t_object = np.where(prim.hit, prim.hits.t, np.inf)
-    pixel = hull_pixel_size(cam)
+    pixel = None if world else hull_pixel_size(cam)
     hit = np.zeros(dirs.shape[0], dtype=bool)
     if len(geometry.spheres):
-        hit |= _sphere_hull(origin, dirs, t_object, geometry.spheres, width_px, pixel)
+        hit |= _sphere_hull(origin, dirs, t_object, geometry.spheres, width, pixel)
     if geometry.meshes:
-        hit |= _mesh_hull(origin, dirs, t_object, geometry.meshes, width_px, pixel)
+        hit |= _mesh_hull(origin, dirs, t_object, geometry.meshes, width, pixel)
     return hit

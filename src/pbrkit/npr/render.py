@@ -488,14 +488,15 @@ def _outline(style, scene, geometry, prim, image):
         thresholds = {"depth": style.outline_depth, "normal": style.outline_normal, "object_id": 0.25,
                       "material_id": 0.25}
         coverage = np.maximum(coverage, outline_mask(g.depth, g.normal, g.object_id, g.material_id,
-                                                     thresholds=thresholds, width_px=style.outline_width,
+                                                     thresholds=thresholds, width_px=style.outline_pixels(cam),
                                                      supersample=g.supersample))
     if style.outline in ("geometry", "both") and geometry.meshes:
         coverage = np.maximum(coverage, _mesh_lines(style, cam, geometry, g))
     if style.outline == "hull":
         from .hull import hull_rays
 
-        rays = hull_rays(scene, geometry, prim, style.outline_width).astype(np.float64)
+        rays = hull_rays(scene, geometry, prim, style.outline_pixels(cam),
+                         world=style.outline_width_mode == "world").astype(np.float64)
         coverage = rays.reshape(cam.height, cam.width, cam.supersample ** 2).mean(axis=2)
     return composite(image, coverage, np.asarray(style.outline_color))
 
@@ -518,4 +519,4 @@ def _mesh_lines(style, cam, geometry, g):
     chosen = edges.crease | edges.boundary | edges.material_edge | silhouette_edges(edges, eye=cam)
     k = g.supersample
     depth = g.depth.reshape(cam.height, k, cam.width, k).min(axis=(1, 3))  # the nearest sub-ray per pixel
-    return draw_lines(edges.segments(chosen), cam, depth, width_px=style.outline_width)
+    return draw_lines(edges.segments(chosen), cam, depth, width_px=style.outline_pixels(cam))

@@ -22,7 +22,8 @@ with their parameters (:class:`Style`; every key optional)::
     environment = true            # banded SH irradiance and thresholded prefiltered specular
     # mtoon: shade_color = [0, 0, 0], shading_shift = 0.0, shading_toony = 0.9, gi_equalization = 0.9
     outline = "none"              # none, image (G-buffer edges), geometry (mesh edges), both, hull (inverted hull)
-    outline_width = 1.5           # pixels
+    outline_width = 1.5           # in the unit of outline_width_mode
+    outline_width_mode = "pixels" # pixels; screen (a fraction of the image height); world (scene units, hull only)
     outline_color = [0.0, 0.0, 0.0]
     outline_depth = 0.02          # image: relative depth step that is an edge
     outline_normal = 40.0         # image: normal angle (degrees) that is an edge; geometry: crease angle
@@ -41,12 +42,14 @@ from pathlib import Path
 from ..core import checks
 from ..core.errors import InputError
 
-__all__ = ["SHADINGS", "LIGHTINGS", "OUTLINES", "HATCHING_SPACES", "Style", "STYLE_PRESETS", "style_from_dict", "resolve_style"]
+__all__ = ["SHADINGS", "LIGHTINGS", "OUTLINES", "HATCHING_SPACES", "OUTLINE_WIDTH_MODES",
+           "mtoon_style", "Style", "STYLE_PRESETS", "style_from_dict", "resolve_style"]
 
 SHADINGS = ("pbr", "toon", "mtoon", "hatching")
 LIGHTINGS = ("per_light", "summed")
 OUTLINES = ("none", "image", "geometry", "both", "hull")
 HATCHING_SPACES = ("object", "texture")
+OUTLINE_WIDTH_MODES = ("pixels", "screen", "world")
 
 
 @dataclass(frozen=True)
@@ -74,6 +77,7 @@ class Style:
     gi_equalization: float = 0.9
     outline: str = "none"
     outline_width: float = 1.5
+    outline_width_mode: str = "pixels"
     outline_color: tuple = (0.0, 0.0, 0.0)
     outline_depth: float = 0.02
     outline_normal: float = 40.0
@@ -85,7 +89,7 @@ class Style:
     def __post_init__(self):
         set_ = object.__setattr__
         for name, choices in (("shading", SHADINGS), ("lighting", LIGHTINGS), ("outline", OUTLINES),
-                              ("hatching_space", HATCHING_SPACES)):
+                              ("hatching_space", HATCHING_SPACES), ("outline_width_mode", OUTLINE_WIDTH_MODES)):
             if getattr(self, name) not in choices:
                 raise ValueError(f"style {name} must be one of {', '.join(choices)}; got {getattr(self, name)!r}")
         set_(self, "tones", checks.integer(self.tones, "style tones", 2, 64))
@@ -111,8 +115,21 @@ class Style:
                 raise ValueError(f"style {name} must be a number in [{lo:g}, {hi:g}]; got {v!r}")
             set_(self, name, float(v))
         set_(self, "environment", bool(self.environment))
+        if self.outline_width_mode == "world" and self.outline not in ("hull", "none"):
+            raise ValueError("style outline_width_mode 'world' needs outline 'hull' (lines of the image and the "
+                             f"meshes have a width on screen); got outline {self.outline!r}")
+        if self.outline_width_mode == "screen" and self.outline_width > 0.25:
+            raise ValueError("style outline_width must be at most 0.25 (of the image height) with "
+                             f"outline_width_mode 'screen'; got {self.outline_width!r}")
         if self.ramp is not None and self.ramp_colors is None:
             set_(self, "ramp_colors", _load_ramp(self.ramp))
+
+    def outline_pixels(self, camera):
+        """The outline width in pixels of ``camera``'s image for the ``pixels`` and
+        ``screen`` modes (``world`` widths have none: see :func:`pbrkit.npr.hull.hull_rays`)."""
+        if self.outline_width_mode == "screen":
+            return self.outline_width * camera.height
+        return self.outline_width
 
     @property
     def threshold_values(self):
@@ -124,6 +141,61 @@ class Style:
         if self.thresholds is not None:
             return np.asarray(self.thresholds, dtype=np.float64)
         return default_thresholds(self.tones)
+
+
+#: VRMC_materials_mtoon 1.0 properties and the :class:`Style` keys they set (the
+#: specification's names, github.com/vrm-c/vrm-specification, VRMC_materials_mtoon-1.0).
+MTOON_KEYS = {
+    "shadeColorFactor": "shade_color", "shadingShiftFactor": "shading_shift",
+    "shadingToonyFactor": "shading_toony", "giEqualizationFactor": "gi_equalization",
+    "parametricRimColorFactor": "rim_color", "parametricRimFresnelPowerFactor": "rim_power",
+    "parametricRimLiftFactor": "rim_lift", "rimLightingMixFactor": "rim_mix",
+    "outlineWidthFactor": "outline_width", "outlineColorFactor": "outline_color",
+}
+#: Properties of VRMC_materials_mtoon 1.0 that pbrkit reads but does not render (textures,
+#: UV animation, render order, matcap): accepted and ignored, as their absence is.
+MTOON_IGNORED = {"specVersion", "transparentWithZWrite", "renderQueueOffsetNumber", "shadeMultiplyTexture",
+                 "shadingShiftTexture", "matcapFactor", "matcapTexture", "rimMultiplyTexture",
+                 "outlineWidthMultiplyTexture", "outlineLightingMixFactor", "uvAnimationMaskTexture",
+                 "uvAnimationScrollXSpeedFactor", "uvAnimationScrollYSpeedFactor",
+                 "uvAnimationRotationSpeedFactor", "extensions", "extras"}
+
+
+def mtoon_style(table):
+    """A ``mtoon`` :class:`Style` from a VRMC_materials_mtoon 1.0 object (the glTF
+    material extension's JSON): the shading and rim factors as :data:`MTOON_KEYS`
+    maps them, and the outline as MToon draws it, the inverted hull
+    (``outlineWidthMode``: ``none``: no outline; ``worldCoordinates``: the
+    ``outlineWidthFactor`` in metres (scene units); ``screenCoordinates``: the
+    factor as a fraction of the screen height).  Omitted properties take the
+    specification's defaults (outline ``none``); ValueError names a bad one."""
+    if not isinstance(table, dict):
+        raise ValueError("VRMC_materials_mtoon must be a JSON object")
+    unknown = sorted(set(table) - set(MTOON_KEYS) - MTOON_IGNORED - {"outlineWidthMode"})
+    if unknown:
+        raise ValueError(f"VRMC_materials_mtoon: unknown property {unknown[0]!r}")
+    args = {"shading": "mtoon", "shade_color": (0.0, 0.0, 0.0), "shading_shift": 0.0, "shading_toony": 0.9,
+            "gi_equalization": 0.9, "rim_color": (0.0, 0.0, 0.0), "rim_power": 5.0, "rim_lift": 0.0,
+            "rim_mix": 1.0, "outline_width": 0.0, "outline_color": (0.0, 0.0, 0.0), "specular": 0.0}
+    for key, name in MTOON_KEYS.items():
+        if key in table:
+            value = table[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float, list)):
+                raise ValueError(f"VRMC_materials_mtoon {key} must be a number or a list of numbers; got {value!r}")
+            args[name] = tuple(value) if isinstance(value, list) else value
+    mode = table.get("outlineWidthMode", "none")
+    modes = {"none": None, "worldCoordinates": "world", "screenCoordinates": "screen"}
+    if mode not in modes:
+        raise ValueError(f"VRMC_materials_mtoon outlineWidthMode must be one of {', '.join(modes)}; got {mode!r}")
+    if modes[mode] is None or args["outline_width"] == 0.0:
+        args["outline"] = "none"
+    else:
+        args.update(outline="hull", outline_width_mode=modes[mode])
+    args["shading_toony"] = min(float(args["shading_toony"]), 0.999)
+    try:
+        return Style(**args)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"VRMC_materials_mtoon: {exc}") from None
 
 
 def _load_ramp(path):
@@ -175,7 +247,7 @@ def style_from_dict(table, base_dir=None):
             raise ValueError(f"style {key} must be an integer; got {args[key]!r}")
     if "environment" in args and not isinstance(args["environment"], bool):
         raise ValueError(f"style environment must be true or false; got {args['environment']!r}")
-    for key in ("shading", "lighting", "outline", "ramp", "hatching_space"):
+    for key in ("shading", "lighting", "outline", "ramp", "hatching_space", "outline_width_mode"):
         if key in args and not isinstance(args[key], str):
             raise ValueError(f"style {key} must be a string; got {args[key]!r}")
     if "ramp" in args:
@@ -201,6 +273,11 @@ def resolve_style(name_or_path, base=None):
         data = (tomllib.loads if path.suffix.lower() == ".toml" else json.loads)(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise InputError(f"cannot read the style: {exc}", path) from None
+    if isinstance(data, dict) and "VRMC_materials_mtoon" in data:  # a glTF material's extension, as it is
+        try:
+            return mtoon_style(data["VRMC_materials_mtoon"])
+        except ValueError as exc:
+            raise InputError(str(exc), path) from None
     table = data.get("style", data) if isinstance(data, dict) else data
     try:
         style = style_from_dict(table, path.parent)
