@@ -79,6 +79,8 @@ def main():
     parser.add_argument("--bake-size", type=int, default=256)
     parser.add_argument("--env", type=Path, default=DEFAULT_ENV)
     parser.add_argument("--occlusion", action="store_true", help="let the spheres occlude one another")
+    parser.add_argument("--sections", default="realtime,reference,area,styles",
+                        help="comma-separated sections to run (the real-time baseline always runs)")
     args = parser.parse_args()
     if not args.env.exists():
         sys.exit(f"environment {args.env} not found (needs ../shared/data/env)")
@@ -110,6 +112,17 @@ def main():
           "(target <= 1 s)")
     print("  stages of the last run: " + ", ".join(f"{k} {v:.3f}" for k, v in stages.items() if k != "bake"))
 
+    sections = set(args.sections.split(","))
+    if "reference" in sections:
+        reference(args, env_spec, env)
+    if "area" in sections:
+        area_lights(args, scene, env, baked, best)
+    if "styles" in sections:
+        styles(args, scene, env, baked, best)
+
+
+def reference(args, env_spec, env):
+    """Ground-truth paths per second and noise per sample (module docstring)."""
     gt_scene = builtin_scene("spheres", args.gt_size, args.gt_size, env_spec)
     gt_geometry = Geometry(gt_scene)
     occlusion = bool(args.occlusion)
@@ -123,9 +136,6 @@ def main():
               f"{s['surface_paths'] / 1e6:.2f} M paths in {s['timings']['sampling']:.2f} s = "
               f"{s['paths_per_second'] / 1e6:.2f} M paths/s; noise per sample (relative variance) {noise:.4g}; "
               f"efficiency 1 / (noise x time per path) {s['paths_per_second'] / noise / 1e6:.3g} M")
-
-    area_lights(args, scene, env, baked, best)
-    styles(args, scene, env, baked, best)
 
 
 AREA_LIGHTS = (AreaLight(type="rect", position=(0.0, 12.0, 10.0), normal=(0.0, -0.7, -0.7), width=8.0, height=3.0,

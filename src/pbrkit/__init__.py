@@ -49,7 +49,8 @@ _LAZY = {
     "Material": ("pbrkit.brdf.material", "Material"),
 }
 
-_SUBPACKAGES = {"core", "brdf", "sampling", "albedo", "ibl", "io", "render", "app"}
+_SUBPACKAGES = {"core", "brdf", "sampling", "albedo", "ibl", "io", "ltc", "render", "npr", "measured", "explore", "shaders",
+                "app"}
 
 
 def _package_version():
