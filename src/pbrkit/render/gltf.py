@@ -293,12 +293,13 @@ class _GltfReader:
             pixels = pixels[..., None]
         if pixels.ndim != 3 or not 1 <= pixels.shape[2] <= 4 or 0 in pixels.shape:
             self.fail(f"{where} has shape {pixels.shape}; expected a 2D image with 1 to 4 channels")
-        if pixels.dtype == np.uint8:
-            values = pixels.astype(np.float32) / 255.0
-        elif pixels.dtype == np.uint16:
-            values = pixels.astype(np.float32) / 65535.0
-        else:
-            values = pixels.astype(np.float32)
+        if pixels.dtype in (np.uint8, np.uint16):
+            # integer texels: decode through a table of every code (exactly the formula, per code)
+            top = np.iinfo(pixels.dtype).max
+            codes = np.arange(top + 1, dtype=np.float64) / top
+            unorm = codes.astype(np.float32)
+            return _rgba(pixels, srgb, unorm, srgb_to_linear(codes).astype(np.float32))
+        values = pixels.astype(np.float32)
         if not np.all(np.isfinite(values)):
             self.fail(f"{where} has non-finite texels")
         return _rgba(values, srgb)
@@ -320,20 +321,21 @@ class _GltfReader:
         return cache[key][0]
 
 
-def _rgba(values, srgb):
-    """(H, W, C) texel values in [0, 1] -> (H, W, 4) float32 RGBA (grey and grey-alpha expanded)."""
+def _rgba(values, srgb, unorm=None, decoded=None):
+    """(H, W, C) texels -> (H, W, 4) float32 RGBA (grey and grey-alpha expanded), the
+    colour channels sRGB-decoded when ``srgb``.  Float texels are values in [0, 1];
+    integer ones are codes, looked up in ``unorm`` (code / max) and, for sRGB colour,
+    ``decoded`` (:func:`pbrkit.core.color.srgb_to_linear` of each code)."""
     c = values.shape[2]
+    colour = values[..., :1] if c in (1, 2) else values[..., :3]
+    alpha = values[..., 1] if c == 2 else values[..., 3] if c == 4 else None
     rgba = np.ones(values.shape[:2] + (4,), dtype=np.float32)
-    if c in (1, 2):
-        rgba[..., :3] = values[..., :1]
-        if c == 2:
-            rgba[..., 3] = values[..., 1]
+    if unorm is None:
+        rgba[..., :3] = srgb_to_linear(colour).astype(np.float32) if srgb else colour
     else:
-        rgba[..., :3] = values[..., :3]
-        if c == 4:
-            rgba[..., 3] = values[..., 3]
-    if srgb:
-        rgba[..., :3] = srgb_to_linear(rgba[..., :3]).astype(np.float32)
+        rgba[..., :3] = (decoded if srgb else unorm)[colour]
+    if alpha is not None:
+        rgba[..., 3] = alpha if unorm is None else unorm[alpha]
     return rgba
 
 
