@@ -333,9 +333,9 @@ def _rgba(values, srgb, unorm=None, decoded=None):
     if unorm is None:
         rgba[..., :3] = srgb_to_linear(colour).astype(np.float32) if srgb else colour
     else:
-        rgba[..., :3] = (decoded if srgb else unorm)[colour]
+        rgba[..., :3] = np.take(decoded if srgb else unorm, colour)
     if alpha is not None:
-        rgba[..., 3] = alpha if unorm is None else unorm[alpha]
+        rgba[..., 3] = alpha if unorm is None else np.take(unorm, alpha)
     return rgba
 
 
