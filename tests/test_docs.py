@@ -56,6 +56,8 @@ def test_readme_api_tour_runs_as_written(tmp_path, monkeypatch):
     exec(compile(api_tour(), "README.md (API tour)", "exec"), namespace)
     assert (tmp_path / "bake" / "manifest.json").is_file()
     assert (tmp_path / "spheres.png").is_file() and (tmp_path / "spheres.stderr.exr").is_file()
+    assert (tmp_path / "plastic.binary").is_file()
+    assert abs(namespace["fit"].parameters["roughness"] - 0.5) < 1e-4  # the MERL file's model, recovered
     b, summary = namespace["b"], namespace["summary"]
     assert b.levels == 4 and list(b.roughness) == [0.0, 1 / 3, 2 / 3, 1.0]
     assert 0.0 <= summary["errors"]["mean_relative_error"] < 1.0

@@ -67,9 +67,11 @@ from ..brdf.distributions import ALPHA_MIN
 from ..brdf.material import Material
 from .merl import MERL_SHAPE, MerlBRDF, merl_bin_centres, merl_directions
 
-__all__ = ["FIT_MODELS", "FIT_WEIGHTINGS", "FitResult", "fit_measured", "bin_measure", "fit_samples",
+__all__ = ["FIT_MAX_THETA", "FIT_MODELS", "FIT_WEIGHTINGS", "FitResult", "fit_measured", "bin_measure", "fit_samples",
            "ggx_model", "disney_material", "DISNEY_PARAMETERS", "DISNEY_FIXED"]
 
+#: Ngan, Durand & Matusik 2005's cut (degrees): fits leave out directions beyond it.
+FIT_MAX_THETA = 80.0
 FIT_MODELS = ("ggx", "disney")
 FIT_WEIGHTINGS = ("log", "cosine")
 #: The Disney parameters fitted, in the order of the parameter vector (base_color takes three).

@@ -61,6 +61,7 @@ __all__ = [
     "MERL_SCALE",
     "MERL_INTERPOLATIONS",
     "MerlBRDF",
+    "directions_from_half_diff",
     "half_diff_angles",
     "half_diff_xyz",
     "index_coordinates",
