@@ -1,5 +1,259 @@
-"""The ``pbrkit batch bake|render`` command, registered on the ``pbrkit`` app by ``cli``."""
+"""The ``pbrkit batch bake|render`` commands, registered on the ``pbrkit`` app by ``cli``.
+
+This module imports only Typer and :mod:`pbrkit.app.cli` (``pbrkit --help``
+stays light); the work is in :mod:`pbrkit.app.batch`, imported by the
+commands' bodies, which also import Dask.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from .cli import (
+    BAKE_FORMATS,
+    BAKE_METHODS,
+    DIFFUSE_MODES,
+    EXPOSURE_LIMIT,
+    LAYOUTS,
+    MODES,
+    RENDER_ENGINES,
+    SH_WINDOWS,
+    TONEMAPS,
+    _check_exposure,
+    _choice,
+    _Command,
+    _flag,
+    _Group,
+    _quiet_option,
+    _seed_option,
+    user_errors,
+)
+
+IMAGE_FORMATS = ("png", "exr")
+
+batch_app = typer.Typer(
+    cls=_Group,
+    no_args_is_help=True,
+    add_completion=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+    help="Bake or render many inputs on a Dask cluster: a LocalCluster on this machine, or the workers of a "
+         "distributed scheduler (--scheduler tcp://HOST:PORT).  One folder per input in OUT (OUT/<stem>/), "
+         "skipped when it is up to date, OUT/index.html (a gallery) and OUT/batch.json (the summary).",
+)
+
+
+# ------------------------------------------------------------ shared options
+
+
+def _list_option():
+    return typer.Option(None, "--list", metavar="FILE",
+                        help="A text file of inputs, one file, folder or glob a line (blank lines and # comments "
+                             "skipped; relative to the file's folder); repeatable.")
+
+
+def _out_option():
+    return typer.Option(..., "-o", "--out", metavar="DIR",
+                        help="Output folder: OUT/<name>/ per input, OUT/index.html, OUT/batch.json.")
+
+
+def _force_option():
+    return _flag(False, ("--force",), "Redo every input, also those whose folder is up to date, and replace "
+                                      "folders that are not pbrkit output.")
+
+
+def _scheduler_option():
+    return typer.Option(None, "--scheduler", metavar="ADDRESS",
+                        help="Run on the workers of a running distributed scheduler (tcp://HOST:PORT; inputs and "
+                             "OUT on a file system the workers share).  Default: a LocalCluster on this machine.")
+
+
+def _workers_option():
+    return typer.Option(None, "--workers", metavar="N",
+                        help="LocalCluster worker processes, one task at a time each (default: the cores this "
+                             "process may use).")
+
+
+def _threads_option():
+    return typer.Option(None, "--threads", metavar="N",
+                        help="LocalCluster: Numba threads per worker for the parallel kernels (default 1; "
+                             "workers x threads = cores measured fastest, see the README).")
+
+
+def _dashboard_option():
+    return _flag(True, ("--dashboard/--no-dashboard",),
+                 "LocalCluster: serve Dask's dashboard (its address is printed; about 1 s of the start).")
+
+
+def _cluster_checks(scheduler, workers, threads, dashboard=True):
+    from ..core import checks
+
+    if scheduler is not None:
+        if workers is not None or threads is not None or not dashboard:
+            raise ValueError("--workers, --threads and --no-dashboard set up a LocalCluster; with --scheduler "
+                             "the workers and the dashboard are those started for that scheduler")
+        if "://" not in scheduler or not scheduler.split("://", 1)[1]:
+            raise ValueError(f"--scheduler: expected an address such as tcp://HOST:PORT; got {scheduler!r}")
+    if workers is not None:
+        checks.integer(workers, "--workers", 1, 1024)
+    if threads is not None:
+        checks.integer(threads, "--threads", 1, 1024)
+
+
+def _finish(summary, out, quiet):
+    """Print the summary (stdout) unless ``quiet``; a batch with failures ends
+    with one error line and exit status 1."""
+    from ..core.errors import one_line
+
+    counts = summary["counts"]
+    failed = [o for o in summary["inputs"] if o["status"] == "failed"]
+    if not quiet:
+        print(f"{len(summary['inputs'])} inputs: {counts['done']} done, {counts['skipped']} skipped, "
+              f"{counts['failed']} failed in {summary['wall_seconds']:.1f} s ({summary.get('cluster', '')})")
+        for o in failed:
+            print(one_line(f"failed: {o['name']}: {o['error']}"))
+        print(f"wrote {out / 'index.html'} and {out / 'batch.json'}")
+    for o in summary["inputs"]:  # printed by user_errors as "pbrkit: warning: <name>: ..." lines
+        for w in o.get("warnings") or []:
+            warnings.warn(f"{o['name']}: {w}", UserWarning, stacklevel=1)
+    if failed:
+        names = ", ".join(o["name"] for o in failed[:5]) + (", ..." if len(failed) > 5 else "")
+        raise ValueError(f"{len(failed)} of {len(summary['inputs'])} inputs failed: {names} "
+                         f"(errors in {out / 'batch.json'})")
+
+
+# ----------------------------------------------------------------- commands
+
+
+@batch_app.command("bake", cls=_Command, short_help="Bake many environments, one folder each, on Dask.")
+@user_errors
+def batch_bake(
+    inputs: Optional[list[str]] = typer.Argument(
+        None, metavar="INPUTS",
+        help="Environment files (each as pbrkit bake ENV), folders (their .hdr .exr .pfm files) and globs."),
+    out: Path = _out_option(),
+    list_file: Optional[list[Path]] = _list_option(),
+    size: int = typer.Option(256, "--size", metavar="N", help="Specular cube size (power of two, <= 4096)."),
+    min_size: int = typer.Option(16, "--min-size", metavar="N", help="Size of the last (roughest) specular level."),
+    irradiance_size: int = typer.Option(32, "--irradiance-size", metavar="N", help="Irradiance cube size."),
+    lut_size: int = typer.Option(128, "--lut-size", metavar="N", help="DFG lookup-table size."),
+    fmt: str = _choice("rgba16f", "--format", BAKE_FORMATS, "format", "KTX2/DDS texel format."),
+    method: str = _choice("spectral", "--method", BAKE_METHODS, "method",
+                          "spectral (exact SH-domain convolution) or fis (filtered importance sampling)."),
+    sh_window: Optional[str] = _choice(None, "--sh-window", SH_WINDOWS, "SH window",
+                                       "Window the stored SH (default: none)."),
+    layout: Optional[str] = _choice(None, "--layout", LAYOUTS, "layout",
+                                    "Force the layout of every input (default: by aspect ratio)."),
+    fix_nonfinite: bool = _flag(False, ("--fix-nonfinite",),
+                                "Replace NaN/Inf pixels by the mean of their finite neighbours (refused when more "
+                                "than half of an image is NaN/Inf); without it they are refused."),
+    target: Optional[list[str]] = typer.Option(
+        None, "--target", metavar="[generic|filament|khronos|babylon|three|all]",
+        help="Also write the files of an engine in OUT/<name>/<target>/, as pbrkit bake --target (repeatable, "
+             "or a comma-separated list)."),
+    force: bool = _force_option(),
+    scheduler: Optional[str] = _scheduler_option(),
+    workers: Optional[int] = _workers_option(),
+    threads: Optional[int] = _threads_option(),
+    dashboard: bool = _dashboard_option(),
+    quiet: bool = _quiet_option(),
+):
+    """Bake every input as pbrkit bake does, into OUT/<name>/ (the same files, byte for byte), on a Dask
+    LocalCluster or --scheduler's workers.  An input whose folder's manifest records the same input SHA-256,
+    options and targets is skipped (--force redoes it); a bad input fails alone, and the batch then exits
+    with status 1 naming it.  Writes OUT/index.html (every preview, time, size, status) and OUT/batch.json."""
+    from .batch import (
+        BatchProgress,
+        bake_jobs_options,
+        check_bake_options,
+        expand_inputs,
+        run_batch,
+    )
+
+    options = bake_jobs_options(size, min_size, irradiance_size, lut_size, fmt, method, sh_window, layout,
+                                fix_nonfinite)
+    targets = check_bake_options(options, target)
+    _cluster_checks(scheduler, workers, threads, dashboard)
+    found = expand_inputs(inputs, list_file, "bake")
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{out}: exists and is not a directory")
+    with BatchProgress("batch bake", len(found), quiet) as progress:
+        summary = run_batch("bake", found, out, options, targets, force=force, scheduler=scheduler,
+                            workers=workers, threads=threads, dashboard=dashboard, progress=progress)
+    _finish(summary, out, quiet)
+
+
+@batch_app.command("render", cls=_Command, short_help="Render many scenes, one folder each, on Dask.")
+@user_errors
+def batch_render(
+    scenes: Optional[list[str]] = typer.Argument(
+        None, metavar="SCENES",
+        help="Scene files (.toml, .json), folders and globs of them, or built-in scenes (spheres, sphere, area)."),
+    out: Path = _out_option(),
+    list_file: Optional[list[Path]] = _list_option(),
+    image_format: str = _choice("png", "--format", IMAGE_FORMATS, "image format",
+                                "OUT/<name>/<name>.png (tone-mapped, sRGB) or .exr (linear float32, with a "
+                                "thumbnail.png for the gallery)."),
+    mode: str = _choice("realtime", "--mode", MODES, "mode",
+                        "realtime (split-sum IBL), reference (Monte Carlo ground truth) or compare (both)."),
+    spp: int = typer.Option(64, "--spp", metavar="N", help="Ground-truth samples per pixel."),
+    bounces: int = typer.Option(0, "--bounces", metavar="N", help="Ground-truth bounces after the first hit."),
+    tonemap_name: str = _choice("aces", "--tonemap", TONEMAPS, "tone mapper", "Tone mapper of .png output."),
+    exposure: float = typer.Option(0.0, "--exposure", metavar="EV", callback=_check_exposure,
+                                   help=f"Exposure in EV before tone mapping, within +-{EXPOSURE_LIMIT:g}."),
+    width: Optional[int] = typer.Option(None, "--width", metavar="PIXELS", help="Image width (overrides cameras)."),
+    height: Optional[int] = typer.Option(None, "--height", metavar="PIXELS",
+                                         help="Image height (overrides cameras)."),
+    env: Optional[Path] = typer.Option(None, "--env", metavar="FILE|DIR",
+                                       help="Environment map, or a bake folder, replacing every scene's."),
+    seed: int = _seed_option("Seed of the ground truth's random numbers."),
+    diffuse: str = _choice("sh", "--diffuse", DIFFUSE_MODES, "diffuse mode",
+                           "Real-time diffuse IBL: sh (9 coefficients) or cube (irradiance cube)."),
+    energy_compensation: bool = _flag(False, ("--energy-compensation/--no-energy-compensation",),
+                                      "Real time: Filament's multiple-scattering compensation."),
+    engine: str = _choice("pbrkit", "--engine", RENDER_ENGINES, "engine",
+                          "Real time: whose IBL evaluation to follow."),
+    bake_size: int = typer.Option(256, "--bake-size", metavar="N",
+                                  help="Real time: size of the bake's specular cube (power of two)."),
+    fix_nonfinite: bool = _flag(False, ("--fix-nonfinite",),
+                                "Replace NaN/Inf environment pixels by the mean of their finite neighbours."),
+    occlusion: Optional[bool] = typer.Option(
+        None, "--occlusion/--no-occlusion", show_default=False, metavar="",
+        help="Ground truth: objects occlude one another's environment light (default as pbrkit render: on for "
+             "reference, off for compare)."),
+    style: Optional[str] = typer.Option(None, "--style", metavar="NAME|FILE",
+                                        help="Real time in a non-photorealistic style (as pbrkit render --style)."),
+    force: bool = _force_option(),
+    scheduler: Optional[str] = _scheduler_option(),
+    workers: Optional[int] = _workers_option(),
+    threads: Optional[int] = _threads_option(),
+    dashboard: bool = _dashboard_option(),
+    quiet: bool = _quiet_option(),
+):
+    """Render every scene as pbrkit render does, into OUT/<name>/<name>.png (or .exr; reference and compare
+    also <name>.stderr.exr), on a Dask LocalCluster or --scheduler's workers.  A scene whose folder's
+    batch.json records the same scene, referenced files (SHA-256), options and pbrkit version is skipped
+    (--force redoes it); a bad scene fails alone, and the batch then exits with status 1 naming it.
+    Writes OUT/index.html and OUT/batch.json."""
+    from .batch import BatchProgress, expand_inputs, render_jobs_options, run_batch
+
+    options = render_jobs_options(mode, spp, bounces, tonemap_name, exposure, width, height,
+                                  None if env is None else str(env), seed, diffuse, energy_compensation, engine,
+                                  bake_size, fix_nonfinite, occlusion, style, image_format)
+    _cluster_checks(scheduler, workers, threads, dashboard)
+    found = expand_inputs(scenes, list_file, "render")
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{out}: exists and is not a directory")
+    with BatchProgress("batch render", len(found), quiet) as progress:
+        summary = run_batch("render", found, out, options, force=force, scheduler=scheduler, workers=workers,
+                            threads=threads, dashboard=dashboard, progress=progress)
+    _finish(summary, out, quiet)
 
 
 def register(app):
-    """Add this module's command(s) to ``app`` (filled in by pbrkit batch bake|render (issue 14))."""
+    """Add ``pbrkit batch`` (``bake``, ``render``) to ``app``."""
+    app.add_typer(batch_app, name="batch",
+                  short_help="Bake or render many inputs on a Dask cluster (LocalCluster or --scheduler).")

@@ -1,0 +1,1117 @@
+"""Batch bakes and renders on Dask (``pbrkit batch bake|render``, issue 14).
+
+A batch runs one task per input on a Dask cluster: a ``LocalCluster`` of
+worker processes on this machine (:func:`dask_client`), or the workers of a
+``distributed`` scheduler the user started (``--scheduler tcp://HOST:PORT``;
+the inputs and the output folder must then be on a file system the workers
+share, under the same paths).  Each task (:func:`run_task`) calls the very
+functions ``pbrkit bake`` and ``pbrkit render`` call --
+:func:`pbrkit.ibl.bake.bake` with :func:`pbrkit.io.bake_files.write_bake`, or
+:func:`pbrkit.render.scene.resolve_scene` with
+:func:`pbrkit.render.run.render_scene` -- so an input's folder holds the same
+bytes as the single command's output.
+
+The rules (the README's ``pbrkit batch`` section states them for users):
+
+- **Names** (:func:`output_names`): input ``DIR/sky.hdr`` goes to ``OUT/sky/``.
+  Inputs of one batch whose stems are equal (compared case-insensitively, as
+  on macOS and Windows file systems), and a stem equal to ``index.html`` or
+  ``batch.json``, get ``<stem>-<8 hex digits>``: the start of the SHA-256 of
+  the input's absolute path, so the name depends only on the input, never on
+  the order of the inputs.
+- **One folder per input, written atomically**: the task writes into a hidden
+  temporary folder beside ``OUT/<name>/`` and renames it into place
+  (:func:`pbrkit.core.atomic.atomic_directory`), so an interrupted task or a
+  killed worker leaves no partial folder; the temporaries a killed worker
+  leaves behind (``OUT/.<name>.XXXXXXXX.partial``) are removed when the batch
+  ends (:func:`remove_stale_temporaries`).
+- **Resume record**, committed inside the folder by the same rename: for a
+  bake its ``manifest.json`` (the pbrkit version, the input's file name and
+  SHA-256, the options, the engine targets; :func:`bake_state`), for a render
+  ``OUT/<name>/batch.json`` (the same, with the SHA-256 of every file the
+  scene reads; :func:`render_state`).  An input whose folder records the same
+  is skipped (``--force`` redoes it); a folder recording something else (the
+  input changed, other options, another pbrkit version, a file missing) is
+  redone and replaced; a folder that is not a pbrkit output is left alone and
+  the input fails, unless ``--force``.
+- **Isolation**: a task returns its outcome instead of raising: a bad input
+  fails alone with its one-line error (``InputError`` and the other
+  ``ValueError`` / ``OSError`` messages, as ``pbrkit bake`` prints them).
+- **Fault tolerance**: a worker that dies mid-task has its task re-run on
+  another worker by the scheduler (Dask's ``distributed.scheduler.allowed-
+  failures``, 3 by default; after that the input fails with ``KilledWorker``).
+  The re-run finds no folder (the rename never happened) or a complete one.
+- **Workers**: a ``LocalCluster``'s workers are forked from this process with
+  the tasks' modules already imported, where that is safe (Linux, Numba's
+  thread pool not started here: :func:`_fork_is_safe`), else spawned (Dask's
+  default); each runs one task at a time with ``--threads`` Numba threads.
+- **Numba's cache** (:mod:`pbrkit.core.jit`): the workers of a
+  ``LocalCluster`` share this process's ``$PBRKIT_CACHE_DIR`` (or its
+  default).  When the workers find no compiled kernels there, the first input
+  runs alone and the others start once it has filled the cache
+  (:func:`cache_is_cold`), so no worker compiles what another one compiled.
+  Numba writes each cache file to a temporary name and renames it
+  (``os.replace``), so concurrent readers never see a torn file; but its
+  index of a kernel's signatures is read, extended and rewritten without a
+  lock, so two processes saving *different* signatures of one kernel at the
+  same instant race on it (an entry lost, or two entries given one data
+  file); after the warm-up above the workers load what the first input
+  compiled and compile only what other inputs need anew (another pixel
+  type), so that race is rare (workers saving the same signature write the
+  same entry).
+
+The batch writes ``OUT/batch.json`` (every input's outcome, time and size) and
+``OUT/index.html`` (:func:`gallery_html`), a page that opens from the file
+system without a server.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import html
+import json
+import os
+import re
+import shutil
+import sys
+import time
+import traceback
+import warnings
+from collections import Counter
+from pathlib import Path
+from urllib.parse import quote
+
+__all__ = [
+    "KINDS",
+    "BAKE_SUFFIXES",
+    "SCENE_SUFFIXES",
+    "RESERVED_NAMES",
+    "expand_inputs",
+    "output_names",
+    "bake_jobs_options",
+    "render_jobs_options",
+    "check_bake_options",
+    "run_task",
+    "bake_state",
+    "render_state",
+    "cache_is_cold",
+    "dask_client",
+    "run_batch",
+    "gallery_html",
+    "remove_stale_temporaries",
+    "BatchProgress",
+]
+
+KINDS = ("bake", "render")
+#: Environment files a folder given as input contributes to a bake batch (HDR formats only: the
+#: .png / .jpg previews that sit beside HDRIs in asset libraries are baked only when named or globbed).
+BAKE_SUFFIXES = (".hdr", ".pic", ".rgbe", ".exr", ".pfm")
+#: Files a glob contributes to a bake batch (:data:`BAKE_SUFFIXES` and the LDR formats pbrkit reads).
+BAKE_GLOB_SUFFIXES = BAKE_SUFFIXES + (".png", ".jpg", ".jpeg")
+#: Scene files a folder or a glob contributes to a render batch.
+SCENE_SUFFIXES = (".toml", ".json")
+#: Names of the batch's own files in OUT, which no input's folder may take.
+RESERVED_NAMES = ("index.html", "batch.json")
+#: The per-input record of a render folder (a bake's record is its manifest.json).
+RECORD_NAME = "batch.json"
+RECORD_FORMAT = "pbrkit batch render record"
+SUMMARY_FORMAT = "pbrkit batch summary"
+_GLOB_CHARS = re.compile(r"[*?\[]")
+_STEM_MAX = 200  # leaves room for "-<hash>" and the atomic temporaries' ".<name>.XXXXXXXX.partial" in NAME_MAX
+
+
+# ==================================================================== inputs
+
+
+def _is_glob(text):
+    return bool(_GLOB_CHARS.search(text))
+
+
+def _folder_inputs(folder, suffixes):
+    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in suffixes)
+
+
+def _expand_one(text, kind, base, builtins):
+    """The inputs one INPUT argument (or list-file line) stands for; ValueError
+    for a path that does not exist, a glob that matches nothing, a folder
+    without inputs."""
+    from glob import glob
+
+    from ..core.errors import InputError
+
+    if kind == "render" and text in builtins:
+        return [text]
+    path = Path(text).expanduser()
+    if not path.is_absolute():
+        path = base / path
+    if path.is_dir():
+        suffixes = BAKE_SUFFIXES if kind == "bake" else SCENE_SUFFIXES
+        found = _folder_inputs(path, suffixes)
+        if not found:
+            raise InputError(f"no {' / '.join(suffixes)} files in the folder", text)
+        return found
+    if path.exists():
+        return [path]
+    if _is_glob(text):
+        suffixes = BAKE_GLOB_SUFFIXES if kind == "bake" else SCENE_SUFFIXES
+        matches = []
+        for match in sorted(glob(str(path), recursive=True)):
+            m = Path(match)
+            if m.is_dir():
+                matches += _folder_inputs(m, BAKE_SUFFIXES if kind == "bake" else SCENE_SUFFIXES)
+            elif m.suffix.lower() in suffixes:
+                matches.append(m)
+        if not matches:
+            raise InputError(f"the pattern matches no {' / '.join(suffixes)} file", text)
+        return matches
+    hint = f" (built-in scenes: {', '.join(builtins)})" if kind == "render" else ""
+    raise InputError(f"no such file or directory{hint}", text)
+
+
+def _list_file_entries(path):
+    """The entries of a list file: one input (file, folder or glob) a line;
+    blank lines and lines starting with ``#`` are skipped."""
+    from ..core.errors import InputError
+
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError("list file not found", path) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the list file ({exc})", path) from None
+    return [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+
+
+def expand_inputs(arguments, list_files=(), kind="bake"):
+    """The inputs of a batch, in the order given, each once.
+
+    ``arguments``: files, folders (their files with :data:`BAKE_SUFFIXES` or
+    :data:`SCENE_SUFFIXES`, sorted; not recursive) and globs (``**`` recurses;
+    quote them for the shell), relative to the working directory; for
+    renders also the built-in scene names.  ``list_files``: text files with
+    one such entry a line, relative to the list file's folder.  Returns
+    absolute :class:`~pathlib.Path` objects (built-in scene names stay
+    strings).  A missing path, a glob without matches, a folder without
+    inputs or no input at all raise a one-line ValueError before anything
+    starts."""
+    builtins = ()
+    if kind == "render":
+        from ..render.scene import BUILTIN_SCENES as builtins
+    entries = [(str(a), Path.cwd()) for a in arguments or ()]
+    for lf in list_files or ():
+        lf = Path(lf)
+        entries += [(e, lf.expanduser().absolute().parent) for e in _list_file_entries(lf)]
+    seen, inputs = set(), []
+    for text, base in entries:
+        for item in _expand_one(text, kind, base, builtins):
+            key = item if isinstance(item, str) else os.path.realpath(item)
+            if key not in seen:
+                seen.add(key)
+                inputs.append(item if isinstance(item, str) else Path(os.path.abspath(item)))
+    if not inputs:
+        raise ValueError("no inputs: give files, folders or globs (or --list FILE)")
+    return inputs
+
+
+def _path_tag(item):
+    """The 8 hex digits that tell inputs with the same stem apart: the start of
+    the SHA-256 of the input's absolute path (of ``builtin:<name>`` for a
+    built-in scene)."""
+    text = f"builtin:{item}" if isinstance(item, str) else os.path.abspath(item)
+    return hashlib.sha256(text.encode("utf-8", "surrogateescape")).hexdigest()
+
+
+def output_names(inputs):
+    """The folder name of each input under OUT (module doc): the stem, or
+    ``<stem>-<8 hex>`` for stems that occur more than once in the batch
+    (case-insensitively) or that equal one of :data:`RESERVED_NAMES`."""
+    stems = [(item if isinstance(item, str) else Path(item).stem)[:_STEM_MAX] for item in inputs]
+    counts = Counter(s.casefold() for s in stems)
+    reserved = {r.casefold() for r in RESERVED_NAMES}
+    names = []
+    for item, stem in zip(inputs, stems):
+        clash = counts[stem.casefold()] > 1 or stem.casefold() in reserved or not stem.strip(".")
+        names.append(f"{stem}-{_path_tag(item)[:8]}" if clash else stem)
+    taken = Counter(n.casefold() for n in names)
+    for k, (item, name) in enumerate(zip(inputs, names)):  # a suffixed name equal to another input's stem
+        if taken[name.casefold()] > 1:
+            names[k] = f"{stems[k]}-{_path_tag(item)[:16]}"
+    return names
+
+
+# =================================================================== options
+
+
+def bake_jobs_options(size=256, min_size=16, irradiance_size=32, lut_size=128, fmt="rgba16f", method="spectral",
+                      sh_window=None, layout=None, fix_nonfinite=False):
+    """The canonical options of a bake batch, under the keys the bake's
+    manifest records them (``manifest["options"]``, :func:`pbrkit.ibl.bake.bake`)."""
+    return {"size": size, "min_size": min_size, "irradiance_size": irradiance_size, "lut_size": lut_size,
+            "format": fmt, "method": method, "sh_window": sh_window, "layout": layout,
+            "fix_nonfinite": bool(fix_nonfinite)}
+
+
+class _Checked(Exception):
+    """Raised by :func:`check_bake_options`' ``started`` callback: the bake checked its options."""
+
+
+def check_bake_options(options, targets):
+    """Refuse bad bake options with the one-line errors of ``pbrkit bake``, before
+    any cluster starts: :func:`pbrkit.ibl.bake.bake` itself checks them (sizes,
+    format, method, SH window, the engine chains and their method), and is
+    stopped by its ``started`` callback before it loads anything."""
+    from ..ibl.bake import bake
+    from ..io.bake_files import chains_for, parse_targets
+
+    targets = parse_targets(targets)
+    if options["layout"] not in (None, "equirect", "hcross", "vcross"):
+        raise ValueError(f"unknown layout {options['layout']!r}; use equirect, hcross or vcross")
+
+    def stop(*_):
+        raise _Checked()
+
+    try:
+        bake(None, options["size"], options["min_size"], options["irradiance_size"], options["lut_size"],
+             specular_format=options["format"], method=options["method"], sh_window=options["sh_window"],
+             fix_nonfinite=options["fix_nonfinite"], layout=options["layout"], chains=chains_for(targets),
+             started=stop)
+    except _Checked:
+        pass
+    return targets
+
+
+def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", exposure=0.0, width=None, height=None,
+                        env=None, seed=0, diffuse="sh", energy_compensation=False, engine="pbrkit", bake_size=256,
+                        fix_nonfinite=False, occlusion=None, style=None, fmt="png"):
+    """The canonical options of a render batch (those of ``pbrkit render``, and the
+    image format ``fmt``, png or exr), checked as ``pbrkit render`` checks them
+    before it loads a scene; ``env`` (a file or bake folder) becomes absolute."""
+    from ..core import checks
+    from ..core.color import TONEMAPS
+    from ..render.run import MODES
+    from ..render.scene import Camera
+
+    if fmt not in ("png", "exr"):
+        raise ValueError(f"--format: unknown image format {fmt!r}; choose one of png, exr")
+    if mode not in MODES:
+        raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
+    if tonemap not in TONEMAPS:
+        raise ValueError(f"unknown tone mapper {tonemap!r}; choose one of {', '.join(TONEMAPS)}")
+    if mode != "realtime":
+        checks.integer(spp, "--spp", 1, 1 << 20)
+    if mode != "reference":
+        checks.power_of_two(bake_size, "--bake-size", 2, 4096)
+    checks.integer(bounces, "--bounces", 0, 64)
+    Camera(width=512 if width is None else width, height=512 if height is None else height)  # their range
+    if env is not None:
+        if not Path(env).exists():
+            raise ValueError(f"{env}: environment file not found")
+        env = os.path.abspath(env)
+    if style is not None:
+        from ..npr.style import STYLE_PRESETS, resolve_style
+
+        if str(style) not in STYLE_PRESETS:
+            style = os.path.abspath(style)
+        resolve_style(style)
+    return {"mode": mode, "spp": spp, "bounces": bounces, "tonemap": tonemap, "exposure": float(exposure),
+            "width": width, "height": height, "env": env, "seed": seed, "diffuse": diffuse,
+            "energy_compensation": bool(energy_compensation), "engine": engine, "bake_size": bake_size,
+            "fix_nonfinite": bool(fix_nonfinite), "occlusion": occlusion, "style": style, "format": fmt}
+
+
+# ===================================================================== tasks
+
+
+def _sha256(path):
+    from ..ibl.bake import _sha256 as sha256
+
+    return sha256(path)
+
+
+def folder_bytes(path):
+    """Total size in bytes of the files under ``path``."""
+    total = 0
+    for root, _, files in os.walk(path):
+        for f in files:
+            with contextlib.suppress(OSError):
+                total += os.lstat(os.path.join(root, f)).st_size
+    return total
+
+
+def _read_json(path):
+    try:
+        value = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    return value if isinstance(value, dict) else None
+
+
+def _existing(out):
+    """"absent" (no folder, or an empty one) or "present"; InputError for a file in the way."""
+    from ..core.errors import InputError
+
+    out = Path(out)
+    if not (out.exists() or out.is_symlink()):
+        return "absent"
+    if not out.is_dir():
+        raise InputError("exists and is not a directory", out)
+    return "present" if any(out.iterdir()) else "absent"
+
+
+#: Files every bake folder has (:mod:`pbrkit.io.bake_files`); one missing makes the folder stale.
+_BAKE_FILES = ("specular.ktx2", "specular.dds", "irradiance.ktx2", "irradiance.dds", "brdf_lut.npy", "preview.png")
+
+
+def bake_state(out, input_name, sha256, options, targets):
+    """What ``out`` holds for this bake: ``("absent", None)``, ``("match", None)``
+    (its manifest records this pbrkit version, this input's name and SHA-256,
+    these options and engine targets, and its files are there), ``("stale",
+    reason)`` (a pbrkit bake of something else) or ``("foreign", reason)``
+    (not a pbrkit bake)."""
+    from .. import __version__
+    from ..ibl.bake import FORMAT
+
+    out = Path(out)
+    if _existing(out) == "absent":
+        return "absent", None
+    manifest = _read_json(out / "manifest.json")
+    if manifest is None or manifest.get("format") != FORMAT:
+        return "foreign", "not a pbrkit bake (no pbrkit manifest.json)"
+    differences = []
+    if manifest.get("pbrkit_version") != __version__:
+        differences.append(f"pbrkit {manifest.get('pbrkit_version')} -> {__version__}")
+    if (manifest.get("input") or {}).get("files") != [{"name": input_name, "sha256": sha256}]:
+        differences.append("the input changed (its name or SHA-256)")
+    recorded = manifest.get("options") if isinstance(manifest.get("options"), dict) else {}
+    for key, value in options.items():
+        if key == "layout" and value is None:  # detected from the image, whose SHA-256 is compared
+            continue
+        if recorded.get(key) != value:
+            differences.append(f"{key} {recorded.get(key)!r} -> {value!r}")
+    recorded_targets = sorted(manifest.get("targets") or {})
+    wanted = sorted(t for t in targets if t != "generic")
+    if recorded_targets != wanted:
+        differences.append(f"targets {recorded_targets} -> {wanted}")
+    missing = [f for f in _BAKE_FILES + tuple(wanted) if not (out / f).exists()]
+    if missing:
+        differences.append(f"incomplete (no {missing[0]})")
+    return ("stale", "; ".join(differences)) if differences else ("match", None)
+
+
+def _outcome(status, **fields):
+    return dict({"status": status, "error": None, "notes": [], "warnings": []}, **fields)
+
+
+def _bake_job(job):
+    from ..core.errors import InputError, OutputError
+    from ..ibl.bake import bake
+    from ..io.bake_files import chains_for, write_bake
+
+    source = Path(job["input"])
+    options, targets, out = job["options"], tuple(job["targets"]), Path(job["out"])
+    if not source.is_file():
+        raise InputError("no such file" if not source.exists() else "not a file", job["display"])
+    sha = _sha256(source)
+    state, reason = bake_state(out, source.name, sha, options, targets)
+    if state == "match" and not job["force"]:
+        return _outcome("skipped", notes=["already baked with these options"], preview="preview.png")
+    if state == "foreign" and not job["force"]:
+        raise InputError(f"{reason}; not replaced (use --force to replace it)", out)
+    t0 = time.perf_counter()
+    result = bake(str(source), size=options["size"], min_size=options["min_size"],
+                  irradiance_size=options["irradiance_size"], lut_size=options["lut_size"],
+                  specular_format=options["format"], method=options["method"], sh_window=options["sh_window"],
+                  fix_nonfinite=options["fix_nonfinite"], layout=options["layout"], chains=chains_for(targets))
+    t1 = time.perf_counter()
+    try:
+        write_bake(result, out, force=job["force"] or state != "absent", targets=targets)
+    except OutputError as exc:  # filled meanwhile (another task for the same folder finished first)
+        if state == "absent" and bake_state(out, source.name, sha, options, targets)[0] == "match":
+            return _outcome("skipped", notes=["written meanwhile by another task"], preview="preview.png")
+        raise exc
+    notes = [f"replaced: {reason}"] if state == "stale" else ([f"replaced ({reason})"] if state == "foreign" else [])
+    return _outcome("done", notes=notes, bake_s=t1 - t0, write_s=time.perf_counter() - t1,
+                    preview="preview.png")
+
+
+# ---------------------------------------------------------------- renders
+
+
+def _gltf_references(path):
+    """The external files (buffers, images) a ``.gltf`` names by relative URI."""
+    if Path(path).suffix.lower() != ".gltf":
+        return []
+    data = _read_json(path) or {}
+    found = []
+    for key in ("buffers", "images"):
+        for entry in data.get(key) or []:
+            uri = entry.get("uri") if isinstance(entry, dict) else None
+            if isinstance(uri, str) and uri and not uri.startswith("data:") and "://" not in uri:
+                from urllib.parse import unquote
+
+                found.append(Path(path).parent / unquote(uri))
+    return found
+
+
+def _scene_references(scene, style):
+    """[role, file name, SHA-256 or None if missing] of every file the render
+    reads besides the scene file: its environment image (or every file of its
+    bake folder), its glTF files and their buffers and images, a style file."""
+    from ..render.scene import GltfObject
+
+    files = []
+    env = scene.environment
+    if env.file is not None:
+        files.append(("environment", Path(env.file)))
+    if env.bake is not None:
+        root = Path(env.bake)
+        files += [("environment bake", p) for p in sorted(root.rglob("*")) if p.is_file()]
+    for obj in scene.objects:
+        if isinstance(obj, GltfObject):
+            files.append(("gltf", Path(obj.file)))
+            files += [("gltf resource", p) for p in _gltf_references(obj.file)]
+    if style is not None and Path(style).is_file():
+        files.append(("style", Path(style)))
+    return [[role, p.name, _sha256(p) if p.is_file() else None] for role, p in files]
+
+
+def render_record(scene_input, scene, options, builtin=False):
+    """The record a render folder keeps in ``batch.json`` (module doc): what the
+    render depends on, nothing time- or machine-dependent (file names, not
+    paths)."""
+    from .. import __version__
+
+    if builtin:
+        source = {"builtin": scene_input}
+    else:
+        source = {"name": Path(scene_input).name, "sha256": _sha256(scene_input)}
+    shown = dict(options)
+    for key in ("env", "style"):
+        if shown[key] is not None and os.path.isabs(shown[key]):
+            shown[key] = Path(shown[key]).name
+    return {"format": RECORD_FORMAT, "pbrkit_version": __version__, "scene": source,
+            "references": _scene_references(scene, options["style"]), "options": shown}
+
+
+def render_state(out, record):
+    """As :func:`bake_state`, for a render folder and its ``batch.json`` record."""
+    out = Path(out)
+    if _existing(out) == "absent":
+        return "absent", None
+    stored = _read_json(out / RECORD_NAME)
+    if stored is None or stored.get("format") != RECORD_FORMAT:
+        return "foreign", f"not a pbrkit batch render (no {RECORD_NAME} record)"
+    differences = [k for k in ("pbrkit_version", "scene", "references", "options") if stored.get(k) != record[k]]
+    missing = [f for f in stored.get("outputs") or ["?"] if not (out / f).is_file()]
+    if missing:
+        differences.append(f"incomplete (no {missing[0]})")
+    return ("stale", "differs in " + ", ".join(differences)) if differences else ("match", None)
+
+
+def _thumbnail(image_path, thumb_path, options, width=512):
+    """An 8-bit sRGB PNG of a linear EXR render for the gallery: tone-mapped as the
+    PNG output is (:func:`pbrkit.core.color.tonemap`, the batch's --tonemap and
+    --exposure), box-filtered by an integer factor to at most ``width`` pixels
+    across."""
+    import numpy as np
+
+    from ..core.color import linear_to_srgb, tonemap
+    from ..io.images import read_image
+    from ..io.png import write_png
+
+    image = np.asarray(read_image(image_path), dtype=np.float64)[..., :3]
+    k = max(1, -(-image.shape[1] // width))
+    h, w = image.shape[0] // k * k, image.shape[1] // k * k
+    if k > 1 and h and w:
+        image = image[:h, :w].reshape(h // k, k, w // k, k, 3).mean(axis=(1, 3))
+    write_png(thumb_path, linear_to_srgb(tonemap(image, options["tonemap"], options["exposure"])), bits=8,
+              srgb=False)
+
+
+def _render_job(job):
+    import dataclasses
+
+    from ..core.atomic import atomic_directory
+    from ..core.errors import InputError, OutputError
+    from ..render.run import render_scene
+    from ..render.scene import EnvironmentSpec, resolve_scene
+
+    options, out, name = job["options"], Path(job["out"]), job["name"]
+    scene_input = job["input"]
+    environment = None
+    if options["env"] is not None:  # as pbrkit render --env: an image file or a bake folder
+        env = options["env"]
+        environment = EnvironmentSpec(bake=env) if Path(env).is_dir() else EnvironmentSpec(file=env)
+    scene = resolve_scene(scene_input, options["width"], options["height"], environment)
+    if options["fix_nonfinite"]:
+        scene = dataclasses.replace(scene, environment=dataclasses.replace(scene.environment, fix_nonfinite=True))
+    style = None
+    if options["style"] is not None:
+        from ..npr.style import resolve_style
+
+        style = resolve_style(options["style"])
+    record = render_record(scene_input, scene, options, job.get("builtin", False))
+    state, reason = render_state(out, record)
+    image_name = f"{name}.{options['format']}"
+    preview = "thumbnail.png" if options["format"] == "exr" else image_name
+    if state == "match" and not job["force"]:
+        return _outcome("skipped", notes=["already rendered with these options"], preview=preview)
+    if state == "foreign" and not job["force"]:
+        raise InputError(f"{reason}; not replaced (use --force to replace it)", out)
+    t0 = time.perf_counter()
+    try:
+        with atomic_directory(out, job["force"] or state != "absent") as tmp:
+            summary = render_scene(scene, tmp / image_name, mode=options["mode"], spp=options["spp"],
+                                   bounces=options["bounces"], seed=options["seed"], tonemap_name=options["tonemap"],
+                                   exposure=options["exposure"], diffuse=options["diffuse"],
+                                   energy_compensation=options["energy_compensation"],
+                                   bake_size=options["bake_size"], occlusion=options["occlusion"],
+                                   engine=options["engine"], style=style)
+            outputs = [Path(p).name for p in summary["outputs"]]
+            if options["format"] == "exr":
+                _thumbnail(tmp / image_name, tmp / preview, options)
+                outputs.append(preview)
+            record["outputs"] = sorted(outputs)
+            (tmp / RECORD_NAME).write_text(json.dumps(record, indent=2, sort_keys=True) + "\n", encoding="utf-8")
+    except OutputError:
+        if state == "absent" and render_state(out, record)[0] == "match":
+            return _outcome("skipped", notes=["written meanwhile by another task"], preview=preview)
+        raise
+    notes = [str(n) for n in summary.get("notes", [])]
+    if state != "absent":
+        notes.append(f"replaced: {reason}")
+    extra = {}
+    if "errors" in summary:
+        e = summary["errors"]
+        extra["errors"] = {k: float(e[k]) for k in ("rms_relative_error_noise_removed", "mean_relative_error",
+                                                     "flip") if k in e}
+    return _outcome("done", notes=notes, render_s=time.perf_counter() - t0, preview=preview, **extra)
+
+
+def _worker_address():
+    try:
+        from distributed import get_worker
+
+        return get_worker().address
+    except (ImportError, ValueError):
+        return None
+
+
+def run_task(job):
+    """Run one input's job (a dict: ``kind``, ``input``, ``display``, ``name``,
+    ``out``, ``options``, ``targets``, ``force``) and return its outcome, a
+    dict with ``status`` ``done`` / ``skipped`` / ``failed``, ``error`` (one
+    line, as ``pbrkit bake`` / ``pbrkit render`` print it), ``seconds``,
+    ``bytes`` (of the folder), ``warnings``, ``notes`` and ``worker``.  Never
+    raises for a bad input: a batch's inputs fail alone.  Runs on a Dask
+    worker (or in this process)."""
+    from ..core.errors import one_line
+    from .cli import _is_library_error
+
+    t0 = time.perf_counter()
+    if job.get("numba_threads"):  # a LocalCluster's worker (forked workers keep this process's pool size)
+        import numba
+
+        numba.set_num_threads(min(int(job["numba_threads"]), numba.config.NUMBA_NUM_THREADS))
+    base = {"name": job["name"], "input": job["display"], "worker": _worker_address(), "pid": os.getpid()}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", UserWarning)
+        try:
+            outcome = (_bake_job if job["kind"] == "bake" else _render_job)(job)
+        except MemoryError as exc:
+            outcome = _outcome("failed", error=f"out of memory{f' ({exc})' if str(exc) else ''}; try smaller sizes")
+        except (ValueError, OSError) as exc:
+            outcome = _outcome("failed", error=one_line(exc))
+        except Exception as exc:  # a bug, or a library's error: this input fails, the batch goes on
+            if _is_library_error(exc):
+                outcome = _outcome("failed", error=one_line(exc))
+            else:
+                outcome = _outcome("failed", error=f"internal error: {type(exc).__name__}: {one_line(exc)}",
+                                   traceback=traceback.format_exc())
+    seen = []
+    for w in caught:
+        text = one_line(w.message)
+        if issubclass(w.category, UserWarning) and not issubclass(w.category, DeprecationWarning) and text not in seen:
+            seen.append(text)
+    outcome["warnings"] = seen
+    outcome["seconds"] = time.perf_counter() - t0
+    outcome["bytes"] = folder_bytes(job["out"]) if outcome["status"] != "failed" else 0
+    return dict(base, **outcome)
+
+
+# =================================================================== cluster
+
+
+def cache_state(kind="bake"):
+    """(cache directory, whether it holds compiled kernels of the subpackage the
+    batch's tasks use: ``ibl`` for bakes, ``render`` for renders), as seen by the
+    process that calls it (a worker)."""
+    from ..core.jit import cache_directory
+
+    folder = Path(cache_directory()) / ("ibl" if kind == "bake" else "render")
+    warm = folder.is_dir() and any(folder.glob("*.nbi"))
+    return str(cache_directory()), warm
+
+
+def cache_is_cold(client, kind):
+    """True when every worker reports the same Numba cache directory and it has no
+    kernels yet for ``kind`` (:func:`cache_state`): the batch then runs its first
+    input alone, so that the other workers load what it compiled."""
+    try:
+        states = client.run(cache_state, kind)
+    except Exception:  # a worker that cannot answer: no warm-up
+        return False
+    folders = {folder for folder, _ in states.values()}
+    return bool(states) and len(folders) == 1 and not any(warm for _, warm in states.values())
+
+
+def default_workers():
+    """Worker processes of a LocalCluster by default: the cores this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+#: Modules a task imports (at its top or inside functions), imported once in this process
+#: before a LocalCluster forks its workers, so that no worker imports them again.
+_TASK_MODULES = {
+    "bake": ("pbrkit.ibl.bake", "pbrkit.io.bake_files", "pbrkit.io.environment", "pbrkit.io.images",
+             "pbrkit.albedo.tables", "pbrkit.ibl.sh", "pbrkit.ibl.spectral", "pbrkit.ibl.irradiance",
+             "pbrkit.io.ktx2", "pbrkit.io.ktx1", "pbrkit.io.dds", "pbrkit.io.exr", "pbrkit.io.png",
+             "pbrkit.io.lut_files", "pbrkit.io.babylon_env", "imageio.v3", "imageio.plugins.pillow"),
+    "render": ("pbrkit.render.run", "pbrkit.render.scene", "pbrkit.npr.style", "pbrkit.npr.render",
+               "pbrkit.io.environment", "pbrkit.io.images", "pbrkit.io.exr", "pbrkit.io.png", "pbrkit.ibl.bake",
+               "pbrkit.io.bake_files", "pbrkit.albedo.tables", "imageio.v3", "imageio.plugins.pillow"),
+}
+
+
+def _fork_is_safe():
+    """Whether a LocalCluster may fork its workers from this process: Linux (macOS's
+    system libraries are not fork-safe, Windows cannot fork), and Numba's
+    threading layer not launched here (a forked OpenMP or workqueue pool hangs in
+    the child; the command's own process runs no kernel, a script that baked
+    before calling :func:`run_batch` has launched it)."""
+    if not sys.platform.startswith("linux") or not hasattr(os, "register_at_fork"):
+        return False
+    parallel = sys.modules.get("numba.np.ufunc.parallel")
+    return not getattr(parallel, "_is_initialized", False)
+
+
+def _signals_as_default():
+    """In a forked worker: SIGTERM and SIGINT as in a new Python process (the
+    command's handlers, which raise in its main thread, are not the worker's)."""
+    import signal
+
+    with contextlib.suppress(ValueError, OSError):
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
+_AT_FORK = []
+
+
+@contextlib.contextmanager
+def dask_client(scheduler=None, workers=None, threads=None, kind="bake", dashboard=True):
+    """A ``distributed.Client``, and a line describing the cluster.
+
+    With ``scheduler`` (``tcp://HOST:PORT``): a client of that scheduler (its
+    workers as they were started).  Else a ``LocalCluster`` of ``workers``
+    processes (default :func:`default_workers`), one Dask thread each (a task
+    at a time) and ``threads`` (default 1) Numba threads for the parallel
+    kernels inside a task (the jobs carry it: :func:`run_task` calls
+    ``numba.set_num_threads``).  Its workers share this process's Numba cache
+    (``PBRKIT_CACHE_DIR``).  They are forked from this process, with the
+    modules of ``kind``'s tasks already imported (:data:`_TASK_MODULES`), when
+    that is safe (:func:`_fork_is_safe`); else spawned as fresh interpreters
+    (Dask's default), which costs each about a second more to start and to
+    import, and a second more to stop.  ``dashboard``: the scheduler's Bokeh
+    dashboard on port 8787 (another if that one is taken), about 1 s of the
+    start on the 2-core machine."""
+    import logging
+
+    import dask
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise OSError(f"{scheduler}: cannot reach the Dask scheduler ({exc})") from None
+        try:
+            n = len(client.scheduler_info().get("workers", {}))
+            if n == 0:
+                client.wait_for_workers(1, timeout=60)
+                n = len(client.scheduler_info().get("workers", {}))
+        except (OSError, TimeoutError):
+            client.close()
+            raise OSError(f"{scheduler}: the scheduler has no workers (waited 60 s)") from None
+        try:
+            yield client, f"scheduler {scheduler} ({n} worker{'s' if n != 1 else ''})"
+        finally:
+            client.close()
+        return
+    workers = default_workers() if workers is None else int(workers)
+    threads = 1 if threads is None else int(threads)
+    env = {}
+    if os.environ.get("PBRKIT_CACHE_DIR"):
+        env["PBRKIT_CACHE_DIR"] = os.environ["PBRKIT_CACHE_DIR"]
+    method = "fork" if _fork_is_safe() else "spawn"
+    if method == "spawn":  # a forked worker keeps Numba's configuration (and uses numba.set_num_threads)
+        env["NUMBA_NUM_THREADS"] = str(threads)
+    else:
+        import importlib
+
+        for name in _TASK_MODULES.get(kind, ()):
+            with contextlib.suppress(ImportError):
+                importlib.import_module(name)
+        if not _AT_FORK:
+            os.register_at_fork(after_in_child=_signals_as_default)
+            _AT_FORK.append(True)
+    with dask.config.set({"distributed.worker.multiprocessing-method": method}):  # restarts too
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")  # it picks another
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   silence_logs=logging.ERROR, env=env,
+                                   dashboard_address=":8787" if dashboard else None)
+        try:
+            client = Client(cluster)
+            try:
+                yield client, (f"LocalCluster: {workers} worker{'s' if workers != 1 else ''} x "
+                               f"{threads} Numba thread{'s' if threads != 1 else ''}")
+            finally:
+                client.close()
+        finally:
+            cluster.close()
+
+
+# ================================================================== progress
+
+
+class BatchProgress:
+    """Progress of a batch on stderr: a Rich bar over the inputs (count, failures,
+    elapsed time and ETA) on a terminal, one line per finished input otherwise
+    (``pbrkit batch bake: sky done in 1.23 s (3/8, 0 failed, ETA 0:00:12)``),
+    nothing with ``quiet``.  :meth:`note` prints a line (the cluster, the
+    dashboard address) above the bar."""
+
+    def __init__(self, command, total, quiet):
+        from .cli import _isatty
+
+        self.command = command
+        self.total = int(total)
+        self.mode = "off" if quiet else ("bar" if _isatty(sys.stderr) else "lines")
+        self.done = self.failed = 0
+        self._bar = self._task = None
+        self._t0 = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self._bar is not None:
+            self._bar.stop()
+        return False
+
+    def note(self, text):
+        if self.mode == "off":
+            return
+        from rich.markup import escape
+
+        from .cli import _console
+
+        (self._bar.console if self._bar is not None else _console()).print(
+            f"pbrkit {self.command}: {escape(str(text))}", highlight=False, soft_wrap=True)
+
+    def start(self):
+        """The tasks are submitted: the clock of the ETA starts."""
+        self._t0 = time.perf_counter()
+        if self.mode == "bar":
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                Progress,
+                TextColumn,
+                TimeElapsedColumn,
+                TimeRemainingColumn,
+            )
+
+            from .cli import _console
+
+            self._bar = Progress(TextColumn(f"pbrkit {self.command}"), BarColumn(), MofNCompleteColumn(),
+                                 TextColumn("{task.fields[failed]} failed"), TimeElapsedColumn(),
+                                 TextColumn("ETA"), TimeRemainingColumn(), console=_console(), transient=True)
+            self._bar.start()
+            self._task = self._bar.add_task("", total=self.total, failed=0)
+
+    def _eta(self):
+        finished = self.done
+        if not finished or self._t0 is None:
+            return "?"
+        seconds = (time.perf_counter() - self._t0) / finished * (self.total - finished)
+        return time.strftime("%H:%M:%S", time.gmtime(round(seconds)))
+
+    def finished(self, outcome):
+        self.done += 1
+        self.failed += outcome["status"] == "failed"
+        if self._bar is not None:
+            self._bar.update(self._task, completed=self.done, failed=self.failed)
+        elif self.mode == "lines":
+            what = {"done": f"done in {outcome.get('seconds', 0.0):.2f} s", "skipped": "skipped (up to date)",
+                    "failed": f"failed: {outcome.get('error')}"}[outcome["status"]]
+            from .cli import _one_line
+
+            print(_one_line(f"pbrkit {self.command}: {outcome['name']} {what} ({self.done}/{self.total}, "
+                            f"{self.failed} failed, ETA {self._eta()})"), file=sys.stderr, flush=True)
+
+
+# ===================================================================== batch
+
+
+def remove_stale_temporaries(out, names):
+    """Remove the hidden temporary folders (``.<name>.XXXXXXXX.partial`` and
+    ``.old``, :func:`pbrkit.core.atomic.atomic_directory`) that killed tasks left
+    in ``out`` for ``names``; call it only when no task of the batch runs.
+    Returns the names removed."""
+    out = Path(out)
+    if not out.is_dir():
+        return []
+    patterns = [re.compile(r"\." + re.escape(n[:96]) + r"\.[A-Za-z0-9_]{8}\.(partial|old)\Z") for n in names]
+    removed = []
+    for entry in out.iterdir():
+        if entry.name.startswith(".") and any(p.match(entry.name) for p in patterns):
+            shutil.rmtree(entry, ignore_errors=True)
+            removed.append(entry.name)
+    return sorted(removed)
+
+
+def _make_jobs(kind, inputs, names, out, options, targets, force, numba_threads=None):
+    jobs = []
+    for item, name in zip(inputs, names):
+        jobs.append({"kind": kind, "input": str(item), "display": str(item), "name": name,
+                     "builtin": isinstance(item, str),
+                     "out": str(Path(out).absolute() / name), "options": options, "targets": list(targets),
+                     "force": bool(force), "numba_threads": numba_threads})
+    return jobs
+
+
+def _killed_outcome(job, exc):
+    from ..core.errors import one_line
+
+    text = one_line(exc) or type(exc).__name__
+    if type(exc).__name__ == "KilledWorker":
+        text = ("the workers running this input died repeatedly (Dask's KilledWorker; out of memory?): "
+                + text)
+    return {"name": job["name"], "input": job["display"], "status": "failed", "error": text, "notes": [],
+            "warnings": [], "seconds": 0.0, "bytes": 0, "worker": None}
+
+
+def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, scheduler=None, workers=None,
+              threads=None, dashboard=True, progress=None):
+    """Run a batch (module doc) and write ``out/batch.json`` and ``out/index.html``.
+
+    ``kind`` ``"bake"`` or ``"render"``; ``inputs`` from :func:`expand_inputs`;
+    ``options`` from :func:`bake_jobs_options` / :func:`render_jobs_options`;
+    ``targets`` the bake's engine targets.  ``progress`` a
+    :class:`BatchProgress` (or None).  Returns the summary (what batch.json
+    holds): per input, in input order, its outcome (:func:`run_task`)."""
+    from .. import __version__
+    from ..core.atomic import atomic_group
+
+    if kind not in KINDS:
+        raise ValueError(f"unknown batch kind {kind!r}")
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{out}: exists and is not a directory")
+    names = output_names(inputs)
+    local = scheduler is None
+    jobs = _make_jobs(kind, inputs, names, out, options, targets, force,
+                      (1 if threads is None else int(threads)) if local else None)
+    progress = progress or BatchProgress(f"batch {kind}", len(jobs), quiet=True)
+    outcomes = [None] * len(jobs)
+    summary = None
+    info = {}
+    t0 = time.perf_counter()
+    interrupted = False
+    finished_all = False
+    try:
+        with dask_client(scheduler, workers, threads, kind, dashboard) as (client, description):
+            info["cluster"] = description
+            progress.note(description)
+            if dashboard or scheduler is not None:
+                with contextlib.suppress(Exception):
+                    info["dashboard"] = client.dashboard_link
+                    progress.note(f"dashboard {client.dashboard_link}")
+            info["workers"] = len(client.scheduler_info().get("workers", {}))
+            futures = {}
+            warm_up = len(jobs) > 1 and cache_is_cold(client, kind)
+            progress.start()
+            t_submit = time.perf_counter()
+            info["start_seconds"] = t_submit - t0
+            try:
+                from distributed import as_completed
+
+                token = os.urandom(4).hex()
+
+                def submit(k):
+                    f = client.submit(run_task, jobs[k], key=f"pbrkit-{kind}-{k}-{jobs[k]['name']}-{token}",
+                                      pure=False, retries=0)
+                    futures[f] = k
+                    return f
+
+                if warm_up:  # one input at a time until one is baked or rendered (skipped and failed ones
+                    # compile nothing), then all the others
+                    progress.note("no compiled kernels in the Numba cache yet: the first input runs alone "
+                                  "and the others load what it compiles")
+                    queue = as_completed([submit(0)])
+                    rest = list(range(1, len(jobs)))
+                else:
+                    queue = as_completed([submit(k) for k in range(len(jobs))])
+                    rest = []
+                for f in queue:
+                    k = futures[f]
+                    try:
+                        outcomes[k] = f.result()
+                    except Exception as exc:  # the scheduler gave up on it (KilledWorker) or a cancelled task
+                        outcomes[k] = _killed_outcome(jobs[k], exc)
+                    progress.finished(outcomes[k])
+                    if rest:
+                        release = rest if outcomes[k]["status"] == "done" else rest[:1]
+                        rest = rest[len(release):]
+                        for j in release:
+                            queue.add(submit(j))
+                finished_all = True
+                info["tasks_seconds"] = time.perf_counter() - t_submit
+            except KeyboardInterrupt:
+                interrupted = True
+                with contextlib.suppress(Exception):
+                    client.cancel(list(futures))
+                raise
+    except KeyboardInterrupt:
+        interrupted = True
+        raise
+    finally:
+        if finished_all or (interrupted and local):  # no task of this batch can still be writing
+            info["removed_temporaries"] = remove_stale_temporaries(out, names)
+        if any(o is not None for o in outcomes) or finished_all:
+            for k, job in enumerate(jobs):
+                if outcomes[k] is None:
+                    outcomes[k] = {"name": job["name"], "input": job["display"], "status": "not run",
+                                   "error": "the batch was interrupted before this input's result came back "
+                                            "(a re-run skips it if its folder was completed)",
+                                   "notes": [], "warnings": [], "seconds": 0.0, "bytes": 0, "worker": None}
+            _carry_earlier_times(out / "batch.json", outcomes)
+            summary = _summary(kind, out, options, targets, outcomes, info, time.perf_counter() - t0,
+                               __version__, interrupted)
+            with atomic_group([out / "batch.json", out / "index.html"]) as (json_tmp, html_tmp):
+                json_tmp.write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+                html_tmp.write_text(gallery_html(summary), encoding="utf-8")
+    return summary
+
+
+def _carry_earlier_times(path, outcomes):
+    """Give each skipped input the time of the run that made its folder, from the
+    previous ``batch.json`` (``earlier_seconds``), for the gallery."""
+    previous = _read_json(path)
+    if previous is None or previous.get("format") != SUMMARY_FORMAT:
+        return
+    earlier = {}
+    for o in previous.get("inputs") or []:
+        if isinstance(o, dict) and o.get("status") == "done":
+            earlier[o.get("name")] = o.get("seconds")
+        elif isinstance(o, dict) and o.get("status") == "skipped" and o.get("earlier_seconds") is not None:
+            earlier[o.get("name")] = o.get("earlier_seconds")
+    for o in outcomes:
+        if o["status"] == "skipped" and isinstance(earlier.get(o["name"]), (int, float)):
+            o["earlier_seconds"] = float(earlier[o["name"]])
+
+
+def _summary(kind, out, options, targets, outcomes, info, wall, version, interrupted):
+    counts = Counter(o["status"] for o in outcomes)
+    shown = dict(options)
+    summary = {
+        "format": SUMMARY_FORMAT,
+        "pbrkit_version": version,
+        "command": f"batch {kind}",
+        "out": str(out),
+        "options": shown,
+        "counts": {s: counts.get(s, 0) for s in ("done", "skipped", "failed", "not run")},
+        "wall_seconds": wall,
+        "interrupted": interrupted,
+        "inputs": outcomes,
+    }
+    if kind == "bake":
+        summary["targets"] = list(targets)
+    summary.update(info)
+    return summary
+
+
+# =================================================================== gallery
+
+
+def _size_text(n):
+    for unit in ("B", "kB", "MB", "GB"):
+        if n < 1000 or unit == "GB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1000.0
+    return f"{n:.1f} GB"
+
+
+_PAGE_STYLE = """
+body { font: 14px/1.4 system-ui, -apple-system, "Segoe UI", sans-serif; margin: 1.5em; color: #222; }
+h1 { font-size: 1.3em; }
+table { border-collapse: collapse; }
+th, td { padding: 6px 10px; border-bottom: 1px solid #ddd; text-align: left; vertical-align: top; }
+td.num { text-align: right; white-space: nowrap; }
+img { max-height: 120px; max-width: 480px; display: block; }
+.failed td { background: #fff0f0; }
+.status-failed { color: #b00020; font-weight: 600; }
+.status-skipped { color: #666; }
+.error { color: #b00020; font-family: ui-monospace, monospace; font-size: 12px; }
+.note { color: #666; font-size: 12px; }
+code { font-size: 12px; }
+"""
+
+
+def gallery_html(summary):
+    """``OUT/index.html``: every input's preview (a bake's ``preview.png``, a
+    render's image or, for EXR, its thumbnail) by relative path, with its
+    status, time, size and error line; self-contained (no script, no
+    server)."""
+    e = html.escape
+    counts = summary["counts"]
+    head = (f"{len(summary['inputs'])} inputs: {counts['done']} done, {counts['skipped']} skipped, "
+            f"{counts['failed']} failed" + (f", {counts['not run']} not run (interrupted)" if counts["not run"] else "")
+            + f"; {summary['wall_seconds']:.1f} s on {summary.get('cluster', 'no cluster')}")
+    options = ", ".join(f"{k}={v}" for k, v in summary["options"].items() if v is not None)
+    if summary.get("targets"):
+        options += ", targets=" + ",".join(summary["targets"])
+    rows = []
+    for o in summary["inputs"]:
+        link = quote(o["name"]) + "/"
+        preview = o.get("preview")
+        cell = ""
+        if preview and o["status"] in ("done", "skipped"):
+            cell = (f'<a href="{e(link)}"><img src="{e(link + quote(preview))}" alt="{e(o["name"])}" '
+                    f'loading="lazy"></a>')
+        time_text = f"{o['seconds']:.2f} s" if o["status"] == "done" else ""
+        if o["status"] == "skipped" and o.get("earlier_seconds") is not None:
+            time_text = f"{o['earlier_seconds']:.2f} s (earlier)"
+        size_text = _size_text(o["bytes"]) if o.get("bytes") else ""
+        detail = [f"<code>{e(str(o['input']))}</code>"]
+        if o.get("error"):
+            detail.append(f'<div class="error">{e(o["error"])}</div>')
+        for text in list(o.get("notes") or []) + [f"warning: {w}" for w in o.get("warnings") or []]:
+            detail.append(f'<div class="note">{e(text)}</div>')
+        name_cell = f'<a href="{e(link)}">{e(o["name"])}</a>' if o["status"] in ("done", "skipped") else e(o["name"])
+        rows.append(f'<tr class="{e(o["status"].replace(" ", "-"))}"><td>{name_cell}</td>'
+                    f'<td class="status-{e(o["status"].replace(" ", "-"))}">{e(o["status"])}</td>'
+                    f'<td class="num">{time_text}</td><td class="num">{size_text}</td><td>{cell}</td>'
+                    f'<td>{"".join(detail)}</td></tr>')
+    title = f"pbrkit {summary['command']}: {summary['out']}"
+    return (f'<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n<title>{e(title)}</title>\n'
+            f"<style>{_PAGE_STYLE}</style>\n</head>\n<body>\n<h1>{e(title)}</h1>\n<p>{e(head)}</p>\n"
+            f"<p class=\"note\">pbrkit {e(summary['pbrkit_version'])}; options: {e(options)}</p>\n"
+            "<table>\n<thead><tr><th>name</th><th>status</th><th>time</th><th>size</th><th>preview</th>"
+            "<th>input</th></tr></thead>\n<tbody>\n" + "\n".join(rows) + "\n</tbody>\n</table>\n</body>\n</html>\n")
