@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
+from numba import types
+from numba.extending import overload
 
 from ..core.jit import dual_use, select
 
@@ -49,10 +50,21 @@ __all__ = [
 COS_MIN = 1e-8
 
 
-@numba.vectorize(["float64(float64)"], cache=True)
 def erf(x):
-    """Error function as a NumPy ufunc that Numba kernels can call too."""
-    return math.erf(x)
+    """Error function: elementwise on arrays from Python (SciPy's ``scipy.special.erf``,
+    imported on first use), ``math.erf`` on scalars inside Numba kernels (the
+    overload below).  Not a Numba ufunc: building one at import cost every
+    command about 0.3 s."""
+    from scipy.special import erf as _erf
+
+    return _erf(x)
+
+
+@overload(erf)
+def _erf_numba(x):
+    if isinstance(x, types.Float):
+        return lambda x: math.erf(x)
+    return None
 
 
 @dual_use
