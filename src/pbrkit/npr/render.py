@@ -425,13 +425,27 @@ def box_uv(p, n, scale):
     return np.stack([u, v], axis=-1) * scale
 
 
+@parallel_kernel
+def _summed_light_kernel(e, nol, vis, weight, norm):
+    """Per point the numerator sum_i Y(E_i) max(n.l_i, 0) V_i and the denominator
+    sum_i Y(E_i) of the summed lighting value (module docstring)."""
+    for i in numba.prange(weight.shape[0]):
+        w = 0.0
+        total = 0.0
+        for li in range(e.shape[0]):
+            y = rec709_luminance(e[li, i, 0], e[li, i, 1], e[li, i, 2])
+            w += y * max(nol[li, i], 0.0) * vis[li, i]
+            total += y
+        weight[i] = w
+        norm[i] = total
+
+
 def _hatching(style, scene, geometry, env, bake, s, v, prim):
     from .hatching import hatch
 
     lights = _lights(geometry, s)
-    y = luminance(lights.e)  # (L, N)
-    weight = np.einsum("ln,ln->n", y, np.maximum(lights.nol, 0.0) * lights.vis)
-    norm = y.sum(axis=0)
+    weight, norm = np.empty(s.p.shape[0]), np.empty(s.p.shape[0])
+    _summed_light_kernel(lights.e, lights.nol, lights.vis, weight, norm)
     reference = lights.e.max(axis=1).sum(axis=0)
     if style.environment and bake is not None:
         e_n, _, _, e_max, _, _ = _environment(env, bake, s, v, style, specular=False)
