@@ -530,22 +530,15 @@ def _thumbnail(image_path, thumb_path, options, width=512):
 
 
 def _render_job(job):
-    import dataclasses
 
     from ..core.atomic import atomic_directory
     from ..core.errors import InputError, OutputError
     from ..render.run import render_scene
-    from ..render.scene import EnvironmentSpec, resolve_scene
+    from ..render.scene import command_scene
 
     options, out, name = job["options"], Path(job["out"]), job["name"]
     scene_input = job["input"]
-    environment = None
-    if options["env"] is not None:  # as pbrkit render --env: an image file or a bake folder
-        env = options["env"]
-        environment = EnvironmentSpec(bake=env) if Path(env).is_dir() else EnvironmentSpec(file=env)
-    scene = resolve_scene(scene_input, options["width"], options["height"], environment)
-    if options["fix_nonfinite"]:
-        scene = dataclasses.replace(scene, environment=dataclasses.replace(scene.environment, fix_nonfinite=True))
+    scene = command_scene(scene_input, options["width"], options["height"], options["env"], options["fix_nonfinite"])
     style = None
     if options["style"] is not None:
         from ..npr.style import resolve_style

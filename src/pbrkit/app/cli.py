@@ -17,7 +17,6 @@ What a user sees:
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import functools
 import signal
 import sys
@@ -616,22 +615,14 @@ def render(
 
     from ..core import checks
     from ..render.run import STAGES, output_suffix_ok, render_scene
-    from ..render.scene import EnvironmentSpec, resolve_scene
+    from ..render.scene import command_scene
 
     output_suffix_ok(out)
     if mode != "realtime":
         checks.integer(spp, "--spp", 1, 1 << 20)
     if mode != "reference":
         checks.power_of_two(bake_size, "--bake-size", 2, 4096)
-    environment = None
-    if env is not None:
-        if not env.exists():
-            raise ValueError(f"{env}: environment file not found")
-        environment = EnvironmentSpec(bake=str(env)) if env.is_dir() else EnvironmentSpec(file=str(env))
-    scene_obj = resolve_scene(scene, width, height, environment)
-    if fix_nonfinite:
-        scene_obj = dataclasses.replace(scene_obj, environment=dataclasses.replace(scene_obj.environment,
-                                                                                   fix_nonfinite=True))
+    scene_obj = command_scene(scene, width, height, env, fix_nonfinite)
     style_obj = None
     if style is not None:
         from ..npr.style import resolve_style

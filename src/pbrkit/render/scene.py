@@ -846,6 +846,22 @@ def _area_scene(width, height, environment=None):
                  materials=materials, objects=tuple(objects), area_lights=(light,), source="area")
 
 
+def command_scene(name_or_path, width=None, height=None, env=None, fix_nonfinite=False):
+    """The scene ``pbrkit render`` and ``pbrkit batch render`` draw: :func:`resolve_scene`
+    with ``env`` (an environment image file or a bake folder) replacing the scene's
+    environment, and ``fix_nonfinite`` repairing its NaN / Inf pixels."""
+    environment = None
+    if env is not None:
+        env = Path(env)
+        if not env.exists():
+            raise InputError("environment file not found", env)
+        environment = EnvironmentSpec(bake=str(env)) if env.is_dir() else EnvironmentSpec(file=str(env))
+    scene = resolve_scene(name_or_path, width, height, environment)
+    if fix_nonfinite:
+        scene = replace(scene, environment=replace(scene.environment, fix_nonfinite=True))
+    return scene
+
+
 def resolve_scene(name_or_path, width=None, height=None, environment=None):
     """A built-in scene by name, or a scene file; ``width``/``height`` override the
     camera's, ``environment`` (an :class:`EnvironmentSpec`) the file's environment."""
