@@ -686,6 +686,24 @@ def demo(
         print(f"wrote {out / 'index.html'}")
 
 
+#: The options ``pbrkit bake`` and ``pbrkit batch bake`` share: factories giving each
+#: command its own Typer option.
+BAKE_OPTIONS = {
+    "size": lambda: typer.Option(256, "--size", metavar="N", help="Specular cube size (power of two, <= 4096)."),
+    "min_size": lambda: typer.Option(16, "--min-size", metavar="N",
+                                     help="Size of the last (roughest) specular level."),
+    "irradiance_size": lambda: typer.Option(32, "--irradiance-size", metavar="N", help="Irradiance cube size."),
+    "lut_size": lambda: typer.Option(128, "--lut-size", metavar="N", help="DFG lookup-table size."),
+    "format": lambda: _choice("rgba16f", "--format", BAKE_FORMATS, "format", "KTX2/DDS texel format."),
+    "method": lambda: _choice("spectral", "--method", BAKE_METHODS, "method",
+                              "spectral (exact SH-domain convolution) or fis (filtered importance sampling)."),
+    "sh_window": lambda: _choice(None, "--sh-window", SH_WINDOWS, "SH window", "Window the stored SH (default: none)."),
+    "fix_nonfinite": lambda: _flag(False, ("--fix-nonfinite",),
+                                   "Replace NaN/Inf pixels by the mean of their finite neighbours (refused when more "
+                                   "than half of an image is NaN/Inf); without it they are refused."),
+}
+
+
 @app.command(cls=_Command, short_help="Bake an HDR environment for split-sum IBL into a folder.")
 @user_errors
 def bake(
@@ -694,20 +712,16 @@ def bake(
                                           "image, or six face files in the order +X -X +Y -Y +Z -Z."),
     out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
                              help="Output folder (must be absent or empty unless --force)."),
-    size: int = typer.Option(256, "--size", metavar="N", help="Specular cube size (power of two, <= 4096)."),
-    min_size: int = typer.Option(16, "--min-size", metavar="N", help="Size of the last (roughest) specular level."),
-    irradiance_size: int = typer.Option(32, "--irradiance-size", metavar="N", help="Irradiance cube size."),
-    lut_size: int = typer.Option(128, "--lut-size", metavar="N", help="DFG lookup-table size."),
-    fmt: str = _choice("rgba16f", "--format", BAKE_FORMATS, "format", "KTX2/DDS texel format."),
-    method: str = _choice("spectral", "--method", BAKE_METHODS, "method",
-                          "spectral (exact SH-domain convolution) or fis (filtered importance sampling)."),
-    sh_window: Optional[str] = _choice(None, "--sh-window", SH_WINDOWS, "SH window",
-                                       "Window the stored SH (default: none)."),
+    size: int = BAKE_OPTIONS["size"](),
+    min_size: int = BAKE_OPTIONS["min_size"](),
+    irradiance_size: int = BAKE_OPTIONS["irradiance_size"](),
+    lut_size: int = BAKE_OPTIONS["lut_size"](),
+    fmt: str = BAKE_OPTIONS["format"](),
+    method: str = BAKE_OPTIONS["method"](),
+    sh_window: Optional[str] = BAKE_OPTIONS["sh_window"](),
     layout: Optional[str] = _choice(None, "--layout", LAYOUTS, "layout",
                                     "Force the layout of a single file (default: by aspect ratio)."),
-    fix_nonfinite: bool = _flag(False, ("--fix-nonfinite",),
-                                "Replace NaN/Inf pixels by the mean of their finite neighbours (refused when more "
-                                "than half of an image is NaN/Inf); without it they are refused."),
+    fix_nonfinite: bool = BAKE_OPTIONS["fix_nonfinite"](),
     force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
     target: Optional[list[str]] = typer.Option(
         None, "--target", metavar="[generic|filament|khronos|babylon|three|all]",
