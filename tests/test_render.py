@@ -156,20 +156,23 @@ def test_table_lookup_kernel_matches_sample_table():
 # ================================================== environment sampling
 
 
-def test_environment_sampling_is_proportional_to_luminance_sin_theta():
+def test_environment_sampling_is_proportional_to_luminance_times_solid_angle():
+    """Texels are drawn with probability luminance x texel solid angle (alias table),
+    the returned pdf is the pdf of the texel the direction lands in, and within a
+    texel the direction is uniform in solid angle (cos theta and phi uniform)."""
     rng = np.random.default_rng(11)
     image = rng.gamma(0.6, 1.0, size=(8, 16, 3))
     image[2, 5] = 40.0  # a bright texel
     image[7, :] = 0.0  # a black row
     env = EnvironmentLight(EnvironmentSpec(equirect=image, rotation=40.0))
-    func, total, marg, cond = env.distribution
+    func, total, alias, rows = env.distribution
 
     @numba.njit
-    def draw(count, func, total, marg, cond, c, s, out_dir, out_pdf, out_pdf2, out_texel):
+    def draw(count, func, total, alias, rows, c, s, out_dir, out_pdf, out_pdf2, out_texel):
         for k in range(count):
             key = _path_key(5, k, 0, 0)
-            x, y, z, pdf, i, j = _env_sample(func, total, marg, cond, c, s, _uniform(key, 0),
-                                                    _uniform(key, 1))
+            x, y, z, pdf, i, j = _env_sample(func, total, alias, rows, c, s, _uniform(key, 0),
+                                             _uniform(key, 1))
             out_dir[k, 0], out_dir[k, 1], out_dir[k, 2] = x, y, z
             out_pdf[k] = pdf
             ii, jj, st = _env_texel(func.shape[0], func.shape[1], c, s, x, y, z)
@@ -181,18 +184,28 @@ def test_environment_sampling_is_proportional_to_luminance_sin_theta():
     pdf = np.empty(count)
     pdf2 = np.empty(count)
     texel = np.empty((count, 2), dtype=np.int64)
-    draw(count, func, total, marg, cond, env.cos, env.sin, d, pdf, pdf2, texel)
+    draw(count, func, total, alias, rows, env.cos, env.sin, d, pdf, pdf2, texel)
     # the returned pdf is the pdf of the texel the direction lands in (rotation included)
     np.testing.assert_allclose(pdf, pdf2, rtol=1e-9)
-    # chi-square over texels: expected frequency luminance * sin(theta_i) / sum
+    # chi-square over texels: expected frequency luminance * solid angle / sum
     lum = image @ np.array([0.2126, 0.7152, 0.0722])
-    weight = lum * np.sin(np.pi * (np.arange(8) + 0.5) / 8)[:, None]
+    theta_edges = np.pi * np.arange(9) / 8
+    solid = (2 * np.pi / 16) * (np.cos(theta_edges[:-1]) - np.cos(theta_edges[1:]))
+    weight = lum * solid[:, None]
     expected = count * weight.ravel() / weight.sum()
     observed = np.bincount(texel[:, 0] * 16 + texel[:, 1], minlength=128).astype(float)
     assert observed[expected == 0].sum() == 0
     keep = expected >= 5
     chi2 = np.sum((observed[keep] - expected[keep]) ** 2 / expected[keep])
     assert stats.chi2.sf(chi2, keep.sum() - 1) > 1e-3
+    # within the bright texel, cos theta and phi (map frame) are uniform (Kolmogorov-Smirnov)
+    local = env.to_env_frame(d[(texel[:, 0] == 2) & (texel[:, 1] == 5)])
+    assert local.shape[0] > 1000
+    cos_t = (local[:, 1] - np.cos(theta_edges[2])) / (np.cos(theta_edges[3]) - np.cos(theta_edges[2]))
+    phi = np.arctan2(local[:, 2], local[:, 0])  # u = 0.5 + phi / (2 pi): column 5 of 16
+    u_in = (0.5 + phi / (2 * np.pi)) * 16 - 5
+    assert stats.kstest(cos_t, "uniform").pvalue > 1e-3
+    assert stats.kstest(u_in, "uniform").pvalue > 1e-3
     # the solid-angle pdf integrates to 1 over the sphere (fine midpoint grid in the map frame)
     h = 256
     from pbrkit.ibl.equirect import equirect_directions, equirect_solid_angles
@@ -239,7 +252,7 @@ def test_furnace_reference_gives_the_directional_albedo(masking):
     material = MaterialSpec(model="cook_torrance", name="m", metallic=1.0, roughness=roughness, masking=masking, fresnel="none",
                             diffuse="none")
     scene = sphere_scene(material, EnvironmentSpec(color=(1.0, 1.0, 1.0)), size=18)
-    result = render_reference(scene, spp=1024, seed=1)
+    result = render_reference(scene, spp=2048, seed=1)
     mask, p, v = pixel_geometry(scene)
     inner = mask & result.mask
     mu = np.sum(p * v, axis=-1)[inner]

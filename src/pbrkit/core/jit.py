@@ -28,10 +28,13 @@ from pathlib import Path
 import numba
 import numpy as np
 from numba import types
+from numba.core import cgutils
 from numba.core.caching import CacheImpl, _CacheLocator
-from numba.extending import overload, register_jitable
+from numba.core.errors import RequireLiteralValue
+from numba.extending import intrinsic, overload, register_jitable
 
-__all__ = ["dual_use", "kernel", "parallel_kernel", "select", "source_hash", "cache_directory"]
+__all__ = ["dual_use", "kernel", "parallel_kernel", "simd_kernel", "lane_stage", "stack_array", "select",
+           "source_hash", "cache_directory"]
 
 _PACKAGE_ROOT = Path(__file__).resolve().parent.parent
 
@@ -44,22 +47,80 @@ def dual_use(fn=None, *, inline=False):
     instead of leaving the choice to LLVM: for the few tiny helpers in the
     innermost loops (cube-map texel fetches) where a call costs as much as the
     work; called from Python such a helper is compiled for its argument types.
-    Use as ``@dual_use`` or ``@dual_use(inline=True)``."""
+    ``inline="llvm"`` compiles it once and has LLVM always inline it
+    (``njit(forceinline=True)``): for helpers that take arrays and are called in
+    loops that should become SIMD code, where inlining in Numba's IR would add
+    reference counting of those arrays (calls) to the loop.  Use as ``@dual_use``,
+    ``@dual_use(inline=True)`` or ``@dual_use(inline="llvm")``."""
     if fn is None:
         return functools.partial(dual_use, inline=inline)
+    if inline == "llvm":  # not cached: a function loaded from the cache has no IR to inline
+        return numba.njit(forceinline=True, error_model="numpy")(fn)
     if inline:
-        return numba.njit(inline="always", cache=True)(fn)
+        return numba.njit(inline="always", cache=True, error_model="numpy")(fn)
     return register_jitable(fn)
 
 
 def kernel(fn):
-    """Compile *fn* with Numba, cached on disk (:func:`cache_directory`), serial."""
-    return numba.njit(cache=True, fastmath=False)(fn)
+    """Compile *fn* with Numba, cached on disk (:func:`cache_directory`), serial,
+    with NumPy's error model (module docstring)."""
+    return numba.njit(cache=True, fastmath=False, error_model="numpy")(fn)
 
 
 def parallel_kernel(fn):
-    """Compile *fn* with Numba, cached on disk, with ``prange`` parallel loops."""
-    return numba.njit(cache=True, parallel=True, fastmath=False)(fn)
+    """Compile *fn* with Numba, cached on disk, with ``prange`` parallel loops and
+    NumPy's error model (module docstring)."""
+    return numba.njit(cache=True, parallel=True, fastmath=False, error_model="numpy")(fn)
+
+
+def simd_kernel(fn):
+    """Compile *fn* with Numba, cached on disk, with ``prange`` parallel loops, for
+    loops that LLVM should turn into SIMD code: NumPy's error model, so a float
+    division by zero gives inf or NaN instead of a branch that raises (a loop with
+    an exit cannot be vectorised); the arrays of the ``prange`` body are then
+    known not to overlap (Numba marks the parallel region's arguments noalias),
+    which lets gathers and scatters be vectorised too."""
+    return numba.njit(cache=True, parallel=True, fastmath=False, error_model="numpy")(fn)
+
+
+def lane_stage(fn):
+    """Mark *fn* as a stage of a :func:`simd_kernel`: compiled once for its argument
+    types, without caching (LLVM needs its IR), and always inlined by LLVM where it
+    is called, so that its loops over lanes are optimised again with the caller's
+    constant arguments (a BxDF whose model is fixed loses its other models'
+    branches) and vectorised.  Call stages from the kernel itself: a stage inlined
+    into another stage has its loops optimised, and left as they are, in that
+    stage's own compilation.  A stage's loops must not call functions that take
+    arrays (the reference counting of those arrays adds calls that keep a loop from
+    being vectorised); loops that gather from tables belong in the kernel, where
+    LLVM knows its arrays apart."""
+    return numba.njit(forceinline=True, fastmath=False, error_model="numpy")(fn)
+
+
+@intrinsic
+def stack_array(typingctx, rows, cols):
+    """A (rows, cols) float64 array (C order, not initialised) in the stack frame of the
+    compiled function that calls it, for the lane buffers of :func:`simd_kernel`
+    stages; ``rows`` and ``cols`` must be compile-time constants.  LLVM knows stack
+    memory apart from every array argument, so loops that gather from tables and
+    store into such a buffer are vectorised without the run-time overlap checks
+    that gathers cannot have; and the array has no reference count.  It must not
+    outlive the call (never return it or store it)."""
+    if not isinstance(rows, types.IntegerLiteral) or not isinstance(cols, types.IntegerLiteral):
+        raise RequireLiteralValue("stack_array needs constant sizes")
+    n_rows = rows.literal_value
+    n_cols = cols.literal_value
+    array_type = types.Array(types.float64, 2, "C")
+
+    def codegen(context, builder, signature, args):
+        data = cgutils.alloca_once(builder, context.get_value_type(types.float64), size=n_rows * n_cols)
+        array = context.make_array(array_type)(context, builder)
+        intp = context.get_value_type(types.intp)
+        context.populate_array(array, data=data, shape=(intp(n_rows), intp(n_cols)),
+                               strides=(intp(8 * n_cols), intp(8)), itemsize=intp(8), meminfo=None)
+        return array._getvalue()
+
+    return array_type(rows, cols), codegen
 
 
 def select(condition, if_true, if_false):

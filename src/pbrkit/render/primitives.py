@@ -77,7 +77,7 @@ def build_sphere_bvh(centers, radii, leaf_size=2):
     return box_min, box_max, skip, first, count, np.array(order, dtype=np.int64)
 
 
-@dual_use
+@dual_use(inline=True)
 def _ray_sphere(ox, oy, oz, dx, dy, dz, cx, cy, cz, r, tmin):
     """Smallest t > tmin of the unit-direction ray o + t d on the sphere, or inf
     (Haines et al. 2019, Ray Tracing Gems ch. 7: the discriminant as
@@ -105,6 +105,15 @@ def _ray_sphere(ox, oy, oz, dx, dy, dz, cx, cy, cz, r, tmin):
     if t1 > tmin:
         return t1
     return _INF
+
+
+@dual_use(inline=True)
+def _ray_plane(ox, oy, oz, dx, dy, dz, qx, qy, qz, nx, ny, nz):
+    """Parameter t of the ray o + t d on the plane through q with unit normal n:
+    t = ((q - o).n) / (d.n), inf for a ray parallel to it."""
+    den = dx * nx + dy * ny + dz * nz
+    t = ((qx - ox) * nx + (qy - oy) * ny + (qz - oz) * nz) / (den if den != 0.0 else 1.0)
+    return t if den != 0.0 else _INF
 
 
 @dual_use
@@ -163,16 +172,14 @@ def trace_analytic(ox, oy, oz, dx, dy, dz, tmin, tmax, any_hit, spheres, bvh_lo,
     kind = 0
     index = -1
     for p in range(planes.shape[0]):
-        den = dx * planes[p, 3] + dy * planes[p, 4] + dz * planes[p, 5]
-        if den != 0.0:
-            t = ((planes[p, 0] - ox) * planes[p, 3] + (planes[p, 1] - oy) * planes[p, 4]
-                 + (planes[p, 2] - oz) * planes[p, 5]) / den
-            if tmin < t < best:
-                best = t
-                kind = 2
-                index = p
-                if any_hit:
-                    return best, kind, index
+        t = _ray_plane(ox, oy, oz, dx, dy, dz, planes[p, 0], planes[p, 1], planes[p, 2], planes[p, 3], planes[p, 4],
+                       planes[p, 5])
+        if tmin < t < best:
+            best = t
+            kind = 2
+            index = p
+            if any_hit:
+                return best, kind, index
     n_nodes = bvh_skip.shape[0]
     if n_nodes:
         ix = _inv(dx)

@@ -40,26 +40,57 @@ import numba
 import numpy as np
 
 from ..brdf.bxdf import (
+    CODE_COLUMNS,
+    DIFF_LAMBERT,
+    DIFF_NONE,
+    DIST_GGX,
+    FRES_NONE,
+    FRES_SCHLICK,
+    MASK_HEIGHT_CORRELATED,
+    MASK_SEPARABLE,
+    MODEL_COOK_TORRANCE,
+    MODEL_FILAMENT,
+    MODEL_GLTF,
+    P_ANISOTROPY,
     P_BASE_COLOR,
     P_DOUBLE_SIDED,
     P_EMISSIVE,
     P_METALLIC,
     P_ROUGHNESS,
+    BxDF,
     bxdf_f,
     bxdf_pdf,
     lobe_probabilities,
     sample_wi,
 )
 from ..core import checks
-from ..core.jit import dual_use, parallel_kernel
-from ..sampling.random import _path_key, _uniform
+from ..core.jit import dual_use, lane_stage, parallel_kernel, simd_kernel, stack_array
+from ..sampling.random import _path_key, _sample_key, _stream_key, _uniform
 from .area_lights import area_light_hit, area_light_pdf, area_light_sample
-from .environment import EnvironmentLight, _env_pdf_texel, _env_sample, _env_texel
+from .environment import (
+    EnvironmentLight,
+    _alias_choice,
+    _alias_column,
+    _env_pdf_texel,
+    _env_sample,
+    _env_texel,
+    _texel_of,
+    _texel_pdf,
+    _texel_point,
+)
 from .geometry import Geometry
 from .lights import light_arrays
 from .materials import hit_bxdf, hit_cosines, material_tables
 from .primary import RenderResult, _background, _primary
-from .primitives import KIND_NONE, KIND_SPHERE, sphere_normal_and_point, trace_analytic
+from .primitives import (
+    KIND_NONE,
+    KIND_PLANE,
+    KIND_SPHERE,
+    _ray_plane,
+    _ray_sphere,
+    sphere_normal_and_point,
+    trace_analytic,
+)
 from .punctual import punctual_at, punctual_radiance
 
 __all__ = [
@@ -67,7 +98,7 @@ __all__ = [
 ]
 
 
-@dual_use
+@dual_use(inline=True)
 def _power_heuristic(pa, pb):
     """Veach 1997, sec. 9.2.4: w = pa^2 / (pa^2 + pb^2)."""
     a = pa * pa
@@ -79,7 +110,7 @@ def _power_heuristic(pa, pb):
 
 @dual_use
 def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2,
-            env, func, total, marg, cond, c, s, strategy, acodes, avalues, averts):
+            env, func, total, alias, row_cos, c, s, strategy, acodes, avalues, averts):
     """The samples of one path vertex.  Returns
     (environment direction (3), its contribution (3, unshadowed, MIS-weighted),
      area-light direction (3), the distance to the light, its contribution (3,
@@ -99,7 +130,7 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
     light_dir = z3
     light_val = z3
     if strategy == 0:
-        lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, marg, cond, c, s, _uniform(key, 0), _uniform(key, 1))
+        lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, alias, row_cos, c, s, _uniform(key, 0), _uniform(key, 1))
         light_dir = (lx, ly, lz)
         if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
             cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
@@ -172,17 +203,23 @@ def _area_shadow_t(dist):
     return dist * (1.0 - 1e-6)
 
 
-@dual_use
-def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
-    """Radiance times the MIS weight of a BRDF sample that reaches the environment."""
-    i, j, sin_theta = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
+@dual_use(inline=True)
+def _miss_weight(strategy, pdf_b, pdf_e):
+    """MIS weight of a BRDF sample that reaches the environment, whose environment
+    sampling pdf is pdf_e: the power heuristic, or 1 for BRDF sampling alone."""
     w = 1.0
     if strategy == 0:
-        w = _power_heuristic(pdf_b, _env_pdf_texel(func, total, i, j, sin_theta))
+        w = _power_heuristic(pdf_b, pdf_e)
+    return w
+
+
+@dual_use
+def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
+    """Radiance times the MIS weight of a BRDF sample that reaches the environment
+    (:func:`_miss_weight`)."""
+    i, j, sin_theta = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
+    w = _miss_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j, sin_theta))
     return env[i, j, 0] * w, env[i, j, 1] * w, env[i, j, 2] * w
-
-
-# ------------------------------------------------- fused kernel (analytic scenes)
 
 
 @dual_use
@@ -210,7 +247,7 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
 
 @parallel_kernel
 def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
-                  base, mi, mf, env, func, total, marg, cond, c, s, eps, spheres, lo, hi, skip, first, count,
+                  base, mi, mf, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count,
                   order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, out_shift, out_sum,
                   out_sumsq):
     """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
@@ -248,7 +285,7 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
                     key = _path_key(seed, pix, j, bounce)
                     ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
                         key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me, b0, b1, b2, env, func,
-                        total, marg, cond, c, s, strategy, acodes, avalues, averts)
+                        total, alias, row_cos, c, s, strategy, acodes, avalues, averts)
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
@@ -345,19 +382,438 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
         out_sumsq[pix, 2] = q2
 
 
+# ------------------------------------------------- direct lighting in lanes (analytic scenes, bounces = 0)
+
+#: The materials the direct-lighting kernel specialises, as code rows (model,
+#: distribution, masking, Fresnel, diffuse) of :mod:`pbrkit.brdf.bxdf`: the BxDF of
+#: such a material is rebuilt with these codes as constants (:func:`_specialised`), so
+#: that LLVM drops every other branch of the BxDF functions and vectorises the lane
+#: loops.  Other materials (Beckmann and Blinn-Phong lobes, the exact Fresnel terms,
+#: anisotropy, Disney's, other combinations) run the same loops unspecialised.
+_VARIANTS = (
+    (MODEL_GLTF, DIST_GGX, MASK_SEPARABLE, FRES_SCHLICK, DIFF_LAMBERT),
+    (MODEL_FILAMENT, DIST_GGX, MASK_HEIGHT_CORRELATED, FRES_SCHLICK, DIFF_LAMBERT),
+    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_HEIGHT_CORRELATED, FRES_SCHLICK, DIFF_LAMBERT),
+    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_SEPARABLE, FRES_NONE, DIFF_NONE),
+    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_HEIGHT_CORRELATED, FRES_NONE, DIFF_NONE),
+    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_SEPARABLE, FRES_NONE, DIFF_LAMBERT),
+)
+#: Lanes (samples of one primary hit) per pass through the stages.
+_LANES = 256
+#: Scenes with at most this many spheres and planes test every ray against each of
+#: them in vectorised loops; larger ones traverse the sphere BVH ray by ray.
+_BULK_PRIMITIVES = 16
+#: Rows of the lane buffers of :func:`_direct_kernel`, one array per stage's output:
+#: no loop reads the array it writes, and LLVM, which knows separate allocations
+#: apart, vectorises every stage without run-time overlap checks.
+_U_LOBE, _U_1, _U_2, _U_K, _U_DV = range(5)                  # random numbers; alias draw
+_L_DIR, _L_PDF, _L_RAD, _L_LE = 0, 3, 4, 7                   # environment samples; seen by BxDF samples
+_M_LVAL, _M_LOCAL = 0, 3                                     # BxDF at them; local BxDF directions
+_S_DIR, _S_W, _S_PDF = 0, 3, 6                               # BxDF samples
+_T_T, _T_KIND, _T_INDEX = range(3)                           # ray hits
+_BUFFER_ROWS = (5, 10, 6, 7, 3, 3)
+#: Pixels per parallel work item.
+_BLOCK = 8
+
+
+def material_variants(codes, params):
+    """The specialisation (index into :data:`_VARIANTS`, or -1) of each material row of
+    :func:`pbrkit.render.materials.material_tables`' ``(codes, params)``: isotropic
+    materials whose code row is one of the variants."""
+    out = np.full(codes.shape[0], -1, dtype=np.int64)
+    for m in range(codes.shape[0]):
+        if params[m, P_ANISOTROPY] == 0.0 and tuple(codes[m, :CODE_COLUMNS]) in _VARIANTS:
+            out[m] = _VARIANTS.index(tuple(codes[m, :CODE_COLUMNS]))
+    return out
+
+
+@dual_use(inline=True)
+def _specialised(b, codes):
+    """``b`` with its code row replaced by the constant ``codes`` (which must be its
+    own: :func:`material_variants`), isotropic and without a clear coat, so that the
+    BxDF functions inlined after it fold to that one composition."""
+    return BxDF(codes[0], codes[1], codes[2], codes[3], codes[4], b.roughness, b.alpha, b.alpha, b.alpha, False,
+                b.metallic, b.base, b.diffuse_color, b.f0, b.f90, b.eta, b.k, b.dielectric_f0, b.specular_color,
+                b.subsurface, b.sheen, 0.0, b.clearcoat_alpha)
+
+
+_bxdf_f_lanes = dual_use(inline="llvm")(bxdf_f)
+
+
+@lane_stage
+def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, count, ub, lb, mb, sb):
+    """The BxDF's part of the samples of a lane buffer set (:data:`_BUFFER_ROWS`), the
+    per-lane work of :func:`_vertex`: f, its pdf and the MIS-weighted value of each
+    environment sample (``mb[_M_LVAL]``), then a direction sampled from the BxDF with
+    its weight f cos / pdf and pdf (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``; zero
+    weight and pdf, and the normal as direction, where :func:`_vertex` gives up).  The
+    same operations in the same order as :func:`_vertex`, so the same numbers.  The
+    kernel calls it with a BxDF specialised by :func:`_specialised` (and p_coat = -0.0:
+    0, as a constant that also folds p_spec + p_coat to p_spec), or with any BxDF."""
+    nov = nx * vx + ny * vy + nz * vz
+    if strategy == 0:
+        for i in range(count):
+            lx = lb[_L_DIR, i]
+            ly = lb[_L_DIR + 1, i]
+            lz = lb[_L_DIR + 2, i]
+            pdf_e = lb[_L_PDF, i]
+            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+            f = _bxdf_f_lanes(b, cs, 1.0, 1.0, 1.0)
+            pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
+            w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
+            ok = pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0 and cs.nol > 0.0
+            mb[_M_LVAL, i] = f[0] * lb[_L_RAD, i] * w if ok else 0.0
+            mb[_M_LVAL + 1, i] = f[1] * lb[_L_RAD + 1, i] * w if ok else 0.0
+            mb[_M_LVAL + 2, i] = f[2] * lb[_L_RAD + 2, i] * w if ok else 0.0
+    tx, ty, tz = t
+    bx, by, bz = bt
+    wox = vx * tx + vy * ty + vz * tz
+    woy = vx * bx + vy * by + vz * bz
+    # the local directions; with one lobe its choice is a constant, so the other lobe's
+    # warp is not computed as well
+    if p_coat <= 0.0 and p_spec >= 1.0:
+        for i in range(count):
+            llx, lly, llz = sample_wi(b, wox, woy, nov, 0.0, ub[_U_1, i], ub[_U_2, i], 1.0, -0.0)
+            mb[_M_LOCAL, i] = llx
+            mb[_M_LOCAL + 1, i] = lly
+            mb[_M_LOCAL + 2, i] = llz
+    elif p_coat <= 0.0 and p_spec <= 0.0:
+        for i in range(count):
+            llx, lly, llz = sample_wi(b, wox, woy, nov, 0.5, ub[_U_1, i], ub[_U_2, i], 0.0, -0.0)
+            mb[_M_LOCAL, i] = llx
+            mb[_M_LOCAL + 1, i] = lly
+            mb[_M_LOCAL + 2, i] = llz
+    else:
+        for i in range(count):
+            llx, lly, llz = sample_wi(b, wox, woy, nov, ub[_U_LOBE, i], ub[_U_1, i], ub[_U_2, i], p_spec, p_coat)
+            mb[_M_LOCAL, i] = llx
+            mb[_M_LOCAL + 1, i] = lly
+            mb[_M_LOCAL + 2, i] = llz
+    for i in range(count):
+        llx = mb[_M_LOCAL, i]
+        lly = mb[_M_LOCAL + 1, i]
+        llz = mb[_M_LOCAL + 2, i]
+        lx = llx * tx + lly * bx + llz * nx
+        ly = llx * ty + lly * by + llz * ny
+        lz = llx * tz + lly * bz + llz * nz
+        norm = math.sqrt(lx * lx + ly * ly + lz * lz)
+        lx /= norm
+        ly /= norm
+        lz /= norm
+        cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
+        pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
+        f = _bxdf_f_lanes(b, cs, 1.0, 1.0, 1.0)
+        k = cs.nol / pdf_b
+        ok = norm > 0.0 and gx * lx + gy * ly + gz * lz > 0.0 and cs.nol > 0.0 and pdf_b > 0.0
+        sb[_S_DIR, i] = lx if ok else nx
+        sb[_S_DIR + 1, i] = ly if ok else ny
+        sb[_S_DIR + 2, i] = lz if ok else nz
+        sb[_S_W, i] = f[0] * k if ok else 0.0
+        sb[_S_W + 1, i] = f[1] * k if ok else 0.0
+        sb[_S_W + 2, i] = f[2] * k if ok else 0.0
+        sb[_S_PDF, i] = pdf_b if ok else 0.0
+
+
+@lane_stage
+def _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q, src, dst):
+    """One step of :func:`_trace_lanes`: the hits ``src`` of the rays from o along
+    ``dirs[row:row + 3]`` updated with primitive q (planes first, then spheres: the
+    tests of :func:`pbrkit.render.primitives.trace_analytic` in its order, without
+    the BVH) into ``dst``."""
+    n_planes = planes.shape[0]
+    if q < n_planes:
+        qx, qy, qz, px, py, pz = planes[q, 0], planes[q, 1], planes[q, 2], planes[q, 3], planes[q, 4], planes[q, 5]
+        for i in range(count):
+            t = _ray_plane(ox, oy, oz, dirs[row, i], dirs[row + 1, i], dirs[row + 2, i], qx, qy, qz, px, py, pz)
+            best = src[_T_T, i]
+            closer = 0.0 < t < best
+            dst[_T_T, i] = t if closer else best
+            dst[_T_KIND, i] = KIND_PLANE if closer else src[_T_KIND, i]
+            dst[_T_INDEX, i] = q if closer else src[_T_INDEX, i]
+    else:
+        s = q - n_planes
+        cx = spheres[s, 0]
+        cy = spheres[s, 1]
+        cz = spheres[s, 2]
+        r = spheres[s, 3]
+        for i in range(count):
+            t = _ray_sphere(ox, oy, oz, dirs[row, i], dirs[row + 1, i], dirs[row + 2, i], cx, cy, cz, r, 0.0)
+            best = src[_T_T, i]
+            closer = t < best
+            dst[_T_T, i] = t if closer else best
+            dst[_T_KIND, i] = KIND_SPHERE if closer else src[_T_KIND, i]
+            dst[_T_INDEX, i] = s if closer else src[_T_INDEX, i]
+
+
+@lane_stage
+def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
+    """Closest hits, t in (0, inf), of the rays from o along ``dirs[row:row + 3]`` against
+    every plane and sphere, in ``ha``: rows t (inf: none), kind, index (:func:`_hit_lanes`,
+    alternating between the hit buffers ``ha`` and ``hb``)."""
+    for i in range(count):
+        ha[_T_T, i] = np.inf
+        ha[_T_KIND, i] = KIND_NONE
+        ha[_T_INDEX, i] = -1.0
+    n = planes.shape[0] + spheres.shape[0]
+    for q in range(0, n - 1, 2):
+        _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q, ha, hb)
+        _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q + 1, hb, ha)
+    if n % 2:
+        _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, n - 1, ha, hb)
+        for i in range(count):
+            ha[_T_T, i] = hb[_T_T, i]
+            ha[_T_KIND, i] = hb[_T_KIND, i]
+            ha[_T_INDEX, i] = hb[_T_INDEX, i]
+
+
+@simd_kernel
+def _direct_kernel(seed, spp, k2, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal, base, mi, mf,
+                   variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order,
+                   planes, sphere_mat, plane_mat, out_shift, out_sum, out_sumsq):
+    """Direct lighting (bounces = 0) of an analytic scene without area lights, the
+    estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
+    numbers) computed in lanes: the samples of one primary hit go through stages,
+    each a loop over up to :data:`_LANES` samples in structure-of-arrays buffers
+    (:data:`_BUFFER_ROWS`) that LLVM vectorises: random numbers
+    and environment samples, the BxDF (:func:`_material_lanes`, specialised by
+    :data:`_VARIANTS`), the environment seen by the BxDF samples, shadow and BxDF
+    rays (:func:`_trace_lanes`, or the BVH for larger scenes), then the pixel's sums
+    in sample order.  A primary ray that misses, or sees the surface from behind,
+    contributes its ``base_value`` to every sample at once.  Sums as
+    :func:`_fused_kernel`'s (shifted data).  The loops that load from tables are
+    written here, in the parallel region, where LLVM knows the arrays apart; no
+    function called in a loop over lanes takes an array (reference counting would
+    add calls that keep LLVM from vectorising the loop)."""
+    n_pixels = out_sum.shape[0]
+    height = env.shape[0]
+    width = env.shape[1]
+    n_texels = alias.shape[0]
+    bulk = spheres.shape[0] + planes.shape[0] <= _BULK_PRIMITIVES
+    emissive = False
+    for m in range(mf.shape[0]):
+        emissive |= mf[m, P_EMISSIVE] != 0.0 or mf[m, P_EMISSIVE + 1] != 0.0 or mf[m, P_EMISSIVE + 2] != 0.0
+    for block in numba.prange((n_pixels + _BLOCK - 1) // _BLOCK):
+        _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
+                      base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias,
+                      row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat,
+                      out_shift, out_sum, out_sumsq)
+
+
+@lane_stage
+def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
+                  base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias, row_cos,
+                  c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat, out_shift,
+                  out_sum, out_sumsq):
+    """The pixels of block ``block`` (:data:`_BLOCK` pixels) of :func:`_direct_kernel`,
+    with lane buffers on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
+    them apart from the tables, so the loops that gather from tables and store into
+    them are vectorised.  No function called in a loop over lanes takes an array
+    (reference counting would add calls that keep LLVM from vectorising the loop)."""
+    ub = stack_array(5, 256)
+    lb = stack_array(10, 256)
+    mb = stack_array(6, 256)
+    sb = stack_array(7, 256)
+    ha = stack_array(3, 256)
+    hb = stack_array(3, 256)
+    shadow = stack_array(1, 256)
+    for pix in range(block * _BLOCK, min(n_pixels, block * _BLOCK + _BLOCK)):
+        stream = _stream_key(seed, pix, 0)
+        s0 = 0.0
+        s1 = 0.0
+        s2 = 0.0
+        q0 = 0.0
+        q1 = 0.0
+        q2 = 0.0
+        k0 = 0.0
+        k1 = 0.0
+        k2_ = 0.0
+        for sub in range(min(k2, spp)):
+            row = pix * k2 + sub
+            n_sub = (spp - sub + k2 - 1) // k2
+            m = mat[row]
+            px, py, pz = p[row, 0], p[row, 1], p[row, 2]
+            gx, gy, gz = ng[row, 0], ng[row, 1], ng[row, 2]
+            nx, ny, nz = n[row, 0], n[row, 1], n[row, 2]
+            vx, vy, vz = v[row, 0], v[row, 1], v[row, 2]
+            nov = nx * vx + ny * vy + nz * vz
+            if m < 0 or nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:  # the same value every sample
+                x0 = base_value[row, 0]
+                x1 = base_value[row, 1]
+                x2 = base_value[row, 2]
+                if sub == 0:
+                    k0, k1, k2_ = x0, x1, x2
+                x0 -= k0
+                x1 -= k1
+                x2 -= k2_
+                s0 += n_sub * x0
+                s1 += n_sub * x1
+                s2 += n_sub * x2
+                q0 += n_sub * (x0 * x0)
+                q1 += n_sub * (x1 * x1)
+                q2 += n_sub * (x2 * x2)
+                continue
+            b, t, bt = hit_bxdf(mi, mf, m, rough[row], metal[row], base[row, 0], base[row, 1], base[row, 2], nx, ny, nz)
+            p_spec, p_coat = lobe_probabilities(b, nov)
+            ox = px + eps * gx
+            oy = py + eps * gy
+            oz = pz + eps * gz
+            for c0 in range(0, n_sub, _LANES):
+                lanes = min(_LANES, n_sub - c0)
+                # --- random numbers and environment samples (the alias table's draws in a
+                # loop of their own, so that its random loads overlap: _env_sample in two parts)
+                for i in range(lanes):
+                    key = _sample_key(stream, sub + k2 * (c0 + i))
+                    ub[_U_LOBE, i] = _uniform(key, 4)
+                    ub[_U_1, i] = _uniform(key, 2)
+                    ub[_U_2, i] = _uniform(key, 3)
+                if strategy == 0:
+                    for i in range(lanes):
+                        key = _sample_key(stream, sub + k2 * (c0 + i))
+                        k, f = _alias_column(n_texels, _uniform(key, 0))
+                        k, dv = _alias_choice(k, f, alias[k, 0], alias[k, 1])
+                        ub[_U_K, i] = k
+                        ub[_U_DV, i] = dv
+                    for i in range(lanes):
+                        key = _sample_key(stream, sub + k2 * (c0 + i))
+                        ei, ej = _texel_of(np.int64(ub[_U_K, i]), width)
+                        lx, ly, lz = _texel_point(row_cos[ei], row_cos[ei + 1], width, ej, ub[_U_DV, i], _uniform(key, 1),
+                                                  c, s)
+                        lb[_L_DIR, i] = lx
+                        lb[_L_DIR + 1, i] = ly
+                        lb[_L_DIR + 2, i] = lz
+                        lb[_L_PDF, i] = _texel_pdf(func[ei, ej], total)
+                        lb[_L_RAD, i] = env[ei, ej, 0]
+                        lb[_L_RAD + 1, i] = env[ei, ej, 1]
+                        lb[_L_RAD + 2, i] = env[ei, ej, 2]
+                # --- the BxDF (specialised for the materials of _VARIANTS)
+                vr = variant[m]
+                if vr == 0:
+                    _material_lanes(_specialised(b, _VARIANTS[0]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
+                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                elif vr == 1:
+                    _material_lanes(_specialised(b, _VARIANTS[1]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
+                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                elif vr == 2:
+                    _material_lanes(_specialised(b, _VARIANTS[2]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
+                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                elif vr == 3:
+                    _material_lanes(_specialised(b, _VARIANTS[3]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
+                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                elif vr == 4:
+                    _material_lanes(_specialised(b, _VARIANTS[4]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
+                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                elif vr == 5:
+                    _material_lanes(_specialised(b, _VARIANTS[5]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
+                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                else:
+                    _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, lanes, ub, lb,
+                                    mb, sb)
+                # --- the environment the BxDF samples see
+                for i in range(lanes):  # _env_miss, with the loads in the loop
+                    ei, ej, sin_theta = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
+                    w = _miss_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
+                    lb[_L_LE, i] = env[ei, ej, 0] * w
+                    lb[_L_LE + 1, i] = env[ei, ej, 1] * w
+                    lb[_L_LE + 2, i] = env[ei, ej, 2] * w
+                # --- shadow rays and BxDF rays
+                if occlusion and bulk:
+                    if strategy == 0:
+                        _trace_lanes(ox, oy, oz, lb, _L_DIR, lanes, spheres, planes, ha, hb)
+                        for i in range(lanes):
+                            shadow[0, i] = ha[_T_T, i]
+                    _trace_lanes(ox, oy, oz, sb, _S_DIR, lanes, spheres, planes, ha, hb)
+                # --- rays that the bulk tests did not trace: ray by ray through the BVH (shadow
+                # rays only where the sample brings light, BxDF rays where the environment or an
+                # emissive surface does), into the same buffers
+                if occlusion and not bulk:
+                    for i in range(lanes):
+                        shadow[0, i] = np.inf
+                        ha[_T_KIND, i] = KIND_NONE
+                        ha[_T_INDEX, i] = -1.0
+                        if strategy == 0 and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
+                                              or mb[_M_LVAL + 2, i] > 0.0):
+                            if trace_analytic(ox, oy, oz, lb[_L_DIR, i], lb[_L_DIR + 1, i], lb[_L_DIR + 2, i], 0.0,
+                                              np.inf, True, spheres, lo, hi, skip, first, count, order,
+                                              planes)[1] != KIND_NONE:
+                                shadow[0, i] = 0.0
+                        if sb[_S_PDF, i] > 0.0 and (emissive or lb[_L_LE, i] > 0.0 or lb[_L_LE + 1, i] > 0.0
+                                                    or lb[_L_LE + 2, i] > 0.0):
+                            _, hk, hi_ = trace_analytic(ox, oy, oz, sb[_S_DIR, i], sb[_S_DIR + 1, i],
+                                                        sb[_S_DIR + 2, i], 0.0, np.inf, not emissive, spheres, lo, hi,
+                                                        skip, first, count, order, planes)
+                            ha[_T_KIND, i] = hk
+                            ha[_T_INDEX, i] = hi_
+                # --- each sample's value: base + the environment sample if unshadowed + the BxDF
+                # sample's environment if it escapes, or the emission of what it hits (as
+                # _fused_kernel adds them); into the rows of the spent local directions
+                base0 = base_value[row, 0]
+                base1 = base_value[row, 1]
+                base2 = base_value[row, 2]
+                for i in range(lanes):
+                    l0 = mb[_M_LVAL, i]
+                    l1 = mb[_M_LVAL + 1, i]
+                    l2 = mb[_M_LVAL + 2, i]
+                    lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
+                           and not (occlusion and shadow[0, i] < np.inf))
+                    w0 = sb[_S_W, i]
+                    w1 = sb[_S_W + 1, i]
+                    w2 = sb[_S_W + 2, i]
+                    sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
+                    escaped = not occlusion or ha[_T_KIND, i] == KIND_NONE
+                    mb[_M_LOCAL, i] = (base0 + (l0 if lit else 0.0)) + ((w0 * lb[_L_LE, i] if escaped else 0.0)
+                                                                        if sampled else 0.0)
+                    mb[_M_LOCAL + 1, i] = (base1 + (l1 if lit else 0.0)) + ((w1 * lb[_L_LE + 1, i] if escaped else 0.0)
+                                                                            if sampled else 0.0)
+                    mb[_M_LOCAL + 2, i] = (base2 + (l2 if lit else 0.0)) + ((w2 * lb[_L_LE + 2, i] if escaped else 0.0)
+                                                                            if sampled else 0.0)
+                if emissive:  # emission of the surfaces the BxDF samples hit
+                    for i in range(lanes):
+                        if (sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0)
+                                and occlusion and ha[_T_KIND, i] != KIND_NONE):
+                            hi_ = np.int64(ha[_T_INDEX, i])
+                            hm = sphere_mat[hi_] if np.int64(ha[_T_KIND, i]) == KIND_SPHERE else plane_mat[hi_]
+                            mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, P_EMISSIVE]
+                            mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, P_EMISSIVE + 1]
+                            mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, P_EMISSIVE + 2]
+                # --- the pixel's sums, in sample order
+                if sub == 0 and c0 == 0:
+                    k0 = mb[_M_LOCAL, 0]
+                    k1 = mb[_M_LOCAL + 1, 0]
+                    k2_ = mb[_M_LOCAL + 2, 0]
+                for i in range(lanes):
+                    x0 = mb[_M_LOCAL, i] - k0
+                    x1 = mb[_M_LOCAL + 1, i] - k1
+                    x2 = mb[_M_LOCAL + 2, i] - k2_
+                    s0 += x0
+                    s1 += x1
+                    s2 += x2
+                    q0 += x0 * x0
+                    q1 += x1 * x1
+                    q2 += x2 * x2
+        out_shift[pix, 0] = k0
+        out_shift[pix, 1] = k1
+        out_shift[pix, 2] = k2_
+        out_sum[pix, 0] = s0
+        out_sum[pix, 1] = s1
+        out_sum[pix, 2] = s2
+        out_sumsq[pix, 0] = q0
+        out_sumsq[pix, 1] = q1
+        out_sumsq[pix, 2] = q2
+
+
 # ------------------------------------------------- wavefront (scenes with meshes)
 
 
 @parallel_kernel
 def _vertex_batch(seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
-                  total, marg, cond, c, s, acodes, avalues, averts, light_dir, light_val, area_dir, area_dist,
+                  total, alias, row_cos, c, s, acodes, avalues, averts, light_dir, light_val, area_dir, area_dist,
                   area_val, brdf_dir, brdf_w, brdf_pdf):
     for i in numba.prange(p.shape[0]):
         key = _path_key(seed, pixel[i], sample, bounce)
         ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
             key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
             v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], env, func, total,
-            marg, cond, c, s, strategy, acodes, avalues, averts)
+            alias, row_cos, c, s, strategy, acodes, avalues, averts)
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
@@ -390,7 +846,7 @@ def _miss_batch(strategy, pdf_b, d, env, func, total, c, s, out):
 
 def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, mat_i,
                mat_f):
-    func, total, marg, cond = env.distribution
+    func, total, alias, row_cos = env.distribution
     area = geometry.area_lights
     has_area = len(area) > 0
     total_sum = np.zeros((n_pixels, 3))
@@ -427,7 +883,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), np.ascontiguousarray(surf_p),
                           np.ascontiguousarray(surf_ng), np.ascontiguousarray(surf_n), np.ascontiguousarray(v),
                           np.ascontiguousarray(surf_mat), np.ascontiguousarray(surf_r), np.ascontiguousarray(surf_m),
-                          np.ascontiguousarray(surf_b), mat_i, mat_f, env.radiance, func, total, marg, cond, env.cos,
+                          np.ascontiguousarray(surf_b), mat_i, mat_f, env.radiance, func, total, alias, row_cos, env.cos,
                           env.sin, *area.arrays(), ldir, lval, adir, adist, aval, bdir, bw, bpdf)
             for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
                 lit = np.flatnonzero(np.any(value > 0.0, axis=1))
@@ -515,7 +971,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     t0 = time.perf_counter()
     geometry = geometry or Geometry(scene)
     env = env or EnvironmentLight(scene.environment)
-    func, total, marg, cond = env.distribution
+    func, total, alias, row_cos = env.distribution
     t1 = time.perf_counter()
     prim = _primary(scene, geometry)
     cam = scene.camera
@@ -560,12 +1016,20 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         total_sum = np.zeros((n_pixels, 3))
         total_sq = np.zeros((n_pixels, 3))
         eps = 1e-7 * geometry.scale
-        _fused_kernel(np.uint64(seed), spp, k2, bounces, code, bool(occlusion), base_value, p, ng, n, vv, mat, rough,
-                      metal, base, mat_i, mat_f, env.radiance, func, total, marg, cond, env.cos, env.sin, eps,
-                      geometry.spheres, *geometry.bvh, geometry.planes,
-                      geometry.sphere_material, geometry.plane_material, codes, values, *geometry.area_lights.arrays(),
-                      shift, total_sum, total_sq)
-        engine_name = "fused (analytic primitives)"
+        if bounces == 0 and not len(geometry.area_lights):
+            with numba.parallel_chunksize(1):
+                _direct_kernel(np.uint64(seed), spp, k2, code, bool(occlusion), base_value, p, ng, n, vv, mat, rough,
+                               metal, base, mat_i, mat_f, material_variants(mat_i, mat_f), env.radiance, func, total,
+                               alias, row_cos, env.cos, env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes,
+                               geometry.sphere_material, geometry.plane_material, shift, total_sum, total_sq)
+            engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
+        else:
+            _fused_kernel(np.uint64(seed), spp, k2, bounces, code, bool(occlusion), base_value, p, ng, n, vv, mat,
+                          rough, metal, base, mat_i, mat_f, env.radiance, func, total, alias, row_cos, env.cos, env.sin,
+                          eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
+                          geometry.plane_material, codes, values, *geometry.area_lights.arrays(), shift, total_sum,
+                          total_sq)
+            engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
     mean_shifted = total_sum / spp
     mean = shift + mean_shifted
