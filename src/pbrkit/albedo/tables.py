@@ -26,7 +26,6 @@ varies fastest.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numba
 import numpy as np
@@ -56,6 +55,7 @@ from ..core.quadrature import (
     horizon_phi_max,
     split_node,
 )
+from .lut import DEFAULT_NODES, TableSpec, default_visibility, lookup_table
 
 __all__ = [
     "VISIBILITIES",
@@ -67,6 +67,7 @@ __all__ = [
     "splitsum_table",
     "dfg_table",
     "lookup_table",
+    "integrate_lookup_table",
     "sample_table",
     "table_bilinear",
     "env_brdf_approx",
@@ -180,7 +181,6 @@ def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, o
 _gauss_legendre_01 = gauss_legendre_01
 
 #: Default quadrature: theta nodes per segment (and in the grazing columns), phi nodes.
-DEFAULT_NODES = (12, 24, 6)
 
 
 def _run(mu, alpha, lobe, vis_code, nodes=DEFAULT_NODES):
@@ -254,56 +254,9 @@ def _check_axes(mu, roughness):
     return mu, roughness
 
 
-@dataclass(frozen=True)
-class TableSpec:
-    """What a lookup table holds; written beside (or into) every table file."""
-
-    kind: str
-    size: int
-    visibility: str
-    cloth: bool
-    nodes: tuple
-
-    def description(self):
-        channels = ["A", "B"] if self.kind == "splitsum" else ["DFG1", "DFG2"]
-        if self.cloth:
-            channels.append("cloth_DV")
-        meaning = (
-            "specular albedo with Schlick Fresnel = F0 * A + B (Karis 2013)"
-            if self.kind == "splitsum"
-            else "albedo = lerp(DFG1, DFG2, F0) = DFG1 + F0 (DFG2 - DFG1); DFG2 = E(mu), F = 1 (Filament)"
-        )
-        return {
-            "format": "pbrkit lookup table",
-            "kind": self.kind,
-            "size": [self.size, self.size],
-            "channels": channels,
-            "meaning": meaning,
-            "cloth": (
-                "integral of D_Charlie V_Neubelt (n.l) dl, alpha = r^2 (Estevez & Kulla 2017; Neubelt 2013)"
-                if self.cloth else None
-            ),
-            "layout": "array (N, N, C) indexed [j, i, c]; row-major, row 0 first",
-            "axes": {
-                "column i": "n.v = (i + 0.5) / N",
-                "row j": "perceptual roughness r = (j + 0.5) / N (row 0 = smooth)",
-            },
-            "distribution": "GGX, alpha = r^2 (unclamped; shading clamps alpha at 1e-3, the table does not)",
-            "visibility": self.visibility,
-            "integration": {
-                "method": "deterministic Gauss-Legendre quadrature over the half vector "
-                          "(GGX-CDF theta map, analytic horizon limits)",
-                "theta_nodes_per_segment": self.nodes[0],
-                "theta_nodes_per_segment_grazing_nv_below_0.0625": self.nodes[1],
-                "phi_nodes": self.nodes[2],
-                "sample_count": 2 * self.nodes[0] * self.nodes[2],
-            },
-            "sampling": "sample at texel centres: uv = (n.v, r); bilinear, clamp to edge",
-        }
-
-
-def lookup_table(kind="dfg", size=128, visibility=None, cloth=False, nodes=DEFAULT_NODES):
-    """The (size, size, C) float32 table of ``kind`` ``splitsum`` or ``dfg`` and its :class:`TableSpec`.
+def integrate_lookup_table(kind="dfg", size=128, visibility=None, cloth=False, nodes=DEFAULT_NODES):
+    """The (size, size, C) float32 table of ``kind`` ``splitsum`` or ``dfg`` and its :class:`TableSpec`,
+    integrated now (:func:`pbrkit.albedo.lut.lookup_table` memoises it).
 
     Defaults: ``splitsum`` uses Karis' IBL visibility (Schlick-GGX, k = alpha / 2)
     as UE4 does; ``dfg`` uses height-correlated Smith as Filament does.
@@ -312,8 +265,7 @@ def lookup_table(kind="dfg", size=128, visibility=None, cloth=False, nodes=DEFAU
     if kind not in ("splitsum", "dfg"):
         raise ValueError(f"unknown table kind {kind!r}; use 'splitsum' or 'dfg'")
     size = checks.integer(size, "table size", 2, 4096)
-    if visibility is None:
-        visibility = "schlick-ggx" if kind == "splitsum" else "height-correlated"
+    visibility = visibility or default_visibility(kind)
     axis = texel_centres(size)
     ab = specular_integrals(axis, axis, visibility, nodes)
     if kind == "splitsum":

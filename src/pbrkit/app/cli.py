@@ -504,10 +504,12 @@ def lut(
         None, "--samples", metavar="N",
         help="Quadrature nodes per texel (theta x phi); default: the converged rule (144 nodes, 288 at grazing)."),
     ktx2_format: str = _choice("float16", "--ktx2-format", KTX2_FORMATS, "KTX2 format", "Texel type in .ktx2 output."),
+    no_cache: bool = _flag(False, ("--no-cache",), "Integrate the table even if pbrkit's result cache holds it "
+                                                   "(tables are memoised by options and pbrkit's sources)."),
     quiet: bool = _quiet_option(),
 ):
     """Split-sum (A, B) or DFG (DFG1, DFG2[, cloth]) lookup table with its JSON description."""
-    from ..albedo.tables import DEFAULT_NODES, lookup_table
+    from ..albedo.lut import DEFAULT_NODES, lookup_table
     from ..core import checks
     from ..io.lut_files import LUT_SUFFIXES, write_lut
 
@@ -522,7 +524,7 @@ def lut(
         nodes = (n_theta, 2 * n_theta, max(2, n_theta // 2))
     with _Stages("lut", quiet, 2) as stages:
         stages.start("integrate")
-        table, spec = lookup_table(kind, size, visibility, cloth, nodes)
+        table, spec = lookup_table(kind, size, visibility, cloth, nodes, cache=not no_cache)
         stages.start("write")
         written = write_lut(out, table, spec, ktx2_format)
     if not quiet:

@@ -15,13 +15,13 @@ every source file of the package (:func:`source_hash`): editing any pbrkit
 module starts a fresh cache, and installs of the same sources share one.  The
 directory is ``$PBRKIT_CACHE_DIR`` if set, else ``$NUMBA_CACHE_DIR/pbrkit``,
 else ``$XDG_CACHE_HOME/pbrkit`` (``~/.cache/pbrkit``), with a subdirectory
-``numba-<version>-<hash>`` (:func:`cache_directory`).
+``numba-<version>-<hash>`` (:func:`cache_directory`, from :mod:`pbrkit.core.cache`,
+which needs no Numba).
 """
 
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
 from pathlib import Path
 
@@ -32,6 +32,8 @@ from numba.core import cgutils
 from numba.core.caching import CacheImpl, _CacheLocator
 from numba.core.errors import RequireLiteralValue
 from numba.extending import intrinsic, overload, register_jitable
+
+from .cache import cache_directory, source_hash
 
 __all__ = ["dual_use", "kernel", "parallel_kernel", "simd_kernel", "lane_stage", "stack_array", "select",
            "source_hash", "cache_directory"]
@@ -147,33 +149,6 @@ def _select_numba(condition, if_true, if_false):
 
 
 # ----------------------------------------------------------------- the cache
-
-
-@functools.lru_cache(maxsize=4)
-def source_hash(root=_PACKAGE_ROOT):
-    """SHA-256 (hex) of every ``.py`` file under ``root`` (default: the package), in
-    sorted path order (relative path and content both hashed)."""
-    root = Path(root)
-    digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        digest.update(path.relative_to(root).as_posix().encode())
-        digest.update(b"\0")
-        digest.update(path.read_bytes())
-        digest.update(b"\0")
-    return digest.hexdigest()
-
-
-@functools.lru_cache(maxsize=1)
-def cache_directory():
-    """Where pbrkit's compiled kernels are cached (module docstring)."""
-    base = os.environ.get("PBRKIT_CACHE_DIR")
-    if not base and os.environ.get("NUMBA_CACHE_DIR"):
-        base = os.path.join(os.environ["NUMBA_CACHE_DIR"], "pbrkit")
-    if not base:
-        base = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache"), "pbrkit")
-    from .. import __version__  # set before any submodule is imported
-
-    return os.path.join(base, f"numba-{__version__}-{source_hash()[:16]}")
 
 
 class _SourceHashLocator(_CacheLocator):
