@@ -187,3 +187,36 @@ def test_lane_kernel_gives_the_per_sample_paths_numbers(material):
             assert "lanes" in a.stats["engine"]
             np.testing.assert_allclose(a.image, b.image, rtol=1e-9, atol=1e-12)
             np.testing.assert_allclose(a.stderr, b.stderr, rtol=1e-6, atol=1e-11)
+
+
+def test_thread_count_does_not_change_the_bytes():
+    """The kernels run ranges of pixels on a pool of threads (pbrkit.core.jit.run_in_threads);
+    each pixel owns its outputs and its random numbers, so one thread and all of them
+    give the same bytes, for the lane kernel and the scalar one (bounces)."""
+    scene = _scene(_MATERIALS[0], EnvironmentSpec(color=(0.9, 0.8, 1.0)))
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs two Numba threads")
+    before = numba.get_num_threads()
+    try:
+        out = {}
+        for threads in (1, 2):
+            numba.set_num_threads(threads)
+            out[threads] = [render_reference(scene, spp=6, seed=2, bounces=b) for b in (0, 1)]
+    finally:
+        numba.set_num_threads(before)
+    for a, b in zip(out[1], out[2]):
+        assert a.image.tobytes() == b.image.tobytes() and a.stderr.tobytes() == b.stderr.tobytes()
+
+
+def test_run_in_threads_covers_every_item_once():
+    from pbrkit.core.jit import run_in_threads, threaded_kernel
+
+    @threaded_kernel
+    def mark(start, stop, out):
+        for i in range(start, stop):
+            out[i] += i + 1
+
+    for count in (0, 1, 7, 1000):
+        out = np.zeros(count, dtype=np.int64)
+        run_in_threads(mark, count, out)
+        assert out.tolist() == list(range(1, count + 1))

@@ -7,7 +7,10 @@ shape (NumPy broadcasting); called from a Numba kernel it is compiled for
 scalars into that kernel (Numba's ``register_jitable``).  So the NumPy
 reference path and the compiled hot path share one formula.
 
-Kernels (:func:`kernel`, :func:`parallel_kernel`) are cached on disk.  Numba's
+Kernels (:func:`kernel`, :func:`parallel_kernel`, :func:`threaded_kernel`) use
+NumPy's error model: a float division by zero gives inf or NaN as in NumPy
+(the kernels guard the divisions whose result matters), not a branch that
+raises, which would also keep loops from being vectorised.  They are cached on disk.  Numba's
 own cache checks only the kernel's source file, so a kernel whose helpers
 changed in another file would be loaded stale.  pbrkit's kernels therefore
 use their own cache directory, keyed on the package version and a hash of
@@ -35,7 +38,8 @@ from numba.extending import intrinsic, overload, register_jitable
 
 from .cache import cache_directory, source_hash
 
-__all__ = ["dual_use", "kernel", "parallel_kernel", "simd_kernel", "lane_stage", "stack_array", "select",
+__all__ = ["dual_use", "kernel", "parallel_kernel", "threaded_kernel", "run_in_threads", "lane_stage", "stack_array",
+           "select",
            "source_hash", "cache_directory"]
 
 _PACKAGE_ROOT = Path(__file__).resolve().parent.parent
@@ -75,18 +79,40 @@ def parallel_kernel(fn):
     return numba.njit(cache=True, parallel=True, fastmath=False, error_model="numpy")(fn)
 
 
-def simd_kernel(fn):
-    """Compile *fn* with Numba, cached on disk, with ``prange`` parallel loops, for
-    loops that LLVM should turn into SIMD code: NumPy's error model, so a float
-    division by zero gives inf or NaN instead of a branch that raises (a loop with
-    an exit cannot be vectorised); the arrays of the ``prange`` body are then
-    known not to overlap (Numba marks the parallel region's arguments noalias),
-    which lets gathers and scatters be vectorised too."""
-    return numba.njit(cache=True, parallel=True, fastmath=False, error_model="numpy")(fn)
+def threaded_kernel(fn):
+    """Compile *fn* with Numba, cached on disk, serial and releasing the GIL
+    (``nogil``), for kernels that :func:`run_in_threads` runs on ranges of work
+    items from a pool of Python threads, and whose loops LLVM should turn into SIMD
+    code: NumPy's error model, so a float division by zero gives inf or NaN instead
+    of a branch that raises (a loop with an exit cannot be vectorised).  Against a
+    ``prange`` kernel: Numba compiles the body once instead of once more for the
+    parallel region's outlined function, which halves the first compilation of a
+    large kernel, and work items are handed out dynamically all the same."""
+    return numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")(fn)
+
+
+def run_in_threads(fn, count, *args, chunks_per_thread=16):
+    """``fn(start, stop, *args)`` over ``range(count)`` cut into about ``chunks_per_thread``
+    ranges per thread, on Numba's thread count (``numba.get_num_threads()``,
+    ``NUMBA_NUM_THREADS``) of Python threads; ``fn`` is a :func:`threaded_kernel`.
+    Results must not depend on which thread runs which range (each item writes
+    its own outputs), so they are the same bytes for any thread count."""
+    threads = max(1, numba.get_num_threads())
+    step = max(1, -(-count // (chunks_per_thread * threads)))
+    ranges = [(start, min(start + step, count)) for start in range(0, count, step)]
+    if threads == 1 or len(ranges) == 1:
+        for start, stop in ranges:
+            fn(start, stop, *args)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(threads) as pool:
+        for future in [pool.submit(fn, start, stop, *args) for start, stop in ranges]:
+            future.result()
 
 
 def lane_stage(fn):
-    """Mark *fn* as a stage of a :func:`simd_kernel`: compiled once for its argument
+    """Mark *fn* as a stage of a :func:`threaded_kernel`: compiled once for its argument
     types, without caching (LLVM needs its IR), and always inlined by LLVM where it
     is called, so that its loops over lanes are optimised again with the caller's
     constant arguments (a BxDF whose model is fixed loses its other models'
@@ -102,7 +128,7 @@ def lane_stage(fn):
 @intrinsic
 def stack_array(typingctx, rows, cols):
     """A (rows, cols) float64 array (C order, not initialised) in the stack frame of the
-    compiled function that calls it, for the lane buffers of :func:`simd_kernel`
+    compiled function that calls it, for the lane buffers of :func:`threaded_kernel`
     stages; ``rows`` and ``cols`` must be compile-time constants.  LLVM knows stack
     memory apart from every array argument, so loops that gather from tables and
     store into such a buffer are vectorised without the run-time overlap checks

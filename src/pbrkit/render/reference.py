@@ -64,7 +64,14 @@ from ..brdf.bxdf import (
     sample_wi,
 )
 from ..core import checks
-from ..core.jit import dual_use, lane_stage, parallel_kernel, simd_kernel, stack_array
+from ..core.jit import (
+    dual_use,
+    lane_stage,
+    parallel_kernel,
+    run_in_threads,
+    stack_array,
+    threaded_kernel,
+)
 from ..sampling.random import _path_key, _sample_key, _stream_key, _uniform
 from .area_lights import area_light_hit, area_light_pdf, area_light_sample
 from .environment import (
@@ -245,8 +252,8 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
 
 
 
-@parallel_kernel
-def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
+@threaded_kernel
+def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
                   base, mi, mf, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count,
                   order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, out_shift, out_sum,
                   out_sumsq):
@@ -257,9 +264,9 @@ def _fused_kernel(seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng
     (rows with mat < 0 missed).  Per pixel it accumulates the sum and the sum of
     squares of (x - K), K = the pixel's first sample (the shifted-data algorithm,
     which keeps the variance free of cancellation; Chan, Golub and LeVeque,
-    "Algorithms for Computing the Sample Variance", 1983)."""
-    n_pixels = out_sum.shape[0]
-    for pix in numba.prange(n_pixels):
+    "Algorithms for Computing the Sample Variance", 1983).  It runs pixels ``start`` to
+    ``stop``, handed out to threads by :func:`pbrkit.core.jit.run_in_threads`."""
+    for pix in range(start, stop):
         s0 = 0.0
         s1 = 0.0
         s2 = 0.0
@@ -566,10 +573,10 @@ def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
             ha[_T_INDEX, i] = hb[_T_INDEX, i]
 
 
-@simd_kernel
-def _direct_kernel(seed, spp, k2, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal, base, mi, mf,
-                   variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order,
-                   planes, sphere_mat, plane_mat, out_shift, out_sum, out_sumsq):
+@threaded_kernel
+def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, base_value, p, ng, n, v, mat, rough,
+                   metal, base, mi, mf, variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip,
+                   first, count, order, planes, sphere_mat, plane_mat, out_shift, out_sum, out_sumsq):
     """Direct lighting (bounces = 0) of an analytic scene without area lights, the
     estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
     numbers) computed in lanes: the samples of one primary hit go through stages,
@@ -580,19 +587,16 @@ def _direct_kernel(seed, spp, k2, strategy, occlusion, base_value, p, ng, n, v, 
     rays (:func:`_trace_lanes`, or the BVH for larger scenes), then the pixel's sums
     in sample order.  A primary ray that misses, or sees the surface from behind,
     contributes its ``base_value`` to every sample at once.  Sums as
-    :func:`_fused_kernel`'s (shifted data).  The loops that load from tables are
-    written here, in the parallel region, where LLVM knows the arrays apart; no
-    function called in a loop over lanes takes an array (reference counting would
-    add calls that keep LLVM from vectorising the loop)."""
+    :func:`_fused_kernel`'s (shifted data).  It runs the blocks ``start`` to ``stop``
+    (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
+    :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material
+    emits (then the BxDF rays look for the surfaces they hit)."""
     n_pixels = out_sum.shape[0]
     height = env.shape[0]
     width = env.shape[1]
     n_texels = alias.shape[0]
     bulk = spheres.shape[0] + planes.shape[0] <= _BULK_PRIMITIVES
-    emissive = False
-    for m in range(mf.shape[0]):
-        emissive |= mf[m, P_EMISSIVE] != 0.0 or mf[m, P_EMISSIVE + 1] != 0.0 or mf[m, P_EMISSIVE + 2] != 0.0
-    for block in numba.prange((n_pixels + _BLOCK - 1) // _BLOCK):
+    for block in range(start, stop):
         _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
                       base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias,
                       row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat,
@@ -1017,18 +1021,19 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         total_sq = np.zeros((n_pixels, 3))
         eps = 1e-7 * geometry.scale
         if bounces == 0 and not len(geometry.area_lights):
-            with numba.parallel_chunksize(1):
-                _direct_kernel(np.uint64(seed), spp, k2, code, bool(occlusion), base_value, p, ng, n, vv, mat, rough,
-                               metal, base, mat_i, mat_f, material_variants(mat_i, mat_f), env.radiance, func, total,
-                               alias, row_cos, env.cos, env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes,
-                               geometry.sphere_material, geometry.plane_material, shift, total_sum, total_sq)
+            emissive = bool(np.any(mat_f[:, P_EMISSIVE:P_EMISSIVE + 3] != 0.0))
+            run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, code,
+                           bool(occlusion), emissive, base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f,
+                           material_variants(mat_i, mat_f), env.radiance, func, total, alias, row_cos, env.cos,
+                           env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
+                           geometry.plane_material, shift, total_sum, total_sq)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
-            _fused_kernel(np.uint64(seed), spp, k2, bounces, code, bool(occlusion), base_value, p, ng, n, vv, mat,
-                          rough, metal, base, mat_i, mat_f, env.radiance, func, total, alias, row_cos, env.cos, env.sin,
-                          eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
-                          geometry.plane_material, codes, values, *geometry.area_lights.arrays(), shift, total_sum,
-                          total_sq)
+            run_in_threads(_fused_kernel, n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
+                           base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f, env.radiance, func, total,
+                           alias, row_cos, env.cos, env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes,
+                           geometry.sphere_material, geometry.plane_material, codes, values,
+                           *geometry.area_lights.arrays(), shift, total_sum, total_sq)
             engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
     mean_shifted = total_sum / spp
