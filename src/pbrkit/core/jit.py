@@ -38,7 +38,7 @@ from numba.extending import intrinsic, overload, register_jitable
 
 from .cache import cache_directory, source_hash
 
-__all__ = ["dual_use", "kernel", "parallel_kernel", "threaded_kernel", "run_in_threads", "lane_stage", "stack_array",
+__all__ = ["dual_use", "kernel", "parallel_kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage", "stack_array",
            "select",
            "source_hash", "cache_directory"]
 
@@ -109,6 +109,32 @@ def run_in_threads(fn, count, *args, chunks_per_thread=16):
     with ThreadPoolExecutor(threads) as pool:
         for future in [pool.submit(fn, start, stop, *args) for start, stop in ranges]:
             future.result()
+
+
+def row_kernel(rows):
+    """Compile a kernel over independent rows, written as ``fn(start, stop, *args)``
+    with a loop ``for i in range(start, stop)``, as a :func:`threaded_kernel`, and
+    return a function of ``*args`` that runs it on every row from a pool of
+    threads (:func:`run_in_threads`).  ``rows``: the index of the argument whose
+    first dimension is the row count, or a function of ``*args`` giving it.  This
+    is the form of pbrkit's per-pixel and per-texel kernels: the compiled code is
+    the same as a ``prange`` loop's, but Numba compiles the body once (a
+    ``prange`` body is compiled again as the parallel region's outlined function),
+    so the first run compiles in a half to two thirds of the time.  The compiled
+    kernel is the wrapper's ``kernel`` attribute."""
+    count = rows if callable(rows) else (lambda *args: args[rows].shape[0])
+
+    def wrap(fn):
+        compiled = threaded_kernel(fn)
+
+        @functools.wraps(fn)
+        def run(*args):
+            run_in_threads(compiled, int(count(*args)), *args)
+
+        run.kernel = compiled
+        return run
+
+    return wrap
 
 
 def lane_stage(fn):

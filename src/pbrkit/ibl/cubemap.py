@@ -55,7 +55,7 @@ import numpy as np
 
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, parallel_kernel, select
+from ..core.jit import dual_use, parallel_kernel, row_kernel, select
 
 __all__ = [
     "FACE_NAMES",
@@ -332,9 +332,9 @@ def _trilinear_add(data, offsets, sizes, face, sc, tc, lod, weight, out):
         _bilinear_add(data, offsets[l0 + 1], sizes[l0 + 1], face, sc, tc, weight * frac, out)
 
 
-@parallel_kernel
-def _sample_kernel(dirs, lods, data, offsets, sizes, out):
-    for m in numba.prange(dirs.shape[0]):
+@row_kernel(0)
+def _sample_kernel(start, stop, dirs, lods, data, offsets, sizes, out):
+    for m in range(start, stop):
         face, sc, tc = cube_face_coords(dirs[m, 0], dirs[m, 1], dirs[m, 2])
         for c in range(out.shape[1]):
             out[m, c] = 0.0

@@ -54,7 +54,7 @@ import numpy as np
 
 from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import luminance, rec709_luminance
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, parallel_kernel, row_kernel
 from ..render.lights import light_incidence
 from ..render.primitives import KIND_NONE, trace_analytic
 from .style import Style
@@ -258,14 +258,14 @@ def _tone_colour(ramp, shadow, tone, c):
     return ramp_channel(ramp, tone, c)
 
 
-@parallel_kernel
-def _toon_kernel(n, v, base, rough, metal, emissive, light_e, light_dir, light_vis, summed, thresholds, softness,
+@row_kernel(0)
+def _toon_kernel(start, stop, n, v, base, rough, metal, emissive, light_e, light_dir, light_vis, summed, thresholds, softness,
                  shadow, ramp, specular, spec_threshold, spec_softness, has_env, e_n, e_max, prefiltered,
                  level_max, rim_color, rim_power, rim_lift, rim_mix, out):
     """The toon shading of every pixel (module docstring) in one pass."""
     n_lights = light_e.shape[0]
     y_max = max(rec709_luminance(e_max[0], e_max[1], e_max[2]), 1e-300)
-    for i in numba.prange(n.shape[0]):
+    for i in range(start, stop):
         nov = min(max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 0.0), 1.0)
         alpha = alpha_from_roughness(rough[i])
         d_peak = d_ggx(1.0, alpha)

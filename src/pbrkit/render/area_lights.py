@@ -61,7 +61,7 @@ import numpy as np
 
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, parallel_kernel, row_kernel
 from ..core.vec import orthonormal_basis_xyz
 from ..ltc.polygon import polygon_form_factor, transformed_polygon_form_factor
 from ..sampling.spherical import (
@@ -784,9 +784,9 @@ def _local_polygon(codes, values, vertices, li, px, py, pz, tx, ty, tz, bx, by, 
 _CHUNK = 256
 
 
-@parallel_kernel
-def _ltc_kernel(codes, values, vertices, ltc1, ltc2, fresnel1, p, n, v, rough, coat_rough, out_spec, out_fresnel,
-                out_split, out_irr, out_coat):
+@row_kernel(lambda codes, values, vertices, ltc1, ltc2, fresnel1, p, *rest: (p.shape[0] + _CHUNK - 1) // _CHUNK)
+def _ltc_kernel(start, stop, codes, values, vertices, ltc1, ltc2, fresnel1, p, n, v, rough, coat_rough, out_spec,
+                out_fresnel, out_split, out_irr, out_coat):
     """Per point: sums over lights of L FF (specular: the LTC of the f lobe, of the
     f Fc lobe where ``fresnel1`` has rows, and of the f lobe at the clear coat's
     roughness where coat_rough >= 0) and pi L FF_cos (irradiance); and (norm,
@@ -794,7 +794,7 @@ def _ltc_kernel(codes, values, vertices, ltc1, ltc2, fresnel1, p, n, v, rough, c
     cap = max(MAX_POLYGON_VERTICES, DISK_POLYGON_SIDES)
     count = p.shape[0]
     fresnel_aware = fresnel1.shape[0] > 0
-    for chunk in numba.prange((count + _CHUNK - 1) // _CHUNK):
+    for chunk in range(start, stop):
         poly = np.empty((cap, 3))
         m = np.empty((3, 3))
         mfr = np.empty((3, 3))

@@ -14,10 +14,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, row_kernel
 
 __all__ = [
     "KIND_NONE",
@@ -210,10 +209,10 @@ def trace_analytic(ox, oy, oz, dx, dy, dz, tmin, tmax, any_hit, spheres, bvh_lo,
     return best, kind, index
 
 
-@parallel_kernel
-def _trace_batch(origins, dirs, tmin, tmax, any_hit, spheres, lo, hi, skip, first, count, order, planes,
+@row_kernel(0)
+def _trace_batch(start, stop, origins, dirs, tmin, tmax, any_hit, spheres, lo, hi, skip, first, count, order, planes,
                  out_t, out_kind, out_index):
-    for i in numba.prange(origins.shape[0]):
+    for i in range(start, stop):
         t, k, idx = trace_analytic(origins[i, 0], origins[i, 1], origins[i, 2], dirs[i, 0], dirs[i, 1], dirs[i, 2],
                                    tmin, tmax[i], any_hit, spheres, lo, hi, skip, first, count, order, planes)
         out_t[i] = t

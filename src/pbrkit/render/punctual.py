@@ -4,11 +4,10 @@ analytic scenes, shadow rays inside the kernel.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from ..brdf.bxdf import bxdf_f
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, row_kernel
 from .lights import light_arrays, light_incidence
 from .materials import hit_bxdf, hit_cosines
 from .primitives import KIND_NONE, trace_analytic
@@ -18,14 +17,14 @@ __all__ = ["punctual_at", "punctual_radiance"]
 # ============================================================ punctual lights
 
 
-@parallel_kernel
-def _punctual_kernel(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, li, out_dir, out_dist,
+@row_kernel(3)
+def _punctual_kernel(start, stop, mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, li, out_dir, out_dist,
                      out_value):
     """Unshadowed radiance from light li at each point, its direction and distance."""
     ct = codes[li, 0]
     cf = codes[li, 1]
     lv = values[li]
-    for i in numba.prange(p.shape[0]):
+    for i in range(start, stop):
         lx, ly, lz, dist, factor = light_incidence(ct, cf, lv, p[i, 0], p[i, 1], p[i, 2])
         out_dir[i, 0] = lx
         out_dir[i, 1] = ly
@@ -46,10 +45,10 @@ def _punctual_kernel(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, va
         out_value[i, 2] = f[2] * lv[2] * e
 
 
-@parallel_kernel
-def _punctual_analytic_batch(mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, eps, shadows, spheres,
+@row_kernel(3)
+def _punctual_analytic_batch(start, stop, mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, eps, shadows, spheres,
                              lo, hi, skip, first, count, order, planes, out):
-    for i in numba.prange(p.shape[0]):
+    for i in range(start, stop):
         b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
                             n[i, 2])
         r = punctual_at(b, t, bt, p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],

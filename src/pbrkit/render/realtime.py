@@ -42,7 +42,6 @@ import math
 import time
 from functools import lru_cache
 
-import numba
 import numpy as np
 
 from ..albedo.tables import filament_energy_compensation, table_bilinear
@@ -69,7 +68,7 @@ from ..brdf.bxdf import (
 from ..brdf.diffuse import kd_ibl
 from ..brdf.fresnel import f0_conductor, f_schlick, f_schlick_roughness
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
@@ -271,11 +270,11 @@ def specular_dominant_direction(n, r, roughness):
     return np.asarray(r) * (1.0 - w) + np.asarray(n) * w
 
 
-@parallel_kernel
-def _reflection_kernel(mi, mf, mat, n, v, rough, metal, base, out, coat_out):
+@row_kernel(3)
+def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, out, coat_out):
     """The lookup direction (:func:`reflection_direction`) of every pixel, and the
     perceptual roughness of Disney's clear coat (sqrt of its GTR1 alpha; -1 without one)."""
-    for i in numba.prange(n.shape[0]):
+    for i in range(start, stop):
         m = mat[i]
         model = mi[m, C_MODEL]
         _, _, anisotropic = lobe_alphas(model, mi[m, C_DISTRIBUTION], 1.0, mf[m, P_ANISOTROPY])
@@ -396,8 +395,8 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
     return radiance * single + (multi + diffuse) * irradiance * _INV_PI
 
 
-@parallel_kernel
-def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
+@row_kernel(5)
+def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
                 coat_prefiltered, coat_roughness, sheen_table, diffuse_table, exact_diffuse, energy_compensation,
                 engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
@@ -406,7 +405,7 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
     by 1 - E per channel, E = DFG1 + F0 (DFG2 - DFG1) the specular albedo, in place of
     the model's own weighting; 2 and 3 are the metallic-roughness evaluations of
     the Sample Viewer and three.js (:func:`_engine_ibl`)."""
-    for i in numba.prange(n.shape[0]):
+    for i in range(start, stop):
         m = mat[i]
         b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
                            n[i, 2])
@@ -453,8 +452,8 @@ def _ibl_kernel(mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlus
             out[i, c] = (spec + diff) * occlusion[i]
 
 
-@parallel_kernel
-def _area_specular_kernel(mi, mf, mat, n, rough, metal, base, spec, fresnel, split, out):
+@row_kernel(3)
+def _area_specular_kernel(start, stop, mi, mf, mat, n, rough, metal, base, spec, fresnel, split, out):
     """The area lights' specular term in the form of a prefiltered radiance, for
     :func:`_ibl_kernel` to multiply by the split-sum albedo: with Schlick's F = f0 +
     (1 - f0) Fc, the lights' LTC integrals of the f lobe (``spec``) and of the f Fc
@@ -462,7 +461,7 @@ def _area_specular_kernel(mi, mf, mat, n, rough, metal, base, spec, fresnel, spl
     table's), divided by their sum (:func:`pbrkit.ltc.score.ltc_fresnel_rect`; f0
     per channel from :func:`split_sum_f0`); a constant F (``fresnel = "none"``)
     keeps the f lobe."""
-    for i in numba.prange(n.shape[0]):
+    for i in range(start, stop):
         b, _, _ = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
                            n[i, 2])
         constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE

@@ -26,9 +26,11 @@ ch. 9):
   lights cast shadows either way (exact shadow rays, as the real-time path's
   ideal shadow map), so both modes light a point the same way.
 - scenes of spheres and planes run in one fused kernel per pixel (all
-  samples, ray casting included); scenes with triangle meshes run as a
-  wavefront loop over the samples, casting with Embree; the two give the
-  same numbers for the same scene (tested).
+  samples, ray casting included): direct lighting (``bounces`` = 0) in SIMD
+  lanes (:func:`_direct_kernel`), paths with bounces sample by sample
+  (:func:`_fused_kernel`); scenes with triangle meshes run as a wavefront
+  loop over the samples, casting with Embree; all give the same numbers for
+  the same scene (tested), and the same bytes for any thread count.
 """
 
 from __future__ import annotations
@@ -414,11 +416,12 @@ _BULK_PRIMITIVES = 16
 #: no loop reads the array it writes, and LLVM, which knows separate allocations
 #: apart, vectorises every stage without run-time overlap checks.
 _U_LOBE, _U_1, _U_2, _U_K, _U_DV = range(5)                  # random numbers; alias draw
-_L_DIR, _L_PDF, _L_RAD, _L_LE = 0, 3, 4, 7                   # environment samples; seen by BxDF samples
+_L_DIR, _L_PDF, _L_RAD, _L_LE = 0, 3, 4, 7                   # light samples (environment, then area); BxDF's env.
 _M_LVAL, _M_LOCAL = 0, 3                                     # BxDF at them; local BxDF directions
 _S_DIR, _S_W, _S_PDF = 0, 3, 6                               # BxDF samples
 _T_T, _T_KIND, _T_INDEX = range(3)                           # ray hits
-_BUFFER_ROWS = (5, 10, 6, 7, 3, 3)
+_X_ADIST, _X_AEM, _X_END = 0, 1, 4                           # area lights: shadow length; emission met; path ended
+_BUFFER_ROWS = (5, 10, 6, 7, 3, 3, 2, 5)
 #: Pixels per parallel work item.
 _BLOCK = 8
 
@@ -448,10 +451,12 @@ _bxdf_f_lanes = dual_use(inline="llvm")(bxdf_f)
 
 
 @lane_stage
-def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, count, ub, lb, mb, sb):
+def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb,
+                    sb):
     """The BxDF's part of the samples of a lane buffer set (:data:`_BUFFER_ROWS`), the
-    per-lane work of :func:`_vertex`: f, its pdf and the MIS-weighted value of each
-    environment sample (``mb[_M_LVAL]``), then a direction sampled from the BxDF with
+    per-lane work of :func:`_vertex`: f, its pdf and the MIS-weighted value of each of
+    the ``n_eval`` light samples (``mb[_M_LVAL]``: the environment's, then the area
+    lights'), then a direction sampled from the BxDF with
     its weight f cos / pdf and pdf (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``; zero
     weight and pdf, and the normal as direction, where :func:`_vertex` gives up).  The
     same operations in the same order as :func:`_vertex`, so the same numbers.  The
@@ -459,7 +464,7 @@ def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat
     0, as a constant that also folds p_spec + p_coat to p_spec), or with any BxDF."""
     nov = nx * vx + ny * vy + nz * vz
     if strategy == 0:
-        for i in range(count):
+        for i in range(n_eval):
             lx = lb[_L_DIR, i]
             ly = lb[_L_DIR + 1, i]
             lz = lb[_L_DIR + 2, i]
@@ -576,16 +581,19 @@ def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
 @threaded_kernel
 def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, base_value, p, ng, n, v, mat, rough,
                    metal, base, mi, mf, variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip,
-                   first, count, order, planes, sphere_mat, plane_mat, out_shift, out_sum, out_sumsq):
-    """Direct lighting (bounces = 0) of an analytic scene without area lights, the
+                   first, count, order, planes, sphere_mat, plane_mat, acodes, avalues, averts, out_shift, out_sum,
+                   out_sumsq):
+    """Direct lighting (bounces = 0) of an analytic scene and its area lights, the
     estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
     numbers) computed in lanes: the samples of one primary hit go through stages,
     each a loop over up to :data:`_LANES` samples in structure-of-arrays buffers
-    (:data:`_BUFFER_ROWS`) that LLVM vectorises: random numbers
-    and environment samples, the BxDF (:func:`_material_lanes`, specialised by
-    :data:`_VARIANTS`), the environment seen by the BxDF samples, shadow and BxDF
-    rays (:func:`_trace_lanes`, or the BVH for larger scenes), then the pixel's sums
-    in sample order.  A primary ray that misses, or sees the surface from behind,
+    (:data:`_BUFFER_ROWS`) that LLVM vectorises: random numbers, environment
+    samples and area-light samples, the BxDF at both and its own sample
+    (:func:`_material_lanes`, specialised by :data:`_VARIANTS`), the environment
+    seen by the BxDF samples, shadow and BxDF rays (:func:`_trace_lanes`, or the
+    BVH for larger scenes), the area lights' shadows and the emission BxDF samples
+    meet (ray by ray: those loops stay scalar), then the pixel's sums in sample
+    order.  A primary ray that misses, or sees the surface from behind,
     contributes its ``base_value`` to every sample at once.  Sums as
     :func:`_fused_kernel`'s (shifted data).  It runs the blocks ``start`` to ``stop``
     (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
@@ -600,26 +608,28 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
         _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
                       base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias,
                       row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat,
-                      out_shift, out_sum, out_sumsq)
+                      acodes, avalues, averts, out_shift, out_sum, out_sumsq)
 
 
 @lane_stage
 def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
                   base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias, row_cos,
-                  c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat, out_shift,
-                  out_sum, out_sumsq):
+                  c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat, acodes, avalues,
+                  averts, out_shift, out_sum, out_sumsq):
     """The pixels of block ``block`` (:data:`_BLOCK` pixels) of :func:`_direct_kernel`,
     with lane buffers on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
     them apart from the tables, so the loops that gather from tables and store into
     them are vectorised.  No function called in a loop over lanes takes an array
     (reference counting would add calls that keep LLVM from vectorising the loop)."""
     ub = stack_array(5, 256)
-    lb = stack_array(10, 256)
-    mb = stack_array(6, 256)
+    lb = stack_array(10, 512)  # environment samples, then area-light samples
+    mb = stack_array(6, 512)
     sb = stack_array(7, 256)
     ha = stack_array(3, 256)
     hb = stack_array(3, 256)
-    shadow = stack_array(1, 256)
+    shadow = stack_array(2, 256)  # environment samples; area-light samples
+    xb = stack_array(5, 256)  # area lights: shadow ray length; emission seen by BxDF samples; path ended on a light
+    n_area = acodes.shape[0]
     for pix in range(block * _BLOCK, min(n_pixels, block * _BLOCK + _BLOCK)):
         stream = _stream_key(seed, pix, 0)
         s0 = 0.0
@@ -689,29 +699,48 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         lb[_L_RAD, i] = env[ei, ej, 0]
                         lb[_L_RAD + 1, i] = env[ei, ej, 1]
                         lb[_L_RAD + 2, i] = env[ei, ej, 2]
+                # --- area-light samples (as _vertex: a light picked uniformly, then a point on it),
+                # after the environment's in the same buffers, so the BxDF evaluates both in one loop
+                n_eval = lanes
+                if strategy == 0 and n_area > 0:
+                    n_eval = 2 * lanes
+                    for i in range(lanes):
+                        key = _sample_key(stream, sub + k2 * (c0 + i))
+                        li = min(np.int64(_uniform(key, 5) * n_area), n_area - 1)
+                        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(acodes, avalues, averts, li, px, py, pz,
+                                                                                _uniform(key, 6), _uniform(key, 7))
+                        j = lanes + i
+                        lb[_L_DIR, j] = ax
+                        lb[_L_DIR + 1, j] = ay
+                        lb[_L_DIR + 2, j] = az
+                        lb[_L_PDF, j] = pdf_a / n_area if pdf_a > 0.0 and gx * ax + gy * ay + gz * az > 0.0 else 0.0
+                        lb[_L_RAD, j] = r0
+                        lb[_L_RAD + 1, j] = r1
+                        lb[_L_RAD + 2, j] = r2
+                        xb[_X_ADIST, i] = _area_shadow_t(dist)
                 # --- the BxDF (specialised for the materials of _VARIANTS)
                 vr = variant[m]
                 if vr == 0:
                     _material_lanes(_specialised(b, _VARIANTS[0]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
                 elif vr == 1:
                     _material_lanes(_specialised(b, _VARIANTS[1]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
                 elif vr == 2:
                     _material_lanes(_specialised(b, _VARIANTS[2]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
                 elif vr == 3:
                     _material_lanes(_specialised(b, _VARIANTS[3]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
                 elif vr == 4:
                     _material_lanes(_specialised(b, _VARIANTS[4]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
                 elif vr == 5:
                     _material_lanes(_specialised(b, _VARIANTS[5]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, ub, lb, mb, sb)
+                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
                 else:
-                    _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, lanes, ub, lb,
-                                    mb, sb)
+                    _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, lanes,
+                                    n_eval, ub, lb, mb, sb)
                 # --- the environment the BxDF samples see
                 for i in range(lanes):  # _env_miss, with the loads in the loop
                     ei, ej, sin_theta = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
@@ -732,6 +761,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                 if occlusion and not bulk:
                     for i in range(lanes):
                         shadow[0, i] = np.inf
+                        ha[_T_T, i] = np.inf
                         ha[_T_KIND, i] = KIND_NONE
                         ha[_T_INDEX, i] = -1.0
                         if strategy == 0 and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
@@ -740,16 +770,55 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                                               np.inf, True, spheres, lo, hi, skip, first, count, order,
                                               planes)[1] != KIND_NONE:
                                 shadow[0, i] = 0.0
-                        if sb[_S_PDF, i] > 0.0 and (emissive or lb[_L_LE, i] > 0.0 or lb[_L_LE + 1, i] > 0.0
+                        closest = emissive or n_area > 0  # what the ray hits first matters
+                        if sb[_S_PDF, i] > 0.0 and (closest or lb[_L_LE, i] > 0.0 or lb[_L_LE + 1, i] > 0.0
                                                     or lb[_L_LE + 2, i] > 0.0):
-                            _, hk, hi_ = trace_analytic(ox, oy, oz, sb[_S_DIR, i], sb[_S_DIR + 1, i],
-                                                        sb[_S_DIR + 2, i], 0.0, np.inf, not emissive, spheres, lo, hi,
-                                                        skip, first, count, order, planes)
+                            th, hk, hi_ = trace_analytic(ox, oy, oz, sb[_S_DIR, i], sb[_S_DIR + 1, i],
+                                                         sb[_S_DIR + 2, i], 0.0, np.inf, not closest, spheres, lo, hi,
+                                                         skip, first, count, order, planes)
+                            ha[_T_T, i] = th
                             ha[_T_KIND, i] = hk
                             ha[_T_INDEX, i] = hi_
-                # --- each sample's value: base + the environment sample if unshadowed + the BxDF
-                # sample's environment if it escapes, or the emission of what it hits (as
-                # _fused_kernel adds them); into the rows of the spent local directions
+                # --- area lights (as _fused_kernel): they hide the environment samples and each
+                # other from the shadow rays; a BxDF sample that meets one before any surface sees
+                # its emission, MIS-weighted, and (with occlusion) ends there
+                if n_area > 0:
+                    for i in range(lanes):
+                        j = lanes + i
+                        shadow[1, i] = np.inf
+                        if strategy == 0 and occlusion:
+                            if (shadow[0, i] == np.inf and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
+                                                            or mb[_M_LVAL + 2, i] > 0.0)
+                                    and area_light_hit(acodes, avalues, averts, ox, oy, oz, lb[_L_DIR, i],
+                                                       lb[_L_DIR + 1, i], lb[_L_DIR + 2, i], np.inf)[1] >= 0):
+                                shadow[0, i] = 0.0
+                            if mb[_M_LVAL, j] > 0.0 or mb[_M_LVAL + 1, j] > 0.0 or mb[_M_LVAL + 2, j] > 0.0:
+                                tmax = xb[_X_ADIST, i]
+                                if (trace_analytic(ox, oy, oz, lb[_L_DIR, j], lb[_L_DIR + 1, j], lb[_L_DIR + 2, j], 0.0,
+                                                   tmax, True, spheres, lo, hi, skip, first, count, order,
+                                                   planes)[1] != KIND_NONE
+                                        or area_light_hit(acodes, avalues, averts, ox, oy, oz, lb[_L_DIR, j],
+                                                          lb[_L_DIR + 1, j], lb[_L_DIR + 2, j], tmax)[1] >= 0):
+                                    shadow[1, i] = 0.0
+                        xb[_X_AEM, i] = 0.0
+                        xb[_X_AEM + 1, i] = 0.0
+                        xb[_X_AEM + 2, i] = 0.0
+                        xb[_X_END, i] = 0.0
+                        if sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0):
+                            th = ha[_T_T, i] if occlusion else np.inf
+                            at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, sb[_S_DIR, i],
+                                                                sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], th)
+                            if ai >= 0:
+                                le = _area_emission(strategy, sb[_S_PDF, i], acodes, avalues, averts, ai, px, py, pz,
+                                                    sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], at, a0, a1, a2)
+                                xb[_X_AEM, i] = sb[_S_W, i] * le[0]
+                                xb[_X_AEM + 1, i] = sb[_S_W + 1, i] * le[1]
+                                xb[_X_AEM + 2, i] = sb[_S_W + 2, i] * le[2]
+                                xb[_X_END, i] = 1.0 if occlusion else 0.0
+                # --- each sample's value: base + the environment sample if unshadowed + the
+                # area-light sample if unshadowed + the area light a BxDF sample meets + the BxDF
+                # sample's environment if it escapes, or the emission of what it hits (in
+                # _fused_kernel's order); into the rows of the spent local directions
                 base0 = base_value[row, 0]
                 base1 = base_value[row, 1]
                 base2 = base_value[row, 2]
@@ -764,16 +833,27 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                     w2 = sb[_S_W + 2, i]
                     sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
                     escaped = not occlusion or ha[_T_KIND, i] == KIND_NONE
-                    mb[_M_LOCAL, i] = (base0 + (l0 if lit else 0.0)) + ((w0 * lb[_L_LE, i] if escaped else 0.0)
-                                                                        if sampled else 0.0)
-                    mb[_M_LOCAL + 1, i] = (base1 + (l1 if lit else 0.0)) + ((w1 * lb[_L_LE + 1, i] if escaped else 0.0)
-                                                                            if sampled else 0.0)
-                    mb[_M_LOCAL + 2, i] = (base2 + (l2 if lit else 0.0)) + ((w2 * lb[_L_LE + 2, i] if escaped else 0.0)
-                                                                            if sampled else 0.0)
+                    x0 = base0 + (l0 if lit else 0.0)
+                    x1 = base1 + (l1 if lit else 0.0)
+                    x2 = base2 + (l2 if lit else 0.0)
+                    if n_area > 0:
+                        j = lanes + i
+                        a0 = mb[_M_LVAL, j]
+                        a1 = mb[_M_LVAL + 1, j]
+                        a2 = mb[_M_LVAL + 2, j]
+                        area_lit = (strategy == 0 and (a0 > 0.0 or a1 > 0.0 or a2 > 0.0)
+                                    and not (occlusion and shadow[1, i] < np.inf))
+                        x0 = (x0 + (a0 if area_lit else 0.0)) + xb[_X_AEM, i]
+                        x1 = (x1 + (a1 if area_lit else 0.0)) + xb[_X_AEM + 1, i]
+                        x2 = (x2 + (a2 if area_lit else 0.0)) + xb[_X_AEM + 2, i]
+                        escaped = escaped and xb[_X_END, i] == 0.0
+                    mb[_M_LOCAL, i] = x0 + ((w0 * lb[_L_LE, i] if escaped else 0.0) if sampled else 0.0)
+                    mb[_M_LOCAL + 1, i] = x1 + ((w1 * lb[_L_LE + 1, i] if escaped else 0.0) if sampled else 0.0)
+                    mb[_M_LOCAL + 2, i] = x2 + ((w2 * lb[_L_LE + 2, i] if escaped else 0.0) if sampled else 0.0)
                 if emissive:  # emission of the surfaces the BxDF samples hit
                     for i in range(lanes):
                         if (sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0)
-                                and occlusion and ha[_T_KIND, i] != KIND_NONE):
+                                and occlusion and ha[_T_KIND, i] != KIND_NONE and (n_area == 0 or xb[_X_END, i] == 0.0)):
                             hi_ = np.int64(ha[_T_INDEX, i])
                             hm = sphere_mat[hi_] if np.int64(ha[_T_KIND, i]) == KIND_SPHERE else plane_mat[hi_]
                             mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, P_EMISSIVE]
@@ -1020,13 +1100,13 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         total_sum = np.zeros((n_pixels, 3))
         total_sq = np.zeros((n_pixels, 3))
         eps = 1e-7 * geometry.scale
-        if bounces == 0 and not len(geometry.area_lights):
+        if bounces == 0:
             emissive = bool(np.any(mat_f[:, P_EMISSIVE:P_EMISSIVE + 3] != 0.0))
             run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, code,
                            bool(occlusion), emissive, base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f,
                            material_variants(mat_i, mat_f), env.radiance, func, total, alias, row_cos, env.cos,
                            env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
-                           geometry.plane_material, shift, total_sum, total_sq)
+                           geometry.plane_material, *geometry.area_lights.arrays(), shift, total_sum, total_sq)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
             run_in_threads(_fused_kernel, n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
