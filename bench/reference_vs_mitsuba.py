@@ -142,6 +142,70 @@ def load_mitsuba(variant):
     return mi, None
 
 
+def compare(names, size=256, spp=1024, repeat=3, variants=("llvm_ad_rgb",), out=print):
+    """Render each scene of ``names`` in pbrkit and in each Mitsuba variant, back to back
+    (module docstring); print the figures with ``out`` and return one dict per
+    (scene, variant) with ``pbrkit`` and ``mitsuba`` samples/s (best, median), noise
+    per sample, the samples/s ratio (best, median) and the time-to-equal-noise ratio
+    (``mitsuba`` None where Mitsuba was skipped)."""
+    if not ENV_DIR.is_dir() and any(SCENES[n][0] not in (None, "bundled") for n in names):
+        out(f"{ENV_DIR} not found (needs ../shared/data/env): the map scenes are skipped, "
+            "the bundled map's scene runs instead")
+        names = [n for n in names if SCENES[n][0] in (None, "bundled")] + ["bundled"]
+    repeat = max(repeat, 2)
+    samples = size * size * spp
+    out(f"{size}^2 pixels, {spp} spp ({samples / 1e6:.0f} M samples per render), best / median of {repeat} runs")
+    rows = []
+    for name in names:
+        env_file, tint = SCENES[name]
+        if env_file == "bundled":
+            env_file = bundled_environment()
+        scene = pbrkit_scene(env_file, tint, size)
+        geometry = Geometry(scene)
+        env = EnvironmentLight(scene.environment)
+        render_reference(scene, spp=2, geometry=geometry, env=env)  # compile (warm-up)
+        times, images = [], []
+        for r in range(repeat):
+            t0 = time.perf_counter()
+            result = render_reference(scene, spp=spp, seed=r + 1, geometry=geometry, env=env)
+            times.append(time.perf_counter() - t0)
+            images.append(result.image)
+        inside = interior(result.mask)
+        pb_noise = noise_per_sample(images[0], images[1], spp, inside)
+        pb_best, pb_median = samples / min(times), samples / statistics.median(times)
+        pb_mean = float(np.mean(luminance(images[0])[inside]))
+        out(f"{name}: pbrkit reference  {pb_best / 1e6:6.1f} M samples/s (median {pb_median / 1e6:.1f}), "
+            f"noise per sample {pb_noise:.4f}")
+        for variant in variants:
+            row = {"scene": name, "variant": variant, "pbrkit": (pb_best, pb_median), "pbrkit_noise": pb_noise,
+                   "mitsuba": None}
+            rows.append(row)
+            mi, why = load_mitsuba(variant)
+            if mi is None:
+                out(f"{name}: Mitsuba skipped: {why}")
+                continue
+            ms = mitsuba_scene(mi, env_file, tint, size, spp)
+            np.asarray(mi.render(ms, spp=spp))  # compile (warm-up)
+            mtimes, mimages = [], []
+            for r in range(repeat):
+                t0 = time.perf_counter()
+                mimages.append(np.array(mi.render(ms, spp=spp, seed=r + 1))[..., :3].astype(np.float64))
+                mtimes.append(time.perf_counter() - t0)
+            mi_best, mi_median = samples / min(mtimes), samples / statistics.median(mtimes)
+            mi_noise = noise_per_sample(mimages[0], mimages[1], spp, inside)
+            mi_mean = float(np.mean(luminance(mimages[0])[inside]))
+            equal_noise = (mi_noise / mi_best) / (pb_noise / pb_best)
+            row.update(mitsuba=(mi_best, mi_median), mitsuba_noise=mi_noise,
+                       ratio=(pb_best / mi_best, pb_median / mi_median), equal_noise=equal_noise,
+                       agreement=pb_mean / mi_mean - 1.0)
+            out(f"{name}: Mitsuba {variant:12s} {mi_best / 1e6:6.1f} M samples/s (median {mi_median / 1e6:.1f}), "
+                f"noise per sample {mi_noise:.4f}")
+            out(f"{name}: pbrkit / Mitsuba {variant}: samples/s {pb_best / mi_best:.2f}x best, "
+                f"{pb_median / mi_median:.2f}x median; time to equal noise {equal_noise:.2f}x in pbrkit's favour; "
+                f"mean inside the sphere {pb_mean:.4f} vs {mi_mean:.4f} ({(pb_mean / mi_mean - 1) * 100:+.2f}%)")
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--size", type=int, default=256, help="image side in pixels")
@@ -156,57 +220,7 @@ def main():
     for name in names:
         if name not in SCENES:
             sys.exit(f"unknown scene {name!r}; choose from {', '.join(SCENES)}")
-    if not ENV_DIR.is_dir() and any(SCENES[n][0] not in (None, "bundled") for n in names):
-        print(f"{ENV_DIR} not found (needs ../shared/data/env): the map scenes are skipped, "
-              "the bundled map's scene runs instead")
-        names = [n for n in names if SCENES[n][0] in (None, "bundled")] + ["bundled"]
-    repeat = max(args.repeat, 2)
-    samples = args.size * args.size * args.spp
-    print(f"{args.size}^2 pixels, {args.spp} spp ({samples / 1e6:.0f} M samples per render), "
-          f"best / median of {repeat} runs\n")
-    variants = [v for v in args.variants.split(",") if v]
-    for name in names:
-        env_file, tint = SCENES[name]
-        if env_file == "bundled":
-            env_file = bundled_environment()
-        scene = pbrkit_scene(env_file, tint, args.size)
-        geometry = Geometry(scene)
-        env = EnvironmentLight(scene.environment)
-        render_reference(scene, spp=2, geometry=geometry, env=env)  # compile (warm-up)
-        times, images = [], []
-        for r in range(repeat):
-            t0 = time.perf_counter()
-            result = render_reference(scene, spp=args.spp, seed=r + 1, geometry=geometry, env=env)
-            times.append(time.perf_counter() - t0)
-            images.append(result.image)
-        inside = interior(result.mask)
-        pb_noise = noise_per_sample(images[0], images[1], args.spp, inside)
-        pb_best, pb_median = samples / min(times), samples / statistics.median(times)
-        pb_mean = float(np.mean(luminance(images[0])[inside]))
-        print(f"{name}: pbrkit reference  {pb_best / 1e6:6.1f} M samples/s (median {pb_median / 1e6:.1f}), "
-              f"noise per sample {pb_noise:.4f}")
-        for variant in variants:
-            mi, why = load_mitsuba(variant)
-            if mi is None:
-                print(f"{name}: Mitsuba skipped: {why}")
-                continue
-            ms = mitsuba_scene(mi, env_file, tint, args.size, args.spp)
-            np.asarray(mi.render(ms, spp=args.spp))  # compile (warm-up)
-            mtimes, mimages = [], []
-            for r in range(repeat):
-                t0 = time.perf_counter()
-                mimages.append(np.array(mi.render(ms, spp=args.spp, seed=r + 1))[..., :3].astype(np.float64))
-                mtimes.append(time.perf_counter() - t0)
-            mi_best, mi_median = samples / min(mtimes), samples / statistics.median(mtimes)
-            mi_noise = noise_per_sample(mimages[0], mimages[1], args.spp, inside)
-            mi_mean = float(np.mean(luminance(mimages[0])[inside]))
-            equal_noise = (mi_noise / mi_best) / (pb_noise / pb_best)
-            print(f"{name}: Mitsuba {variant:12s} {mi_best / 1e6:6.1f} M samples/s (median {mi_median / 1e6:.1f}), "
-                  f"noise per sample {mi_noise:.4f}")
-            print(f"{name}: pbrkit / Mitsuba {variant}: samples/s {pb_best / mi_best:.2f}x best, "
-                  f"{pb_median / mi_median:.2f}x median; time to equal noise {equal_noise:.2f}x in pbrkit's favour; "
-                  f"mean inside the sphere {pb_mean:.4f} vs {mi_mean:.4f} ({(pb_mean / mi_mean - 1) * 100:+.2f}%)")
-        print()
+    compare(names, args.size, args.spp, args.repeat, [v for v in args.variants.split(",") if v])
 
 
 if __name__ == "__main__":

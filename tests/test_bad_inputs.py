@@ -559,12 +559,12 @@ def test_atomic_directory_errors_name_files_in_the_output(tmp_path, full_disk):
 
 
 def _raising(monkeypatch, error):
-    import pbrkit.albedo.tables as tables
+    import pbrkit.albedo.lut as lut
 
     def lookup_table(*args, **kwargs):
         raise error
 
-    monkeypatch.setattr(tables, "lookup_table", lookup_table)
+    monkeypatch.setattr(lut, "lookup_table", lookup_table)  # what pbrkit lut calls
 
 
 @pytest.mark.parametrize("error, code, fragment", [
@@ -684,15 +684,15 @@ def test_a_slow_first_stage_shows_its_line(monkeypatch, tmp_path):
     monkeypatch.setattr(cli._Stages, "FIRST_LINE_DELAY", 0.0)
     import time
 
-    import pbrkit.albedo.tables as tables
+    import pbrkit.albedo.lut as lut
 
-    real = tables.lookup_table
+    real = lut.lookup_table
 
     def slow(*args, **kwargs):
         time.sleep(0.2)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(tables, "lookup_table", slow)
+    monkeypatch.setattr(lut, "lookup_table", slow)
     result = invoke("lut", "-o", tmp_path / "t.npy", "--size", "8")
     assert result.stderr.splitlines()[0] == "pbrkit lut: integrate (1/2)"
 
