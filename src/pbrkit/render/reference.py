@@ -822,34 +822,48 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                 base0 = base_value[row, 0]
                 base1 = base_value[row, 1]
                 base2 = base_value[row, 2]
-                for i in range(lanes):
-                    l0 = mb[_M_LVAL, i]
-                    l1 = mb[_M_LVAL + 1, i]
-                    l2 = mb[_M_LVAL + 2, i]
-                    lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
-                           and not (occlusion and shadow[0, i] < np.inf))
-                    w0 = sb[_S_W, i]
-                    w1 = sb[_S_W + 1, i]
-                    w2 = sb[_S_W + 2, i]
-                    sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
-                    escaped = not occlusion or ha[_T_KIND, i] == KIND_NONE
-                    x0 = base0 + (l0 if lit else 0.0)
-                    x1 = base1 + (l1 if lit else 0.0)
-                    x2 = base2 + (l2 if lit else 0.0)
-                    if n_area > 0:
+                if n_area == 0:  # two loops, so that this one keeps no branch on the area lights
+                    for i in range(lanes):
+                        l0 = mb[_M_LVAL, i]
+                        l1 = mb[_M_LVAL + 1, i]
+                        l2 = mb[_M_LVAL + 2, i]
+                        lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
+                               and not (occlusion and shadow[0, i] < np.inf))
+                        w0 = sb[_S_W, i]
+                        w1 = sb[_S_W + 1, i]
+                        w2 = sb[_S_W + 2, i]
+                        sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
+                        escaped = not occlusion or ha[_T_KIND, i] == KIND_NONE
+                        mb[_M_LOCAL, i] = (base0 + (l0 if lit else 0.0)) + ((w0 * lb[_L_LE, i] if escaped else 0.0)
+                                                                            if sampled else 0.0)
+                        mb[_M_LOCAL + 1, i] = (base1 + (l1 if lit else 0.0)) + (
+                            (w1 * lb[_L_LE + 1, i] if escaped else 0.0) if sampled else 0.0)
+                        mb[_M_LOCAL + 2, i] = (base2 + (l2 if lit else 0.0)) + (
+                            (w2 * lb[_L_LE + 2, i] if escaped else 0.0) if sampled else 0.0)
+                else:
+                    for i in range(lanes):
+                        l0 = mb[_M_LVAL, i]
+                        l1 = mb[_M_LVAL + 1, i]
+                        l2 = mb[_M_LVAL + 2, i]
+                        lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
+                               and not (occlusion and shadow[0, i] < np.inf))
                         j = lanes + i
                         a0 = mb[_M_LVAL, j]
                         a1 = mb[_M_LVAL + 1, j]
                         a2 = mb[_M_LVAL + 2, j]
                         area_lit = (strategy == 0 and (a0 > 0.0 or a1 > 0.0 or a2 > 0.0)
                                     and not (occlusion and shadow[1, i] < np.inf))
-                        x0 = (x0 + (a0 if area_lit else 0.0)) + xb[_X_AEM, i]
-                        x1 = (x1 + (a1 if area_lit else 0.0)) + xb[_X_AEM + 1, i]
-                        x2 = (x2 + (a2 if area_lit else 0.0)) + xb[_X_AEM + 2, i]
-                        escaped = escaped and xb[_X_END, i] == 0.0
-                    mb[_M_LOCAL, i] = x0 + ((w0 * lb[_L_LE, i] if escaped else 0.0) if sampled else 0.0)
-                    mb[_M_LOCAL + 1, i] = x1 + ((w1 * lb[_L_LE + 1, i] if escaped else 0.0) if sampled else 0.0)
-                    mb[_M_LOCAL + 2, i] = x2 + ((w2 * lb[_L_LE + 2, i] if escaped else 0.0) if sampled else 0.0)
+                        w0 = sb[_S_W, i]
+                        w1 = sb[_S_W + 1, i]
+                        w2 = sb[_S_W + 2, i]
+                        sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
+                        escaped = (not occlusion or ha[_T_KIND, i] == KIND_NONE) and xb[_X_END, i] == 0.0
+                        x0 = ((base0 + (l0 if lit else 0.0)) + (a0 if area_lit else 0.0)) + xb[_X_AEM, i]
+                        x1 = ((base1 + (l1 if lit else 0.0)) + (a1 if area_lit else 0.0)) + xb[_X_AEM + 1, i]
+                        x2 = ((base2 + (l2 if lit else 0.0)) + (a2 if area_lit else 0.0)) + xb[_X_AEM + 2, i]
+                        mb[_M_LOCAL, i] = x0 + ((w0 * lb[_L_LE, i] if escaped else 0.0) if sampled else 0.0)
+                        mb[_M_LOCAL + 1, i] = x1 + ((w1 * lb[_L_LE + 1, i] if escaped else 0.0) if sampled else 0.0)
+                        mb[_M_LOCAL + 2, i] = x2 + ((w2 * lb[_L_LE + 2, i] if escaped else 0.0) if sampled else 0.0)
                 if emissive:  # emission of the surfaces the BxDF samples hit
                     for i in range(lanes):
                         if (sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0)
