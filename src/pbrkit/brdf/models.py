@@ -23,7 +23,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, parallel_kernel, row_kernel
 from ..core.vec import dot, half_vector, orthonormal_basis_xyz, shading_frame
 from .bxdf import (
     C_DIFFUSE,
@@ -247,10 +247,10 @@ def _frame(n, t, i, has_tangent):
     return orthonormal_basis_xyz(nx, ny, nz)
 
 
-@parallel_kernel
-def _evaluate_kernel(codes, table, index, base, metallic, roughness, l, v, n, t, has_tangent, out):
+@row_kernel(6)
+def _evaluate_kernel(start, stop, codes, table, index, base, metallic, roughness, l, v, n, t, has_tangent, out):
     per_element = index.shape[0] > 1
-    for i in numba.prange(l.shape[0]):
+    for i in range(start, stop):
         row = index[i] if per_element else 0
         b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
         if b.anisotropic:

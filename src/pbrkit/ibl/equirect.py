@@ -47,11 +47,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..core import checks
-from ..core.jit import dual_use, kernel, parallel_kernel
+from ..core.jit import dual_use, kernel, row_kernel
 from .cubemap import (
     CubeSampler,
     _as_cube,
@@ -356,8 +355,8 @@ def _face_corners(face, n, z):
     return np.ascontiguousarray(phi), np.ascontiguousarray(row.astype(np.int64))
 
 
-@parallel_kernel
-def _face_pass(texels, face, n, phi, row, img, pot, total, tables, south, horizontal, omega, out):
+@row_kernel(lambda texels, face, n, *rest: n if texels else n + 1)
+def _face_pass(start, stop, texels, face, n, phi, row, img, pot, total, tables, south, horizontal, omega, out):
     """First pass (``texels`` False): horizontal[a, j] = edge integral from
     corner (a, j) to (a, j + 1).  Second pass: out[i, j] = (1 / omega) times
     the integral of L over texel (i, j) of ``face``, whose boundary
@@ -367,7 +366,7 @@ def _face_pass(texels, face, n, phi, row, img, pot, total, tables, south, horizo
     too); the -Y face's south potential flips the sign."""
     channels = out.shape[2]
     if not texels:
-        for a in numba.prange(n + 1):
+        for a in range(start, stop):  # rows a of corners, 0..n
             tc = 2.0 * a / n - 1.0
             for j in range(n):
                 ax, ay, az = face_direction(face, 2.0 * j / n - 1.0, tc)
@@ -376,7 +375,7 @@ def _face_pass(texels, face, n, phi, row, img, pot, total, tables, south, horizo
                                img, pot, total, tables, south, horizontal, a, j)
         return
     sign = -1.0 if south else 1.0
-    for i in numba.prange(n):
+    for i in range(start, stop):  # rows i of texels, 0..n-1
         vertical = np.empty((1, n + 1, channels))
         t0 = 2.0 * i / n - 1.0
         t1 = 2.0 * (i + 1) / n - 1.0

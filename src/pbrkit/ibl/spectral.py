@@ -52,7 +52,7 @@ import numba
 import numpy as np
 
 from ..core import checks
-from ..core.jit import kernel, parallel_kernel
+from ..core.jit import kernel, parallel_kernel, row_kernel
 from .equirect import direction_angles, equirect_pixel_angles
 
 __all__ = [
@@ -176,12 +176,12 @@ def analyse_equirect(image, lmax):
     return out_re + 1j * out_im
 
 
-@parallel_kernel
-def _synthesise_kernel(c_re, c_im, x_rows, s_log, log_pmm, a, b, out_re, out_im):
+@row_kernel(2)
+def _synthesise_kernel(start, stop, c_re, c_im, x_rows, s_log, log_pmm, a, b, out_re, out_im):
     """out[i, m] = sum_l c_lm Pbar_lm(x_i)."""
     lmax = c_re.shape[0] - 1
     channels = c_re.shape[2]
-    for i in numba.prange(x_rows.shape[0]):
+    for i in range(start, stop):
         p = np.zeros(lmax + 1)
         for m in range(lmax + 1):
             if not _legendre_column(m, x_rows[i], s_log[i], log_pmm, a, b, p):
@@ -233,12 +233,12 @@ def _keys(t):
     return (-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0, -1.5 * t3 + 2.0 * t2 + 0.5 * t, 0.5 * t3 - 0.5 * t2)
 
 
-@parallel_kernel
-def _sample_kernel(grid, dirs, out):
+@row_kernel(1)
+def _sample_kernel(start, stop, grid, dirs, out):
     h = grid.shape[0]
     w = grid.shape[1]
     channels = grid.shape[2]
-    for k in numba.prange(dirs.shape[0]):
+    for k in range(start, stop):
         theta, phi = direction_angles(dirs[k, 0], dirs[k, 1], dirs[k, 2])
         # grid coordinates from the centre of pixel (0, 0): v H - 1/2 and u W - 1/2 (CONVENTIONS.md)
         v = theta / math.pi * h - 0.5

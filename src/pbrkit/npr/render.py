@@ -161,13 +161,13 @@ def _lights(geometry, s, shadows=True):
     return lit
 
 
-@parallel_kernel
-def _incidence_kernel(codes, values, li, p, n, ng, out_dir, out_dist, out_e, out_nol, out_vis):
+@row_kernel(3)
+def _incidence_kernel(start, stop, codes, values, li, p, n, ng, out_dir, out_dist, out_e, out_nol, out_vis):
     """:func:`pbrkit.render.lights.light_incidence` of light li at every point: the
     direction and distance to it, its illuminance at normal incidence (colour x
     intensity x falloff), n.l, and 1 where the light can reach the point (in front of
     its geometric normal, inside the light's range), else 0 (before shadow rays)."""
-    for i in numba.prange(p.shape[0]):
+    for i in range(start, stop):
         lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
         out_dir[i, 0] = lx
         out_dir[i, 1] = ly
@@ -180,13 +180,13 @@ def _incidence_kernel(codes, values, li, p, n, ng, out_dir, out_dist, out_e, out
         out_vis[i] = 1.0 if front and f > 0.0 else 0.0
 
 
-@parallel_kernel
-def _incidence_analytic_kernel(codes, values, p, n, ng, eps, spheres, lo, hi, skip, first, count, order, planes,
+@row_kernel(2)
+def _incidence_analytic_kernel(start, stop, codes, values, p, n, ng, eps, spheres, lo, hi, skip, first, count, order, planes,
                                out_dir, out_e, out_nol, out_vis):
     """:func:`_incidence_kernel` for every light of an analytic scene, with the shadow
     ray traced in the kernel (:func:`pbrkit.render.primitives.trace_analytic`, as
     :func:`pbrkit.render.punctual.punctual_at` does)."""
-    for i in numba.prange(p.shape[0]):
+    for i in range(start, stop):
         for li in range(codes.shape[0]):
             lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
             out_dir[li, i, 0] = lx

@@ -392,9 +392,9 @@ def area_light_hit(codes, values, vertices, ox, oy, oz, dx, dy, dz, tmax):
     return best, hit, values[hit, 0], values[hit, 1], values[hit, 2]
 
 
-@parallel_kernel
-def _hit_kernel(codes, values, vertices, origins, dirs, tmax, out_t, out_index, out_radiance):
-    for i in numba.prange(origins.shape[0]):
+@row_kernel(3)
+def _hit_kernel(start, stop, codes, values, vertices, origins, dirs, tmax, out_t, out_index, out_radiance):
+    for i in range(start, stop):
         t, k, r0, r1, r2 = area_light_hit(codes, values, vertices, origins[i, 0], origins[i, 1], origins[i, 2],
                                           dirs[i, 0], dirs[i, 1], dirs[i, 2], tmax[i])
         out_t[i] = t

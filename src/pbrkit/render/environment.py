@@ -27,12 +27,11 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..core.color import luminance
 from ..core.filtering import CLAMP_TO_EDGE, REPEAT, texel_pair
-from ..core.jit import dual_use, kernel, parallel_kernel
+from ..core.jit import dual_use, kernel, row_kernel
 from ..ibl.equirect import (
     equirect_angles_of_uv,
     equirect_uv,
@@ -379,13 +378,13 @@ class EnvironmentLight:
         return self.bake_data
 
 
-@parallel_kernel
-def _background_batch(env, c, s, d, out):
+@row_kernel(3)
+def _background_batch(start, stop, env, c, s, d, out):
     """Bilinear equirect lookup (texel centres, CONVENTIONS.md; columns wrap, rows
     clamp: :func:`pbrkit.core.filtering.texel_pair`)."""
     h = env.shape[0]
     w = env.shape[1]
-    for i in numba.prange(d.shape[0]):
+    for i in range(start, stop):
         x, y, z = _rotate_y(d[i, 0], d[i, 1], d[i, 2], c, -s)
         u, v = equirect_uv(x, y, z)
         j0, j1, ax = texel_pair(u * w - 0.5, w, REPEAT)
@@ -395,9 +394,9 @@ def _background_batch(env, c, s, d, out):
                           + (env[y1, j0, ch] * (1.0 - ax) + env[y1, j1, ch] * ax) * ay)
 
 
-@parallel_kernel
-def _env_lookup_batch(env, c, s, d, out):
-    for i in numba.prange(d.shape[0]):
+@row_kernel(3)
+def _env_lookup_batch(start, stop, env, c, s, d, out):
+    for i in range(start, stop):
         r = _env_lookup(env, c, s, d[i, 0], d[i, 1], d[i, 2])
         out[i, 0] = r[0]
         out[i, 1] = r[1]
