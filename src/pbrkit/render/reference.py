@@ -254,6 +254,21 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
 
 
 
+@dual_use
+def _store_pixel(out_shift, out_sum, out_sumsq, pix, k0, k1, k2, s0, s1, s2, q0, q1, q2):
+    """Write a pixel's shift K (its first sample), sum of (x - K) and sum of (x - K)^2
+    (the shifted-data algorithm of :func:`_fused_kernel`), per channel."""
+    out_shift[pix, 0] = k0
+    out_shift[pix, 1] = k1
+    out_shift[pix, 2] = k2
+    out_sum[pix, 0] = s0
+    out_sum[pix, 1] = s1
+    out_sum[pix, 2] = s2
+    out_sumsq[pix, 0] = q0
+    out_sumsq[pix, 1] = q1
+    out_sumsq[pix, 2] = q2
+
+
 @threaded_kernel
 def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
                   base, mi, mf, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count,
@@ -275,6 +290,9 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
         q0 = 0.0
         q1 = 0.0
         q2 = 0.0
+        h0 = 0.0  # the shift: the pixel's first sample
+        h1 = 0.0
+        h2 = 0.0
         for j in range(spp):
             row = pix * k2 + (j % k2)
             x0 = base_value[row, 0]
@@ -371,24 +389,17 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         x1 += t1 * pr[1]
                         x2 += t2 * pr[2]
             if j == 0:
-                out_shift[pix, 0] = x0
-                out_shift[pix, 1] = x1
-                out_shift[pix, 2] = x2
-            x0 -= out_shift[pix, 0]
-            x1 -= out_shift[pix, 1]
-            x2 -= out_shift[pix, 2]
+                h0, h1, h2 = x0, x1, x2
+            x0 -= h0
+            x1 -= h1
+            x2 -= h2
             s0 += x0
             s1 += x1
             s2 += x2
             q0 += x0 * x0
             q1 += x1 * x1
             q2 += x2 * x2
-        out_sum[pix, 0] = s0
-        out_sum[pix, 1] = s1
-        out_sum[pix, 2] = s2
-        out_sumsq[pix, 0] = q0
-        out_sumsq[pix, 1] = q1
-        out_sumsq[pix, 2] = q2
+        _store_pixel(out_shift, out_sum, out_sumsq, pix, h0, h1, h2, s0, s1, s2, q0, q1, q2)
 
 
 # ------------------------------------------------- direct lighting in lanes (analytic scenes, bounces = 0)
@@ -888,15 +899,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                     q0 += x0 * x0
                     q1 += x1 * x1
                     q2 += x2 * x2
-        out_shift[pix, 0] = k0
-        out_shift[pix, 1] = k1
-        out_shift[pix, 2] = k2_
-        out_sum[pix, 0] = s0
-        out_sum[pix, 1] = s1
-        out_sum[pix, 2] = s2
-        out_sumsq[pix, 0] = q0
-        out_sumsq[pix, 1] = q1
-        out_sumsq[pix, 2] = q2
+        _store_pixel(out_shift, out_sum, out_sumsq, pix, k0, k1, k2_, s0, s1, s2, q0, q1, q2)
 
 
 # ------------------------------------------------- wavefront (scenes with meshes)
