@@ -114,3 +114,15 @@ def test_worker_gives_up_without_the_demos_signals(tmp_path, monkeypatch, steps)
     assert warmup._wait_for_demo(tmp_path, steps[0]) is False
     (tmp_path / f"{steps[1]}.main").touch()
     assert warmup._wait_for_demo(tmp_path, steps[1]) is True
+
+
+def test_worker_stops_when_the_demo_is_gone(tmp_path, monkeypatch):
+    """A demo killed outright (no clean-up) leaves the worker adopted by another parent,
+    or its folder removed: the worker stops instead of waiting."""
+    assert not warmup._demo_gone(tmp_path)
+    monkeypatch.setattr(warmup, "_PARENT", -1)
+    assert warmup._demo_gone(tmp_path) and warmup._wait_for_demo(tmp_path, "bake") is False
+    monkeypatch.setattr(warmup, "_PARENT", warmup.os.getppid())
+    assert warmup._demo_gone(tmp_path / "missing")
+    warmup.run_worker(tmp_path / "missing", "unused.hdr")  # returns at once: nothing claimed
+    assert not (tmp_path / "missing").exists()

@@ -124,12 +124,21 @@ class WarmUp:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+_PARENT = os.getppid()
+
+
+def _demo_gone(folder):
+    """Whether the demo went away: its folder of markers is gone, or this process's
+    parent changed (the demo was killed and this process was adopted)."""
+    return not Path(folder).is_dir() or os.getppid() != _PARENT
+
+
 def _wait_for_demo(folder, step):
     """Wait for the demo's ``<step>.main`` marker; False if it never comes (the demo
-    stopped: its parent process or the folder went away)."""
+    stopped, :func:`_demo_gone`, or :data:`_PATIENCE` ran out)."""
     deadline = time.monotonic() + _PATIENCE
     while not (folder / f"{step}.main").exists():
-        if not folder.is_dir() or time.monotonic() > deadline:
+        if _demo_gone(folder) or time.monotonic() > deadline:
             return False
         time.sleep(0.02)
     return True
@@ -152,6 +161,8 @@ def run_worker(folder, env_path):
     from .report import furnace_report
 
     folder = Path(folder)
+    if _demo_gone(folder):
+        return
     work = folder / "work"
     work.mkdir(exist_ok=True)
     size = 16
@@ -173,6 +184,8 @@ def run_worker(folder, env_path):
     runs = {"reference": lambda: render_reference(scene, spp=2, seed=0, geometry=geometry, env=env, occlusion=False),
             "area": lambda: _area_light_comparison(work, size, 2, 0), "npr": styles, "furnace": furnace}
     for step in STEPS:
+        if _demo_gone(folder):
+            return
         if _claim(folder, step, "worker"):
             runs[step]()
             (folder / f"{step}.done").touch()
