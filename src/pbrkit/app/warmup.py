@@ -36,7 +36,7 @@ from pathlib import Path
 __all__ = ["STEPS", "WarmUp", "kernels_cached", "run_worker"]
 
 #: The demo steps the worker runs small, in its order; the demo waits for each.
-STEPS = ("reference", "npr", "area", "furnace")
+STEPS = ("reference", "area", "npr", "furnace")
 #: The demo steps after which the demo signals the worker (their kernels are cached).
 SIGNALS = ("bake", "realtime")
 #: How long the worker waits for a demo signal before giving up (seconds).
