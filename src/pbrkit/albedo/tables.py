@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..brdf.bxdf import (
@@ -46,7 +45,7 @@ from ..brdf.masking import (
 )
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, kernel, parallel_kernel
+from ..core.jit import dual_use, kernel, row_kernel
 from ..core.quadrature import (
     gauss_legendre_01,
     ggx_cos_of_s,
@@ -111,8 +110,8 @@ def _lobe_visibility(code, nol, nov, alpha):
     return specular_visibility(b, Cosines(nol, nov, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
 
 
-@parallel_kernel
-def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, out):
+@row_kernel(lambda mu, alpha, *rest: alpha.shape[0] * mu.shape[0])
+def _integrate_lobe(start, stop, mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, out):
     """out[j, i] = (integral of V (1 - Fc) (n.l) ..., integral of V Fc ...) with Fc = (1 - v.h)^5.
 
     Quadrature in (w, phi) over the half-vector domain of
@@ -122,9 +121,8 @@ def _integrate_lobe(mu, alpha, lobe, vis_code, x_theta, w_theta, x_phi, w_phi, o
     of the lobe's CDF within the admissible range; phi in
     [0, phi_max(theta_h)], mirrored.
     """
-    n_r = alpha.shape[0]
     n_mu = mu.shape[0]
-    for index in numba.prange(n_r * n_mu):
+    for index in range(start, stop):  # index = j n_mu + i over the (roughness, n.v) grid
         j = index // n_mu
         i = index % n_mu
         m = mu[i]

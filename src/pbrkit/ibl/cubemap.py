@@ -50,12 +50,11 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, parallel_kernel, row_kernel, select
+from ..core.jit import dual_use, row_kernel, select
 
 __all__ = [
     "FACE_NAMES",
@@ -442,12 +441,12 @@ def build_mip_pyramid(cube, weighting="solid_angle"):
     return [lv[..., 0] for lv in levels] if np.ndim(cube) == 3 else levels
 
 
-@parallel_kernel
-def _resample_kernel(data, n_src, size, k, out):
+@row_kernel(lambda data, n_src, size, *rest: 6 * size)
+def _resample_kernel(start, stop, data, n_src, size, k, out):
     """out[f, i, j] = solid-angle-weighted mean of k x k sub-texel bilinear
     samples of the bordered source (flat ``data``, size n_src)."""
     channels = out.shape[3]
-    for fi in numba.prange(6 * size):
+    for fi in range(start, stop):
         f = fi // size
         i = fi % size
         acc = np.zeros(channels)

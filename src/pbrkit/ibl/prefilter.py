@@ -74,12 +74,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core import checks
-from ..core.jit import dual_use, parallel_kernel, select
+from ..core.jit import dual_use, row_kernel, select
 from ..core.vec import orthonormal_basis_xyz
 from ..sampling.low_discrepancy import hammersley
 from ..sampling.warps import pdf_ggx_ndf, pdf_light_from_half, reflect_xyz, warp_ggx_ndf
@@ -465,12 +464,12 @@ def _point_lobe(lobe, nol, alpha):
     return d_ggx(math.sqrt(0.5 + 0.5 * nol), alpha) * nol
 
 
-@parallel_kernel
-def _point_lobe_kernel(dirs, points, values, weights, lobe, alpha, scale, normalise, out):
+@row_kernel(0)
+def _point_lobe_kernel(start, stop, dirs, points, values, weights, lobe, alpha, scale, normalise, out):
     """out[k] += sum_i w_i L_i with w_i = k(n_k.l_i) scale weights_i over the points
     i with n_k.l_i > 0; with ``normalise`` out[k] is then divided by sum_i w_i."""
     channels = out.shape[1]
-    for k in numba.prange(dirs.shape[0]):
+    for k in range(start, stop):
         nx, ny, nz = dirs[k, 0], dirs[k, 1], dirs[k, 2]
         total = 0.0
         for i in range(points.shape[0]):
@@ -712,8 +711,8 @@ def default_sample_counts(levels, first=64):
     return [0] + [int(min(1024, first << (m - 1))) for m in range(1, levels)]
 
 
-@parallel_kernel
-def _fis_kernel(dirs, l, weight, lod_offset, lod_base, data, offsets, sizes, out):
+@row_kernel(0)
+def _fis_kernel(start, stop, dirs, l, weight, lod_offset, lod_base, data, offsets, sizes, out):
     """out[k] = sum_s w_s L(R_k l_s, lod_s) / sum_s w_s for each texel k with
     frame R_k = (t, b, n) (:func:`pbrkit.core.vec.orthonormal_basis_xyz`); L is the
     trilinear lookup of the bordered pyramid (``data``, ``offsets``, ``sizes``
@@ -725,7 +724,7 @@ def _fis_kernel(dirs, l, weight, lod_offset, lod_base, data, offsets, sizes, out
     for s in range(l.shape[0]):
         total += weight[s]
     inv_total = 1.0 / total if total > 0.0 else 0.0
-    for k in numba.prange(dirs.shape[0]):
+    for k in range(start, stop):
         nx, ny, nz = dirs[k, 0], dirs[k, 1], dirs[k, 2]
         (tx, ty, tz), (bx, by, bz) = orthonormal_basis_xyz(nx, ny, nz)
         acc = np.zeros(channels)

@@ -45,11 +45,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, row_kernel
 from .cubemap import cube_texel_directions, cube_texel_solid_angles
 from .equirect import equirect_pixel_angles
 
@@ -327,10 +326,10 @@ def eval_sh(coeffs, d):
     return out.reshape(d.shape[:-1] + c.shape[1:])
 
 
-@parallel_kernel
-def _eval_sh_kernel(coeffs, d, out):
+@row_kernel(1)
+def _eval_sh_kernel(start, stop, coeffs, d, out):
     """out[i, c] = sum_lm coeffs[lm, c] Y_lm(d[i]) (:func:`sh9`)."""
-    for i in numba.prange(d.shape[0]):
+    for i in range(start, stop):
         y = sh9(d[i, 0], d[i, 1], d[i, 2])
         for c in range(coeffs.shape[1]):
             out[i, c] = (coeffs[0, c] * y[0] + coeffs[1, c] * y[1] + coeffs[2, c] * y[2] + coeffs[3, c] * y[3]

@@ -48,11 +48,10 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..core import checks
-from ..core.jit import kernel, parallel_kernel, row_kernel
+from ..core.jit import kernel, row_kernel
 from .equirect import direction_angles, equirect_pixel_angles
 
 __all__ = [
@@ -108,13 +107,13 @@ def _legendre_column(m, x, s_log, log_pmm, a, b, out):
     return True
 
 
-@parallel_kernel
-def _analyse_kernel(g_re, g_im, x_nodes, s_log, w_nodes, log_pmm, a, b, col_factor, out_re, out_im):
+@row_kernel(lambda g_re, g_im, x_nodes, s_log, w_nodes, log_pmm, a, b, col_factor, out_re, out_im: out_re.shape[0])
+def _analyse_kernel(start, stop, g_re, g_im, x_nodes, s_log, w_nodes, log_pmm, a, b, col_factor, out_re, out_im):
     """out[l, m] = sum_rows sum_nodes w Pbar_lm(x_node) * G_m(row) * col_factor[m]."""
     rows, nodes = x_nodes.shape
     lmax = out_re.shape[0] - 1
     channels = out_re.shape[2]
-    for m in numba.prange(lmax + 1):
+    for m in range(start, stop):
         p = np.zeros(lmax + 1)
         acc = np.zeros(lmax + 1)
         for i in range(rows):

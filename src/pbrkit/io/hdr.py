@@ -5,12 +5,11 @@ from __future__ import annotations
 
 import re
 
-import numba
 import numpy as np
 
 from ..core.atomic import atomic_path
 from ..core.errors import InputError
-from ..core.jit import kernel, parallel_kernel
+from ..core.jit import kernel, row_kernel
 from .image_checks import _check_size, _finite_float, _read_bytes
 
 __all__ = [
@@ -192,13 +191,13 @@ def _float_to_rgbe(image):
     return out
 
 
-@parallel_kernel
-def _rgbe_encode_rle(rgbe, out, lengths):
+@row_kernel(0)
+def _rgbe_encode_rle(start, stop, rgbe, out, lengths):
     """New-style RLE of each scanline of rgbe (H, W, 4) into out[y]: runs of at
     least 4 equal bytes become (128 + n, byte) with n <= 127, everything else
     literal dumps (n <= 128, bytes)."""
-    height, width = rgbe.shape[0], rgbe.shape[1]
-    for y in numba.prange(height):
+    width = rgbe.shape[1]
+    for y in range(start, stop):
         p = 0
         out[y, 0] = 2
         out[y, 1] = 2

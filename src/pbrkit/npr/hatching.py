@@ -80,13 +80,12 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import numba
 import numpy as np
 
 from ..core.atomic import atomic_directory
 from ..core.checks import integer, power_of_two
 from ..core.filtering import REPEAT, texel_pair
-from ..core.jit import dual_use, parallel_kernel, select
+from ..core.jit import dual_use, row_kernel, select
 from ..io.png import write_png
 
 __all__ = ["TonalArtMap", "tonal_art_map", "default_directions", "hatch", "tam_atlas", "preview_image",
@@ -426,12 +425,12 @@ def tam_sample(stack, u, v, index):
     return select(index == 0, 1.0, value)
 
 
-@parallel_kernel
-def _hatch_kernel(images, tones, uv, t, lam, out):
+@row_kernel(2)
+def _hatch_kernel(start, stop, images, tones, uv, t, lam, out):
     """:func:`hatch` at every point: the two tones around t T blended linearly,
     each trilinear between mip levels floor(lambda) and the next."""
     top = len(images) - 1
-    for i in numba.prange(uv.shape[0]):
+    for i in range(start, stop):
         m0 = min(int(math.floor(lam[i])), max(top - 1, 0))
         g = lam[i] - m0
         m1 = min(m0 + 1, top)

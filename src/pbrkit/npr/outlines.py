@@ -111,10 +111,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
-from ..core.jit import dual_use, kernel, parallel_kernel, select
+from ..core.jit import dual_use, kernel, row_kernel, select
 
 __all__ = [
     "OPERATORS",
@@ -275,12 +274,12 @@ def _id_pair(ipad, p, s, shape):
     return (_view(ipad, *p, shape) != _view(ipad, *q, shape)).astype(np.float64)
 
 
-@parallel_kernel
-def _crack_depth(wp, vp, out):
+@row_kernel(2)
+def _crack_depth(start, stop, wp, vp, out):
     """The ``"crack"`` responses of :func:`depth_step` (padded inputs, pairs leaving
     the image 0) in one pass."""
     h, w = out.shape[0], out.shape[1]
-    for i in numba.prange(h):
+    for i in range(start, stop):
         a = i + _PAD
         for j in range(w):
             b = j + _PAD
@@ -290,12 +289,12 @@ def _crack_depth(wp, vp, out):
                 wp[a, b], wp[a + 1, b], wp[a - 1, b], wp[a + 2, b], vp[a, b], vp[a + 1, b], vp[a - 1, b], vp[a + 2, b])
 
 
-@parallel_kernel
-def _crack_normal(npad, out):
+@row_kernel(1)
+def _crack_normal(start, stop, npad, out):
     """The ``"crack"`` responses of :func:`normal_angle` of the normalised normals
     (0 where either side has no normal: zero or non-finite length) in one pass."""
     h, w = out.shape[0], out.shape[1]
-    for i in numba.prange(h):
+    for i in range(start, stop):
         a = i + _PAD
         for j in range(w):
             b = j + _PAD
@@ -311,11 +310,11 @@ def _crack_normal(npad, out):
                                                 npad[c, d, 0] / lc, npad[c, d, 1] / lc, npad[c, d, 2] / lc)
 
 
-@parallel_kernel
-def _crack_ids(ipad, out):
+@row_kernel(1)
+def _crack_ids(start, stop, ipad, out):
     """The ``"crack"`` responses of an id buffer (1 on a change) in one pass."""
     h, w = out.shape[0], out.shape[1]
-    for i in numba.prange(h):
+    for i in range(start, stop):
         a = i + _PAD
         for j in range(w):
             b = j + _PAD

@@ -49,12 +49,11 @@ import math
 import time
 from functools import lru_cache
 
-import numba
 import numpy as np
 
 from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import luminance, rec709_luminance
-from ..core.jit import dual_use, parallel_kernel, row_kernel
+from ..core.jit import dual_use, row_kernel
 from ..render.lights import light_incidence
 from ..render.primitives import KIND_NONE, trace_analytic
 from .style import Style
@@ -425,11 +424,11 @@ def box_uv(p, n, scale):
     return np.stack([u, v], axis=-1) * scale
 
 
-@parallel_kernel
-def _summed_light_kernel(e, nol, vis, weight, norm):
+@row_kernel(3)
+def _summed_light_kernel(start, stop, e, nol, vis, weight, norm):
     """Per point the numerator sum_i Y(E_i) max(n.l_i, 0) V_i and the denominator
     sum_i Y(E_i) of the summed lighting value (module docstring)."""
-    for i in numba.prange(weight.shape[0]):
+    for i in range(start, stop):
         w = 0.0
         total = 0.0
         for li in range(e.shape[0]):
