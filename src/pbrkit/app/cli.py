@@ -671,7 +671,7 @@ def demo(
     write OUT/index.html."""
     from .demo import run_demo
 
-    steps = ("bake", "realtime", "furnace", "lut", "npr", "reference", "images", "area", "page")
+    steps = ("bake", "realtime", "furnace", "lut", "npr", "area", "reference", "images", "page")
     with _Stages("demo", quiet, len(steps)) as stages:
         stages.start(steps[0])
 
