@@ -20,10 +20,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
-from ..core.jit import dual_use, parallel_kernel, row_kernel
+from ..core.jit import dual_use, row_kernel
 from ..core.vec import dot, half_vector, orthonormal_basis_xyz, shading_frame
 from .bxdf import (
     C_DIFFUSE,
@@ -412,10 +411,10 @@ def disney(l, v, n, material: Material, t=None):
 # ------------------------------------------------------ sampling and pdf
 
 
-@parallel_kernel
-def _sample_kernel(codes, table, index, base, metallic, roughness, wo, u, out_wi, out_pdf, out_weight):
+@row_kernel(6)
+def _sample_kernel(start, stop, codes, table, index, base, metallic, roughness, wo, u, out_wi, out_pdf, out_weight):
     per_element = index.shape[0] > 1
-    for i in numba.prange(wo.shape[0]):
+    for i in range(start, stop):
         row = index[i] if per_element else 0
         b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
         for a in range(3):
@@ -447,10 +446,10 @@ def _sample_kernel(codes, table, index, base, metallic, roughness, wo, u, out_wi
             out_weight[i, a] = f[a] * z / pdf_
 
 
-@parallel_kernel
-def _pdf_kernel(codes, table, index, base, metallic, roughness, wo, wi, out):
+@row_kernel(6)
+def _pdf_kernel(start, stop, codes, table, index, base, metallic, roughness, wo, wi, out):
     per_element = index.shape[0] > 1
-    for i in numba.prange(wo.shape[0]):
+    for i in range(start, stop):
         row = index[i] if per_element else 0
         b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
         out[i] = 0.0

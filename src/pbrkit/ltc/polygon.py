@@ -68,10 +68,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from ..core.jit import dual_use, parallel_kernel, select
+from ..core.jit import dual_use, row_kernel, select
 
 __all__ = [
     "edge_integral",
@@ -283,16 +282,16 @@ def clip_polygon_to_horizon(m, vertices, out):
 # =========================================================================
 
 
-@parallel_kernel
-def _form_factor_kernel(m, vertices, out):
+@row_kernel(1)
+def _form_factor_kernel(start, stop, m, vertices, out):
     stride = 0 if m.shape[0] == 1 else 1  # one matrix for all polygons, or one each
-    for i in numba.prange(vertices.shape[0]):
+    for i in range(start, stop):
         out[i] = transformed_polygon_form_factor(m[i * stride], vertices[i])
 
 
-@parallel_kernel
-def _clip_kernel(vertices, out, counts):
-    for i in numba.prange(vertices.shape[0]):
+@row_kernel(0)
+def _clip_kernel(start, stop, vertices, out, counts):
+    for i in range(start, stop):
         c = clip_polygon_to_horizon(_IDENTITY, vertices[i], out[i])
         counts[i] = c
         # pad with the last vertex (zero-length edges add nothing), or zeros when empty
@@ -301,9 +300,9 @@ def _clip_kernel(vertices, out, counts):
                 out[i, r, a] = out[i, c - 1, a] if c > 0 else 0.0
 
 
-@parallel_kernel
-def _vector_form_factor_kernel(vertices, out):
-    for i in numba.prange(vertices.shape[0]):
+@row_kernel(0)
+def _vector_form_factor_kernel(start, stop, vertices, out):
+    for i in range(start, stop):
         n = vertices.shape[1]
         sx = sy = sz = 0.0
         if n > 0:

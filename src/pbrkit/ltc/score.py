@@ -52,7 +52,6 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numba
 import numpy as np
 
 from ..albedo.tables import VISIBILITIES, specular_integrals
@@ -66,7 +65,7 @@ from ..brdf.distributions import alpha_from_roughness
 from ..brdf.fresnel import f_schlick
 from ..brdf.models import model_codes
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, kernel, parallel_kernel, select
+from ..core.jit import dual_use, kernel, row_kernel, select
 from ..core.quadrature import gauss_legendre_01
 from .polygon import transformed_polygon_form_factor
 
@@ -522,10 +521,10 @@ def _rect_integral(corners, nov, roughness, codes, tol, max_triangles, gx, gw, o
 _RULE_POINTS = 5
 
 
-@parallel_kernel
-def _rect_integrals(corners, nov, roughness, codes, tol, max_triangles, gx, gw, out):
+@row_kernel(0)
+def _rect_integrals(start, stop, corners, nov, roughness, codes, tol, max_triangles, gx, gw, out):
     """:func:`_rect_integral` of every light, in parallel."""
-    for k in numba.prange(corners.shape[0]):
+    for k in range(start, stop):
         one = np.zeros(4)
         _rect_integral(corners[k], nov[k], roughness[k], codes, tol, max_triangles, gx, gw, one)
         for c in range(4):
@@ -927,9 +926,9 @@ def _lit_side(corners):
     return -(nx * corners[0, 0] + ny * corners[0, 1] + nz * corners[0, 2]) >= 0.0
 
 
-@parallel_kernel
-def _rect_form_factor_kernel(texels, corners, exact, out):
-    for k in numba.prange(corners.shape[0]):
+@row_kernel(1)
+def _rect_form_factor_kernel(start, stop, texels, corners, exact, out):
+    for k in range(start, stop):
         t = texels[k]
         if exact:
             out[k] = exact_rect_form_factor(t[0], t[1], t[2], t[3], corners[k])

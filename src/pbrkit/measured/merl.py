@@ -48,12 +48,11 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import numba
 import numpy as np
 
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
-from ..core.jit import dual_use, parallel_kernel, select
+from ..core.jit import dual_use, row_kernel, select
 from ..core.vec import orthonormal_basis_xyz
 
 __all__ = [
@@ -171,10 +170,10 @@ def merl_indices(theta_h, theta_d, phi_d):
     return tuple(np.asarray(_clamped_floor(x, size)).astype(np.int64) for x, size in zip(u, MERL_SHAPE))
 
 
-@parallel_kernel
-def _lookup_kernel(table, valid, l, v, n, trilinear, out):
+@row_kernel(2)
+def _lookup_kernel(start, stop, table, valid, l, v, n, trilinear, out):
     nh, nd, npd = valid.shape
-    for i in numba.prange(l.shape[0]):
+    for i in range(start, stop):
         out[i, 0] = 0.0
         out[i, 1] = 0.0
         out[i, 2] = 0.0

@@ -56,12 +56,11 @@ from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 
-import numba
 import numpy as np
 
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
-from ..core.jit import dual_use, parallel_kernel, row_kernel
+from ..core.jit import dual_use, row_kernel
 from ..core.vec import orthonormal_basis_xyz
 from ..ltc.polygon import polygon_form_factor, transformed_polygon_form_factor
 from ..sampling.spherical import (
@@ -609,9 +608,9 @@ def area_light_pdf(codes, values, vertices, li, px, py, pz, dx, dy, dz, t):
     return 1.0 / omega
 
 
-@parallel_kernel
-def _sample_kernel(codes, values, vertices, li, p, u, out_dir, out_dist, out_pdf):
-    for i in numba.prange(u.shape[0]):
+@row_kernel(5)
+def _sample_kernel(start, stop, codes, values, vertices, li, p, u, out_dir, out_dist, out_pdf):
+    for i in range(start, stop):
         r = area_light_sample(codes, values, vertices, li, p[0], p[1], p[2], u[i, 0], u[i, 1])
         out_dir[i, 0] = r[0]
         out_dir[i, 1] = r[1]
@@ -632,9 +631,9 @@ def area_light_samples(lights, index, point, u):
     return dirs, dist, pdf
 
 
-@parallel_kernel
-def _pdf_kernel(codes, values, vertices, li, p, d, out):
-    for i in numba.prange(d.shape[0]):
+@row_kernel(5)
+def _pdf_kernel(start, stop, codes, values, vertices, li, p, d, out):
+    for i in range(start, stop):
         t = _light_t(codes, values, vertices, li, p[0], p[1], p[2], d[i, 0], d[i, 1], d[i, 2], _INF)
         out[i] = area_light_pdf(codes, values, vertices, li, p[0], p[1], p[2], d[i, 0], d[i, 1], d[i, 2],
                                 t) if t < _INF else 0.0

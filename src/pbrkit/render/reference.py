@@ -38,7 +38,6 @@ from __future__ import annotations
 import math
 import time
 
-import numba
 import numpy as np
 
 from ..brdf.bxdf import (
@@ -69,7 +68,7 @@ from ..core import checks
 from ..core.jit import (
     dual_use,
     lane_stage,
-    parallel_kernel,
+    row_kernel,
     run_in_threads,
     stack_array,
     threaded_kernel,
@@ -905,11 +904,11 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
 # ------------------------------------------------- wavefront (scenes with meshes)
 
 
-@parallel_kernel
-def _vertex_batch(seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
+@row_kernel(5)
+def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
                   total, alias, row_cos, c, s, acodes, avalues, averts, light_dir, light_val, area_dir, area_dist,
                   area_val, brdf_dir, brdf_w, brdf_pdf):
-    for i in numba.prange(p.shape[0]):
+    for i in range(start, stop):
         key = _path_key(seed, pixel[i], sample, bounce)
         ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
             key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
@@ -926,9 +925,9 @@ def _vertex_batch(seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough
         brdf_pdf[i] = pdf_b
 
 
-@parallel_kernel
-def _area_emission_batch(strategy, pdf_b, acodes, avalues, averts, index, p, d, t, radiance, out):
-    for i in numba.prange(p.shape[0]):
+@row_kernel(6)
+def _area_emission_batch(start, stop, strategy, pdf_b, acodes, avalues, averts, index, p, d, t, radiance, out):
+    for i in range(start, stop):
         le = _area_emission(strategy, pdf_b[i], acodes, avalues, averts, index[i], p[i, 0], p[i, 1], p[i, 2],
                             d[i, 0], d[i, 1], d[i, 2], t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
         out[i, 0] = le[0]
@@ -936,9 +935,9 @@ def _area_emission_batch(strategy, pdf_b, acodes, avalues, averts, index, p, d, 
         out[i, 2] = le[2]
 
 
-@parallel_kernel
-def _miss_batch(strategy, pdf_b, d, env, func, total, c, s, out):
-    for i in numba.prange(d.shape[0]):
+@row_kernel(2)
+def _miss_batch(start, stop, strategy, pdf_b, d, env, func, total, c, s, out):
+    for i in range(start, stop):
         le = _env_miss(strategy, pdf_b[i], env, func, total, c, s, d[i, 0], d[i, 1], d[i, 2])
         out[i, 0] = le[0]
         out[i, 1] = le[1]

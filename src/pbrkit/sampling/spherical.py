@@ -39,10 +39,9 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from ..core.jit import dual_use, parallel_kernel
+from ..core.jit import dual_use, row_kernel
 from ..core.vec import orthonormal_basis_xyz
 from .warps import unit_square, warp_concentric_disk
 
@@ -724,9 +723,9 @@ def sample_disk_area(ox, oy, oz, cx, cy, cz, nx, ny, nz, radius, u1, u2):
 # =========================================================================
 
 
-@parallel_kernel
-def _rectangle_kernel(o, s, ex, ey, u, out_dir, out_dist, out_pdf):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _rectangle_kernel(start, stop, o, s, ex, ey, u, out_dir, out_dist, out_pdf):
+    for i in range(start, stop):
         dx, dy, dz, dist, pdf = sample_spherical_rectangle(
             o[i, 0], o[i, 1], o[i, 2], s[i, 0], s[i, 1], s[i, 2], ex[i, 0], ex[i, 1], ex[i, 2],
             ey[i, 0], ey[i, 1], ey[i, 2], u[i, 0], u[i, 1])
@@ -737,9 +736,9 @@ def _rectangle_kernel(o, s, ex, ey, u, out_dir, out_dist, out_pdf):
         out_pdf[i] = pdf
 
 
-@parallel_kernel
-def _rectangle_measure_kernel(o, s, ex, ey, pdf, out):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _rectangle_measure_kernel(start, stop, o, s, ex, ey, pdf, out):
+    for i in range(start, stop):
         args = (o[i, 0], o[i, 1], o[i, 2], s[i, 0], s[i, 1], s[i, 2], ex[i, 0], ex[i, 1], ex[i, 2],
                 ey[i, 0], ey[i, 1], ey[i, 2])
         if pdf:
@@ -748,9 +747,9 @@ def _rectangle_measure_kernel(o, s, ex, ey, pdf, out):
             out[i] = rectangle_solid_angle(*args)
 
 
-@parallel_kernel
-def _triangle_kernel(o, a, b, c, u, out_dir, out_dist, out_pdf):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _triangle_kernel(start, stop, o, a, b, c, u, out_dir, out_dist, out_pdf):
+    for i in range(start, stop):
         dx, dy, dz, dist, pdf = sample_spherical_triangle(
             a[i, 0] - o[i, 0], a[i, 1] - o[i, 1], a[i, 2] - o[i, 2], b[i, 0] - o[i, 0], b[i, 1] - o[i, 1],
             b[i, 2] - o[i, 2], c[i, 0] - o[i, 0], c[i, 1] - o[i, 1], c[i, 2] - o[i, 2], u[i, 0], u[i, 1])
@@ -761,9 +760,9 @@ def _triangle_kernel(o, a, b, c, u, out_dir, out_dist, out_pdf):
         out_pdf[i] = pdf
 
 
-@parallel_kernel
-def _triangle_measure_kernel(o, a, b, c, pdf, out):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _triangle_measure_kernel(start, stop, o, a, b, c, pdf, out):
+    for i in range(start, stop):
         args = (a[i, 0] - o[i, 0], a[i, 1] - o[i, 1], a[i, 2] - o[i, 2], b[i, 0] - o[i, 0], b[i, 1] - o[i, 1],
                 b[i, 2] - o[i, 2], c[i, 0] - o[i, 0], c[i, 1] - o[i, 1], c[i, 2] - o[i, 2])
         if pdf:
@@ -772,9 +771,9 @@ def _triangle_measure_kernel(o, a, b, c, pdf, out):
             out[i] = triangle_solid_angle(*args)
 
 
-@parallel_kernel
-def _sphere_kernel(o, c, radius, u, out_dir, out_dist, out_pdf):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _sphere_kernel(start, stop, o, c, radius, u, out_dir, out_dist, out_pdf):
+    for i in range(start, stop):
         dx, dy, dz, dist, pdf = sample_sphere_cone(c[i, 0] - o[i, 0], c[i, 1] - o[i, 1], c[i, 2] - o[i, 2],
                                                    radius[i], u[i, 0], u[i, 1])
         out_dir[i, 0] = dx
@@ -784,15 +783,15 @@ def _sphere_kernel(o, c, radius, u, out_dir, out_dist, out_pdf):
         out_pdf[i] = pdf
 
 
-@parallel_kernel
-def _sphere_pdf_kernel(o, c, radius, out):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _sphere_pdf_kernel(start, stop, o, c, radius, out):
+    for i in range(start, stop):
         out[i] = sphere_cone_pdf(c[i, 0] - o[i, 0], c[i, 1] - o[i, 1], c[i, 2] - o[i, 2], radius[i])
 
 
-@parallel_kernel
-def _disk_kernel(o, c, n, radius, u, out_dir, out_dist, out_pdf):
-    for i in numba.prange(o.shape[0]):
+@row_kernel(0)
+def _disk_kernel(start, stop, o, c, n, radius, u, out_dir, out_dist, out_pdf):
+    for i in range(start, stop):
         dx, dy, dz, dist, pdf = sample_disk_area(o[i, 0], o[i, 1], o[i, 2], c[i, 0], c[i, 1], c[i, 2],
                                                  n[i, 0], n[i, 1], n[i, 2], radius[i], u[i, 0], u[i, 1])
         out_dir[i, 0] = dx
