@@ -7,7 +7,7 @@ shape (NumPy broadcasting); called from a Numba kernel it is compiled for
 scalars into that kernel (Numba's ``register_jitable``).  So the NumPy
 reference path and the compiled hot path share one formula.
 
-Kernels (:func:`kernel`, :func:`parallel_kernel`, :func:`threaded_kernel`) use
+Kernels (:func:`kernel`, :func:`threaded_kernel`, :func:`row_kernel`) use
 NumPy's error model: a float division by zero gives inf or NaN as in NumPy
 (the kernels guard the divisions whose result matters), not a branch that
 raises, which would also keep loops from being vectorised.  They are cached on disk.  Numba's
@@ -38,7 +38,7 @@ from numba.extending import intrinsic, overload, register_jitable
 
 from .cache import cache_directory, source_hash
 
-__all__ = ["dual_use", "kernel", "parallel_kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage", "stack_array",
+__all__ = ["dual_use", "kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage", "stack_array",
            "select",
            "source_hash", "cache_directory"]
 
@@ -71,12 +71,6 @@ def kernel(fn):
     """Compile *fn* with Numba, cached on disk (:func:`cache_directory`), serial,
     with NumPy's error model (module docstring)."""
     return numba.njit(cache=True, fastmath=False, error_model="numpy")(fn)
-
-
-def parallel_kernel(fn):
-    """Compile *fn* with Numba, cached on disk, with ``prange`` parallel loops and
-    NumPy's error model (module docstring)."""
-    return numba.njit(cache=True, parallel=True, fastmath=False, error_model="numpy")(fn)
 
 
 def threaded_kernel(fn):
