@@ -640,11 +640,9 @@ def cache_state(kind="bake"):
     """(cache directory, whether it holds compiled kernels of the subpackage the
     batch's tasks use: ``ibl`` for bakes, ``render`` for renders), as seen by the
     process that calls it (a worker)."""
-    from ..core.jit import cache_directory
+    from ..core.cache import cache_directory, cached_kernels
 
-    folder = Path(cache_directory()) / ("ibl" if kind == "bake" else "render")
-    warm = folder.is_dir() and any(folder.glob("*.nbi"))
-    return str(cache_directory()), warm
+    return str(cache_directory()), cached_kernels("ibl" if kind == "bake" else "render")
 
 
 def cache_is_cold(client, kind):

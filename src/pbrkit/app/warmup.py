@@ -46,9 +46,9 @@ _PATIENCE = 900.0
 def kernels_cached():
     """Whether Numba's cache already holds the demo's ground-truth kernel (then it holds
     the others too, or they are cheap to compile: no warm-up)."""
-    from ..core.cache import cache_directory
+    from ..core.cache import cached_kernels
 
-    return any((Path(cache_directory()) / "render").glob("reference._direct_kernel-*.nbi"))
+    return cached_kernels("render", "reference._direct_kernel-*")
 
 
 def _claim(folder, step, owner):
@@ -78,7 +78,9 @@ class WarmUp:
     def start(cls, env_path):
         """Start the worker if the cache is cold, there are two or more cores and
         ``PBRKIT_NO_WARM_UP`` is not set; else return None."""
-        if os.environ.get("PBRKIT_NO_WARM_UP", "") not in ("", "0") or (os.cpu_count() or 1) < 2:
+        from ..core.cache import env_flag
+
+        if env_flag("PBRKIT_NO_WARM_UP") or (os.cpu_count() or 1) < 2:
             return None
         if kernels_cached():
             return None

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["source_hash", "cache_directory", "memoised_array"]
+__all__ = ["source_hash", "cache_directory", "cached_kernels", "env_flag", "memoised_array"]
 
 _PACKAGE_ROOT = Path(__file__).resolve().parent.parent
 
@@ -56,6 +56,19 @@ def cache_directory():
     return os.path.join(base, f"numba-{__version__}-{source_hash()[:16]}")
 
 
+def cached_kernels(subpackage, name="*"):
+    """Whether the kernel cache holds compiled kernels of ``subpackage`` (``render``,
+    ``ibl``, ...: one cache folder per source folder, :mod:`pbrkit.core.jit`) whose
+    index file matches ``name`` (``<module>.<function>-<line>``; default any)."""
+    folder = Path(cache_directory()) / subpackage
+    return folder.is_dir() and any(folder.glob(f"{name}.nbi"))
+
+
+def env_flag(name):
+    """Whether the environment variable ``name`` is set to anything but empty or ``0``."""
+    return os.environ.get(name, "") not in ("", "0")
+
+
 def _result_path(namespace, options):
     key = hashlib.sha256(json.dumps([namespace, options], sort_keys=True).encode()).hexdigest()[:32]
     return Path(cache_directory()) / "results" / f"{namespace}-{key}.npy"
@@ -68,7 +81,7 @@ def memoised_array(namespace, options, compute, check=None, enabled=True):
     computed again and replaced.  Writing is atomic (a temporary name, then a rename)
     and best effort: a read-only or full cache directory only costs the computation.
     The result is the same bytes either way."""
-    if not enabled or os.environ.get("PBRKIT_NO_RESULT_CACHE", "") not in ("", "0"):
+    if not enabled or env_flag("PBRKIT_NO_RESULT_CACHE"):
         return compute()
     path = _result_path(namespace, options)
     try:
