@@ -175,8 +175,8 @@ def test_environment_sampling_is_proportional_to_luminance_times_solid_angle():
                                              _uniform(key, 1))
             out_dir[k, 0], out_dir[k, 1], out_dir[k, 2] = x, y, z
             out_pdf[k] = pdf
-            ii, jj, st = _env_texel(func.shape[0], func.shape[1], c, s, x, y, z)
-            out_pdf2[k] = _env_pdf_texel(func, total, ii, jj, st)
+            ii, jj = _env_texel(func.shape[0], func.shape[1], c, s, x, y, z)
+            out_pdf2[k] = _env_pdf_texel(func, total, ii, jj)
             out_texel[k, 0], out_texel[k, 1] = ii, jj
 
     count = 200_000
@@ -217,8 +217,8 @@ def test_environment_sampling_is_proportional_to_luminance_times_solid_angle():
     @numba.njit
     def pdfs(d, func, total, c, s, out):
         for k in range(d.shape[0]):
-            i, j, st = _env_texel(func.shape[0], func.shape[1], c, s, d[k, 0], d[k, 1], d[k, 2])
-            out[k] = _env_pdf_texel(func, total, i, j, st)
+            i, j = _env_texel(func.shape[0], func.shape[1], c, s, d[k, 0], d[k, 1], d[k, 2])
+            out[k] = _env_pdf_texel(func, total, i, j)
 
     p = np.empty(world.shape[0])
     pdfs(world, func, total, env.cos, env.sin, p)

@@ -127,19 +127,18 @@ def _env_uv(x, y, z):
 @dual_use(inline=True)
 def _env_texel(h, w, c, s, dx, dy, dz):
     """Texel (row, column) of the equirect (H x W, CONVENTIONS.md) seen along world
-    direction d (unit) with the environment rotated by R_y(theta), and sin(theta)
-    of the direction in the map's frame (:func:`_env_uv`)."""
+    direction d (unit) with the environment rotated by R_y(theta) (:func:`_env_uv`)."""
     x, y, z = _rotate_y(dx, dy, dz, c, -s)
-    u, v, sin_theta = _env_uv(x, y, z)
+    u, v, _ = _env_uv(x, y, z)
     j = min(max(np.int64(u * w), 0), w - 1)
     i = min(max(np.int64(v * h), 0), h - 1)
-    return i, j, sin_theta
+    return i, j
 
 
 @dual_use
 def _env_lookup(env, c, s, dx, dy, dz):
     """Radiance of the piecewise-constant equirect ``env`` (H, 2H, 3) along world direction d."""
-    i, j, _ = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
+    i, j = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
     return env[i, j, 0], env[i, j, 1], env[i, j, 2]
 
 
@@ -151,9 +150,9 @@ def _texel_pdf(value, total):
 
 
 @dual_use
-def _env_pdf_texel(func, total, i, j, sin_theta):
+def _env_pdf_texel(func, total, i, j):
     """Solid-angle pdf of :func:`_env_sample` in texel (i, j), constant over the texel
-    (:func:`_texel_pdf`; ``sin_theta`` is not needed)."""
+    (:func:`_texel_pdf`)."""
     return _texel_pdf(func[i, j], total)
 
 

@@ -225,8 +225,8 @@ def _miss_weight(strategy, pdf_b, pdf_e):
 def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
     """Radiance times the MIS weight of a BRDF sample that reaches the environment
     (:func:`_miss_weight`)."""
-    i, j, sin_theta = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
-    w = _miss_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j, sin_theta))
+    i, j = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
+    w = _miss_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j))
     return env[i, j, 0] * w, env[i, j, 1] * w, env[i, j, 2] * w
 
 
@@ -753,7 +753,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                                     n_eval, ub, lb, mb, sb)
                 # --- the environment the BxDF samples see
                 for i in range(lanes):  # _env_miss, with the loads in the loop
-                    ei, ej, sin_theta = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
+                    ei, ej = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
                     w = _miss_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
                     lb[_L_LE, i] = env[ei, ej, 0] * w
                     lb[_L_LE + 1, i] = env[ei, ej, 1] * w
