@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import functools
 import os
+import threading
 from pathlib import Path
 
 import numba
@@ -85,10 +86,27 @@ def threaded_kernel(fn):
     return numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")(fn)
 
 
+_POOL = {"key": None, "pool": None}
+
+
+def _thread_pool(threads):
+    """The process's pool of ``threads`` Python threads, created on first use and again
+    when the thread count changes or after a fork (threads do not survive one)."""
+    key = (os.getpid(), threads)
+    if _POOL["key"] != key:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL["pool"] = ThreadPoolExecutor(threads, thread_name_prefix="pbrkit-kernel")
+        _POOL["key"] = key
+    return _POOL["pool"]
+
+
 def run_in_threads(fn, count, *args, chunks_per_thread=16):
     """``fn(start, stop, *args)`` over ``range(count)`` cut into about ``chunks_per_thread``
     ranges per thread, on Numba's thread count (``numba.get_num_threads()``,
-    ``NUMBA_NUM_THREADS``) of Python threads; ``fn`` is a :func:`threaded_kernel`.
+    ``NUMBA_NUM_THREADS``) of Python threads kept for the process, each taking the
+    next range until none is left (a call costs one hand-over per thread, not the
+    threads' start); ``fn`` is a :func:`threaded_kernel`.
     Results must not depend on which thread runs which range (each item writes
     its own outputs), so they are the same bytes for any thread count."""
     threads = max(1, numba.get_num_threads())
@@ -98,11 +116,20 @@ def run_in_threads(fn, count, *args, chunks_per_thread=16):
         for start, stop in ranges:
             fn(start, stop, *args)
         return
-    from concurrent.futures import ThreadPoolExecutor
+    pending = iter(ranges)
+    lock = threading.Lock()
 
-    with ThreadPoolExecutor(threads) as pool:
-        for future in [pool.submit(fn, start, stop, *args) for start, stop in ranges]:
-            future.result()
+    def work():  # each thread takes the next range until none is left (dynamic balance)
+        while True:
+            with lock:
+                r = next(pending, None)
+            if r is None:
+                return
+            fn(r[0], r[1], *args)
+
+    pool = _thread_pool(threads)
+    for future in [pool.submit(work) for _ in range(min(threads, len(ranges)))]:
+        future.result()
 
 
 def row_kernel(rows):
