@@ -60,6 +60,21 @@ LIGHTS = (
 )
 
 
+def grid_scene(size, env_spec):
+    """The built-in sphere grid at size^2 under ``env_spec`` with :data:`LIGHTS`."""
+    scene = builtin_scene("spheres", size, size, env_spec)
+    return type(scene)(camera=scene.camera, environment=scene.environment, materials=scene.materials,
+                       objects=scene.objects, lights=LIGHTS, source="spheres + 4 lights")
+
+
+def helmet_scene(env_spec):
+    """The DamagedHelmet (:data:`HELMET`) at 512^2 under ``env_spec``."""
+    from pbrkit.render.scene import Camera, GltfObject, Scene
+
+    return Scene(camera=Camera(position=(0.0, 0.0, 3.2), look_at=(0.0, 0.0, 0.0), fov=40.0, width=512, height=512),
+                 environment=env_spec, objects=(GltfObject(file=str(HELMET)),), source="DamagedHelmet")
+
+
 def relative_noise_per_sample(result):
     """Mean over surface pixels of spp * stderr(Y)^2 / mean(Y)^2 (the luminance variance of
     one path relative to the pixel's value; stderr of Y from the channel stderrs, an upper
@@ -92,9 +107,7 @@ def main():
     print(f"cores: {os.cpu_count()}, load average {load:.2f}; environment {args.env.name}")
 
     env_spec = EnvironmentSpec(file=str(args.env))
-    scene = builtin_scene("spheres", args.size, args.size, env_spec)
-    scene = type(scene)(camera=scene.camera, environment=scene.environment, materials=scene.materials,
-                        objects=scene.objects, lights=LIGHTS, source="spheres + 4 lights")
+    scene = grid_scene(args.size, env_spec)
     env = EnvironmentLight(env_spec)
     t0 = time.perf_counter()
     baked = env.bake(size=args.bake_size)
@@ -127,13 +140,10 @@ def main():
 def helmet(args, env_spec, env, baked):
     """Issue 15's glTF figure: the DamagedHelmet (its 2048^2 textures) at 512^2 in real
     time, the render alone and with the model's loading (glTF, textures, tangents)."""
-    from pbrkit.render.scene import Camera, GltfObject, Scene
-
     if not HELMET.exists():
         print(f"helmet: skipped ({HELMET} not found: needs ../shared/data/models)")
         return
-    scene = Scene(camera=Camera(position=(0.0, 0.0, 3.2), look_at=(0.0, 0.0, 0.0), fov=40.0, width=512, height=512),
-                  environment=env_spec, objects=(GltfObject(file=str(HELMET)),), source="DamagedHelmet")
+    scene = helmet_scene(env_spec)
     geometry = Geometry(scene)
     render_realtime(scene, geometry, env, bake=baked)  # warm-up
     best, median = best_and_median(lambda: render_realtime(scene, geometry, env, bake=baked), args.repeat)

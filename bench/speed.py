@@ -33,9 +33,7 @@ from pathlib import Path
 
 from _timing import best_and_median
 from reference_vs_mitsuba import compare
-
-HERE = Path(__file__).resolve().parent
-HELMET = HERE.parents[1] / "shared" / "data" / "models" / "DamagedHelmet.glb"
+from render import DEFAULT_ENV, HELMET, grid_scene, helmet_scene
 
 
 def _process_times(argv, repeat, env=None, cwd=None):
@@ -51,27 +49,11 @@ def realtime(repeat):
     from pbrkit.data import environment_path
     from pbrkit.render.environment import EnvironmentLight
     from pbrkit.render.geometry import Geometry
-    from pbrkit.render.lights import Light
     from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import (
-        Camera,
-        EnvironmentSpec,
-        GltfObject,
-        Scene,
-        builtin_scene,
-    )
+    from pbrkit.render.scene import EnvironmentSpec
 
-    env_path = HERE.parents[1] / "shared" / "data" / "env" / "rooitou_park_1k.hdr"
-    spec = EnvironmentSpec(file=str(env_path if env_path.exists() else environment_path()))
-    lights = (Light(type="directional", direction=(-0.3, -1.0, -0.5), intensity=2.0),
-              Light(type="point", position=(0.0, 0.0, 6.0), intensity=30.0, range=40.0),
-              Light(type="spot", position=(-6.0, 8.0, 6.0), direction=(0.5, -0.7, -0.5), intensity=80.0,
-                    inner_cone_angle=0.3, outer_cone_angle=0.6),
-              Light(type="spot", position=(6.0, -8.0, 6.0), direction=(-0.5, 0.7, -0.5), intensity=80.0,
-                    color=(0.6, 0.8, 1.0), inner_cone_angle=0.2, outer_cone_angle=0.5, falloff="ue4"))
-    grid = builtin_scene("spheres", 1024, 1024, spec)
-    grid = Scene(camera=grid.camera, environment=grid.environment, materials=grid.materials, objects=grid.objects,
-                 lights=lights)
+    spec = EnvironmentSpec(file=str(DEFAULT_ENV if DEFAULT_ENV.exists() else environment_path()))
+    grid = grid_scene(1024, spec)
     env = EnvironmentLight(spec)
     baked = env.bake(size=256)
     geometry = Geometry(grid)
@@ -80,8 +62,7 @@ def realtime(repeat):
     print(f"real time, 1024^2 grid, 4 lights + IBL: best {out['grid'][0]:.3f} s, median {out['grid'][1]:.3f} s "
           "(goal <= 0.5 s)")
     if HELMET.exists():
-        helmet = Scene(camera=Camera(position=(0.0, 0.0, 3.2), look_at=(0.0, 0.0, 0.0), fov=40.0, width=512,
-                                     height=512), environment=spec, objects=(GltfObject(file=str(HELMET)),))
+        helmet = helmet_scene(spec)
         geometry = Geometry(helmet)
         render_realtime(helmet, geometry, env, bake=baked)
         out["helmet"] = best_and_median(lambda: render_realtime(helmet, geometry, env, bake=baked), repeat)
