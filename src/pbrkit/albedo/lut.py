@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core import checks
 from ..core.cache import memoised_array
 
 __all__ = ["TableSpec", "DEFAULT_NODES", "lookup_table", "default_visibility"]
@@ -86,10 +87,7 @@ def lookup_table(kind="dfg", size=128, visibility=None, cloth=False, nodes=DEFAU
     """
     if kind not in ("splitsum", "dfg"):
         raise ValueError(f"unknown table kind {kind!r}; use 'splitsum' or 'dfg'")
-    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 2 <= size <= 4096:
-        from ..core import checks
-
-        checks.integer(size, "table size", 2, 4096)  # raises with the usual message
+    size = checks.integer(size, "table size", 2, 4096)
     visibility = visibility or default_visibility(kind)
     nodes = tuple(int(n) for n in nodes)
     spec = TableSpec(kind, int(size), visibility, bool(cloth), nodes)

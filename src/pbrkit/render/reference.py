@@ -422,16 +422,16 @@ _LANES = 256
 #: Scenes with at most this many spheres and planes test every ray against each of
 #: them in vectorised loops; larger ones traverse the sphere BVH ray by ray.
 _BULK_PRIMITIVES = 16
-#: Rows of the lane buffers of :func:`_direct_kernel`, one array per stage's output:
-#: no loop reads the array it writes, and LLVM, which knows separate allocations
-#: apart, vectorises every stage without run-time overlap checks.
+#: Rows of the lane buffers of :func:`_direct_block` (``stack_array(rows, columns)``
+#: there, one array per stage's output): no loop reads the array it writes, and LLVM,
+#: which knows separate allocations apart, vectorises every stage without run-time
+#: overlap checks.
 _U_LOBE, _U_1, _U_2, _U_K, _U_DV = range(5)                  # random numbers; alias draw
 _L_DIR, _L_PDF, _L_RAD, _L_LE = 0, 3, 4, 7                   # light samples (environment, then area); BxDF's env.
 _M_LVAL, _M_LOCAL = 0, 3                                     # BxDF at them; local BxDF directions
 _S_DIR, _S_W, _S_PDF = 0, 3, 6                               # BxDF samples
 _T_T, _T_KIND, _T_INDEX = range(3)                           # ray hits
 _X_ADIST, _X_AEM, _X_END = 0, 1, 4                           # area lights: shadow length; emission met; path ended
-_BUFFER_ROWS = (5, 10, 6, 7, 3, 3, 2, 5)
 #: Pixels per parallel work item.
 _BLOCK = 8
 
@@ -463,7 +463,7 @@ _bxdf_f_lanes = dual_use(inline="llvm")(bxdf_f)
 @lane_stage
 def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb,
                     sb):
-    """The BxDF's part of the samples of a lane buffer set (:data:`_BUFFER_ROWS`), the
+    """The BxDF's part of the samples of a set of lane buffers (:func:`_direct_block`), the
     per-lane work of :func:`_vertex`: f, its pdf and the MIS-weighted value of each of
     the ``n_eval`` light samples (``mb[_M_LVAL]``: the environment's, then the area
     lights'), then a direction sampled from the BxDF with
@@ -597,7 +597,7 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
     estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
     numbers) computed in lanes: the samples of one primary hit go through stages,
     each a loop over up to :data:`_LANES` samples in structure-of-arrays buffers
-    (:data:`_BUFFER_ROWS`) that LLVM vectorises: random numbers, environment
+    (:func:`_direct_block`) that LLVM vectorises: random numbers, environment
     samples and area-light samples, the BxDF at both and its own sample
     (:func:`_material_lanes`, specialised by :data:`_VARIANTS`), the environment
     seen by the BxDF samples, shadow and BxDF rays (:func:`_trace_lanes`, or the
