@@ -15,8 +15,19 @@ def api_tour():
 
 
 @needs_shared("CONVENTIONS.md", "the project's contract")
-def test_conventions_copy_is_the_contract():
-    assert (ROOT / "docs" / "CONVENTIONS.md").read_text() == SHARED.read_text()
+def test_conventions_copy_starts_with_the_contract():
+    """docs/CONVENTIONS.md holds ../shared/CONVENTIONS.md verbatim, followed only by
+    sections the project adds, each a level-2 heading marked as an addition (the
+    contract's rule "This file and docs/CONVENTIONS.md")."""
+    copy = (ROOT / "docs" / "CONVENTIONS.md").read_text()
+    contract = SHARED.read_text()
+    assert copy.startswith(contract), "docs/CONVENTIONS.md must start with ../shared/CONVENTIONS.md verbatim"
+    additions = copy[len(contract):]
+    for block in additions.split("\n## ")[1:]:
+        heading = block.splitlines()[0]
+        assert "addition" in heading.lower(), f"added section {heading!r} is not marked as an addition"
+    assert not additions.strip() or additions.lstrip("\n").startswith("## "), \
+        "text after the contract must be added sections (## headings)"
 
 
 def test_readme_starts_with_the_two_commands():
