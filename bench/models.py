@@ -3,7 +3,7 @@
     python bench/models.py [--pairs 10000000] [--repeat 3]
 
 Prints the best-of-``repeat`` wall time of the compiled kernel (after JIT
-warm-up; the model's single composition, :mod:`pbrkit.brdf.bxdf`) and, as the
+warm-up; the model's single composition, :mod:`pbrkit.brdf.shading.ue4`) and, as the
 baseline measured in the same run, of the same terms composed with plain NumPy
 array operations (what a NumPy user would write from pbrkit's terms), and
 their ratio.  The target (issue 2) is <= 1 s for 10^7 pairs on
@@ -18,20 +18,24 @@ import numpy as np
 from _timing import best_and_median
 
 from pbrkit import Material
-from pbrkit.brdf.bxdf import combine_lobes, ue4_specular
 from pbrkit.brdf.diffuse import lambert
+from pbrkit.brdf.distributions import alpha_from_roughness, d_ggx
 from pbrkit.brdf.fresnel import f0_metallic, f_schlick_ue4_sg
+from pbrkit.brdf.masking import g2_schlick_ggx, k_ue4_direct, visibility
 from pbrkit.brdf.models import frame_cosines, ue4
 
 
 def ue4_numpy(l, v, n, material):
     """The baseline: UE4 (Karis 2013) composed from pbrkit's terms with NumPy arrays."""
     c = frame_cosines(l, v, n)
-    specular = ue4_specular(c.nol, c.nov, c.noh, material.roughness)[..., None]
+    r = material.roughness
+    specular = (d_ggx(c.noh, alpha_from_roughness(r))
+                * visibility(g2_schlick_ggx(c.nol, c.nov, k_ue4_direct(r)), c.nol, c.nov))[..., None]
     metallic = np.asarray(material.metallic)[..., None]
     f0 = f0_metallic(material.base_color, metallic, np.asarray(material.dielectric_f0)[..., None])
-    return combine_lobes(c.nol[..., None], c.nov[..., None], material.base_color * (1.0 - metallic),
-                         lambert(c.nol)[..., None], specular, f_schlick_ue4_sg(c.voh[..., None], f0))
+    lit = ((c.nol > 0.0) & (c.nov > 0.0))[..., None]
+    diffuse = material.base_color * (1.0 - metallic) * lambert(c.nol)[..., None]
+    return np.where(lit, diffuse + specular * f_schlick_ue4_sg(c.voh[..., None], f0), 0.0)
 
 
 def random_hemisphere(rng, n):

@@ -35,6 +35,7 @@ __all__ = [
     "directions_to_spherical",
     "sphere_chi2_test",
     "disk_chi2_test",
+    "hemisphere_chi2_with_failures",
 ]
 
 _TWO_PI = 2.0 * np.pi
@@ -259,3 +260,25 @@ def disk_chi2_test(points, pdf, bins=(10, 20), **kwargs):
         return pdf(rr * np.cos(p), rr * np.sin(p)) * rr
 
     return chi2_test_2d(r, phi, density, (0.0, 1.0), (0.0, _TWO_PI), bins, (), (), **kwargs)
+
+
+def hemisphere_chi2_with_failures(wi, n_total, pdf):
+    """Chi-square test of the successful samples ``wi`` out of ``n_total`` against the
+    solid-angle ``pdf(x, y, z)`` over the upper hemisphere, with the failures as one
+    more cell (expected n_total (1 - integral of the pdf)).  Returns (p value,
+    integral of the pdf, fraction of successful samples)."""
+    theta, phi = directions_to_spherical(wi)
+
+    def density(t, p):
+        st = np.sin(t)
+        return pdf(st * np.cos(p), st * np.sin(p), np.cos(t)) * st
+
+    bounds_t, bounds_p = (0.0, 0.5 * np.pi), (0.0, 2.0 * np.pi)
+    edges_t, edges_p = quantile_edges(density, bounds_t, bounds_p, (10, 20))
+    probabilities = cell_integrals(density, edges_t, edges_p)
+    observed = histogram2d(theta, phi, edges_t, edges_p).ravel()
+    integral = float(probabilities.sum())
+    observed = np.append(observed, n_total - theta.size)
+    expected = np.append(probabilities.ravel(), max(1.0 - integral, 0.0)) * n_total
+    _, _, p_value = pearson_chi2(observed, expected)
+    return p_value, integral, theta.size / n_total

@@ -37,6 +37,7 @@ CASES = [
     ("blinn-phong", "cook_torrance", dict(distribution="blinn-phong", masking="separable"), dict(roughness=0.4),
      0.8, 0.0),
     ("no-diffuse", "cook_torrance", dict(diffuse="none"), dict(roughness=0.45), 0.6, 0.5),
+    ("eon", "cook_torrance", dict(diffuse="eon"), dict(roughness=0.8, metallic=0.1), 0.35, 0.5),
     ("filament", "filament", {}, dict(roughness=0.35, metallic=0.3), 0.9, 0.2),
     ("filament-aniso-burley", "filament", dict(diffuse="burley"), dict(roughness=0.4, anisotropy=0.8), 0.55, 0.7),
     ("ue4", "ue4", {}, dict(roughness=0.3, metallic=0.1), 0.5, 0.4),
@@ -61,26 +62,7 @@ def _u(case_id, n=N_SAMPLES):
     return np.random.default_rng([SEED, zlib.crc32(case_id.encode())]).random((n, 3))
 
 
-def bxdf_chi2(wi, n_total, pdf):
-    """Chi-square test of the successful samples ``wi`` out of ``n_total`` against the
-    solid-angle ``pdf(x, y, z)`` over the upper hemisphere, with the failures as one
-    more cell (expected n_total (1 - integral of the pdf)).  Returns (p value,
-    integral of the pdf, fraction of successful samples)."""
-    theta, phi = chi2.directions_to_spherical(wi)
-
-    def density(t, p):
-        st = np.sin(t)
-        return pdf(st * np.cos(p), st * np.sin(p), np.cos(t)) * st
-
-    bounds_t, bounds_p = (0.0, 0.5 * math.pi), (0.0, 2.0 * math.pi)
-    edges_t, edges_p = chi2.quantile_edges(density, bounds_t, bounds_p, (10, 20))
-    probabilities = chi2.cell_integrals(density, edges_t, edges_p)
-    observed = chi2.histogram2d(theta, phi, edges_t, edges_p).ravel()
-    integral = float(probabilities.sum())
-    observed = np.append(observed, n_total - theta.size)
-    expected = np.append(probabilities.ravel(), max(1.0 - integral, 0.0)) * n_total
-    _, _, p_value = chi2.pearson_chi2(observed, expected)
-    return p_value, integral, theta.size / n_total
+bxdf_chi2 = chi2.hemisphere_chi2_with_failures
 
 
 def _run(case_id, model, terms, material, mu, phi, pdf_model=None, pdf_material=None):

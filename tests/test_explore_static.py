@@ -148,7 +148,7 @@ def test_static_refuses_a_non_empty_folder_without_force(tmp_path):
 
 
 def test_the_choices_are_the_librarys():
-    from pbrkit.brdf import bxdf
+    from pbrkit.brdf import models as bxdf
     from pbrkit.brdf.fresnel import CONDUCTORS
     from pbrkit.explore.views import COMPENSATIONS, MODEL_PARAMETERS
     from pbrkit.measured.fit import FIT_MODELS, FIT_WEIGHTINGS

@@ -11,6 +11,7 @@ import pytest
 from pbrkit import Material
 from pbrkit.brdf.distributions import ALPHA_MIN
 from pbrkit.brdf.fresnel import CONDUCTORS
+from pbrkit.brdf.shading.filament import MODEL as FILAMENT
 from pbrkit.brdf.models import (
     DIFFUSES,
     DISTRIBUTIONS,
@@ -142,10 +143,11 @@ def test_zero_roughness_is_finite_everywhere():
                             anisotropy=anisotropy, eta=np.array([0.2, 0.9, 1.1]), k=np.array([3.9, 2.4, 2.1]))
         outputs = [ue4(lights, views, n, material),
                    urp_mobile(lights, views, n, material)]
-        outputs += [filament(lights, views, n, material, diffuse=d, t=[1.0, 0.0, 0.0]) for d in DIFFUSES]
-        for d, g, f in itertools.product(DISTRIBUTIONS, MASKINGS, FRESNELS):
+        outputs += [filament(lights, views, n, material, diffuse=d, t=[1.0, 0.0, 0.0])
+                    for d in FILAMENT.choices["diffuse"].choices]
+        for d, g, f, df in itertools.product(DISTRIBUTIONS, MASKINGS, FRESNELS, DIFFUSES):
             outputs.append(cook_torrance(lights, views, n, material, distribution=d, masking=g, fresnel=f,
-                                         t=[1.0, 0.0, 0.0]))
+                                         diffuse=df, t=[1.0, 0.0, 0.0]))
         for out in outputs:
             assert out.shape == (400, 3)
             assert np.all(np.isfinite(out)) and np.all(out >= 0.0)

@@ -108,8 +108,9 @@ def test_scene_materials_pack_as_the_numpy_materials(model, dist, mask, fres, di
     v = random_unit(rng, n_dirs)
     l[:4] = -l[:4]  # a few below the horizon: zero
     base = np.array([0.9, 0.5, 0.2])
-    kwargs = dict(model=model, base_color=tuple(base), metallic=0.3, roughness=0.45, reflectance=0.6,
-                  diffuse=diff)
+    kwargs = dict(model=model, base_color=tuple(base), metallic=0.3, roughness=0.45, diffuse=diff)
+    if model != "urp_mobile":  # URP's dielectric f0 is its fixed 0.04
+        kwargs["reflectance"] = 0.6
     if model == "cook_torrance":
         kwargs.update(distribution=dist, masking=mask, fresnel=fres)
         if fres == "exact-conductor":
@@ -680,14 +681,16 @@ def test_scene_file_materials_of_every_model_render(tmp_path, model, extra):
 
 
 @pytest.mark.parametrize("material, fragment", [
-    (dict(model="ue4", anisotropy=0.3), "isotropic"),
-    (dict(model="filament", sheen=0.5), "needs model 'disney'"),
-    (dict(model="disney", anisotropy=-0.2), "Burley"),
+    (dict(model="ue4", anisotropy=0.3), "anisotropy needs model 'cook_torrance', 'filament' or 'disney'"),
+    (dict(model="filament", sheen=0.5), "sheen needs model 'disney'"),
+    (dict(model="disney", anisotropy=-0.2), r"anisotropy must be in \[0, 1\] for model 'disney' \(Burley"),
     (dict(model="cook_torrance", distribution="blinn-phong", anisotropy=0.2), "Blinn-Phong"),
-    (dict(model="gltf", anisotropy=0.2), "isotropic"),
-    (dict(model="gltf", reflectance=0.3), "IOR 1.5"),
+    (dict(model="gltf", anisotropy=0.2), "anisotropy needs model"),
+    (dict(model="gltf", reflectance=0.3), "reflectance needs model"),
+    (dict(model="urp_mobile", reflectance=0.3), "reflectance needs model"),
     (dict(distribution="beckmann"), "fixes it"),
-    (dict(model="disney", diffuse="none"), "Burley diffuse only"),
+    (dict(model="disney", diffuse="none"), "fixes it: burley"),
+    (dict(model="filament", diffuse="eon"), "model 'filament' has no diffuse 'eon'"),
 ])
 def test_scene_materials_refuse_options_their_model_lacks(material, fragment):
     with pytest.raises(ValueError, match=fragment):

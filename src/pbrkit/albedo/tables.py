@@ -29,20 +29,12 @@ import math
 
 import numpy as np
 
-from ..brdf.bxdf import (
-    MASK_HEIGHT_CORRELATED,
-    MASK_SCHLICK_GGX,
-    MASK_SEPARABLE,
-    MODEL_COOK_TORRANCE,
-    MODEL_FILAMENT,
-    Cosines,
-    lobe_bxdf,
-    specular_visibility,
-)
+from ..brdf.bxdf import Cosines, lobe_bxdf
 from ..brdf.fresnel import f_conductor, f_schlick
 from ..brdf.masking import (
     v_neubelt,
 )
+from ..brdf.terms import GGX, HEIGHT_CORRELATED_DIVISION_FREE, SCHLICK_GGX, SEPARABLE
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, row_kernel
@@ -92,22 +84,27 @@ def texel_centres(n):
     return (np.arange(n) + 0.5) / n
 
 
+_V_SCHLICK_GGX = SCHLICK_GGX.v
+_V_SEPARABLE = SEPARABLE.for_distribution(GGX)
+_V_HEIGHT_CORRELATED = HEIGHT_CORRELATED_DIVISION_FREE.v
+
+
 @dual_use
 def _lobe_visibility(code, nol, nov, alpha):
-    """Visibility V = G2 / (4 n.l n.v) of the table's lobe, by code: the specular
-    visibility of the models' own composition (:func:`pbrkit.brdf.bxdf.specular_visibility`)
-    for Schlick-GGX with k = alpha / 2 (cook_torrance ``schlick-ggx``, UE4's IBL),
-    separable exact Smith (cook_torrance ``separable``) and height-correlated Smith
+    """Visibility V = G2 / (4 n.l n.v) of the table's lobe, by code: the masking terms
+    the models' lobes use (:mod:`pbrkit.brdf.terms`) for Schlick-GGX with k = alpha / 2
+    (cook_torrance ``schlick-ggx``, UE4's IBL), separable exact Smith-GGX
+    (cook_torrance ``separable``, glTF, Disney) and height-correlated Smith-GGX
     (Filament's division-free form), or the cloth lobe's Neubelt visibility."""
     if code == _NEUBELT:
         return v_neubelt(nol, nov)
+    b = lobe_bxdf(alpha)
+    c = Cosines(nol, nov, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     if code == 0:
-        b = lobe_bxdf(MODEL_COOK_TORRANCE, MASK_SCHLICK_GGX, alpha)
-    elif code == 1:
-        b = lobe_bxdf(MODEL_COOK_TORRANCE, MASK_SEPARABLE, alpha)
-    else:
-        b = lobe_bxdf(MODEL_FILAMENT, MASK_HEIGHT_CORRELATED, alpha)
-    return specular_visibility(b, Cosines(nol, nov, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+        return _V_SCHLICK_GGX(b, c)
+    if code == 1:
+        return _V_SEPARABLE(b, c)
+    return _V_HEIGHT_CORRELATED(b, c)
 
 
 @row_kernel(lambda mu, alpha, *rest: alpha.shape[0] * mu.shape[0])

@@ -13,13 +13,13 @@ from typing import Optional
 
 import typer
 
-# pbrkit.brdf.bxdf.MODELS, DISTRIBUTIONS, MASKINGS, FRESNELS, DIFFUSES; pbrkit.brdf.fresnel.CONDUCTORS;
+# pbrkit.brdf.models.MODELS, DISTRIBUTIONS, MASKINGS, FRESNELS, DIFFUSES; pbrkit.brdf.fresnel.CONDUCTORS;
 # pbrkit.measured.fit.FIT_MODELS, FIT_WEIGHTINGS; pbrkit.explore.views.COMPENSATIONS
 EXPLORE_MODELS = ("cook_torrance", "filament", "ue4", "urp_mobile", "disney", "gltf")
 EXPLORE_DISTRIBUTIONS = ("ggx", "beckmann", "blinn-phong")
 EXPLORE_MASKINGS = ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4", "kelemen", "implicit")
 EXPLORE_FRESNELS = ("schlick", "schlick-pow4", "ue4-sg", "exact-conductor", "exact-dielectric", "none")
-EXPLORE_DIFFUSES = ("lambert", "burley", "none")
+EXPLORE_DIFFUSES = ("lambert", "burley", "none", "eon")
 EXPLORE_CONDUCTORS = ("aluminium", "copper", "gold", "silver")
 EXPLORE_FIT_MODELS = ("ggx", "disney")
 EXPLORE_FIT_WEIGHTINGS = ("log", "cosine")

@@ -10,9 +10,11 @@ value f (RGB, shape (..., 3)) -- *not* f cos -- and 0 where l or v is below
 the surface.  Perceptual roughness r maps to alpha = r^2 (clamped at
 ``ALPHA_MIN``) in every model; other remaps are stated per model.
 
-Each model is composed once, in :mod:`pbrkit.brdf.bxdf`; the functions here
-pack their arguments and evaluate that composition in one compiled parallel
-kernel, the same code the renderer runs.  :func:`sample` and :func:`pdf`
+Each model is declared once, in its module of :mod:`pbrkit.brdf.shading` (its
+parameters and its composition of lobes), and reached through the dispatch
+generated from the registry (:mod:`pbrkit.brdf.dispatch`); the functions here
+pack their arguments and evaluate it in one compiled kernel over threads, the
+same code the renderer runs.  :func:`sample` and :func:`pdf`
 expose each model's sampling routine and its pdf (local frame) the same way.
 """
 
@@ -24,44 +26,15 @@ import numpy as np
 
 from ..core.jit import dual_use, row_kernel
 from ..core.vec import dot, half_vector, orthonormal_basis_xyz, shading_frame
-from .bxdf import (
-    C_DIFFUSE,
-    C_DISTRIBUTION,
-    C_FRESNEL,
-    C_MASKING,
-    C_MODEL,
-    CODE_COLUMNS,
-    DIFFUSES,
-    DISTRIBUTIONS,
-    FRESNELS,
-    MASKINGS,
-    MODEL_TERMS,
-    MODELS,
-    P_ANISOTROPY,
-    P_BASE_COLOR,
-    P_CLEARCOAT,
-    P_CLEARCOAT_GLOSS,
-    P_DIELECTRIC_F0,
-    P_ETA,
-    P_K,
-    P_METALLIC,
-    P_ROUGHNESS,
-    P_SHEEN,
-    P_SHEEN_TINT,
-    P_SPECULAR_COLOR,
-    P_SPECULAR_TINT,
-    P_SUBSURFACE,
-    PARAM_COLUMNS,
-    bxdf_f,
-    bxdf_pdf,
-    cosines,
-    isotropic_cosines,
-    lobe_probabilities,
-    local_cosines,
-    make_bxdf,
-    sample_wi,
-)
-from .material import Material
+from .bxdf import CODE_COLUMNS, cosines, isotropic_cosines, local_cosines
+from .dispatch import bxdf_f, bxdf_pdf, lobe_probabilities, make_bxdf, sample_wi
+from .shading.registry import COLUMNS, LAYOUT, MODEL_TERMS, MODELS, TERM_NAMES, model
+from .shading.registry import model_codes as _registry_codes
+
+DISTRIBUTIONS = TERM_NAMES["distribution"]
+MASKINGS = TERM_NAMES["masking"]
+FRESNELS = TERM_NAMES["fresnel"]
+DIFFUSES = TERM_NAMES["diffuse"]
 
 __all__ = [
     "Cosines",
@@ -75,10 +48,11 @@ __all__ = [
     "evaluate",
     "evaluate_rows",
     "parameter_rows",
+    "model_codes",
     "sample",
     "pdf",
-    "model_codes",
     "MODELS",
+    "MODEL_TERMS",
     "DISTRIBUTIONS",
     "MASKINGS",
     "FRESNELS",
@@ -119,38 +93,41 @@ def frame_cosines(l, v, n, t=None, tangent_frame=False):
 # ------------------------------------------------------------------ packing
 
 
-def _check_choice(kind, name, choices):
-    if name not in choices:
-        raise ValueError(f"unknown {kind} {name!r}; choose one of {', '.join(choices)}")
-
-
-def model_codes(model, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert"):
+def model_codes(model_name, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert"):
     """The integer codes (1, :data:`pbrkit.brdf.bxdf.CODE_COLUMNS`) of a model and its
-    terms by name; a fixed model's own terms replace the ones given."""
-    _check_choice("model", model, MODELS)
-    _check_choice("distribution", distribution, DISTRIBUTIONS)
-    _check_choice("masking", masking, MASKINGS)
-    _check_choice("fresnel", fresnel, FRESNELS)
-    _check_choice("diffuse", diffuse, DIFFUSES)
-    if model in MODEL_TERMS:
-        fixed = MODEL_TERMS[model]
-        distribution, masking, fresnel = fixed[:3]
-        diffuse = fixed[3] or diffuse
-    codes = np.zeros((1, CODE_COLUMNS), dtype=np.int64)
-    codes[0, C_MODEL] = MODELS.index(model)
-    codes[0, C_DISTRIBUTION] = DISTRIBUTIONS.index(distribution)
-    codes[0, C_MASKING] = MASKINGS.index(masking)
-    codes[0, C_FRESNEL] = FRESNELS.index(fresnel)
-    codes[0, C_DIFFUSE] = DIFFUSES.index(diffuse)
-    return codes
+    terms by name; a fixed model's own terms replace the ones given
+    (:func:`pbrkit.brdf.shading.registry.model_codes`)."""
+    codes = _registry_codes(model_name, distribution, masking, fresnel, diffuse)
+    return np.asarray([codes], dtype=np.int64).reshape(1, CODE_COLUMNS)
 
 
-_OTHER_FIELDS = ("reflectance", "anisotropy", "subsurface", "specular_tint", "sheen", "sheen_tint", "clearcoat",
-                 "clearcoat_gloss")
+def _check_for_model(name, material, terms):
+    """The model's own ranges (a narrower one than Material's, e.g. Disney's
+    anisotropy) and its cross-parameter rules, as one-line ``ValueError`` s."""
+    m = model(name)
+    for p in m.numbers:
+        value = getattr(material, p.name)
+        if value is not None:
+            p.check(value, f"{name}: Material.{p.name}")
+    for key, value in terms.items():
+        choice = m.choices.get(key)
+        if choice is not None:
+            choice.check(value, f"{key} of {name}")
+    if m.check is not None:
+        values = {p.name: getattr(material, p.name) for p in m.numbers}
+        values.update({k: v for k, v in terms.items() if k in m.choices})
+        values["anisotropy"] = 0.0  # here an isotropic lobe (Blinn-Phong) ignores the anisotropy
+        m.check(values, f"{name}: ")
+
+
+#: The parameters the NumPy kernels read from the material's row (the other three,
+#: base colour, metallic and roughness, come per element as the renderer's textures).
+_ROW_FIELDS = tuple(p.name for p in LAYOUT.parameters
+                    if p.name not in ("base_color", "metallic", "roughness", "emissive", "double_sided"))
 
 
 class _Packed(NamedTuple):
-    """A material packed for the kernels: a table of parameter rows (M, PARAM_COLUMNS),
+    """A material packed for the kernels: a table of parameter rows (M, LAYOUT.size),
     the row of each element (N,), and the per-element base colour (N, 3), metallic
     and roughness (N,), as the renderer passes textured values."""
 
@@ -161,45 +138,30 @@ class _Packed(NamedTuple):
     roughness: np.ndarray
 
 
-def parameter_rows(material: Material, rows_shape=()):
-    """Parameter rows (prod(rows_shape), PARAM_COLUMNS) of :mod:`pbrkit.brdf.bxdf`
-    for a material broadcast to ``rows_shape``: dielectric f0 (0.16 reflectance^2),
-    eta and k, anisotropy and Disney's extras, and a white specular colour (F = 1
-    for ``fresnel = "none"``).  Base colour, metallic, roughness, emission and
-    sidedness are left 0: the NumPy kernels take the first three per element, and
-    the renderer (:func:`pbrkit.render.materials.material_tables`) fills them."""
-    rows = int(np.prod(rows_shape))
-    table = np.zeros((rows, PARAM_COLUMNS))
-
-    def put(column, value, channels=0):
-        full = rows_shape + ((channels,) if channels else ())
-        table[:, column:column + max(channels, 1)] = np.broadcast_to(np.asarray(value, dtype=np.float64),
-                                                                     full).reshape(rows, -1)
-
-    put(P_DIELECTRIC_F0, material.dielectric_f0)
-    if material.eta is not None:
-        put(P_ETA, material.eta, 3)
-        put(P_K, material.k, 3)
-    table[:, P_SPECULAR_COLOR:P_SPECULAR_COLOR + 3] = 1.0
-    put(P_ANISOTROPY, material.anisotropy)
-    put(P_SUBSURFACE, material.subsurface)
-    put(P_SPECULAR_TINT, material.specular_tint)
-    put(P_SHEEN, material.sheen)
-    put(P_SHEEN_TINT, material.sheen_tint)
-    put(P_CLEARCOAT, material.clearcoat)
-    put(P_CLEARCOAT_GLOSS, material.clearcoat_gloss)
-    return table
+def _field_shape(material, name):
+    value = getattr(material, name)
+    if value is None:
+        return ()
+    shape = np.shape(value)
+    return shape[:-1] if LAYOUT.by_name[name].channels == 3 else shape
 
 
-def _pack(material: Material, shape):
+def parameter_rows(material, rows_shape=()):
+    """Parameter rows (prod(rows_shape), LAYOUT.size) in the packed layout of
+    :data:`pbrkit.brdf.shading.registry.LAYOUT` for a material broadcast to
+    ``rows_shape``: every parameter of the material (the complex IOR as zeros when
+    absent).  Base colour, metallic, roughness, emission and sidedness are left 0:
+    the NumPy kernels take the first three per element, and the renderer
+    (:func:`pbrkit.render.materials.material_tables`) fills them."""
+    return LAYOUT.row({name: getattr(material, name) for name in _ROW_FIELDS}, rows_shape)
+
+
+def _pack(material, shape):
     """:class:`_Packed` of a material broadcast to ``shape``: one table row when every
     parameter other than base colour, metallic and roughness is a scalar, else a row
     per element."""
     count = int(np.prod(shape))
-    other = [np.shape(getattr(material, name)) for name in _OTHER_FIELDS]
-    if material.eta is not None:
-        other += [material.eta.shape[:-1], material.k.shape[:-1]]
-    rows_shape = shape if any(len(s) for s in other) else ()
+    rows_shape = shape if any(len(_field_shape(material, name)) for name in _ROW_FIELDS) else ()
     table = parameter_rows(material, rows_shape)
     # the table row of element i is index[i], or row 0 for every element when index has one entry
     index = np.arange(count, dtype=np.int64) if table.shape[0] > 1 else np.zeros(1, dtype=np.int64)
@@ -213,11 +175,9 @@ def _pack(material: Material, shape):
     return _Packed(table, index, _rows(material.base_color, shape), per(material.metallic), per(material.roughness))
 
 
-def _material_shape(material: Material):
-    fields = [material.base_color.shape[:-1]] + [np.shape(getattr(material, name)) for name in (
-        "metallic", "roughness") + _OTHER_FIELDS]
-    if material.eta is not None:
-        fields += [material.eta.shape[:-1], material.k.shape[:-1]]
+def _material_shape(material):
+    fields = [material.base_color.shape[:-1]] + [_field_shape(material, name) for name in
+                                                 ("metallic", "roughness") + _ROW_FIELDS]
     return np.broadcast_shapes(*fields)
 
 
@@ -266,35 +226,38 @@ def _evaluate_kernel(start, stop, codes, table, index, base, metallic, roughness
 
 def evaluate_rows(codes, params, l, v, n, t=None):
     """The BRDF value f (N, 3) of packed materials (a code row ``codes`` and
-    parameter rows ``params`` (N, PARAM_COLUMNS), the layout of
-    :mod:`pbrkit.brdf.bxdf`, e.g. from :func:`pbrkit.render.materials.material_tables`)
+    parameter rows ``params`` (N, LAYOUT.size), the layout of
+    :data:`pbrkit.brdf.shading.registry.LAYOUT`, e.g. from
+    :func:`pbrkit.render.materials.material_tables`)
     for unit directions (N, 3)."""
     l, v, n = (np.asarray(x, dtype=np.float64).reshape(-1, 3) for x in (l, v, n))
     shape = (l.shape[0],)
-    params = np.ascontiguousarray(np.asarray(params, dtype=np.float64).reshape(-1, PARAM_COLUMNS))
+    params = np.ascontiguousarray(np.asarray(params, dtype=np.float64).reshape(-1, LAYOUT.size))
     index = np.arange(shape[0]) if params.shape[0] > 1 else np.zeros(1, dtype=np.int64)
-    params = np.require(np.broadcast_to(params, (max(params.shape[0], 1), PARAM_COLUMNS)), dtype=np.float64,
+    params = np.require(np.broadcast_to(params, (max(params.shape[0], 1), LAYOUT.size)), dtype=np.float64,
                         requirements=["C", "W"])
     out = np.empty((l.shape[0], 3))
     n_rows = _rows(n, shape)
     t_rows = n_rows if t is None else _rows(t, shape)
     rows = index if params.shape[0] > 1 else np.zeros(shape[0], dtype=np.int64)
-    base = _rows(params[rows, P_BASE_COLOR:P_BASE_COLOR + 3], shape)
-    metallic = np.ascontiguousarray(params[rows, P_METALLIC])
-    roughness = np.ascontiguousarray(params[rows, P_ROUGHNESS])
+    base = _rows(params[rows, COLUMNS.base_color:COLUMNS.base_color + 3], shape)
+    metallic = np.ascontiguousarray(params[rows, COLUMNS.metallic])
+    roughness = np.ascontiguousarray(params[rows, COLUMNS.roughness])
     codes = np.ascontiguousarray(np.asarray(codes, dtype=np.int64).reshape(1, CODE_COLUMNS))
     _evaluate_kernel(codes, params, index.astype(np.int64), base, metallic, roughness,
                      _rows(l, shape), _rows(v, shape), n_rows, t_rows, t is not None, out)
     return out
 
 
-def evaluate(model, l, v, n, material: Material, t=None, **terms):
+def evaluate(model, l, v, n, material, t=None, **terms):
     """The BRDF value f (..., 3) of ``model`` (a name of
-    :data:`pbrkit.brdf.bxdf.MODELS`; ``terms`` choose cook_torrance's
+    :data:`pbrkit.brdf.shading.registry.MODELS`; ``terms`` choose cook_torrance's
     ``distribution``, ``masking``, ``fresnel`` and ``diffuse``, and
     filament's ``diffuse``) for unit directions l, v, n (..., 3) and tangent
-    ``t`` (default: :func:`pbrkit.core.vec.orthonormal_basis`)."""
+    ``t`` (default: :func:`pbrkit.core.vec.orthonormal_basis`).  Values outside the
+    model's own ranges, or a combination it does not have, raise ``ValueError``."""
     codes = model_codes(model, **terms)
+    _check_for_model(model, material, terms)
     l, v, n = (np.asarray(x, dtype=np.float64) for x in (l, v, n))
     shapes = [l.shape[:-1], v.shape[:-1], n.shape[:-1], _material_shape(material)]
     if t is not None:
@@ -313,14 +276,14 @@ def evaluate(model, l, v, n, material: Material, t=None, **terms):
 # ------------------------------------------------------------------ the models
 
 
-def ue4(l, v, n, material: Material):
+def ue4(l, v, n, material):
     """UE4 shading model (Karis 2013): Lambert diffuse + GGX + Schlick-GGX with
     k = (r + 1)^2 / 8 + the spherical-Gaussian Schlick Fresnel, metallic
     workflow with dielectric f0 = 0.16 reflectance^2 (0.08 specular in UE4 terms)."""
     return evaluate("ue4", l, v, n, material)
 
 
-def filament(l, v, n, material: Material, diffuse: str = "lambert", t=None):
+def filament(l, v, n, material, diffuse: str = "lambert", t=None):
     """Filament's standard model (Filament documentation, sec. 4): Lambert or
     Burley diffuse, GGX (anisotropic when ``material.anisotropy`` != 0, with the
     tangent ``t`` or a built frame), height-correlated Smith-GGX visibility and
@@ -329,10 +292,10 @@ def filament(l, v, n, material: Material, diffuse: str = "lambert", t=None):
     return evaluate("filament", l, v, n, material, t=t, diffuse=diffuse)
 
 
-def urp_mobile(l, v, n, material: Material):
+def urp_mobile(l, v, n, material):
     """Unity URP mobile BRDF: diffuse = base (0.96 (1 - metallic)), specular colour
     lerp(0.04, base, metallic) (URP ``kDielectricSpec``), specular term
-    :func:`pbrkit.brdf.bxdf.urp_specular`, alpha = r^2 (URP
+    :func:`pbrkit.brdf.shading.urp_mobile.urp_specular`, alpha = r^2 (URP
     ``PerceptualRoughnessToRoughness``).
 
     Unity's punctual lights are pi times brighter than radiometric ones, so the
@@ -342,7 +305,7 @@ def urp_mobile(l, v, n, material: Material):
     return evaluate("urp_mobile", l, v, n, material)
 
 
-def gltf(l, v, n, material: Material):
+def gltf(l, v, n, material):
     """The glTF 2.0 metallic-roughness BRDF exactly as the glTF 2.0 specification's
     Appendix B defines it: mix(fresnel_mix(ior = 1.5, diffuse_brdf(base_color),
     specular_brdf(alpha)), conductor_fresnel(f0 = base_color,
@@ -354,12 +317,12 @@ def gltf(l, v, n, material: Material):
     with D GGX, V the separable Smith-GGX visibility G1(l) G1(v) / (4 n.l n.v)
     (Appendix B.3.2), Schlick's F of v.h, alpha = r^2 (B.2.2), and the
     dielectric f0 0.04 of IOR 1.5 (``material.reflectance`` is not used).
-    :func:`pbrkit.brdf.bxdf.gltf_fresnel_mix_weight` is the diffuse weight.
+    :func:`pbrkit.brdf.shading.gltf.gltf_fresnel_mix_weight` is the diffuse weight.
     """
     return evaluate("gltf", l, v, n, material)
 
 
-def cook_torrance(l, v, n, material: Material, distribution="ggx", masking="height-correlated",
+def cook_torrance(l, v, n, material, distribution="ggx", masking="height-correlated",
                   fresnel="schlick", diffuse="lambert", t=None):
     """Cook & Torrance 1982 microfacet BRDF f = D G F / (4 n.l n.v) (+ diffuse),
     with each term chosen by name:
@@ -378,13 +341,11 @@ def cook_torrance(l, v, n, material: Material, distribution="ggx", masking="heig
     - ``diffuse``: ``lambert``, ``burley`` or ``none``, weighted by
       base_color (1 - metallic).
     """
-    if fresnel == "exact-conductor" and material.eta is None:
-        raise ValueError("fresnel='exact-conductor' needs material.eta and material.k")
     return evaluate("cook_torrance", l, v, n, material, t=t, distribution=distribution, masking=masking,
                     fresnel=fresnel, diffuse=diffuse)
 
 
-def disney(l, v, n, material: Material, t=None):
+def disney(l, v, n, material, t=None):
     """Disney's principled BRDF (Burley 2012, "Physically-Based Shading at Disney",
     sec. 5 and Appendix B; the BRDF Explorer's ``disney.brdf``).
 
@@ -403,8 +364,6 @@ def disney(l, v, n, material: Material, t=None):
     - clear coat: 0.25 clearcoat D_GTR1(alpha = mix(0.1, 0.001, gloss)) times
       Schlick F with f0 = 0.04 times separable Smith V with alpha = 0.25.
     """
-    if np.any(np.asarray(material.anisotropy) < 0.0):
-        raise ValueError("disney: Material.anisotropy must be in [0, 1] (Burley's aspect parameterisation)")
     return evaluate("disney", l, v, n, material, t=t)
 
 
@@ -462,17 +421,18 @@ def _pdf_kernel(start, stop, codes, table, index, base, metallic, roughness, wo,
 
 def _local_setup(model, material, wo, other, terms):
     codes = model_codes(model, **terms)
+    _check_for_model(model, material, terms)
     wo = np.asarray(wo, dtype=np.float64)
     other = np.asarray(other, dtype=np.float64)
     shape = np.broadcast_shapes(wo.shape[:-1], other.shape[:-1], _material_shape(material))
     return codes, shape, _pack(material, shape), _rows(wo, shape)
 
 
-def sample(model, material: Material, wo, u, **terms):
+def sample(model, material, wo, u, **terms):
     """Sample the light direction of ``model`` for the local view ``wo`` (..., 3)
     (normal +z, tangent +x, unit) with uniform numbers ``u`` (..., 3) in
-    [0, 1): u[..., 0] picks the lobe (:func:`pbrkit.brdf.bxdf.lobe_probabilities`),
-    u[..., 1:] place the direction (:func:`pbrkit.brdf.bxdf.sample_wi`).
+    [0, 1): u[..., 0] picks the lobe (:func:`pbrkit.brdf.dispatch.lobe_probabilities`),
+    u[..., 1:] place the direction (:func:`pbrkit.brdf.dispatch.sample_wi`).
     Returns (wi (..., 3), pdf (...), weight f cos / pdf (..., 3)); a failed
     sample (the direction below the horizon, or wo.z <= 0) has wi = 0,
     pdf = 0 and weight 0."""
@@ -488,7 +448,7 @@ def sample(model, material: Material, wo, u, **terms):
     return wi.reshape(shape + (3,)), pdf_.reshape(shape), weight.reshape(shape + (3,))
 
 
-def pdf(model, material: Material, wo, wi, **terms):
+def pdf(model, material, wo, wi, **terms):
     """Solid-angle pdf (...) with which :func:`sample` draws the local light
     direction ``wi`` for the view ``wo`` (both (..., 3), unit, normal +z); 0
     below the horizon."""

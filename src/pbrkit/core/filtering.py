@@ -43,7 +43,7 @@ from numba.extending import overload
 
 from .jit import dual_use, select
 
-__all__ = ["REPEAT", "CLAMP_TO_EDGE", "MIRRORED_REPEAT", "floor_int", "wrap_texel", "texel_pair"]
+__all__ = ["REPEAT", "CLAMP_TO_EDGE", "MIRRORED_REPEAT", "floor_int", "wrap_texel", "texel_pair", "linear_1d"]
 
 #: Wrap modes: the OpenGL enum values (GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT), as in glTF samplers.
 REPEAT = 10497
@@ -98,3 +98,12 @@ def texel_pair(t, n, mode):
         return i0, np.minimum(i0 + 1, n - 1), y - i0
     i = floor_int(t)
     return wrap_texel(i, n, mode), wrap_texel(i + 1, n, mode), t - i
+
+
+@dual_use
+def linear_1d(table, x):
+    """A 1-D table indexed like the lookup tables' columns, x in [0, 1] at texel
+    centres (i + 0.5) / n, read linearly between centres and clamped to the edge
+    texels (:func:`texel_pair`, CLAMP_TO_EDGE): the real-time path's tables of n.v."""
+    i0, i1, f = texel_pair(x * table.shape[0] - 0.5, table.shape[0], CLAMP_TO_EDGE)
+    return table[i0] * (1.0 - f) + table[i1] * f

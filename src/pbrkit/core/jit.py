@@ -46,7 +46,7 @@ __all__ = ["dual_use", "kernel", "threaded_kernel", "run_in_threads", "row_kerne
 _PACKAGE_ROOT = Path(__file__).resolve().parent.parent
 
 
-def dual_use(fn=None, *, inline=False):
+def dual_use(fn=None, *, inline=False, cache=True):
     """Mark ``fn`` as a dual-use helper: NumPy on arrays from Python, compiled for
     scalars into every Numba kernel that calls it.
 
@@ -58,13 +58,16 @@ def dual_use(fn=None, *, inline=False):
     (``njit(forceinline=True)``): for helpers that take arrays and are called in
     loops that should become SIMD code, where inlining in Numba's IR would add
     reference counting of those arrays (calls) to the loop.  Use as ``@dual_use``,
-    ``@dual_use(inline=True)`` or ``@dual_use(inline="llvm")``."""
+    ``@dual_use(inline=True)`` or ``@dual_use(inline="llvm")``.  ``cache=False``
+    keeps an inlined helper out of the disk cache, for helpers made by other
+    functions (closures over compiled functions and arrays) that Python calls too:
+    their compiled code is inlined into the kernels, which are cached."""
     if fn is None:
-        return functools.partial(dual_use, inline=inline)
+        return functools.partial(dual_use, inline=inline, cache=cache)
     if inline == "llvm":  # not cached: a function loaded from the cache has no IR to inline
         return numba.njit(forceinline=True, error_model="numpy")(fn)
     if inline:
-        return numba.njit(inline="always", cache=True, error_model="numpy")(fn)
+        return numba.njit(inline="always", cache=cache, error_model="numpy")(fn)
     return register_jitable(fn)
 
 
@@ -231,6 +234,7 @@ class _SourceHashLocator(_CacheLocator):
     modification time."""
 
     def __init__(self, py_func, py_file):
+        self._py_file = py_file  # what Numba's warnings about an uncachable function name
         self._lineno = py_func.__code__.co_firstlineno
         relative = Path(py_file).resolve().relative_to(_PACKAGE_ROOT)
         self._cache_path = os.path.join(cache_directory(), *relative.parent.parts)

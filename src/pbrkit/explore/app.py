@@ -117,7 +117,7 @@ class Explorer:
 
     def _make_widgets(self, model, base_color, params, second, angles, exposure, compensation, distribution,
                       masking, fresnel, diffuse, conductor):
-        from ..brdf.bxdf import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS, MODELS
+        from ..brdf.models import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS, MODELS
         from ..brdf.fresnel import CONDUCTORS
 
         pn = self.pn
@@ -205,7 +205,9 @@ class Explorer:
             if terms["distribution"] == "blinn-phong":
                 params.pop("anisotropy", None)  # an isotropic lobe
         elif model == "filament":
-            terms = {"diffuse": self.diffuse.value if self.diffuse.value != "none" else "lambert"}
+            own = V.model_choices("filament")["diffuse"]
+            terms = {"diffuse": self.diffuse.value if self.diffuse.value in own and self.diffuse.value != "none"
+                     else "lambert"}
         if self.conductor.value != "none":
             terms["conductor"] = self.conductor.value
         base = tuple(w.value for w in self.base)

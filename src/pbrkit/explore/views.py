@@ -48,15 +48,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..brdf.bxdf import (
-    MODEL_TERMS,
-    MODELS,
-    bxdf_fresnel,
-    local_cosines,
-    make_bxdf,
-    specular_lobe,
-    specular_visibility,
-)
+from ..brdf.bxdf import local_cosines
+from ..brdf.dispatch import bxdf_fresnel, make_bxdf, specular_lobe, specular_visibility
+from ..brdf.shading.registry import MODEL_TERMS, MODELS, PARAMETERS, REGISTERED
+from ..brdf.parameters import TEXTURED, Parameter
 from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import linear_to_srgb, luminance, tonemap
 from ..core.jit import kernel
@@ -81,6 +76,7 @@ __all__ = [
     "SPHERE_CAMERA",
     "COMPENSATIONS",
     "applicable_parameters",
+    "model_choices",
     "fitted_brdf",
     "view_threads",
 ]
@@ -89,28 +85,19 @@ _HALF_PI = 0.5 * math.pi
 _QUARTER_PI = 0.25 * math.pi
 _N = np.array([0.0, 0.0, 1.0])
 
-#: The Material parameters each model reads besides base_color, metallic and roughness
-#: (``reflectance``: dielectric f0 = 0.16 reflectance^2; glTF and URP fix f0 at 0.04).
-MODEL_PARAMETERS = {
-    "cook_torrance": ("reflectance", "anisotropy"),
-    "filament": ("reflectance", "anisotropy"),
-    "ue4": ("reflectance",),
-    "urp_mobile": (),
-    "disney": ("reflectance", "anisotropy", "subsurface", "specular_tint", "sheen", "sheen_tint", "clearcoat",
-               "clearcoat_gloss"),
-    "gltf": (),
-}
-#: Disney's extra parameters (Burley 2012, sec. 5.1), with the defaults of :class:`pbrkit.Material`.
-DISNEY_ONLY = {"subsurface": 0.0, "specular_tint": 0.0, "sheen": 0.0, "sheen_tint": 0.5, "clearcoat": 0.0,
-               "clearcoat_gloss": 1.0}
-#: (low, high, default) of every scalar parameter (anisotropy: [0, 1] for disney, Burley's aspect).
-PARAMETER_RANGES = {
-    "metallic": (0.0, 1.0, 0.0),
-    "roughness": (0.0, 1.0, 0.5),
-    "reflectance": (0.0, 1.0, 0.5),
-    "anisotropy": (-1.0, 1.0, 0.0),
-    **{k: (0.0, 1.0, v) for k, v in DISNEY_ONLY.items()},
-}
+#: The scalar Material parameters each model reads besides base_color, metallic and
+#: roughness (``reflectance``: dielectric f0 = 0.16 reflectance^2; glTF and URP fix f0
+#: at 0.04), from the models' declarations: the explorer's sliders.
+MODEL_PARAMETERS = {m.name: tuple(p.name for p in m.numbers if p.channels == 1 and p.name not in TEXTURED)
+                    for m in REGISTERED}
+#: Disney's extra parameters (Burley 2012, sec. 5.1), with their declared defaults.
+DISNEY_ONLY = {p.name: p.default for p in REGISTERED[[m.name for m in REGISTERED].index("disney")].numbers
+               if p.name in MODEL_PARAMETERS["disney"] and all(m.declaration(p.name) is None
+                                                               for m in REGISTERED if m.name != "disney")}
+#: (low, high, default) of every scalar parameter, the widest declared range
+#: (anisotropy: [0, 1] for disney, Burley's aspect, which :func:`applicable_parameters` applies).
+PARAMETER_RANGES = {p.name: (p.low, p.high, p.default) for p in PARAMETERS
+                    if isinstance(p, Parameter) and p.channels == 1}
 #: Compensations of the albedo view (:mod:`pbrkit.albedo.compensation`).
 COMPENSATIONS = ("filament", "kulla-conty")
 
@@ -204,10 +191,11 @@ class ModelBRDF:
 def model_brdf(model="gltf", base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, *, label=None,
                distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert",
                conductor=None, **parameters):
-    """A :class:`ModelBRDF`: ``model`` (:data:`pbrkit.brdf.bxdf.MODELS`) with the
-    metallic-roughness parameters, ``reflectance``, ``anisotropy``, Disney's
-    extras (``subsurface``, ``specular_tint``, ``sheen``, ``sheen_tint``,
-    ``clearcoat``, ``clearcoat_gloss``), ``conductor`` (a metal of
+    """A :class:`ModelBRDF`: ``model`` (:data:`pbrkit.brdf.shading.registry.MODELS`) with the
+    metallic-roughness parameters and any other the models declare (``reflectance``,
+    ``anisotropy``, ``specular_color``, ``eta`` and ``k``, Disney's extras
+    ``subsurface``, ``specular_tint``, ``sheen``, ``sheen_tint``, ``clearcoat``,
+    ``clearcoat_gloss``, ...), ``conductor`` (a metal of
     :data:`pbrkit.brdf.fresnel.CONDUCTORS`, for ``fresnel="exact-conductor"``),
     and cook_torrance's terms by name (filament takes ``diffuse``).  Checked as
     a scene's material (:class:`pbrkit.render.scene.MaterialSpec`): a parameter
@@ -216,9 +204,10 @@ def model_brdf(model="gltf", base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness
 
     if model not in MODELS:
         raise ValueError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
-    unknown = sorted(set(parameters) - set(PARAMETER_RANGES))
+    known = [p.name for p in PARAMETERS if isinstance(p, Parameter) and p.name not in TEXTURED]
+    unknown = sorted(set(parameters) - set(known))
     if unknown:
-        raise ValueError(f"unknown material parameter {unknown[0]!r}; choose from {', '.join(PARAMETER_RANGES)}")
+        raise ValueError(f"unknown material parameter {unknown[0]!r}; choose from {', '.join(known)}")
     if model in MODEL_TERMS and model != "filament":
         diffuse = MODEL_TERMS[model][3] or diffuse
     spec = MaterialSpec(name="explore", model=model, base_color=tuple(np.asarray(base_color, dtype=float)),
@@ -227,12 +216,19 @@ def model_brdf(model="gltf", base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness
     return ModelBRDF(spec, label)
 
 
+def model_choices(model):
+    """The term choices ``model`` declares: name -> the names it takes."""
+    return {name: c.choices for name, c in REGISTERED[MODELS.index(model)].choices.items()}
+
+
 def applicable_parameters(model, parameters):
     """The entries of ``parameters`` (name -> value) that ``model`` reads
     (:data:`MODEL_PARAMETERS`); anisotropy is clamped to [0, 1] for disney."""
     keep = {k: v for k, v in parameters.items() if k in MODEL_PARAMETERS[model]}
-    if model == "disney" and "anisotropy" in keep:
-        keep["anisotropy"] = max(0.0, float(keep["anisotropy"]))
+    declared = REGISTERED[MODELS.index(model)]
+    for name, value in keep.items():  # the model's own range (Disney's anisotropy)
+        p = declared.declaration(name)
+        keep[name] = min(max(float(value), p.low), p.high)
     return keep
 
 
@@ -599,7 +595,7 @@ def display_rgba(radiance, exposure=0.0, operator="aces"):
 @kernel
 def _terms_kernel(codes, params, roughness, metallic, base, l, v, out):
     # Per direction pair: the model's specular lobe D V, its visibility V and its Fresnel (RGB), from the
-    # composition of pbrkit.brdf.bxdf (the same code the models and the renderer run).
+    # model's composition (pbrkit.brdf.dispatch: the same code the models and the renderer run).
     b = make_bxdf(codes, 0, params, 0, roughness, metallic, base[0], base[1], base[2])
     for i in range(l.shape[0]):
         c = local_cosines(v[i, 0], v[i, 1], v[i, 2], l[i, 0], l[i, 1], l[i, 2])
@@ -625,10 +621,10 @@ def _lobe_terms(brdf, l, v):
 
 
 def terms(brdf, theta_v, count=90):
-    """The terms of a model's specular lobe alone, from its composition in
-    :mod:`pbrkit.brdf.bxdf` (:func:`~pbrkit.brdf.bxdf.specular_lobe` = D V,
-    :func:`~pbrkit.brdf.bxdf.specular_visibility` = V = G / (4 n.l n.v),
-    :func:`~pbrkit.brdf.bxdf.bxdf_fresnel`), so that every model's own remaps
+    """The terms of a model's specular lobe alone, from its composition
+    (:func:`pbrkit.brdf.dispatch.specular_lobe` = D V,
+    :func:`~pbrkit.brdf.dispatch.specular_visibility` = V = G / (4 n.l n.v),
+    :func:`~pbrkit.brdf.dispatch.bxdf_fresnel`), so that every model's own remaps
     apply (UE4's k = (r + 1)^2 / 8, Filament's f90, Disney's tint, ...):
 
     - ``D`` against ``theta_h`` in [0, pi/2) at l = v = h (n.l = n.v = n.h):

@@ -39,12 +39,12 @@ mixture's pdf (the balance heuristic of multiple importance sampling, Veach
 1997 sec. 9.2):
 
 - :data:`LOBE_SHARE` (half) of the samples from the lobe's own sampling
-  routine, the one :func:`pbrkit.brdf.bxdf.sample_wi` runs for every
+  routine, the one :func:`pbrkit.brdf.dispatch.sample_wi` runs for every
   ``cook_torrance`` lobe (and :func:`pbrkit.brdf.models.sample` exposes): the
   view reflected about a GGX visible normal (Heitz 2018;
   :func:`pbrkit.sampling.warps.warp_ggx_vndf`, ``reflect_xyz``), with its pdf
   D_v(h) / (4 v.h) (:func:`pbrkit.sampling.warps.pdf_ggx_vndf`,
-  ``pdf_light_from_half``, as :func:`pbrkit.brdf.bxdf.bxdf_pdf`), composed
+  ``pdf_light_from_half``, as :func:`pbrkit.brdf.dispatch.bxdf_pdf`), composed
   here from the NumPy warps so that no sampling kernel needs compiling;
   where f^ is large;
 - :data:`LTC_SHARE` from the LTC itself (:func:`pbrkit.ltc.distribution.ltc_sample`,
@@ -190,7 +190,7 @@ def lobe_error(ltc1, nov, roughness, distribution="ggx", masking="height-correla
         v[:, 0, 2] = c[:, 0]
         alpha = alpha_from_roughness(roughness[s, None])
         material = Material(base_color=np.ones(3), metallic=1.0, roughness=roughness[s, None])
-        # the lobe's sampling routine (pbrkit.brdf.bxdf.sample_wi for every cook_torrance lobe): the view
+        # the lobe's sampling routine (pbrkit.brdf.dispatch.sample_wi for every cook_torrance lobe): the view
         # reflected about a GGX visible normal (Heitz 2018); a direction below the horizon is a failed sample
         h = warp_ggx_vndf(u_lobe[:, 0], u_lobe[:, 1], v[..., 0], 0.0, c, alpha)
         wi = np.stack(reflect_xyz(v[..., 0], 0.0, c, *h), axis=-1)
@@ -202,7 +202,7 @@ def lobe_error(ltc1, nov, roughness, distribution="ggx", masking="height-correla
         d = ltc_evaluate(m_inv[s, None], w)
         f = cook_torrance(w, v, normal, material, **terms)[..., 0]
         lobe = f * np.maximum(w[..., 2], 0.0) / albedo[s, None]
-        # its pdf (pbrkit.brdf.bxdf.bxdf_pdf): D_v(h) / (4 v.h) at the half vector, 0 below the horizon
+        # its pdf (pbrkit.brdf.dispatch.bxdf_pdf): D_v(h) / (4 v.h) at the half vector, 0 below the horizon
         half = w + v
         half /= np.maximum(np.linalg.norm(half, axis=-1, keepdims=True), 1e-300)
         voh = np.maximum(np.sum(half * v, axis=-1), 0.0)

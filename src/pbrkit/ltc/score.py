@@ -28,7 +28,7 @@ reflected radiance L_o = integral over the light of f_r(v, l) (n.l) dl.
   the lobe of ``distribution`` (:data:`LTC_DISTRIBUTIONS`: GGX or Beckmann,
   alpha = r^2 for both) and ``masking`` (:data:`MASKINGS_FOR`: height-correlated
   or separable Smith, or for GGX Schlick-GGX) with Schlick F, the lobe
-  evaluated by :mod:`pbrkit.brdf.bxdf`'s own ``specular_lobe`` (one code path
+  evaluated by :mod:`pbrkit.brdf.dispatch`'s own ``specular_lobe`` (one code path
   for every lobe), by adaptive cubature in the light's plane, clipped at the
   horizon; converged to 1e-6 relative by its own estimate and tested against
   Monte Carlo and a composite Gauss-Legendre rule.  :func:`ggx_rect_integrals`
@@ -55,19 +55,19 @@ from pathlib import Path
 import numpy as np
 
 from ..albedo.tables import VISIBILITIES, specular_integrals
-from ..brdf.bxdf import (
-    PARAM_COLUMNS,
-    isotropic_cosines,
-    make_bxdf,
-    specular_lobe,
-)
+from ..brdf.bxdf import isotropic_cosines
+from ..brdf.dispatch import make_bxdf, specular_lobe
 from ..brdf.distributions import alpha_from_roughness
 from ..brdf.fresnel import f_schlick
 from ..brdf.models import model_codes
+from ..brdf.shading.registry import LAYOUT
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, row_kernel, select
 from ..core.quadrature import gauss_legendre_01
 from .polygon import transformed_polygon_form_factor
+
+#: The packed parameter row's length (a constant for the compiled kernels).
+_PARAMETER_COLUMNS = LAYOUT.size
 
 __all__ = [
     "LUT_SIZE",
@@ -127,14 +127,14 @@ RELATIVE_THRESHOLD = 1e-3
 # --------------------------------------------------------------------- lobes
 
 #: The microfacet distributions LTC tables are fitted and scored for (``pbrkit ltc
-#: --distribution``; :data:`pbrkit.brdf.bxdf.DISTRIBUTIONS` of ``cook_torrance``),
+#: --distribution``; :data:`pbrkit.brdf.models.DISTRIBUTIONS` of ``cook_torrance``),
 #: both with alpha = r^2 (:func:`pbrkit.brdf.distributions.alpha_from_roughness`).
 #: Blinn-Phong is left out: pbrkit pairs it with Beckmann's Smith Lambda (an
 #: approximation, no Smith masking of its own), and a Blinn-Phong lobe of
 #: exponent 2 / alpha^2 - 2 is Beckmann's to within that approximation.
 LTC_DISTRIBUTIONS = ("ggx", "beckmann")
 #: The Smith-family masking-shadowing terms of ``cook_torrance``
-#: (:data:`pbrkit.brdf.bxdf.MASKINGS`, ``pbrkit ltc --masking``):
+#: (:data:`pbrkit.brdf.models.MASKINGS`, ``pbrkit ltc --masking``):
 #: exact Smith G2 height-correlated (Heitz 2014, eq. 99) or separable (eq. 98)
 #: with the distribution's own Lambda, and Schlick's approximation of the
 #: separable Smith-GGX G1 with k = alpha / 2 (Karis 2013, IBL) or UE4's
@@ -183,9 +183,9 @@ def lobe_name(distribution="ggx", masking="height-correlated"):
 def _lobe_of(codes, roughness):
     """The :class:`pbrkit.brdf.bxdf.BxDF` of the lobe of code row ``codes``
     (:func:`lobe_codes`) at perceptual roughness ``roughness``
-    (:func:`pbrkit.brdf.bxdf.make_bxdf`: alpha = max(r^2, 1e-3), isotropic,
+    (:func:`pbrkit.brdf.dispatch.make_bxdf`: alpha = max(r^2, 1e-3), isotropic,
     white, metallic)."""
-    params = np.zeros((1, PARAM_COLUMNS))
+    params = np.zeros((1, _PARAMETER_COLUMNS))
     return make_bxdf(codes, 0, params, 0, roughness, 1.0, 1.0, 1.0, 1.0)
 
 
@@ -232,7 +232,7 @@ def _lobe_per_area(x, y, ox, oy, oz, ux, uy, uz, wx, wy, wz, delta, nov, sin_v, 
     f = D V of the Fresnel-free specular lobe ``lobe``, a
     :class:`pbrkit.brdf.bxdf.BxDF` of ``cook_torrance`` with the chosen
     distribution and masking codes (:func:`_lobe_of`), evaluated by the models'
-    own composition (:func:`pbrkit.brdf.bxdf.specular_lobe`), and
+    own composition (:func:`pbrkit.brdf.dispatch.specular_lobe`), and
     dl = delta / |p|^3 dA (the area-to-solid-angle Jacobian cos theta' / d^2,
     e.g. Pharr, Jakob and Humphreys 2023, pbrt-v4 sec. 4.2.3)."""
     px = ox + x * ux + y * wx
@@ -539,8 +539,8 @@ def lobe_rect_integrals(nov, roughness, corners, distribution="ggx", masking="he
     Beckmann) and the Smith-family ``masking`` G2 (:data:`LTC_MASKINGS`;
     :func:`lobe_codes`), alpha = r^2 for both distributions
     (:func:`~pbrkit.brdf.distributions.alpha_from_roughness`, at least 1e-3),
-    evaluated by :func:`pbrkit.brdf.bxdf.specular_lobe` of a ``cook_torrance``
-    BxDF (:func:`pbrkit.brdf.bxdf.make_bxdf`), Fc = (1 - v.h)^5, so that with
+    evaluated by :func:`pbrkit.brdf.dispatch.specular_lobe` of a ``cook_torrance``
+    BxDF (:func:`pbrkit.brdf.dispatch.make_bxdf`), Fc = (1 - v.h)^5, so that with
     Schlick's F (Schlick 1994) the radiance is f0 norm + (1 - f0) fresnel (the
     split of ltc_code's second table).
 

@@ -1,32 +1,17 @@
 """Scene materials for the compiled kernels: each material as the integer code
-row and float parameter row of :mod:`pbrkit.brdf.bxdf`, and the BxDF and
-shading frame at a hit point.
+row and float parameter row of the registry's layout
+(:data:`pbrkit.brdf.shading.registry.LAYOUT`), and the BxDF and shading frame at
+a hit point.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..brdf.bxdf import (
-    CODE_COLUMNS,
-    DIFFUSES,
-    DISTRIBUTIONS,
-    FRESNELS,
-    MASKINGS,
-    MODELS,
-    P_BASE_COLOR,
-    P_DOUBLE_SIDED,
-    P_EMISSIVE,
-    P_METALLIC,
-    P_ROUGHNESS,
-    P_SPECULAR_COLOR,
-    PARAM_COLUMNS,
-    cosines,
-    isotropic_cosines,
-    make_bxdf,
-    tangent_frame,
-)
-from ..brdf.models import parameter_rows
+from ..brdf.bxdf import CODE_COLUMNS, cosines, isotropic_cosines, tangent_frame
+from ..brdf.dispatch import make_bxdf
+from ..brdf.material import FIELDS
+from ..brdf.shading.registry import LAYOUT, model_codes
 from ..core.jit import dual_use
 
 __all__ = ["material_tables", "hit_bxdf", "hit_cosines"]
@@ -34,25 +19,21 @@ __all__ = ["material_tables", "hit_bxdf", "hit_cosines"]
 
 def material_tables(materials):
     """Pack :class:`pbrkit.render.textures.SurfaceMaterial` s for the kernels:
-    ``(codes (M, CODE_COLUMNS) int64, params (M, PARAM_COLUMNS) float64)`` in the
-    layout of :mod:`pbrkit.brdf.bxdf` (model, distribution, masking, Fresnel and
-    diffuse as indices into their name tuples; dielectric f0 = 0.16
-    reflectance^2, eta, k, specular colour, base colour, metallic, roughness,
-    emissive, double-sided, anisotropy and Disney's extras)."""
+    ``(codes (M, CODE_COLUMNS) int64, params (M, LAYOUT.size) float64)``: the model
+    and its term choices as indices into their tables, and every parameter at its
+    column of :data:`pbrkit.brdf.shading.registry.LAYOUT` (with emission and
+    sidedness)."""
     m = len(materials)
     codes = np.zeros((m, CODE_COLUMNS), dtype=np.int64)
-    params = np.zeros((m, PARAM_COLUMNS), dtype=np.float64)
+    params = np.zeros((m, LAYOUT.size), dtype=np.float64)
     for i, sm in enumerate(materials):
         s = sm.spec
-        codes[i] = (MODELS.index(s.model), DISTRIBUTIONS.index(s.distribution), MASKINGS.index(s.masking),
-                    FRESNELS.index(s.fresnel), DIFFUSES.index(s.diffuse))
-        params[i] = parameter_rows(s.material())[0]
-        params[i, P_SPECULAR_COLOR:P_SPECULAR_COLOR + 3] = s.specular_color
-        params[i, P_BASE_COLOR:P_BASE_COLOR + 3] = s.base_color
-        params[i, P_METALLIC] = s.metallic
-        params[i, P_ROUGHNESS] = s.roughness
-        params[i, P_EMISSIVE:P_EMISSIVE + 3] = s.emissive
-        params[i, P_DOUBLE_SIDED] = 1.0 if s.double_sided else 0.0
+        codes[i] = model_codes(s.model, s.distribution, s.masking, s.fresnel, s.diffuse)
+        material = s.material()
+        values = {p.name: getattr(material, p.name) for p in FIELDS}
+        values.update(specular_color=s.specular_color, emissive=s.emissive,
+                      double_sided=1.0 if s.double_sided else 0.0)
+        params[i] = LAYOUT.row(values)[0]
     return codes, params
 
 

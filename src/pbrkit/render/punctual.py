@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..brdf.bxdf import bxdf_f
+from ..brdf.dispatch import bxdf_f
 from ..core.jit import dual_use, row_kernel
 from .lights import light_arrays, light_incidence
 from .materials import hit_bxdf, hit_cosines

@@ -19,7 +19,7 @@ shadow rays, as an ideal shadow map), plus split-sum image-based lighting
 - diffuse: the model's own diffuse colour (base_color (1 - metallic), URP's
   0.96 (1 - metallic)) / pi * E(n) * w, with E from the bake's SH
   (:func:`pbrkit.ibl.sh.irradiance_from_sh`) or its irradiance cube, and w
-  the model's diffuse weighting (:func:`diffuse_ibl_weight`): 1 for the models
+  the model's diffuse weighting (:func:`pbrkit.brdf.dispatch.ibl_diffuse_weight`): 1 for the models
   whose diffuse lobe has none, and for ``gltf``, whose diffuse is weighted by
   1 - F(v.h) (``fresnel_mix``), Lagarde's 1 - F*(n.v, 0.04, r)
   (:func:`pbrkit.brdf.diffuse.kd_ibl`; seed 000), or with
@@ -45,29 +45,18 @@ from functools import lru_cache
 import numpy as np
 
 from ..albedo.tables import filament_energy_compensation, table_bilinear
-from ..brdf.bxdf import (
-    C_DISTRIBUTION,
-    C_MODEL,
-    DIFF_NONE,
-    FRES_EXACT_CONDUCTOR,
-    FRES_EXACT_DIELECTRIC,
-    FRES_NONE,
-    GLTF_DIELECTRIC_F0,
-    MODEL_COOK_TORRANCE,
-    MODEL_DISNEY,
-    MODEL_FILAMENT,
-    MODEL_GLTF,
-    P_ANISOTROPY,
-    P_CLEARCOAT,
-    P_CLEARCOAT_GLOSS,
-    disney_clearcoat_alpha,
-    gltf_fresnel_mix_weight,
-    lobe_alphas,
-    tangent_frame,
+from ..brdf.dispatch import (
+    fresnel_constant,
+    ibl_coat_roughness,
+    ibl_diffuse_weight,
+    ibl_extras,
+    ibl_has_diffuse,
+    ibl_has_extras,
+    split_sum_f0,
 )
-from ..brdf.diffuse import kd_ibl
-from ..brdf.fresnel import f0_conductor, f_schlick, f_schlick_roughness
-from ..core.filtering import CLAMP_TO_EDGE, texel_pair
+from ..brdf.fresnel import f_schlick, f_schlick_roughness
+from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0, gltf_fresnel_mix_weight
+from ..brdf.shading.registry import COLUMNS, model
 from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
@@ -81,11 +70,9 @@ from .punctual import punctual_radiance
 
 __all__ = [
     "render_realtime",
-    "split_sum_f0",
     "reflection_direction",
     "sheen_albedo_table",
     "fresnel_mix_albedo_table",
-    "diffuse_ibl_weight",
     "DIFFUSE_WEIGHTS",
     "ENGINES",
     "specular_dominant_direction",
@@ -94,7 +81,7 @@ __all__ = [
     "APPROXIMATIONS",
 ]
 
-#: How the real-time path weights the ``gltf`` diffuse (:func:`diffuse_ibl_weight`).
+#: How the real-time path weights the ``gltf`` diffuse (:func:`pbrkit.brdf.shading.gltf.ibl_diffuse_weight`).
 DIFFUSE_WEIGHTS = ("fstar", "exact")
 
 #: Whose image-based lighting the real-time path evaluates (:func:`render_realtime`):
@@ -107,6 +94,8 @@ _ENGINE_FILAMENT = 1
 _ENGINE_KHRONOS = 2
 _ENGINE_THREE = 3
 _ENGINE_BABYLON = 4
+#: The parameter row's anisotropy column.
+_ANISOTROPY = COLUMNS.anisotropy
 #: three.js's smallest perceptual roughness (``lights_physical_fragment``).
 _THREE_MIN_ROUGHNESS = 0.045
 
@@ -158,28 +147,13 @@ def _extra_lut(visibility, size):
 
 
 def _lut_for(spec, bake_lut):
-    """The DFG table matching a material's masking (module docstring), and its name."""
-    if spec.model == "ue4" or spec.masking in ("schlick-ggx", "schlick-ggx-ue4"):
-        return _extra_lut("schlick-ggx", bake_lut.shape[0]), "schlick-ggx"
-    if spec.masking == "separable":
-        return _extra_lut("separable", bake_lut.shape[0]), "separable"
-    return np.asarray(bake_lut), "height-correlated"
-
-
-@dual_use
-def split_sum_f0(b, channel):
-    """The normal reflectance F0 that a real-time shader feeds to the split-sum
-    table for one channel: the metallic workflow's (the model's f0), the exact
-    conductor's min(F(1), 1), the dielectric f0 of ``exact-dielectric`` (whose
-    metallic is ignored), or the constant colour of ``fresnel = "none"``."""
-    if b.model == MODEL_COOK_TORRANCE:
-        if b.fresnel == FRES_EXACT_CONDUCTOR:
-            return f0_conductor(b.eta[channel], b.k[channel])
-        if b.fresnel == FRES_EXACT_DIELECTRIC:
-            return b.dielectric_f0
-        if b.fresnel == FRES_NONE:
-            return b.specular_color[channel]
-    return b.f0[channel]
+    """The DFG table whose visibility is the material's specular lobe's (its masking's
+    table, :meth:`pbrkit.brdf.lobes.microfacet.Microfacet.table_name`: module
+    docstring), and its name."""
+    name = model(spec.model).compiled.specular.parts.table_name(spec.masking)
+    if name == "height-correlated":
+        return np.asarray(bake_lut), name
+    return _extra_lut(name, bake_lut.shape[0]), name
 
 
 @dual_use
@@ -273,19 +247,18 @@ def specular_dominant_direction(n, r, roughness):
 @row_kernel(3)
 def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, out, coat_out):
     """The lookup direction (:func:`reflection_direction`) of every pixel, and the
-    perceptual roughness of Disney's clear coat (sqrt of its GTR1 alpha; -1 without one)."""
+    perceptual roughness of its model's coat lookup (-1 without one,
+    :func:`pbrkit.brdf.dispatch.ibl_coat_roughness`)."""
     for i in range(start, stop):
         m = mat[i]
-        model = mi[m, C_MODEL]
-        _, _, anisotropic = lobe_alphas(model, mi[m, C_DISTRIBUTION], 1.0, mf[m, P_ANISOTROPY])
-        anisotropy = mf[m, P_ANISOTROPY] if anisotropic else 0.0
-        t, bt = tangent_frame(n[i, 0], n[i, 1], n[i, 2], anisotropic)
+        b, t, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                            n[i, 2])
+        anisotropy = mf[m, _ANISOTROPY] if b.anisotropic else 0.0
         r = reflection_direction(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], t, bt, anisotropy, rough[i])
         out[i, 0] = r[0]
         out[i, 1] = r[1]
         out[i, 2] = r[2]
-        coat = model == MODEL_DISNEY and mf[m, P_CLEARCOAT] > 0.0
-        coat_out[i] = math.sqrt(disney_clearcoat_alpha(mf[m, P_CLEARCOAT_GLOSS])) if coat else -1.0
+        coat_out[i] = ibl_coat_roughness(b)
 
 
 def _view_albedo_table(weight_of_loh, size, nodes):
@@ -320,34 +293,11 @@ def sheen_albedo_table(size=64, nodes=64):
 def fresnel_mix_albedo_table(size=64, nodes=64):
     """The exact directional albedo of the glTF diffuse lobe per unit diffuse colour,
     W(mu) = integral of (1 - F_0.04(v.h)) (n.l) / pi dl over the upper hemisphere
-    (:func:`pbrkit.brdf.bxdf.gltf_fresnel_mix_weight`), at mu = n.v = (i + 0.5) / size
+    (:func:`pbrkit.brdf.shading.gltf.gltf_fresnel_mix_weight`), at mu = n.v = (i + 0.5) / size
     (:func:`_view_albedo_table`).  No roughness: the diffuse lobe has none.  Under a
     constant environment the diffuse radiance is W(n.v) E / pi exactly; the
     real-time F* weight approximates it."""
     return _view_albedo_table(gltf_fresnel_mix_weight, size, nodes) / math.pi
-
-
-@dual_use
-def diffuse_ibl_weight(b, nov, exact, table):
-    """The weight w on the diffuse colour's IBL term diffuse_color E(n) / pi that
-    the real-time path gives a model's diffuse lobe: 1 for the models whose
-    diffuse has no Fresnel weighting; for ``gltf`` (diffuse weighted by
-    1 - F(v.h)) Lagarde's 1 - F*(n.v, 0.04, r) (:func:`pbrkit.brdf.diffuse.kd_ibl`
-    with metallic 0: the diffuse colour already carries 1 - metallic), or with
-    ``exact`` the exact albedo W(n.v) of :func:`fresnel_mix_albedo_table` (linear
-    between texel centres, clamp to edge)."""
-    if b.model != MODEL_GLTF:
-        return 1.0
-    if exact:
-        return _view_table_lookup(table, nov)
-    return kd_ibl(nov, GLTF_DIELECTRIC_F0, b.roughness, 0.0)
-
-
-@dual_use
-def _view_table_lookup(table, nov):
-    # linear between texel centres, clamp to edge (pbrkit.core.filtering.texel_pair)
-    i0, i1, f = texel_pair(nov * table.shape[0] - 0.5, table.shape[0], CLAMP_TO_EDGE)
-    return table[i0] * (1.0 - f) + table[i1] * f
 
 
 @dual_use
@@ -420,19 +370,24 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
                                         irradiance[i, c]) * occlusion[i]
                 ec_out[i, c] = 1.0
             continue
-        diffuse_on = not ((b.model == MODEL_COOK_TORRANCE or b.model == MODEL_FILAMENT) and b.diffuse == DIFF_NONE)
-        diffuse_weight = diffuse_ibl_weight(b, nov, exact_diffuse, diffuse_table) * _INV_PI
-        constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE
-        coat = 0.0
-        sheen = 0.0
-        if b.model == MODEL_DISNEY:
-            if b.clearcoat > 0.0:
+        diffuse_on = ibl_has_diffuse(b)
+        diffuse_weight = ibl_diffuse_weight(b, nov, exact_diffuse, diffuse_table) * _INV_PI
+        constant_f = fresnel_constant(b)
+        f0s = split_sum_f0(b)
+        extras = ibl_has_extras(b)
+        spec_add = (0.0, 0.0, 0.0)
+        diff_add = (0.0, 0.0, 0.0)
+        if extras:  # the model's other lobes (Disney's clear coat and sheen)
+            c1 = 0.0
+            c2 = 0.0
+            if coat_roughness[i] >= 0.0:
                 c1 = table_bilinear(tables, t, nov, coat_roughness[i], 0)
                 c2 = table_bilinear(tables, t, nov, coat_roughness[i], 1)
-                coat = b.clearcoat * (c1 + 0.04 * (c2 - c1))
-            sheen = _view_table_lookup(sheen_table, nov) * _INV_PI
+            spec_add, diff_add = ibl_extras(b, nov, c1, c2, sheen_table,
+                                            (irradiance[i, 0], irradiance[i, 1], irradiance[i, 2]),
+                                            (coat_prefiltered[i, 0], coat_prefiltered[i, 1], coat_prefiltered[i, 2]))
         for c in range(3):
-            f0 = split_sum_f0(b, c)
+            f0 = f0s[c]
             if constant_f:
                 albedo = f0 * dfg2
             else:
@@ -446,9 +401,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             if diffuse_on:
                 w = (1.0 - albedo) * _INV_PI if engine == _ENGINE_FILAMENT else diffuse_weight
                 diff = b.diffuse_color[c] * w * irradiance[i, c]
-            if b.model == MODEL_DISNEY:
-                spec += coat * coat_prefiltered[i, c]
-                diff += b.sheen[c] * sheen * irradiance[i, c]
+            if extras:
+                spec += spec_add[c]
+                diff += diff_add[c]
             out[i, c] = (spec + diff) * occlusion[i]
 
 
@@ -459,17 +414,18 @@ def _area_specular_kernel(start, stop, mi, mf, mat, n, rough, metal, base, spec,
     (1 - f0) Fc, the lights' LTC integrals of the f lobe (``spec``) and of the f Fc
     lobe (``fresnel``) weighted by f0 norm and (1 - f0) fresnel (``split``, the LTC
     table's), divided by their sum (:func:`pbrkit.ltc.score.ltc_fresnel_rect`; f0
-    per channel from :func:`split_sum_f0`); a constant F (``fresnel = "none"``)
+    per channel from :func:`pbrkit.brdf.dispatch.split_sum_f0`); a constant F (``fresnel = "none"``)
     keeps the f lobe."""
     for i in range(start, stop):
         b, _, _ = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
                            n[i, 2])
-        constant_f = b.model == MODEL_COOK_TORRANCE and b.fresnel == FRES_NONE
+        constant_f = fresnel_constant(b)
+        f0s = split_sum_f0(b)
         for c in range(3):
             out[i, c] = spec[i, c]
             if constant_f:
                 continue
-            f0 = split_sum_f0(b, c)
+            f0 = f0s[c]
             a = f0 * split[i, 0]
             d = (1.0 - f0) * split[i, 1]
             if a + d > 0.0:
@@ -481,7 +437,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
                     primary=None):
     """Real-time shading of ``scene`` (module docstring).  ``diffuse``: ``sh`` (the
     bake's 9 SH coefficients) or ``cube`` (its irradiance cube); ``diffuse_weight``:
-    ``fstar`` (what engines do) or ``exact`` (:func:`diffuse_ibl_weight`).
+    ``fstar`` (what engines do) or ``exact`` (:func:`pbrkit.brdf.shading.gltf.ibl_diffuse_weight`).
     ``engine`` (:data:`ENGINES`) evaluates the IBL as that engine's shaders do with
     its ``pbrkit bake --target`` files: ``filament``: its chain (prefiltered at r_m =
     1 - sqrt(1 - m/(M - 1)), read from ``filament/ibl.ktx`` for a bake folder) at

@@ -40,30 +40,9 @@ import time
 
 import numpy as np
 
-from ..brdf.bxdf import (
-    CODE_COLUMNS,
-    DIFF_LAMBERT,
-    DIFF_NONE,
-    DIST_GGX,
-    FRES_NONE,
-    FRES_SCHLICK,
-    MASK_HEIGHT_CORRELATED,
-    MASK_SEPARABLE,
-    MODEL_COOK_TORRANCE,
-    MODEL_FILAMENT,
-    MODEL_GLTF,
-    P_ANISOTROPY,
-    P_BASE_COLOR,
-    P_DOUBLE_SIDED,
-    P_EMISSIVE,
-    P_METALLIC,
-    P_ROUGHNESS,
-    BxDF,
-    bxdf_f,
-    bxdf_pdf,
-    lobe_probabilities,
-    sample_wi,
-)
+from ..brdf.bxdf import CODE_COLUMNS
+from ..brdf.dispatch import bxdf_f, bxdf_pdf, lobe_probabilities, sample_wi, specialised
+from ..brdf.shading.registry import COLUMNS, VARIANTS
 from ..core import checks
 from ..core.jit import (
     dual_use,
@@ -104,6 +83,13 @@ from .punctual import punctual_at, punctual_radiance
 __all__ = [
     "render_reference",
 ]
+
+#: Columns of the packed parameter row the kernels read.
+_EMISSIVE = COLUMNS.emissive
+_DOUBLE_SIDED = COLUMNS.double_sided
+_ROUGHNESS = COLUMNS.roughness
+_METALLIC = COLUMNS.metallic
+_BASE_COLOR = COLUMNS.base_color
 
 
 @dual_use(inline=True)
@@ -245,7 +231,7 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
         ny = planes[index, 4]
         nz = planes[index, 5]
         m = plane_mat[index]
-    if mf[m, P_DOUBLE_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
+    if mf[m, _DOUBLE_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
         nx, ny, nz = -nx, -ny, -nz
     return px, py, pz, nx, ny, nz, m
 
@@ -369,16 +355,16 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         break
                     px, py, pz, nx, ny, nz, m = _analytic_surface(hk, hi_, spheres, planes, sphere_mat, plane_mat, mf,
                                                                   ox, oy, oz, bdir[0], bdir[1], bdir[2], th)
-                    x0 += t0 * mf[m, P_EMISSIVE]
-                    x1 += t1 * mf[m, P_EMISSIVE + 1]
-                    x2 += t2 * mf[m, P_EMISSIVE + 2]
+                    x0 += t0 * mf[m, _EMISSIVE]
+                    x1 += t1 * mf[m, _EMISSIVE + 1]
+                    x2 += t2 * mf[m, _EMISSIVE + 2]
                     if bounce == bounces:
                         break
                     gx, gy, gz = nx, ny, nz
                     vx, vy, vz = -bdir[0], -bdir[1], -bdir[2]
-                    r = mf[m, P_ROUGHNESS]
-                    me = mf[m, P_METALLIC]
-                    b0, b1, b2 = mf[m, P_BASE_COLOR], mf[m, P_BASE_COLOR + 1], mf[m, P_BASE_COLOR + 2]
+                    r = mf[m, _ROUGHNESS]
+                    me = mf[m, _METALLIC]
+                    b0, b1, b2 = mf[m, _BASE_COLOR], mf[m, _BASE_COLOR + 1], mf[m, _BASE_COLOR + 2]
                     if codes.shape[0]:
                         bh, th_, bth = hit_bxdf(mi, mf, m, r, me, b0, b1, b2, nx, ny, nz)
                         pr = punctual_at(bh, th_, bth, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, 1.0, 1.0,
@@ -404,19 +390,13 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
 # ------------------------------------------------- direct lighting in lanes (analytic scenes, bounces = 0)
 
 #: The materials the direct-lighting kernel specialises, as code rows (model,
-#: distribution, masking, Fresnel, diffuse) of :mod:`pbrkit.brdf.bxdf`: the BxDF of
-#: such a material is rebuilt with these codes as constants (:func:`_specialised`), so
-#: that LLVM drops every other branch of the BxDF functions and vectorises the lane
-#: loops.  Other materials (Beckmann and Blinn-Phong lobes, the exact Fresnel terms,
-#: anisotropy, Disney's, other combinations) run the same loops unspecialised.
-_VARIANTS = (
-    (MODEL_GLTF, DIST_GGX, MASK_SEPARABLE, FRES_SCHLICK, DIFF_LAMBERT),
-    (MODEL_FILAMENT, DIST_GGX, MASK_HEIGHT_CORRELATED, FRES_SCHLICK, DIFF_LAMBERT),
-    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_HEIGHT_CORRELATED, FRES_SCHLICK, DIFF_LAMBERT),
-    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_SEPARABLE, FRES_NONE, DIFF_NONE),
-    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_HEIGHT_CORRELATED, FRES_NONE, DIFF_NONE),
-    (MODEL_COOK_TORRANCE, DIST_GGX, MASK_SEPARABLE, FRES_NONE, DIFF_LAMBERT),
-)
+#: distribution, masking, Fresnel, diffuse): the registry's variants
+#: (:data:`pbrkit.brdf.shading.registry.VARIANTS`, declared by the models).  The BxDF
+#: of such a material is rebuilt with these codes as constants
+#: (:func:`pbrkit.brdf.dispatch.specialised`), so that LLVM drops every other branch
+#: of the dispatch and vectorises the lane loops.  Other materials run the same loops
+#: unspecialised.
+_VARIANTS = tuple(codes for codes, _ in VARIANTS)
 #: Lanes (samples of one primary hit) per pass through the stages.
 _LANES = 256
 #: Scenes with at most this many spheres and planes test every ray against each of
@@ -442,19 +422,12 @@ def material_variants(codes, params):
     materials whose code row is one of the variants."""
     out = np.full(codes.shape[0], -1, dtype=np.int64)
     for m in range(codes.shape[0]):
-        if params[m, P_ANISOTROPY] == 0.0 and tuple(codes[m, :CODE_COLUMNS]) in _VARIANTS:
+        if params[m, COLUMNS.anisotropy] == 0.0 and tuple(codes[m, :CODE_COLUMNS]) in _VARIANTS:
             out[m] = _VARIANTS.index(tuple(codes[m, :CODE_COLUMNS]))
     return out
 
 
-@dual_use(inline=True)
-def _specialised(b, codes):
-    """``b`` with its code row replaced by the constant ``codes`` (which must be its
-    own: :func:`material_variants`), isotropic and without a clear coat, so that the
-    BxDF functions inlined after it fold to that one composition."""
-    return BxDF(codes[0], codes[1], codes[2], codes[3], codes[4], b.roughness, b.alpha, b.alpha, b.alpha, False,
-                b.metallic, b.base, b.diffuse_color, b.f0, b.f90, b.eta, b.k, b.dielectric_f0, b.specular_color,
-                b.subsurface, b.sheen, 0.0, b.clearcoat_alpha)
+_specialised = specialised
 
 
 _bxdf_f_lanes = dual_use(inline="llvm")(bxdf_f)
@@ -880,9 +853,9 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                                 and occlusion and ha[_T_KIND, i] != KIND_NONE and (n_area == 0 or xb[_X_END, i] == 0.0)):
                             hi_ = np.int64(ha[_T_INDEX, i])
                             hm = sphere_mat[hi_] if np.int64(ha[_T_KIND, i]) == KIND_SPHERE else plane_mat[hi_]
-                            mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, P_EMISSIVE]
-                            mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, P_EMISSIVE + 1]
-                            mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, P_EMISSIVE + 2]
+                            mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, _EMISSIVE]
+                            mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, _EMISSIVE + 1]
+                            mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, _EMISSIVE + 2]
                 # --- the pixel's sums, in sample order
                 if sub == 0 and c0 == 0:
                     k0 = mb[_M_LOCAL, 0]
@@ -1117,7 +1090,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         total_sq = np.zeros((n_pixels, 3))
         eps = 1e-7 * geometry.scale
         if bounces == 0:
-            emissive = bool(np.any(mat_f[:, P_EMISSIVE:P_EMISSIVE + 3] != 0.0))
+            emissive = bool(np.any(mat_f[:, _EMISSIVE:_EMISSIVE + 3] != 0.0))
             run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, code,
                            bool(occlusion), emissive, base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f,
                            material_variants(mat_i, mat_f), env.radiance, func, total, alias, row_cos, env.cos,

@@ -21,23 +21,23 @@ relative to the scene file's folder.  Every key is optional except
     intensity = 1.0
     rotation = 0.0                # degrees about +Y (counter-clockwise seen from +Y)
 
-    [materials.gold]
+    [materials.gold]              # every model's keys, ranges and defaults: docs/materials.md
     model = "gltf"                # gltf (default: glTF 2.0 Appendix B), cook_torrance, filament, ue4,
                                   # urp_mobile, disney
     base_color = [1.0, 0.78, 0.34]
     metallic = 1.0
     roughness = 0.3               # perceptual roughness, alpha = r^2
-    reflectance = 0.5             # dielectric f0 = 0.16 reflectance^2
-    emissive = [0.0, 0.0, 0.0]    # emitted radiance (cd / m^2)
-    anisotropy = 0.0              # cook_torrance (ggx, beckmann), filament: [-1, 1]; disney: [0, 1]
-    # disney only: subsurface, specular_tint, sheen, sheen_tint (0.5), clearcoat, clearcoat_gloss (1)
-    # cook_torrance only:
+    emissive = [0.0, 0.0, 0.0]    # emitted radiance (cd / m^2); any model
+
+    [materials.clay]
+    model = "cook_torrance"       # chooses its terms by name:
     distribution = "ggx"          # ggx, beckmann, blinn-phong
     masking = "height-correlated" # height-correlated, separable, schlick-ggx, schlick-ggx-ue4, kelemen, implicit
     fresnel = "schlick"           # schlick, schlick-pow4, ue4-sg, exact-conductor, exact-dielectric, none
-    # eta = [...], k = [...]      # complex IOR (RGB) for exact-conductor; or conductor = "gold"
-    # specular_color = [1, 1, 1]  # the constant F of fresnel = "none"
-    diffuse = "lambert"           # lambert, burley, none (cook_torrance and filament)
+    diffuse = "eon"               # lambert, burley, none, eon (energy-preserving Oren-Nayar)
+    base_color = [0.6, 0.35, 0.25]
+    roughness = 0.8
+    # conductor = "gold"          # a metal's complex IOR (eta, k) for exact-conductor
 
     [[objects]]
     type = "sphere"
@@ -114,13 +114,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..brdf.bxdf import DIFFUSES, DISTRIBUTIONS, FRESNELS, MASKINGS, MODEL_TERMS, MODELS
-from ..brdf.fresnel import CONDUCTORS, f0_conductor
-from ..brdf.material import Material
+from ..brdf.shading.registry import MODELS
 from ..core import checks
 from ..core.errors import InputError
 from .area_lights import AREA_LIGHT_TYPES, AreaLight
 from .lights import LIGHT_TYPES, Light
+from .material_spec import CHOICES, NUMBERS, SURFACE_KEYS, MaterialSpec
 
 __all__ = [
     "Camera",
@@ -279,140 +278,7 @@ def bundled_environment():
 
 
 # --------------------------------------------------------------- materials
-
-#: Disney's parameters beyond the metallic-roughness ones, with their defaults.
-DISNEY_PARAMETERS = {"subsurface": 0.0, "specular_tint": 0.0, "sheen": 0.0, "sheen_tint": 0.5, "clearcoat": 0.0,
-                     "clearcoat_gloss": 1.0}
-
-
-@dataclass(frozen=True)
-class MaterialSpec:
-    """A scene material: the metallic-roughness parameters of
-    :class:`pbrkit.Material`, the shading model and, for ``cook_torrance``, its
-    D, G and F terms by name (:func:`pbrkit.brdf.models.cook_torrance`).
-
-    ``fresnel = "none"`` means F = ``specular_color`` (default white).
-    ``anisotropy`` stretches the GGX or Beckmann lobe along the tangent
-    (cook_torrance and filament: [-1, 1], alpha_t = alpha (1 + a); disney:
-    [0, 1], Burley's aspect); the shading frame's tangent follows the
-    parallels about +Y (:func:`pbrkit.brdf.bxdf.tangent_frame`).  ``subsurface``,
-    ``specular_tint``, ``sheen``, ``sheen_tint``, ``clearcoat`` and
-    ``clearcoat_gloss`` are Disney's (model ``disney`` only).
-    ``conductor`` names a metal of :data:`pbrkit.brdf.fresnel.CONDUCTORS`: it sets
-    eta and k, metallic 1 and base_color = the exact Fresnel reflectance at
-    normal incidence (as :meth:`pbrkit.Material.conductor`).
-    """
-
-    name: str = "default"
-    base_color: tuple = (0.8, 0.8, 0.8)
-    metallic: float = 0.0
-    roughness: float = 0.5
-    reflectance: float = 0.5
-    emissive: tuple = (0.0, 0.0, 0.0)
-    model: str = "gltf"
-    distribution: str = "ggx"
-    masking: str = "height-correlated"
-    fresnel: str = "schlick"
-    diffuse: str = "lambert"
-    eta: tuple | None = None
-    k: tuple | None = None
-    specular_color: tuple = (1.0, 1.0, 1.0)
-    conductor: str | None = None
-    double_sided: bool = True
-    anisotropy: float = 0.0
-    subsurface: float = 0.0
-    specular_tint: float = 0.0
-    sheen: float = 0.0
-    sheen_tint: float = 0.5
-    clearcoat: float = 0.0
-    clearcoat_gloss: float = 1.0
-
-    def __post_init__(self):
-        set_ = object.__setattr__
-        if self.model not in SHADING_MODELS:
-            raise ValueError(f"material {self.name!r}: unknown model {self.model!r}; "
-                             f"choose one of {', '.join(SHADING_MODELS)}")
-        for kind, value, choices in (("distribution", self.distribution, DISTRIBUTIONS),
-                                     ("masking", self.masking, MASKINGS),
-                                     ("fresnel", self.fresnel, FRESNELS),
-                                     ("diffuse", self.diffuse, DIFFUSES)):
-            if value not in choices:
-                raise ValueError(f"material {self.name!r}: unknown {kind} {value!r}; choose one of "
-                                 f"{', '.join(choices)}")
-        if self.model != "cook_torrance":
-            fixed = MODEL_TERMS[self.model]
-            given = (self.distribution, self.masking, self.fresnel)
-            defaults = ("ggx", "height-correlated", "schlick")
-            for kind, default, implied, value in zip(("distribution", "masking", "fresnel"), defaults, fixed, given):
-                if value not in (default, implied):
-                    raise ValueError(f"material {self.name!r}: {kind} can only be chosen with model "
-                                     f"'cook_torrance' (model {self.model!r} fixes it)")
-            set_(self, "distribution", fixed[0])
-            set_(self, "masking", fixed[1])
-            set_(self, "fresnel", fixed[2])
-            if fixed[3] is not None:
-                if self.diffuse not in ("lambert", fixed[3]):
-                    raise ValueError(f"material {self.name!r}: model {self.model!r} has {fixed[3].capitalize()} "
-                                     "diffuse only")
-                set_(self, "diffuse", fixed[3])
-        if self.model == "gltf" and self.reflectance != 0.5:
-            raise ValueError(f"material {self.name!r}: model 'gltf' has the dielectric f0 of IOR 1.5 "
-                             "(reflectance 0.5); choose another model to set reflectance")
-        if self.model != "disney":
-            for name, default in DISNEY_PARAMETERS.items():
-                if getattr(self, name) != default:
-                    raise ValueError(f"material {self.name!r}: {name} needs model 'disney'")
-        if self.anisotropy != 0.0:
-            if self.model in ("ue4", "urp_mobile", "gltf"):
-                raise ValueError(f"material {self.name!r}: model {self.model!r} is isotropic (anisotropy must be 0)")
-            if self.distribution == "blinn-phong":
-                raise ValueError(f"material {self.name!r}: the Blinn-Phong distribution is isotropic "
-                                 "(anisotropy needs ggx or beckmann)")
-            if self.model == "disney" and self.anisotropy < 0.0:
-                raise ValueError(f"material {self.name!r}: disney anisotropy must be in [0, 1] (Burley's aspect)")
-        if self.conductor is not None:
-            if self.conductor not in CONDUCTORS:
-                raise ValueError(f"material {self.name!r}: unknown conductor {self.conductor!r}; "
-                                 f"known: {', '.join(sorted(CONDUCTORS))}")
-            if self.eta is not None or self.k is not None:
-                raise ValueError(f"material {self.name!r}: give either conductor or eta and k, not both")
-            eta, k = (np.asarray(x) for x in CONDUCTORS[self.conductor])
-            set_(self, "eta", tuple(eta))
-            set_(self, "k", tuple(k))
-            set_(self, "metallic", 1.0)
-            set_(self, "base_color", tuple(f0_conductor(eta, k)))
-        try:
-            m = self.material()
-        except ValueError as exc:
-            raise ValueError(f"material {self.name!r}: {exc}") from None
-        set_(self, "base_color", tuple(float(x) for x in m.base_color))
-        set_(self, "metallic", float(m.metallic))
-        set_(self, "roughness", float(m.roughness))
-        set_(self, "reflectance", float(m.reflectance))
-        set_(self, "anisotropy", float(m.anisotropy))
-        for name in DISNEY_PARAMETERS:
-            set_(self, name, float(getattr(m, name)))
-        if m.eta is not None:
-            set_(self, "eta", tuple(float(x) for x in m.eta))
-            set_(self, "k", tuple(float(x) for x in m.k))
-        if self.fresnel == "exact-conductor" and self.eta is None:
-            raise ValueError(f"material {self.name!r}: fresnel 'exact-conductor' needs eta and k (or conductor)")
-        for name in ("emissive", "specular_color"):
-            a = np.asarray(getattr(self, name), dtype=float)
-            if a.shape != (3,) or not np.all(np.isfinite(a)) or np.any(a < 0):
-                raise ValueError(f"material {self.name!r}: {name} must be 3 finite non-negative numbers; "
-                                 f"got {getattr(self, name)!r}")
-            set_(self, name, tuple(float(x) for x in a))
-        if np.any(np.asarray(self.specular_color) > 1.0):
-            raise ValueError(f"material {self.name!r}: specular_color must be in [0, 1]")
-
-    def material(self):
-        """The :class:`pbrkit.Material` of these parameters (validates them)."""
-        return Material(base_color=np.asarray(self.base_color, dtype=float), metallic=self.metallic,
-                        roughness=self.roughness, reflectance=self.reflectance, anisotropy=self.anisotropy,
-                        **{name: getattr(self, name) for name in DISNEY_PARAMETERS},
-                        eta=None if self.eta is None else np.asarray(self.eta, dtype=float),
-                        k=None if self.k is None else np.asarray(self.k, dtype=float))
+# MaterialSpec is generated from the models' declarations (pbrkit.render.material_spec).
 
 
 # ----------------------------------------------------------------- objects
@@ -594,11 +460,12 @@ _CAMERA_VALUES = {"position": _POINT, "look_at": _POINT, "up": _DIRECTION, "fov"
                   "width": _integer(1, 16384), "height": _integer(1, 16384), "supersample": _integer(1, 16)}
 _ENV_VALUES = {"file": _STRING, "bake": _STRING, "color": _RADIANCE, "intensity": _number(0.0, MAX_INTENSITY),
                "rotation": _number()}
-_MATERIAL_VALUES = {"base_color": _COLOR, "metallic": _UNIT, "roughness": _UNIT, "reflectance": _UNIT,
-                    "emissive": _RADIANCE, "model": _STRING, "distribution": _STRING, "masking": _STRING,
-                    "fresnel": _STRING, "diffuse": _STRING, "conductor": _STRING, "anisotropy": _number(-1.0, 1.0),
-                    "eta": _numbers(3, 1e-6, 1e3), "k": _numbers(3, 0.0, 1e3), "specular_color": _COLOR,
-                    **{name: _UNIT for name in DISNEY_PARAMETERS}}
+#: The material keys' checks, from the models' declarations: numbers in their ranges
+#: (RGB ones as lists of 3), term names as strings (their tables check the names).
+_MATERIAL_VALUES = {**{p.name: _numbers(3, p.low, p.high) if p.channels == 3 else _number(p.low, p.high)
+                       for p in NUMBERS},
+                    **{c.name: _STRING for c in CHOICES},
+                    "emissive": _RADIANCE, "model": _STRING, "conductor": _STRING}
 _OBJECT_VALUES = {"type": _STRING, "material": _STRING, "center": _POINT, "radius": _number(0.0, MAX_COORDINATE, True),
                   "point": _POINT, "normal": _DIRECTION, "file": _STRING, "translation": _POINT,
                   "rotation": _numbers(4, nonzero=True), "scale": _scale_check()}
@@ -626,9 +493,7 @@ def _check_values(table, checks, label):
 _SECTIONS = {"camera", "environment", "materials", "objects", "lights", "style"}
 _CAMERA_KEYS = {"position", "look_at", "up", "fov", "width", "height", "supersample"}
 _ENV_KEYS = {"file", "bake", "color", "intensity", "rotation"}
-_MATERIAL_KEYS = {"base_color", "metallic", "roughness", "reflectance", "emissive", "model", "distribution",
-                  "anisotropy", "subsurface", "specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss",
-                  "masking", "fresnel", "diffuse", "eta", "k", "specular_color", "conductor"}
+_MATERIAL_KEYS = {p.name for p in NUMBERS + CHOICES} | set(SURFACE_KEYS) - {"double_sided"}
 _OBJECT_KEYS = {"sphere": {"type", "center", "radius", "material"},
                 "plane": {"type", "point", "normal", "material"},
                 "gltf": {"type", "file", "translation", "rotation", "scale"}}

@@ -12,7 +12,7 @@ group:
   ``V_Neubelt``), F (``F_Schlick``, ``F_SphericalGaussian``,
   ``F_SchlickRoughness``, ``F_Dielectric``), diffuse (``Fd_Lambert``,
   ``Fd_Burley``) and the models ``BRDF_UE4``, ``BRDF_Filament``,
-  ``BRDF_glTF``, composed from those terms as :mod:`pbrkit.brdf.bxdf`
+  ``BRDF_glTF``, composed from those terms as :mod:`pbrkit.brdf.shading`
   composes them;
 - ``pbrkit_ibl.glsl``: lod = r (M - 1), the DFG table lookup at (n.v, r)
   with texel centres, SH9 irradiance, the split-sum combination;

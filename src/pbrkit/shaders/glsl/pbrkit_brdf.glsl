@@ -346,7 +346,7 @@ pbrkit_Cosines pbrkit_cosines(vec3 l, vec3 v, vec3 n) {
 //   with f0 = mix(0.16 reflectance^2, base, metallic); 0 unless n.l > 0 and n.v > 0.
 // source: Karis 2013, "Real Shading in Unreal Engine 4" (eqs. 3-5)
 // roughness: alpha = max(r^2, 1e-3) for D; direct-light k = (r + 1)^2 / 8 for G
-// pbrkit: pbrkit.brdf.models.ue4, pbrkit.brdf.bxdf.ue4_specular
+// pbrkit: pbrkit.brdf.models.ue4, pbrkit.brdf.shading.ue4.ue4_specular
 vec3 BRDF_UE4(vec3 l, vec3 v, vec3 n, vec3 baseColor, float metallic, float roughness, float reflectance) {
     pbrkit_Cosines c = pbrkit_cosines(l, v, n);
     if (c.NoL <= 0.0 || c.NoV <= 0.0) return vec3(0.0);
@@ -362,7 +362,7 @@ vec3 BRDF_UE4(vec3 l, vec3 v, vec3 n, vec3 baseColor, float metallic, float roug
 //   (burleyDiffuse) Burley; 0 unless n.l > 0 and n.v > 0.
 // source: Filament documentation, sec. 4 ("Material system": 4.4, 4.8.3.2)
 // roughness: alpha = max(r^2, 1e-3) for D and V; Burley's diffuse takes r
-// pbrkit: pbrkit.brdf.models.filament, pbrkit.brdf.bxdf.filament_specular
+// pbrkit: pbrkit.brdf.models.filament, pbrkit.brdf.shading.filament.filament_specular
 vec3 BRDF_Filament(vec3 l, vec3 v, vec3 n, vec3 baseColor, float metallic, float roughness, float reflectance,
                    bool burleyDiffuse) {
     pbrkit_Cosines c = pbrkit_cosines(l, v, n);
@@ -382,7 +382,7 @@ vec3 BRDF_Filament(vec3 l, vec3 v, vec3 n, vec3 baseColor, float metallic, float
 //   0 unless n.l > 0 and n.v > 0.
 // source: glTF 2.0 specification, Appendix B (B.2.2, B.3.2, B.3.4, B.3.5)
 // roughness: alpha = max(r^2, 1e-3)
-// pbrkit: pbrkit.brdf.models.gltf, pbrkit.brdf.bxdf.gltf_fresnel_mix_weight
+// pbrkit: pbrkit.brdf.models.gltf, pbrkit.brdf.shading.gltf.gltf_fresnel_mix_weight
 vec3 BRDF_glTF(vec3 l, vec3 v, vec3 n, vec3 baseColor, float metallic, float roughness) {
     pbrkit_Cosines c = pbrkit_cosines(l, v, n);
     if (c.NoL <= 0.0 || c.NoV <= 0.0) return vec3(0.0);

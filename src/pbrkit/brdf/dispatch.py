@@ -1,0 +1,159 @@
+"""One dispatch on the model code, generated from the registry
+(:mod:`pbrkit.brdf.shading.registry`): the compiled functions the kernels call
+for a BxDF of any model.  Each is ``if model == 0: return <model 0's> ...``,
+generated, never typed; a kernel that fixes the model (a BxDF whose code is a
+constant, :func:`specialised`) keeps that model's branch only, so its
+per-sample code has no model branches.  The generated text is each function's
+``__source__``.
+
+- :func:`make_bxdf` (the model's setup), :func:`bxdf_f` (the value f, RGB, not
+  f cos; zero unless n.l > 0 and n.v > 0), :func:`lobe_probabilities`,
+  :func:`sample_wi` and :func:`bxdf_pdf` (the composition's mixture,
+  :func:`pbrkit.brdf.operators.compose`);
+- the main specular lobe's pieces, for the tables, the explorer and the real-time
+  split sum: :func:`specular_lobe` (D V), :func:`specular_distribution` (D),
+  :func:`specular_visibility` (V), :func:`bxdf_fresnel` (F, RGB),
+  :func:`split_sum_f0` (RGB), :func:`fresnel_constant`;
+- the real-time treatment of the model's other lobes (:class:`pbrkit.brdf.shading.model.RealTime`):
+  :func:`ibl_has_diffuse`, :func:`ibl_diffuse_weight`, :func:`ibl_coat_roughness`,
+  :func:`ibl_has_extras`, :func:`ibl_extras`.
+"""
+
+from __future__ import annotations
+
+from ..core.codegen import generate, if_chain
+from ..core.jit import dual_use
+from .bxdf import BxDF
+from .shading.registry import COLUMNS, REGISTERED
+
+__all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
+           "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "fresnel_constant",
+           "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_has_extras", "ibl_extras",
+           "specialised", "SOURCES"]
+
+#: The generated source of every dispatch, by name.
+SOURCES = {}
+
+
+def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), namespace=None):
+    """``def name(arguments): <head> if selector == i: return call(i) ...`` over the
+    registered models; ``call(i, model)`` gives the expression and registers what it
+    calls in the namespace ``ns``."""
+    ns = dict(namespace or {})
+    calls = [call(i, m, ns) for i, m in enumerate(REGISTERED)]
+    lines = [f"def {name}({', '.join(arguments)}):", *head] + if_chain(selector, calls)
+    source = "\n".join(lines) + "\n"
+    SOURCES[name] = source
+    return generate(source, name, ns, inline=inline)
+
+
+def _put(ns, key, fn):
+    ns[key] = fn
+    return key
+
+
+make_bxdf = _dispatch(
+    "make_bxdf", ("codes", "row", "params", "q", "roughness", "metallic", "b0", "b1", "b2"),
+    lambda i, m, ns: f"{_put(ns, f'setup{i}', m.setup)}(codes, row, params, q, COLUMNS, roughness, metallic, b0, b1, "
+                     f"b2)", selector="codes[row, 0]", namespace={"COLUMNS": COLUMNS})
+make_bxdf.__doc__ = """The :class:`pbrkit.brdf.bxdf.BxDF` of a material (row ``row`` of the code
+table ``codes``, row ``q`` of the parameter table ``params``) with the base colour
+(b0, b1, b2), metallic and perceptual roughness at the shading point (textures
+applied): the model's setup.  Tables and row numbers rather than row views: a view
+per call costs reference counting in the innermost loops."""
+
+bxdf_f = _dispatch(
+    "bxdf_f", ("b", "c", "ec0", "ec1", "ec2"),
+    lambda i, m, ns: f"{_put(ns, f'value{i}', m.compiled.value)}(b, c, (ec0, ec1, ec2))",
+    head=("    if c.nol <= 0.0 or c.nov <= 0.0:", "        return 0.0, 0.0, 0.0"), inline=False)
+
+lobe_probabilities = _dispatch(
+    "lobe_probabilities", ("b", "nov"),
+    lambda i, m, ns: f"{_put(ns, f'p{i}', m.compiled.probabilities)}(b, nov)")
+
+sample_wi = _dispatch(
+    "sample_wi", ("b", "wox", "woy", "woz", "u_lobe", "u1", "u2", "p_spec", "p_coat"),
+    lambda i, m, ns: f"{_put(ns, f's{i}', m.compiled.sample)}(b, wox, woy, woz, u_lobe, u1, u2, p_spec, p_coat)")
+
+bxdf_pdf = _dispatch(
+    "bxdf_pdf", ("b", "c", "p_spec", "p_coat"),
+    lambda i, m, ns: f"{_put(ns, f'pdf{i}', m.compiled.pdf)}(b, c, p_spec, p_coat)")
+
+
+def _part(attribute, arguments):
+    return lambda i, m, ns: f"{_put(ns, f'{attribute}{i}', getattr(m.compiled.specular.parts, attribute))}" \
+                            f"({', '.join(arguments)})"
+
+
+specular_lobe = _dispatch("specular_lobe", ("b", "c"), _part("dv", ("b", "c")))
+specular_distribution = _dispatch("specular_distribution", ("b", "c"), _part("d", ("b", "c")))
+specular_visibility = _dispatch("specular_visibility", ("b", "c"), _part("v", ("b", "c")))
+bxdf_fresnel = _dispatch("bxdf_fresnel", ("b", "voh"), _part("fresnel", ("b", "voh")))
+split_sum_f0 = _dispatch("split_sum_f0", ("b",), _part("split_sum_f0", ("b",)))
+fresnel_constant = _dispatch("fresnel_constant", ("b",), _part("constant", ("b",)))
+
+
+@dual_use(inline=True)
+def _true(b):
+    return True
+
+
+@dual_use(inline=True)
+def _false(b):
+    return False
+
+
+def _has_diffuse(m):
+    """Whether the model's diffuse lobe is present: a choice that can be "none" is
+    present unless the BxDF's diffuse code is that."""
+    choice = m.choices.get("diffuse")
+    if not m.compiled.diffuse:
+        return _false
+    if choice is None or "none" not in choice.choices:
+        return _true
+    from .lobes.diffuse import DIFFUSES
+
+    none = DIFFUSES.index("none")
+
+    @dual_use(inline=True)
+    def present(b):
+        return b.diffuse != none
+
+    return present
+
+
+ibl_has_diffuse = _dispatch("ibl_has_diffuse", ("b",),
+                            lambda i, m, ns: f"{_put(ns, f'h{i}', _has_diffuse(m))}(b)")
+ibl_diffuse_weight = _dispatch(
+    "ibl_diffuse_weight", ("b", "nov", "exact", "table"),
+    lambda i, m, ns: f"{_put(ns, f'w{i}', m.realtime.diffuse_weight)}(b, nov, exact, table)")
+ibl_coat_roughness = _dispatch("ibl_coat_roughness", ("b",),
+                               lambda i, m, ns: f"{_put(ns, f'c{i}', m.realtime.coat_roughness)}(b)")
+ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
+                           lambda i, m, ns: f"{_put(ns, f'x{i}', _true if m.realtime.extras else _false)}(b)")
+
+
+@dual_use(inline=True)
+def _no_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered):
+    z = (0.0, 0.0, 0.0)
+    return z, z
+
+
+ibl_extras = _dispatch(
+    "ibl_extras", ("b", "nov", "coat_dfg1", "coat_dfg2", "sheen_table", "irradiance", "coat_prefiltered"),
+    lambda i, m, ns: f"{_put(ns, f'e{i}', m.realtime.extras or _no_extras)}(b, nov, coat_dfg1, coat_dfg2, "
+                     "sheen_table, irradiance, coat_prefiltered)")
+
+
+# ----------------------------------------------------------------- specialised
+
+
+@dual_use(inline=True)
+def specialised(b, codes):
+    """``b`` with its code row replaced by the constant ``codes`` (which must be its
+    own: one of :data:`pbrkit.brdf.shading.registry.VARIANTS`) and made isotropic (the
+    kernels specialise isotropic materials only), so that the dispatch functions
+    inlined after it fold to that model's composition with those terms."""
+    return BxDF(codes[0], codes[1], codes[2], codes[3], codes[4], b.roughness, b.alpha, b.alpha, b.alpha, False,
+                b.metallic, b.base, b.diffuse_color, b.f0, b.f90, b.eta, b.k, b.dielectric_f0, b.specular_color,
+                b.extra)

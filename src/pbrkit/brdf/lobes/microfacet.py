@@ -1,0 +1,115 @@
+"""Reflection from a microfacet distribution (Cook & Torrance 1982; Walter et al.
+2007): f = D(h) V(l, v) F(v.h), V = G2 / (4 n.l n.v), with D, V and F the terms
+of :mod:`pbrkit.brdf.terms` -- each fixed by the model, or chosen per material
+by a code of the BxDF (a method :class:`~pbrkit.brdf.terms.Table`).
+
+Roughness: the BxDF's alpha = max(r^2, 1e-3) (and its anisotropic alphas);
+UE4's masking uses k = (r + 1)^2 / 8 of the perceptual r.  Sampled by GGX
+visible normals of the same alphas (:data:`pbrkit.brdf.lobes.GGX_VISIBLE_NORMALS`);
+the albedo estimate is Schlick's F at n.v with the lobe's f0 (the constant
+colour for a constant F), luminance-weighted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ...core.color import rec709_luminance
+from ...core.jit import dual_use
+from ..terms import Distribution, Masking, Table, choose
+from . import GGX_VISIBLE_NORMALS, Lobe, lobe_width, quadrature_albedo
+
+__all__ = ["Microfacet", "microfacet"]
+
+
+@dataclass(frozen=True, eq=False)
+class Microfacet:
+    """The pieces of a microfacet lobe, compiled: ``d(b, c)``, ``v(b, c)``, ``dv(b, c)``
+    (D V, or the model's own combined term), ``fresnel(b, voh)`` (RGB),
+    ``split_sum_f0(b)`` (RGB, the F0 of the real-time split sum), ``constant(b)``
+    (whether F is the constant colour), and the term declarations themselves."""
+
+    distribution: object
+    masking: object
+    fresnel_term: object
+    d: object
+    v: object
+    dv: object
+    fresnel: object
+    split_sum_f0: object
+    constant: object
+
+    def table_name(self, masking_name=None):
+        """The DFG table whose visibility is this lobe's: its masking's, or for a
+        chosen masking the one named ``masking_name``."""
+        if isinstance(self.masking, Masking):
+            return self.masking.table
+        return self.masking[masking_name].table
+
+
+def _chosen_distribution(table):
+    return Distribution("chosen", choose(table, "d", ("c",)), choose(table, "lambdas", ("c",)), True)
+
+
+def microfacet(distribution, masking, fresnel, dv=None, name="specular", role="specular"):
+    """The microfacet :class:`~pbrkit.brdf.lobes.Lobe` of ``distribution``, ``masking``
+    and ``fresnel`` (each a term of :mod:`pbrkit.brdf.terms` or a method table to
+    choose from by the BxDF's code); ``dv(b, c)`` replaces D V in the value (a
+    model's combined term, such as URP's), D and V still describing the lobe."""
+    dist = _chosen_distribution(distribution) if isinstance(distribution, Table) else distribution
+    d = dist.d
+    if isinstance(masking, Table):
+        v = choose(masking, "v", ("c",), wrap=lambda m: m.for_distribution(dist))
+    else:
+        v = masking.for_distribution(dist)
+    if isinstance(fresnel, Table):
+        f = choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"))
+        estimate = choose(fresnel, "estimate", ("f0", "s", "nov"))
+        f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"))
+        constant = choose(fresnel, "constant", (), wrap=lambda m: _true if m.constant else _false)
+    else:
+        f, estimate, f0_of = fresnel.f, fresnel.estimate, fresnel.split_sum_f0
+        constant = _true if fresnel.constant else _false
+
+    if dv is None:
+        @dual_use(inline=True)
+        def dv(b, c):
+            return d(b, c) * v(b, c)
+
+    @dual_use(inline=True)
+    def fresnel_rgb(b, voh):
+        return (f(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0], voh),
+                f(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1], voh),
+                f(b, b.f0[2], b.eta[2], b.k[2], b.specular_color[2], voh))
+
+    @dual_use(inline=True)
+    def split_sum_f0(b):
+        return (f0_of(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0]),
+                f0_of(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1]),
+                f0_of(b, b.f0[2], b.eta[2], b.k[2], b.specular_color[2]))
+
+    @dual_use(inline=True)
+    def value(b, c, ec, w):
+        spec = dv(b, c)
+        f0, f1, f2 = fresnel_rgb(b, c.voh)
+        return f0 * ((spec * ec[0]) * w), f1 * ((spec * ec[1]) * w), f2 * ((spec * ec[2]) * w)
+
+    @dual_use(inline=True)
+    def lobe_estimate(b, nov):
+        return rec709_luminance(estimate(b, b.f0[0], b.specular_color[0], nov),
+                                estimate(b, b.f0[1], b.specular_color[1], nov),
+                                estimate(b, b.f0[2], b.specular_color[2], nov))
+
+    parts = Microfacet(distribution, masking, fresnel, d, v, dv, fresnel_rgb, split_sum_f0, constant)
+    return Lobe(name, value, GGX_VISIBLE_NORMALS, role, lobe_estimate,
+                quadrature_albedo(value, lobe_width), parts)
+
+
+@dual_use(inline=True)
+def _true(b):
+    return True
+
+
+@dual_use(inline=True)
+def _false(b):
+    return False

@@ -1,0 +1,126 @@
+"""The glTF 2.0 metallic-roughness BRDF exactly as the glTF 2.0 specification's
+Appendix B defines it:
+
+    material = mix(fresnel_mix(ior = 1.5, diffuse_brdf(base_color), specular_brdf(r^2)),
+                   conductor_fresnel(base_color, specular_brdf(r^2)), metallic)
+
+(:data:`SPECIFICATION`, written with :mod:`pbrkit.brdf.operators`).  Schlick's
+F is linear in f0, so the metal and the dielectric share one specular lobe with
+f0 = mix(0.04, base_color, metallic), and the model computes the equal
+:data:`COMPOSITION`
+
+    f = (1 - metallic)(1 - F_0.04(v.h)) base_color / pi + D V F_f0(v.h),
+
+D GGX, V the separable Smith-GGX visibility G1(l) G1(v) / (4 n.l n.v) (B.3.2),
+alpha = r^2 (B.2.2), the dielectric f0 0.04 of IOR 1.5.  In real time the
+diffuse weight 1 - F(v.h) becomes Lagarde's 1 - F*(n.v, 0.04, r) or its exact
+albedo (:func:`ibl_diffuse_weight`).
+"""
+
+from __future__ import annotations
+
+from ...core.filtering import linear_1d
+from ...core.jit import dual_use
+from ..bxdf import NO_EXTRA, BxDF
+from ..diffuse import kd_ibl, lambert
+from ..distributions import alpha_from_roughness
+from ..fresnel import f0_from_ior, f0_metallic, f_schlick
+from ..lobes import Lobe
+from ..lobes.diffuse import LAMBERT
+from ..lobes.microfacet import microfacet
+from ..operators import add, fresnel_mix, mix, weighted
+from ..parameters import BASE_COLOR, METALLIC, ROUGHNESS
+from ..terms import GGX, SCHLICK, SEPARABLE
+from .model import Model, RealTime
+
+__all__ = ["MODEL", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION", "COMPOSITION",
+           "ibl_diffuse_weight"]
+
+#: The glTF 2.0 dielectric's IOR (Appendix B.3.4) and its normal reflectance
+#: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
+GLTF_IOR = 1.5
+GLTF_DIELECTRIC_F0 = f0_from_ior(GLTF_IOR)
+_Z3 = (0.0, 0.0, 0.0)
+
+
+@dual_use
+def gltf_fresnel_mix_weight(voh):
+    """The weight 1 - F(v.h) that the glTF 2.0 metallic-roughness BRDF gives its
+    diffuse base under the specular layer: ``fresnel_mix(ior = 1.5, base, layer)
+    = mix(base, layer, F)`` with F = f0 + (1 - f0)(1 - |v.h|)^5, f0 = 0.04 (glTF 2.0
+    specification, Appendix B.3.4 and B.3.5)."""
+    return 1.0 - f_schlick(voh, GLTF_DIELECTRIC_F0, 1.0)
+
+
+@dual_use(inline=True)
+def _fresnel_mix_weight(b, c):
+    return gltf_fresnel_mix_weight(c.voh)
+
+
+@dual_use(inline=True)
+def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
+    alpha = alpha_from_roughness(roughness)
+    f0d = GLTF_DIELECTRIC_F0
+    f0 = (f0_metallic(b0, metallic, f0d), f0_metallic(b1, metallic, f0d), f0_metallic(b2, metallic, f0d))
+    kd = 1.0 - metallic
+    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
+                alpha, alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3, _Z3, f0d,
+                _Z3, NO_EXTRA)
+
+
+_SPECULAR = microfacet(GGX, SEPARABLE, SCHLICK)
+_DV = _SPECULAR.parts.dv
+
+
+@dual_use(inline=True)
+def _diffuse_brdf(b, c, ec, w):
+    # diffuse_brdf(base_color) = base_color / pi (B.3.3)
+    k = lambert(c.nol) * w
+    return b.base[0] * k, b.base[1] * k, b.base[2] * k
+
+
+@dual_use(inline=True)
+def _specular_brdf(b, c, ec, w):
+    # specular_brdf(alpha) = D V, without Fresnel (B.3.2)
+    k = _DV(b, c) * w
+    return k, k, k
+
+
+@dual_use(inline=True)
+def _conductor_fresnel(b, c, ec, w):
+    # conductor_fresnel(f0 = base_color, specular_brdf) = specular_brdf F_Schlick(base_color) (B.3.4)
+    k = _DV(b, c) * w
+    return (f_schlick(c.voh, b.base[0], 1.0) * k, f_schlick(c.voh, b.base[1], 1.0) * k,
+            f_schlick(c.voh, b.base[2], 1.0) * k)
+
+
+@dual_use(inline=True)
+def _metallic(b):
+    return b.metallic
+
+
+#: Appendix B as written: the dielectric (a Fresnel mix of the diffuse and specular
+#: BRDFs at IOR 1.5) and the metal mixed by metallic.  Its value is the model's
+#: (tested); the model evaluates the folded :data:`COMPOSITION`.
+SPECIFICATION = mix(fresnel_mix(GLTF_IOR, Lobe("diffuse_brdf", _diffuse_brdf, None, None, None, None),
+                                Lobe("specular_brdf", _specular_brdf, None, None, None, None)),
+                    Lobe("conductor_fresnel", _conductor_fresnel, None, None, None, None), _metallic)
+#: What the model evaluates: the specification with the metallic mix folded into f0
+#: (Schlick's F is linear in f0) and the dielectric's Fresnel kept on its diffuse.
+COMPOSITION = add(weighted(_fresnel_mix_weight, LAMBERT), _SPECULAR)
+
+
+@dual_use(inline=True)
+def ibl_diffuse_weight(b, nov, exact, table):
+    """The real-time weight of the diffuse lobe's IBL (weighted by 1 - F(v.h) in the
+    BRDF): Lagarde's 1 - F*(n.v, 0.04, r) (:func:`pbrkit.brdf.diffuse.kd_ibl` with
+    metallic 0: the diffuse colour already carries 1 - metallic), or with ``exact``
+    the exact albedo of that weight, ``table`` (linear between texel centres)."""
+    if exact:
+        return linear_1d(table, nov)
+    return kd_ibl(nov, GLTF_DIELECTRIC_F0, b.roughness, 0.0)
+
+
+MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_COLOR, METALLIC, ROUGHNESS),
+              setup, COMPOSITION, ("ggx", "separable", "schlick", "lambert"),
+              RealTime(diffuse_weight=ibl_diffuse_weight), variants=(("ggx", "separable", "schlick", "lambert"),))

@@ -1,0 +1,99 @@
+"""What a shading model declares (:class:`Model`): its parameters, how the BxDF is
+set up from them, its composition of lobes, and its real-time treatment.  One
+module per model (:mod:`pbrkit.brdf.models`) holds one such declaration; the
+registry (:mod:`pbrkit.brdf.shading.registry`) lists them, and everything else
+is generated from it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ...core.jit import dual_use
+from ..operators import compose
+from ..parameters import Choice, Parameter
+
+__all__ = ["Model", "RealTime"]
+
+
+@dual_use(inline=True)
+def _one(b, nov, exact, table):
+    return 1.0
+
+
+@dual_use(inline=True)
+def _no_coat(b):
+    return -1.0
+
+
+@dataclass(frozen=True, eq=False)
+class RealTime:
+    """A model's real-time image-based lighting beyond the split sum of its specular
+    lobe (:mod:`pbrkit.render.realtime`): ``diffuse_weight(b, nov, exact, table)``,
+    the weight on diffuse_color E(n) / pi (1 unless the diffuse lobe is weighted,
+    glTF's 1 - F(v.h)); ``coat_roughness(b)``, the perceptual roughness of a second
+    prefiltered lookup for a coat (-1: none); ``extras(b, nov, coat_dfg1, coat_dfg2,
+    sheen_table, irradiance, coat_prefiltered)`` -> (specular RGB, diffuse RGB)
+    added for the model's other lobes (``None``: there are none), with the DFG
+    table at the coat's roughness and the RGB irradiance and coat lookup."""
+
+    diffuse_weight: object = _one
+    coat_roughness: object = _no_coat
+    extras: object = None
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """A shading model's declaration.
+
+    - ``name``: its key in scene files and the NumPy API; ``doc``: one line.
+    - ``parameters``: :class:`~pbrkit.brdf.parameters.Parameter` and
+      :class:`~pbrkit.brdf.parameters.Choice` declarations, in the model's order.
+    - ``setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2)``:
+      the compiled :class:`~pbrkit.brdf.bxdf.BxDF` of code row ``row`` and parameter
+      row ``q`` (columns by name in ``columns``) with the shading point's base colour,
+      metallic and roughness.
+    - ``composition``: its lobes and operators (:mod:`pbrkit.brdf.operators`).
+    - ``terms``: the (distribution, masking, fresnel, diffuse) names it fixes, None
+      for a term chosen per material (a :class:`~pbrkit.brdf.parameters.Choice`).
+    - ``realtime``: :class:`RealTime`.
+    - ``variants``: term tuples the direct-lighting kernel compiles specialised.
+    - ``check(values, where)``: cross-parameter rules (one-line ``ValueError``).
+    """
+
+    name: str
+    doc: str
+    parameters: tuple
+    setup: object
+    composition: object
+    terms: tuple
+    realtime: RealTime = field(default_factory=RealTime)
+    variants: tuple = ()
+    check: object = None
+    compiled: object = field(init=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "compiled", compose(self.composition))
+        names = [p.name for p in self.parameters]
+        if len(set(names)) != len(names):
+            raise ValueError(f"model {self.name!r} declares a parameter twice")
+        for p in self.parameters:
+            if not isinstance(p, (Parameter, Choice)):
+                raise TypeError(f"model {self.name!r}: {p!r} is not a parameter declaration")
+
+    @property
+    def numbers(self):
+        """The numeric parameters."""
+        return tuple(p for p in self.parameters if isinstance(p, Parameter))
+
+    @property
+    def choices(self):
+        """The term choices, by name."""
+        return {p.name: p for p in self.parameters if isinstance(p, Choice)}
+
+    def declaration(self, name):
+        """The declaration of parameter ``name``, or None."""
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        return None
