@@ -45,31 +45,24 @@ import numpy as np
 from ..core.color import rec709_luminance
 from ..core.jit import dual_use, select
 from ..core.vec import orthonormal_basis_xyz
-from ..sampling.warps import (
-    pdf_cosine_hemisphere,
-    pdf_ggx_vndf,
-    pdf_ggx_vndf_anisotropic,
-    pdf_gtr1_ndf,
-    pdf_light_from_half,
-    reflect_xyz,
-    warp_cosine_hemisphere,
-    warp_ggx_vndf,
-    warp_ggx_vndf_anisotropic,
-    warp_gtr1_ndf,
-)
-from .diffuse import burley, burley_subsurface, lambert
-from .distributions import (
-    alpha_from_roughness,
-    anisotropic_alphas,
-    anisotropic_alphas_burley,
-    d_beckmann,
-    d_beckmann_anisotropic,
-    d_blinn_phong,
+from ..microfacet.beckmann import d_beckmann, d_beckmann_anisotropic, lambda_beckmann, lambda_beckmann_anisotropic
+from ..microfacet.blinn_phong import d_blinn_phong, phong_exponent_from_beckmann_alpha
+from ..microfacet.ggx import (
     d_ggx,
     d_ggx_anisotropic,
-    d_gtr1,
-    phong_exponent_from_beckmann_alpha,
+    lambda_ggx,
+    lambda_ggx_anisotropic,
+    pdf_ggx_vndf,
+    pdf_ggx_vndf_anisotropic,
+    v_smith_ggx_height_correlated,
+    warp_ggx_vndf,
+    warp_ggx_vndf_anisotropic,
 )
+from ..microfacet.gtr import d_gtr1, pdf_gtr1_ndf, warp_gtr1_ndf
+from ..microfacet.roughness import alpha_from_roughness, anisotropic_alphas, anisotropic_alphas_burley
+from ..microfacet.smith import g2_height_correlated, g2_separable, visibility
+from ..sampling.warps import pdf_cosine_hemisphere, pdf_light_from_half, reflect_xyz, warp_cosine_hemisphere
+from .diffuse import burley, burley_subsurface, lambert
 from .fresnel import (
     f0_from_ior,
     f0_metallic,
@@ -80,20 +73,7 @@ from .fresnel import (
     f_schlick_ue4_sg,
     ior_from_f0,
 )
-from .masking import (
-    g2_height_correlated,
-    g2_kelemen,
-    g2_schlick_ggx,
-    g2_separable,
-    k_schlick_from_alpha,
-    k_ue4_direct,
-    lambda_beckmann,
-    lambda_beckmann_anisotropic,
-    lambda_ggx,
-    lambda_ggx_anisotropic,
-    v_smith_ggx_height_correlated,
-    visibility,
-)
+from .masking import g2_kelemen, g2_schlick_ggx, k_schlick_from_alpha, k_ue4_direct
 
 __all__ = [
     "MODELS", "DISTRIBUTIONS", "MASKINGS", "FRESNELS", "DIFFUSES", "MODEL_TERMS",
@@ -224,9 +204,9 @@ def disney_tint(c, luminance):
 @dual_use
 def lobe_alphas(model, distribution, alpha, anisotropy):
     """(alpha_x, alpha_y, anisotropic) of a model's specular lobe: Burley's aspect
-    for disney (anisotropy in [0, 1], :func:`pbrkit.brdf.distributions.anisotropic_alphas_burley`),
+    for disney (anisotropy in [0, 1], :func:`pbrkit.microfacet.roughness.anisotropic_alphas_burley`),
     Kulla & Conty's stretch for filament and cook_torrance's GGX and Beckmann
-    (anisotropy in [-1, 1], :func:`pbrkit.brdf.distributions.anisotropic_alphas`);
+    (anisotropy in [-1, 1], :func:`pbrkit.microfacet.roughness.anisotropic_alphas`);
     isotropic otherwise (UE4, URP, Blinn-Phong) or for anisotropy 0."""
     if anisotropy != 0.0:
         if model == MODEL_DISNEY:

@@ -6,7 +6,7 @@ parameterisation):
 - ``base_color``: linear RGB (Rec.709 primaries), shape (..., 3), in [0, 1].
 - ``metallic``: in [0, 1].
 - ``roughness``: *perceptual* roughness r in [0, 1]; models use alpha = r^2,
-  clamped at :data:`pbrkit.brdf.distributions.ALPHA_MIN` (so r = 0 is a mirror-like
+  clamped at :data:`pbrkit.microfacet.roughness.ALPHA_MIN` (so r = 0 is a mirror-like
   but finite lobe, never NaN).
 - ``reflectance``: dielectric specular in [0, 1], f0 = 0.16 reflectance^2
   (Filament); 0.5 gives f0 = 0.04.  UE4's ``Specular`` s maps to
@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .distributions import alpha_from_roughness
+from ..microfacet.roughness import alpha_from_roughness
 from .fresnel import CONDUCTORS, f0_from_reflectance
 
 __all__ = ["Material"]
