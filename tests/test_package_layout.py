@@ -111,7 +111,7 @@ def test_each_formula_is_written_once():
     unit_functions = set()
     for path in sorted((PACKAGE / "microfacet").glob("*.py")):
         unit_functions |= {name for name in _defined_functions(path) if not name.startswith("_")}
-    assert {"d_ggx", "lambda_beckmann", "warp_ggx_vndf", "warp_gtr1_ndf", "d_blinn_phong"} <= unit_functions
+    assert {"d_ggx", "lambda_beckmann", "warp_ggx_vndf", "warp_beckmann_vndf", "lambda_blinn_phong"} <= unit_functions
     for sub in ("brdf", "sampling"):
         for path in sorted((PACKAGE / sub).rglob("*.py")):
             twice = _defined_functions(path) & unit_functions
@@ -157,7 +157,7 @@ def test_microfacet_method_table():
     assert set(DISTRIBUTIONS) <= set(microfacet.UNITS)
     assert microfacet.unit("ggx") is microfacet.ggx and microfacet.unit("gtr1") is microfacet.gtr
     assert microfacet.unit("blinn-phong") is microfacet.blinn_phong
-    assert microfacet.unit("beckmann").warp_beckmann_ndf is microfacet.beckmann.warp_beckmann_ndf
+    assert microfacet.unit("beckmann").warp_beckmann_vndf is microfacet.beckmann.warp_beckmann_vndf
     with pytest.raises(ValueError, match="choose one of ggx, beckmann, blinn-phong, gtr1"):
         microfacet.unit("phong")
     assert pbrkit.microfacet is microfacet  # the lazy name of the API tour

@@ -14,9 +14,9 @@ distribution of normals (and of visible normals) and the pdf of each sampler.
 - :mod:`~pbrkit.microfacet.ggx`: GGX / Trowbridge-Reitz, isotropic and
   anisotropic (NDF and visible-normal sampling, Walter et al. 2007, Heitz 2018);
 - :mod:`~pbrkit.microfacet.beckmann`: Beckmann, isotropic and anisotropic
-  (NDF sampling, Walter et al. 2007);
-- :mod:`~pbrkit.microfacet.blinn_phong`: normalised Blinn-Phong and the
-  Beckmann alpha of its exponent;
+  (NDF sampling, Walter et al. 2007; visible-normal sampling, Heitz & d'Eon 2014);
+- :mod:`~pbrkit.microfacet.blinn_phong`: normalised Blinn-Phong, its masking
+  through its Beckmann equivalent, exact NDF sampling;
 - :mod:`~pbrkit.microfacet.gtr`: Burley's GTR family and GTR1 (Berry), the
   Disney clear coat, with NDF sampling (no closed-form Smith Lambda).
 
