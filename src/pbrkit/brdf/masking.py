@@ -6,7 +6,7 @@ and are re-exported here under their old names (this module only imports them):
 - ``COS_MIN``, ``erf``, ``g1_smith``, ``g2_separable``, ``g2_height_correlated``,
   ``visibility``: :mod:`pbrkit.microfacet.smith` (Smith 1967; Heitz 2014,
   "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-  JCGT 3(2), cited below as Heitz 2014);
+  JCGT 3(2));
 - ``lambda_ggx``, ``lambda_ggx_anisotropic``, ``g1_ggx``,
   ``v_smith_ggx_height_correlated``: :mod:`pbrkit.microfacet.ggx`;
 - ``lambda_beckmann``, ``lambda_beckmann_anisotropic``, ``g1_beckmann``:
