@@ -26,11 +26,10 @@ import numpy as np
 from _timing import best_and_median
 
 from pbrkit.albedo.tables import DEFAULT_NODES, lookup_table, texel_centres
-from pbrkit.brdf.distributions import alpha_from_roughness
-from pbrkit.brdf.masking import v_smith_ggx_height_correlated
 from pbrkit.core.jit import parallel_kernel
+from pbrkit.microfacet.ggx import v_smith_ggx_height_correlated, warp_ggx_ndf
+from pbrkit.microfacet.roughness import alpha_from_roughness
 from pbrkit.sampling.low_discrepancy import hammersley
-from pbrkit.sampling.warps import warp_ggx_ndf
 
 
 @parallel_kernel

@@ -98,13 +98,9 @@ def test_the_issue_cell_n_v_0_0156_r_0():
 def _plain_vndf_estimate(brdf, mu, roughness, n, seed, pdf_scale=1.0, horizon=True):
     # The unstratified estimator (the old one), optionally with a wrong pdf or no horizon test:
     # estimators the agreement check must catch.
-    from pbrkit.brdf.distributions import alpha_from_roughness
-    from pbrkit.sampling.warps import (
-        pdf_ggx_vndf,
-        pdf_light_from_half,
-        reflect,
-        sample_ggx_vndf,
-    )
+    from pbrkit.microfacet.ggx import pdf_ggx_vndf, sample_ggx_vndf
+    from pbrkit.microfacet.roughness import alpha_from_roughness
+    from pbrkit.sampling.warps import pdf_light_from_half, reflect
 
     rng = np.random.default_rng(seed)
     mu, roughness = np.asarray(mu), np.asarray(roughness)

@@ -20,12 +20,8 @@ import numpy as np
 import pytest
 
 from pbrkit import ltc
-from pbrkit.sampling import (
-    pdf_cosine_hemisphere,
-    pdf_ggx_ndf,
-    pdf_ggx_ndf_anisotropic,
-    warp_cosine_hemisphere,
-)
+from pbrkit.microfacet.ggx import pdf_ggx_ndf, pdf_ggx_ndf_anisotropic
+from pbrkit.sampling import pdf_cosine_hemisphere, warp_cosine_hemisphere
 
 try:  # tests/ as a package or as a plain directory on sys.path
     from . import chi2

@@ -1,4 +1,5 @@
-"""Tests for pbrkit.sampling: low-discrepancy points and warps with their pdfs.
+"""Tests for pbrkit.sampling: low-discrepancy points and warps with their pdfs (with the
+microfacet warps of the GGX, Beckmann and GTR1 units of pbrkit.microfacet).
 
 Samplers are checked with chi-square goodness-of-fit tests (the Mitsuba /
 pbrt-v4 method, machinery in ``tests/chi2.py``): 10^6 seeded samples per case,
@@ -23,6 +24,7 @@ from scipy import stats
 
 from pbrkit import sampling as s
 from pbrkit.brdf.distributions import ALPHA_MIN
+from pbrkit.microfacet import beckmann, ggx, gtr
 
 try:  # tests/ as a package or as a plain directory on sys.path
     from . import chi2
@@ -220,35 +222,35 @@ def test_warp_known_values():
     np.testing.assert_allclose(s.sample_uniform_hemisphere([0.5, 0.0]), [math.sqrt(0.75), 0, 0.5], atol=1e-15)
     np.testing.assert_allclose(s.sample_cosine_hemisphere([0.5, 0.5]), [0, 0, 1], atol=1e-15)
     # GGX (Walter eq. 35): u1 = 1/2 gives tan theta = alpha; Beckmann (eq. 28): u1 = 1 - 1/e gives tan theta = alpha
-    h = s.sample_ggx_ndf([0.5, 0.0], alpha)
+    h = ggx.sample_ggx_ndf([0.5, 0.0], alpha)
     assert math.atan2(h[0], h[2]) == pytest.approx(math.atan(alpha), rel=1e-14)
-    h = s.sample_beckmann_ndf([1 - math.exp(-1), 0.25], alpha)
+    h = beckmann.sample_beckmann_ndf([1 - math.exp(-1), 0.25], alpha)
     assert math.atan2(h[1], h[2]) == pytest.approx(math.atan(alpha), rel=1e-14)
     # GTR1 (Burley B.2): u1 = 1/2 gives cos^2 theta = (1 - alpha) / (1 - alpha^2) = 1 / (1 + alpha)
-    h = s.sample_gtr1_ndf([0.5, 0.0], alpha)
+    h = gtr.sample_gtr1_ndf([0.5, 0.0], alpha)
     assert h[2] ** 2 == pytest.approx(1 / (1 + alpha), rel=1e-14)
-    np.testing.assert_allclose(s.sample_gtr1_ndf([0.0, 0.3], alpha), [0, 0, 1], atol=1e-15)
+    np.testing.assert_allclose(gtr.sample_gtr1_ndf([0.0, 0.3], alpha), [0, 0, 1], atol=1e-15)
     # GTR1 at alpha = 1 is uniform D: D cos is the cosine lobe, cos^2 = 1 - u1
-    assert s.sample_gtr1_ndf([0.36, 0.1], 1.0)[2] == pytest.approx(0.8, rel=1e-14)
+    assert gtr.sample_gtr1_ndf([0.36, 0.1], 1.0)[2] == pytest.approx(0.8, rel=1e-14)
     # VNDF at normal incidence: the disk centre (u1 = 0) is the normal
-    np.testing.assert_allclose(s.sample_ggx_vndf([0.0, 0.7], [0, 0, 1], alpha), [0, 0, 1], atol=1e-15)
+    np.testing.assert_allclose(ggx.sample_ggx_vndf([0.0, 0.7], [0, 0, 1], alpha), [0, 0, 1], atol=1e-15)
 
 
 def test_anisotropic_reduces_to_isotropic():
     rng = np.random.default_rng(SEED)
     u = rng.random((2000, 2))
     for alpha in (ALPHA_MIN, 0.05, 0.3, 1.0, 2.0):
-        np.testing.assert_allclose(s.sample_ggx_ndf_anisotropic(u, alpha, alpha), s.sample_ggx_ndf(u, alpha),
+        np.testing.assert_allclose(ggx.sample_ggx_ndf_anisotropic(u, alpha, alpha), ggx.sample_ggx_ndf(u, alpha),
                                    atol=2e-15)
-        h = s.sample_ggx_ndf(u, alpha)
+        h = ggx.sample_ggx_ndf(u, alpha)
         # (d_ggx's (n.h)^2 (alpha^2 - 1) + 1 loses ~eps / alpha^2 near the peak, hence the rtol)
-        np.testing.assert_allclose(s.pdf_ggx_ndf_anisotropic(h[:, 0], h[:, 1], h[:, 2], alpha, alpha),
-                                   s.pdf_ggx_ndf(h[:, 2], alpha), rtol=1e-8)
+        np.testing.assert_allclose(ggx.pdf_ggx_ndf_anisotropic(h[:, 0], h[:, 1], h[:, 2], alpha, alpha),
+                                   ggx.pdf_ggx_ndf(h[:, 2], alpha), rtol=1e-8)
         wo = _view(70)
-        h = s.sample_ggx_vndf(u, wo, alpha)
+        h = ggx.sample_ggx_vndf(u, wo, alpha)
         voh = h @ wo
-        np.testing.assert_allclose(s.pdf_ggx_vndf_anisotropic(*wo, h[:, 0], h[:, 1], h[:, 2], alpha, alpha),
-                                   s.pdf_ggx_vndf(wo[2], h[:, 2], voh, alpha), rtol=1e-8)
+        np.testing.assert_allclose(ggx.pdf_ggx_vndf_anisotropic(*wo, h[:, 0], h[:, 1], h[:, 2], alpha, alpha),
+                                   ggx.pdf_ggx_vndf(wo[2], h[:, 2], voh, alpha), rtol=1e-8)
 
 
 _EDGE_U = np.array([0.0, 1e-300, 1e-12, 0.25, 0.5, 1 - 1e-12, 1 - 2.0**-53, 1.0])
@@ -266,21 +268,21 @@ def _all_warps(u, alpha_x, alpha_y, wo):
             ("cosine_hemisphere", s.sample_cosine_hemisphere, lambda w: s.pdf_cosine_hemisphere(w[..., 2]))):
         w = sampler(u)
         out.append((name, w, pdf(w)))
-    for name, sampler, pdf in (("ggx_ndf", s.sample_ggx_ndf, s.pdf_ggx_ndf),
-                               ("beckmann_ndf", s.sample_beckmann_ndf, s.pdf_beckmann_ndf),
-                               ("gtr1_ndf", s.sample_gtr1_ndf, s.pdf_gtr1_ndf)):
+    for name, sampler, pdf in (("ggx_ndf", ggx.sample_ggx_ndf, ggx.pdf_ggx_ndf),
+                               ("beckmann_ndf", beckmann.sample_beckmann_ndf, beckmann.pdf_beckmann_ndf),
+                               ("gtr1_ndf", gtr.sample_gtr1_ndf, gtr.pdf_gtr1_ndf)):
         h = sampler(u, alpha_x)
         out.append((name, h, pdf(h[..., 2], alpha_x)))
-    h = s.sample_ggx_ndf_anisotropic(u, alpha_x, alpha_y)
-    out.append(("ggx_ndf_anisotropic", h, s.pdf_ggx_ndf_anisotropic(h[..., 0], h[..., 1], h[..., 2], alpha_x,
+    h = ggx.sample_ggx_ndf_anisotropic(u, alpha_x, alpha_y)
+    out.append(("ggx_ndf_anisotropic", h, ggx.pdf_ggx_ndf_anisotropic(h[..., 0], h[..., 1], h[..., 2], alpha_x,
                                                                     alpha_y)))
-    h = s.sample_ggx_vndf(u, wo, alpha_x)
+    h = ggx.sample_ggx_vndf(u, wo, alpha_x)
     voh = np.sum(h * wo, axis=-1)
-    pdf_h = s.pdf_ggx_vndf(wo[..., 2], h[..., 2], voh, alpha_x)
+    pdf_h = ggx.pdf_ggx_vndf(wo[..., 2], h[..., 2], voh, alpha_x)
     out.append(("ggx_vndf", h, pdf_h))
     out.append(("ggx_vndf_light", s.reflect(wo, h), s.pdf_light_from_half(pdf_h, voh)))
-    h = s.sample_ggx_vndf_anisotropic(u, wo, alpha_x, alpha_y)
-    pdf_h = s.pdf_ggx_vndf_anisotropic(wo[..., 0], wo[..., 1], wo[..., 2], h[..., 0], h[..., 1], h[..., 2],
+    h = ggx.sample_ggx_vndf_anisotropic(u, wo, alpha_x, alpha_y)
+    pdf_h = ggx.pdf_ggx_vndf_anisotropic(wo[..., 0], wo[..., 1], wo[..., 2], h[..., 0], h[..., 1], h[..., 2],
                                        alpha_x, alpha_y)
     out.append(("ggx_vndf_anisotropic", h, pdf_h))
     return out
@@ -319,7 +321,7 @@ def test_warps_property(u1, u2, alpha_x, alpha_y, theta, phi):
 def test_reflect_and_half_vector_jacobian():
     rng = np.random.default_rng(SEED)
     wo = s.sample_uniform_hemisphere(rng.random((500, 2)))
-    h = s.sample_ggx_vndf(rng.random((500, 2)), wo, 0.5)
+    h = ggx.sample_ggx_vndf(rng.random((500, 2)), wo, 0.5)
     l = s.reflect(wo, h)
     np.testing.assert_allclose(np.linalg.norm(l, axis=-1), 1.0, atol=1e-14)
     np.testing.assert_allclose(s.reflect(l, h), wo, atol=1e-14)
@@ -353,18 +355,18 @@ def test_wrappers_validate_and_broadcast():
     with pytest.raises(ValueError, match="unit square"):
         s.sample_cosine_hemisphere([0.5, 1.5])
     with pytest.raises(ValueError, match="unit square"):
-        s.sample_ggx_ndf([np.nan, 0.5], 0.3)
+        ggx.sample_ggx_ndf([np.nan, 0.5], 0.3)
     with pytest.raises(ValueError, match="alpha"):
-        s.sample_ggx_ndf([0.5, 0.5], 0.0)
+        ggx.sample_ggx_ndf([0.5, 0.5], 0.0)
     with pytest.raises(ValueError, match="alpha_y"):
-        s.sample_ggx_vndf_anisotropic([0.5, 0.5], [0, 0, 1], 0.3, -1.0)
+        ggx.sample_ggx_vndf_anisotropic([0.5, 0.5], [0, 0, 1], 0.3, -1.0)
     with pytest.raises(ValueError, match="wo"):
-        s.sample_ggx_vndf([0.5, 0.5], [0, 0, 0], 0.3)
+        ggx.sample_ggx_vndf([0.5, 0.5], [0, 0, 0], 0.3)
     with pytest.raises(ValueError, match="wo"):
-        s.sample_ggx_vndf([0.5, 0.5], [0, 1], 0.3)
+        ggx.sample_ggx_vndf([0.5, 0.5], [0, 1], 0.3)
     u = np.random.default_rng(SEED).random((4, 5, 2))
-    assert s.sample_ggx_ndf(u, np.full(5, 0.3)).shape == (4, 5, 3)
-    assert s.sample_ggx_vndf(u, np.array([0.0, 0.0, 1.0]), 0.3).shape == (4, 5, 3)
+    assert ggx.sample_ggx_ndf(u, np.full(5, 0.3)).shape == (4, 5, 3)
+    assert ggx.sample_ggx_vndf(u, np.array([0.0, 0.0, 1.0]), 0.3).shape == (4, 5, 3)
     assert s.sample_concentric_disk(u).shape == (4, 5, 2)
     assert s.sample_uniform_sphere([0.1, 0.2]).shape == (3,)
 
@@ -397,28 +399,28 @@ def _terms_kernel(u, wo, alpha_x, alpha_y, out):
         x, y, z = s.warp_cosine_hemisphere(u1, u2)
         _put(out, i, k, (x, y, z, s.pdf_cosine_hemisphere(z)))
         k += 4
-        x, y, z = s.warp_ggx_ndf(u1, u2, ax)
-        _put(out, i, k, (x, y, z, s.pdf_ggx_ndf(z, ax)))
+        x, y, z = ggx.warp_ggx_ndf(u1, u2, ax)
+        _put(out, i, k, (x, y, z, ggx.pdf_ggx_ndf(z, ax)))
         k += 4
-        x, y, z = s.warp_ggx_ndf_anisotropic(u1, u2, ax, ay)
-        _put(out, i, k, (x, y, z, s.pdf_ggx_ndf_anisotropic(x, y, z, ax, ay)))
+        x, y, z = ggx.warp_ggx_ndf_anisotropic(u1, u2, ax, ay)
+        _put(out, i, k, (x, y, z, ggx.pdf_ggx_ndf_anisotropic(x, y, z, ax, ay)))
         k += 4
-        x, y, z = s.warp_beckmann_ndf(u1, u2, ax)
-        _put(out, i, k, (x, y, z, s.pdf_beckmann_ndf(z, ax)))
+        x, y, z = beckmann.warp_beckmann_ndf(u1, u2, ax)
+        _put(out, i, k, (x, y, z, beckmann.pdf_beckmann_ndf(z, ax)))
         k += 4
-        x, y, z = s.warp_gtr1_ndf(u1, u2, ax)
-        _put(out, i, k, (x, y, z, s.pdf_gtr1_ndf(z, ax)))
+        x, y, z = gtr.warp_gtr1_ndf(u1, u2, ax)
+        _put(out, i, k, (x, y, z, gtr.pdf_gtr1_ndf(z, ax)))
         k += 4
-        x, y, z = s.warp_ggx_vndf(u1, u2, wx, wy, wz, ax)
+        x, y, z = ggx.warp_ggx_vndf(u1, u2, wx, wy, wz, ax)
         voh = wx * x + wy * y + wz * z
-        pdf_h = s.pdf_ggx_vndf(wz, z, voh, ax)
+        pdf_h = ggx.pdf_ggx_vndf(wz, z, voh, ax)
         _put(out, i, k, (x, y, z, pdf_h))
         k += 4
         lx, ly, lz = s.reflect_xyz(wx, wy, wz, x, y, z)
         _put(out, i, k, (lx, ly, lz, s.pdf_light_from_half(pdf_h, voh), s.half_to_light_jacobian(voh)))
         k += 5
-        x, y, z = s.warp_ggx_vndf_anisotropic(u1, u2, wx, wy, wz, ax, ay)
-        _put(out, i, k, (x, y, z, s.pdf_ggx_vndf_anisotropic(wx, wy, wz, x, y, z, ax, ay)))
+        x, y, z = ggx.warp_ggx_vndf_anisotropic(u1, u2, wx, wy, wz, ax, ay)
+        _put(out, i, k, (x, y, z, ggx.pdf_ggx_vndf_anisotropic(wx, wy, wz, x, y, z, ax, ay)))
 
 
 def test_terms_compile_in_numba_and_match_numpy():
@@ -443,22 +445,22 @@ def test_terms_compile_in_numba_and_match_numpy():
     parts += [x, y, s.pdf_concentric_disk(x, y)]
     x, y, z = s.warp_cosine_hemisphere(u1, u2)
     parts += [x, y, z, s.pdf_cosine_hemisphere(z)]
-    x, y, z = s.warp_ggx_ndf(u1, u2, alpha_x)
-    parts += [x, y, z, s.pdf_ggx_ndf(z, alpha_x)]
-    x, y, z = s.warp_ggx_ndf_anisotropic(u1, u2, alpha_x, alpha_y)
-    parts += [x, y, z, s.pdf_ggx_ndf_anisotropic(x, y, z, alpha_x, alpha_y)]
-    x, y, z = s.warp_beckmann_ndf(u1, u2, alpha_x)
-    parts += [x, y, z, s.pdf_beckmann_ndf(z, alpha_x)]
-    x, y, z = s.warp_gtr1_ndf(u1, u2, alpha_x)
-    parts += [x, y, z, s.pdf_gtr1_ndf(z, alpha_x)]
-    x, y, z = s.warp_ggx_vndf(u1, u2, wx, wy, wz, alpha_x)
+    x, y, z = ggx.warp_ggx_ndf(u1, u2, alpha_x)
+    parts += [x, y, z, ggx.pdf_ggx_ndf(z, alpha_x)]
+    x, y, z = ggx.warp_ggx_ndf_anisotropic(u1, u2, alpha_x, alpha_y)
+    parts += [x, y, z, ggx.pdf_ggx_ndf_anisotropic(x, y, z, alpha_x, alpha_y)]
+    x, y, z = beckmann.warp_beckmann_ndf(u1, u2, alpha_x)
+    parts += [x, y, z, beckmann.pdf_beckmann_ndf(z, alpha_x)]
+    x, y, z = gtr.warp_gtr1_ndf(u1, u2, alpha_x)
+    parts += [x, y, z, gtr.pdf_gtr1_ndf(z, alpha_x)]
+    x, y, z = ggx.warp_ggx_vndf(u1, u2, wx, wy, wz, alpha_x)
     voh = wx * x + wy * y + wz * z
-    pdf_h = s.pdf_ggx_vndf(wz, z, voh, alpha_x)
+    pdf_h = ggx.pdf_ggx_vndf(wz, z, voh, alpha_x)
     parts += [x, y, z, pdf_h]
     lx, ly, lz = s.reflect_xyz(wx, wy, wz, x, y, z)
     parts += [lx, ly, lz, s.pdf_light_from_half(pdf_h, voh), s.half_to_light_jacobian(voh)]
-    x, y, z = s.warp_ggx_vndf_anisotropic(u1, u2, wx, wy, wz, alpha_x, alpha_y)
-    parts += [x, y, z, s.pdf_ggx_vndf_anisotropic(wx, wy, wz, x, y, z, alpha_x, alpha_y)]
+    x, y, z = ggx.warp_ggx_vndf_anisotropic(u1, u2, wx, wy, wz, alpha_x, alpha_y)
+    parts += [x, y, z, ggx.pdf_ggx_vndf_anisotropic(wx, wy, wz, x, y, z, alpha_x, alpha_y)]
     want = np.stack(np.broadcast_arrays(*parts), axis=-1)
     assert np.all(np.isfinite(got))
     np.testing.assert_allclose(got, want, rtol=1e-11, atol=1e-13)
@@ -493,15 +495,16 @@ def _sphere_cases():
     ]
     for a in ALPHAS:
         cases += [
-            (f"ggx_ndf-a{a}", lambda u, a=a: s.sample_ggx_ndf(u, a), lambda x, y, z, a=a: s.pdf_ggx_ndf(z, a), horizon),
-            (f"beckmann_ndf-a{a}", lambda u, a=a: s.sample_beckmann_ndf(u, a),
-             lambda x, y, z, a=a: s.pdf_beckmann_ndf(z, a), horizon),
-            (f"gtr1_ndf-a{a}", lambda u, a=a: s.sample_gtr1_ndf(u, a), lambda x, y, z, a=a: s.pdf_gtr1_ndf(z, a),
+            (f"ggx_ndf-a{a}", lambda u, a=a: ggx.sample_ggx_ndf(u, a), lambda x, y, z, a=a: ggx.pdf_ggx_ndf(z, a),
+             horizon),
+            (f"beckmann_ndf-a{a}", lambda u, a=a: beckmann.sample_beckmann_ndf(u, a),
+             lambda x, y, z, a=a: beckmann.pdf_beckmann_ndf(z, a), horizon),
+            (f"gtr1_ndf-a{a}", lambda u, a=a: gtr.sample_gtr1_ndf(u, a), lambda x, y, z, a=a: gtr.pdf_gtr1_ndf(z, a),
              horizon),
         ]
     for ax, ay in ANISO_ALPHAS:
-        cases.append((f"ggx_ndf_aniso-a{ax},{ay}", lambda u, ax=ax, ay=ay: s.sample_ggx_ndf_anisotropic(u, ax, ay),
-                      lambda x, y, z, ax=ax, ay=ay: s.pdf_ggx_ndf_anisotropic(x, y, z, ax, ay), horizon))
+        cases.append((f"ggx_ndf_aniso-a{ax},{ay}", lambda u, ax=ax, ay=ay: ggx.sample_ggx_ndf_anisotropic(u, ax, ay),
+                      lambda x, y, z, ax=ax, ay=ay: ggx.pdf_ggx_ndf_anisotropic(x, y, z, ax, ay), horizon))
     views = [(deg, _view(deg)) for deg in INCIDENT_DEGREES]
     for (ax, ay), (deg, wo) in [((a, a), v) for a in ALPHAS for v in views] + \
                                [(p, v) for p in ANISO_ALPHAS for v in views] + [((0.3, 0.3), (120, _view(120)))]:
@@ -509,19 +512,19 @@ def _sphere_cases():
             tag = f"a{ax}-theta{deg}"
 
             def sample_h(u, wo=wo, a=ax):
-                return s.sample_ggx_vndf(u, wo, a)
+                return ggx.sample_ggx_vndf(u, wo, a)
 
             def pdf_h(hx, hy, hz, voh, wo=wo, a=ax):
-                return s.pdf_ggx_vndf(wo[2], hz, voh, a)
+                return ggx.pdf_ggx_vndf(wo[2], hz, voh, a)
             kind = "ggx_vndf"
         else:
             tag = f"a{ax},{ay}-theta{deg}"
 
             def sample_h(u, wo=wo, ax=ax, ay=ay):
-                return s.sample_ggx_vndf_anisotropic(u, wo, ax, ay)
+                return ggx.sample_ggx_vndf_anisotropic(u, wo, ax, ay)
 
             def pdf_h(hx, hy, hz, voh, wo=wo, ax=ax, ay=ay):
-                return s.pdf_ggx_vndf_anisotropic(wo[0], wo[1], wo[2], hx, hy, hz, ax, ay)
+                return ggx.pdf_ggx_vndf_anisotropic(wo[0], wo[1], wo[2], hx, hy, hz, ax, ay)
             kind = "ggx_vndf_aniso"
 
         def pdf_h_xyz(x, y, z, wo=wo, pdf_h=pdf_h):
@@ -578,20 +581,20 @@ def test_chi2_rejects_wrong_pdfs():
     wo = _view(45)
     u = _u("wrong pdf")
     wrong = []
-    h = s.sample_ggx_ndf(u, 0.3)
-    wrong.append(("GGX samples vs Beckmann pdf", h, lambda x, y, z: s.pdf_beckmann_ndf(z, 0.3), (math.pi / 2,)))
-    wrong.append(("GGX alpha 0.3 vs pdf at alpha 0.33", h, lambda x, y, z: s.pdf_ggx_ndf(z, 0.33), (math.pi / 2,)))
-    h = s.sample_ggx_vndf(u, wo, 0.3)
+    h = ggx.sample_ggx_ndf(u, 0.3)
+    wrong.append(("GGX samples vs Beckmann pdf", h, lambda x, y, z: beckmann.pdf_beckmann_ndf(z, 0.3), (math.pi / 2,)))
+    wrong.append(("GGX alpha 0.3 vs pdf at alpha 0.33", h, lambda x, y, z: ggx.pdf_ggx_ndf(z, 0.33), (math.pi / 2,)))
+    h = ggx.sample_ggx_vndf(u, wo, 0.3)
     wrong.append(("VNDF vs pdf with alpha * 1.1", h,
-                  lambda x, y, z: s.pdf_ggx_vndf(wo[2], z, wo[0] * x + wo[1] * y + wo[2] * z, 0.33), (math.pi / 2,)))
-    wrong.append(("VNDF vs the NDF pdf D cos", h, lambda x, y, z: s.pdf_ggx_ndf(z, 0.3), (math.pi / 2,)))
+                  lambda x, y, z: ggx.pdf_ggx_vndf(wo[2], z, wo[0] * x + wo[1] * y + wo[2] * z, 0.33), (math.pi / 2,)))
+    wrong.append(("VNDF vs the NDF pdf D cos", h, lambda x, y, z: ggx.pdf_ggx_ndf(z, 0.3), (math.pi / 2,)))
     l = s.reflect(wo, h)
-    pdf_l = _pdf_of_light_from_vndf(lambda hx, hy, hz, voh: s.pdf_ggx_vndf(wo[2], hz, voh, 0.33))
+    pdf_l = _pdf_of_light_from_vndf(lambda hx, hy, hz, voh: ggx.pdf_ggx_vndf(wo[2], hz, voh, 0.33))
     wrong.append(("VNDF light vs pdf with alpha * 1.1", l, lambda x, y, z: pdf_l(wo, x, y, z),
                   (math.acos(-wo[2]),)))
-    h = s.sample_ggx_vndf_anisotropic(u, wo, 0.3, 0.05)
+    h = ggx.sample_ggx_vndf_anisotropic(u, wo, 0.3, 0.05)
     wrong.append(("anisotropic VNDF vs swapped alphas", h,
-                  lambda x, y, z: s.pdf_ggx_vndf_anisotropic(*wo, x, y, z, 0.05, 0.3), (math.pi / 2,)))
+                  lambda x, y, z: ggx.pdf_ggx_vndf_anisotropic(*wo, x, y, z, 0.05, 0.3), (math.pi / 2,)))
     for label, w, pdf, fixed in wrong:
         result = chi2.sphere_chi2_test(w, pdf, fixed_theta=fixed)
         assert abs(result.total_probability - 1.0) < NORMALISATION_TOL, label  # a normalised but wrong pdf

@@ -4,10 +4,14 @@ The subpackages follow the theory, from the formulas up to the application:
 
 - :mod:`pbrkit.core`: compiled helpers (:mod:`~pbrkit.core.jit`), vectors,
   colour and tone mapping, quadrature rules, errors, atomic file output;
-- :mod:`pbrkit.brdf`: the BRDF terms (D, G and V, F, diffuse), the material,
-  and the shading models, each composed once (:mod:`~pbrkit.brdf.bxdf`);
-- :mod:`pbrkit.sampling`: low-discrepancy points, warps with their pdfs,
-  counter-based random numbers;
+- :mod:`pbrkit.sampling`: low-discrepancy points, generic warps with their
+  pdfs, counter-based random numbers;
+- :mod:`pbrkit.microfacet`: one unit per microfacet distribution (GGX,
+  Beckmann, Blinn-Phong, GTR): D, Smith Lambda and G1, sampling and pdfs, and
+  the roughness remaps;
+- :mod:`pbrkit.brdf`: the BRDF terms (F, diffuse, the masking approximations,
+  and the distributions' D and G re-exported), the material, and the shading
+  models, each composed once (:mod:`~pbrkit.brdf.bxdf`);
 - :mod:`pbrkit.albedo`: directional albedo (the white furnace), the
   split-sum / DFG lookup tables, energy compensation, and the error of the
   real-time approximations;
@@ -21,7 +25,7 @@ The subpackages follow the theory, from the formulas up to the application:
 
 The names of the README's API tour are importable from here: ``Material``,
 and the modules ``models``, ``distributions``, ``masking``, ``fresnel``,
-``diffuse``, ``sampling`` and ``tables``; ``pbrkit.bake`` is
+``diffuse``, ``sampling``, ``microfacet`` and ``tables``; ``pbrkit.bake`` is
 :mod:`pbrkit.ibl` (``bake``, ``write_bake``, ``load_bake``,
 ``level_of_roughness``).  They are imported on first use, as are the
 subpackages, so that ``import pbrkit`` and ``pbrkit --help`` do not load
@@ -34,12 +38,13 @@ import importlib.util
 import sys
 
 __all__ = ["Material", "__version__", "models", "distributions", "masking", "fresnel", "diffuse", "sampling",
-           "tables"]
+           "microfacet", "tables"]
 
 #: The names of the API tour, imported on first use (PEP 562) so that ``import
 #: pbrkit`` (and ``pbrkit --help``) does not pay for NumPy and Numba.
 _LAZY = {
     "sampling": ("pbrkit.sampling", None),
+    "microfacet": ("pbrkit.microfacet", None),
     "tables": ("pbrkit.albedo.tables", None),
     "diffuse": ("pbrkit.brdf.diffuse", None),
     "distributions": ("pbrkit.brdf.distributions", None),
@@ -49,8 +54,8 @@ _LAZY = {
     "Material": ("pbrkit.brdf.material", "Material"),
 }
 
-_SUBPACKAGES = {"core", "brdf", "sampling", "albedo", "ibl", "io", "ltc", "render", "npr", "measured", "explore", "shaders",
-                "app"}
+_SUBPACKAGES = {"core", "sampling", "microfacet", "brdf", "albedo", "ibl", "io", "ltc", "render", "npr", "measured",
+                "explore", "shaders", "app"}
 
 
 def _package_version():

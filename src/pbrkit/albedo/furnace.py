@@ -28,7 +28,6 @@ import math
 
 import numpy as np
 
-from ..brdf.distributions import alpha_from_roughness
 from ..core.quadrature import (
     ggx_cos_of_s,
     ggx_s_of_cos,
@@ -36,6 +35,7 @@ from ..core.quadrature import (
     horizon_phi_max,
     split_node,
 )
+from ..microfacet.roughness import alpha_from_roughness
 from ..sampling.warps import reflect
 
 __all__ = ["albedo_quadrature", "albedo_monte_carlo", "agreement", "tail_strata", "view_direction", "half_vector_domain"]
@@ -166,7 +166,8 @@ def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
     agree with the quadrature within 3 standard errors (tests/test_furnace.py).
     Each roughness column draws from ``numpy.random.default_rng(seed)`` in turn.
     """
-    from ..sampling.warps import pdf_ggx_vndf, pdf_light_from_half, sample_ggx_vndf
+    from ..microfacet.ggx import pdf_ggx_vndf, sample_ggx_vndf
+    from ..sampling.warps import pdf_light_from_half
 
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     roughness = np.atleast_1d(np.asarray(roughness, dtype=float))

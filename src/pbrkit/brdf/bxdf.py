@@ -15,7 +15,7 @@ bitangent b).  :mod:`pbrkit.brdf.dispatch` evaluates, samples and gives the
 pdf of the BxDF of any model, through code generated from the model registry.
 
 Perceptual roughness r maps to alpha = max(r^2, ALPHA_MIN) in every model
-(:func:`pbrkit.brdf.distributions.alpha_from_roughness`).
+(:func:`pbrkit.microfacet.roughness.alpha_from_roughness`).
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ import dataclasses
 
 import numpy as np
 
-from .distributions import alpha_from_roughness
+from ..microfacet.roughness import alpha_from_roughness
 from .fresnel import CONDUCTORS, f0_from_reflectance
 from .shading.registry import PARAMETERS
 from .parameters import Parameter

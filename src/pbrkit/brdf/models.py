@@ -356,7 +356,7 @@ def disney(l, v, n, material, t=None):
     - sheen: (1 - l.h)^5 sheen mix(1, C_tint, sheen_tint), with
       C_tint = base / luminance(base) (luminance 0.3 R + 0.6 G + 0.1 B);
     - specular: anisotropic GGX with alpha = r^2 and Burley's aspect
-      (:func:`pbrkit.brdf.distributions.anisotropic_alphas_burley`, anisotropy in
+      (:func:`pbrkit.microfacet.roughness.anisotropic_alphas_burley`, anisotropy in
       [0, 1]), separable exact Smith G (the BRDF Explorer's version, without the
       2012 notes' alpha_g "hotness" remap), Schlick Fresnel from
       C_spec0 = mix(0.08 specular mix(1, C_tint, specular_tint), base, metallic)

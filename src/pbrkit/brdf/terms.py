@@ -27,29 +27,12 @@ from dataclasses import dataclass, field
 
 from ..core.codegen import generate, if_chain
 from ..core.jit import dual_use
-from .distributions import (
-    d_beckmann,
-    d_beckmann_anisotropic,
-    d_blinn_phong,
-    d_ggx,
-    d_ggx_anisotropic,
-    phong_exponent_from_beckmann_alpha,
-)
+from ..microfacet.beckmann import d_beckmann, d_beckmann_anisotropic, lambda_beckmann, lambda_beckmann_anisotropic
+from ..microfacet.blinn_phong import d_blinn_phong, phong_exponent_from_beckmann_alpha
+from ..microfacet.ggx import d_ggx, d_ggx_anisotropic, lambda_ggx, lambda_ggx_anisotropic, v_smith_ggx_height_correlated
+from ..microfacet.smith import g2_height_correlated, g2_separable, visibility
 from .fresnel import f0_conductor, f_conductor, f_schlick, f_schlick_pow4, f_schlick_ue4_sg, ior_from_f0
-from .masking import (
-    g2_height_correlated,
-    g2_kelemen,
-    g2_schlick_ggx,
-    g2_separable,
-    k_schlick_from_alpha,
-    k_ue4_direct,
-    lambda_beckmann,
-    lambda_beckmann_anisotropic,
-    lambda_ggx,
-    lambda_ggx_anisotropic,
-    v_smith_ggx_height_correlated,
-    visibility,
-)
+from .masking import g2_kelemen, g2_schlick_ggx, k_schlick_from_alpha, k_ue4_direct
 
 __all__ = [
     "Distribution",

@@ -10,7 +10,7 @@ the light, v toward the eye; n the normal, default +z):
   :class:`pbrkit.render.scene.MaterialSpec` (the material, the model and, for
   ``cook_torrance``, its D, G, F and diffuse terms by name), evaluated by
   :func:`pbrkit.brdf.models.evaluate`; perceptual roughness r, alpha = r^2
-  (clamped at :data:`pbrkit.brdf.distributions.ALPHA_MIN`) as in every model,
+  (clamped at :data:`pbrkit.microfacet.roughness.ALPHA_MIN`) as in every model,
   with each model's own remaps (UE4's k = (r + 1)^2 / 8, Disney's aspect, ...);
 - a measured BRDF, :class:`pbrkit.measured.merl.MerlBRDF`, or a fitted model.
 
@@ -52,9 +52,10 @@ from ..brdf.bxdf import local_cosines
 from ..brdf.dispatch import bxdf_fresnel, make_bxdf, specular_lobe, specular_visibility
 from ..brdf.shading.registry import MODEL_TERMS, MODELS, PARAMETERS, REGISTERED
 from ..brdf.parameters import TEXTURED, Parameter
-from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import linear_to_srgb, luminance, tonemap
 from ..core.jit import kernel
+from ..microfacet.ggx import d_ggx
+from ..microfacet.roughness import alpha_from_roughness
 
 __all__ = [
     "ModelBRDF",
@@ -629,7 +630,7 @@ def terms(brdf, theta_v, count=90):
 
     - ``D`` against ``theta_h`` in [0, pi/2) at l = v = h (n.l = n.v = n.h):
       D = (D V) / V; for ``urp_mobile``, whose term has no separate V, D is its
-      GGX (:func:`pbrkit.brdf.distributions.d_ggx`, alpha = r^2) and V = term / D;
+      GGX (:func:`pbrkit.microfacet.ggx.d_ggx`, alpha = r^2) and V = term / D;
     - ``G`` = V 4 (n.l)(n.v), the masking-shadowing G2, against ``theta_l`` in the
       plane of incidence with the view at ``theta_v`` (as :func:`incidence_plane`);
     - ``F`` (RGB) against ``theta_d`` (v.h = cos theta_d).

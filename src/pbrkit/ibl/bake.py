@@ -39,10 +39,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..brdf.distributions import alpha_from_roughness
 from ..core import checks
 from ..core.atomic import check_output_directory as check_output_dir
 from ..core.color import luminance, tonemap_reinhard
+from ..microfacet.roughness import alpha_from_roughness
 from .cubemap import FACE_NAMES, cube_texel_solid_angles, cube_to_cross, resample_cube
 from .equirect import cube_to_equirect
 from .irradiance import irradiance_spectral

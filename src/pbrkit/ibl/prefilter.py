@@ -8,8 +8,8 @@ environment*, computed under the assumption n = v = r::
     P(n; alpha) = integral of L(l) D(h) (n.l) dl / Z(alpha),
     Z(alpha) = integral of D(h) (n.l) dl,   h = normalize(n + l), n.l > 0,
 
-with the GGX distribution D of :func:`pbrkit.brdf.distributions.d_ggx` and
-alpha = r^2 for perceptual roughness r (:func:`pbrkit.brdf.distributions.
+with the GGX distribution D of :func:`pbrkit.microfacet.ggx.d_ggx` and
+alpha = r^2 for perceptual roughness r (:func:`pbrkit.microfacet.roughness.
 alpha_from_roughness`, clamped at ``ALPHA_MIN``).  This is what Karis' sample
 code (``PrefilterEnvMap``: l = reflect(v, h) for h drawn from D(h) (n.h),
 weights n.l, divided by the sum of the weights) converges to: with n = v the
@@ -76,12 +76,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core import checks
 from ..core.jit import dual_use, row_kernel, select
 from ..core.vec import orthonormal_basis_xyz
+from ..microfacet.ggx import d_ggx, pdf_ggx_ndf, warp_ggx_ndf
+from ..microfacet.roughness import alpha_from_roughness
 from ..sampling.low_discrepancy import hammersley
-from ..sampling.warps import pdf_ggx_ndf, pdf_light_from_half, reflect_xyz, warp_ggx_ndf
+from ..sampling.warps import pdf_light_from_half, reflect_xyz
 from .cubemap import (
     CubeSampler,
     _as_cube,
@@ -299,7 +300,7 @@ def ggx_lobe_normalization(alpha):
 def ggx_prefilter_kernel(theta, alpha):
     """Unnormalised split-sum prefilter kernel D(n.h) (n.l) for l at angle
     theta from n = v: n.h = cos(theta / 2), n.l = cos(theta), zero for
-    theta >= pi / 2 (module doc; D = :func:`pbrkit.brdf.distributions.d_ggx`).
+    theta >= pi / 2 (module doc; D = :func:`pbrkit.microfacet.ggx.d_ggx`).
     Its integral over the sphere is :func:`ggx_lobe_normalization`."""
     c = np.cos(theta)
     return select(c > 0.0, d_ggx(np.cos(0.5 * theta), alpha) * c, 0.0)
@@ -681,10 +682,10 @@ class SampleSet:
 def sample_set(roughness, count, bias=1.0):
     """The filtered-importance-sampling pattern (module doc) of ``count``
     Hammersley points for perceptual roughness ``roughness``: h from
-    :func:`pbrkit.sampling.warps.warp_ggx_ndf` with alpha = max(r^2, ALPHA_MIN),
+    :func:`pbrkit.microfacet.ggx.warp_ggx_ndf` with alpha = max(r^2, ALPHA_MIN),
     l = reflect(n, h) (:func:`pbrkit.sampling.warps.reflect_xyz`, v = n = +z), the
     pdf of l from :func:`pbrkit.sampling.warps.pdf_light_from_half` of
-    :func:`pbrkit.sampling.warps.pdf_ggx_ndf` (D / 4 here) and Omega_s =
+    :func:`pbrkit.microfacet.ggx.pdf_ggx_ndf` (D / 4 here) and Omega_s =
     1 / (count pdf); ``bias`` 1 is Krivanek & Colbert's."""
     count = checks.integer(count, "sample count", 1, 1 << 20)
     roughness = float(roughness)
@@ -800,7 +801,7 @@ def prefilter_reference(cube, directions, roughness):
     of the module doc as a sum over *every* texel i of ``cube``
     (6, N, N, C), with its centre direction l_i and exact solid angle
     Omega_i (:func:`pbrkit.ibl.cubemap.cube_texel_solid_angles`),
-    n.h_i = sqrt((1 + n.l_i) / 2) and D = :func:`pbrkit.brdf.distributions.d_ggx`
+    n.h_i = sqrt((1 + n.l_i) / 2) and D = :func:`pbrkit.microfacet.ggx.d_ggx`
     with alpha = max(r^2, ALPHA_MIN), normalised by the same sum of weights
     (:func:`point_lobe_sum`).  O(directions x 6 N^2); for tests and
     benchmarks.  Returns (..., C)."""

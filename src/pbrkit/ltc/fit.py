@@ -42,7 +42,7 @@ directly (:func:`fit_cell`):
 integrals (:func:`pbrkit.ltc.score.lobe_split_integrals`; Schlick's F: f0 norm
 + (1 - f0) fresnel) and the sphere table (:func:`sphere_form_factor_table`).
 Roughness: column a holds perceptual roughness r = a / (N - 1) with alpha = r^2
-for GGX and Beckmann alike (:func:`pbrkit.brdf.distributions.alpha_from_roughness`,
+for GGX and Beckmann alike (:func:`pbrkit.microfacet.roughness.alpha_from_roughness`,
 clamped at its ALPHA_MIN);
 row t holds cos theta_v = 1 - (t / (N - 1))^2, at most 89.95 degrees.
 The lights a cell is fitted on do not depend on the lobe (its lobe-centred
@@ -107,8 +107,9 @@ def cell_view(t, a, n):
 def fit_lights(nov, roughness, count, seed):
     """The rectangular lights a cell is fitted on (module doc), as
     :class:`pbrkit.ltc.score.RectLights`."""
-    from ..brdf.distributions import alpha_from_roughness
-    from ..sampling.warps import reflect_xyz, warp_ggx_vndf
+    from ..microfacet.ggx import warp_ggx_vndf
+    from ..microfacet.roughness import alpha_from_roughness
+    from ..sampling.warps import reflect_xyz
     from .score import rect_lights_towards
 
     rng = np.random.default_rng(seed)

@@ -42,8 +42,8 @@ mixture's pdf (the balance heuristic of multiple importance sampling, Veach
   routine, the one :func:`pbrkit.brdf.dispatch.sample_wi` runs for every
   ``cook_torrance`` lobe (and :func:`pbrkit.brdf.models.sample` exposes): the
   view reflected about a GGX visible normal (Heitz 2018;
-  :func:`pbrkit.sampling.warps.warp_ggx_vndf`, ``reflect_xyz``), with its pdf
-  D_v(h) / (4 v.h) (:func:`pbrkit.sampling.warps.pdf_ggx_vndf`,
+  :func:`pbrkit.microfacet.ggx.warp_ggx_vndf`, ``reflect_xyz``), with its pdf
+  D_v(h) / (4 v.h) (:func:`pbrkit.microfacet.ggx.pdf_ggx_vndf`,
   ``pdf_light_from_half``, as :func:`pbrkit.brdf.dispatch.bxdf_pdf`), composed
   here from the NumPy warps so that no sampling kernel needs compiling;
   where f^ is large;
@@ -68,7 +68,7 @@ The lobe is pbrkit's own: ``cook_torrance`` with ``distribution`` and
 
 Roughness remap and axes (those of :func:`pbrkit.ltc.fit.cell_view`, the fit's
 and ltc_code's): column a holds perceptual roughness r = a / (N - 1) with
-alpha = r^2 (:func:`pbrkit.brdf.distributions.alpha_from_roughness`, clamped
+alpha = r^2 (:func:`pbrkit.microfacet.roughness.alpha_from_roughness`, clamped
 at its ALPHA_MIN = 1e-3; GGX and Beckmann alike), row t holds
 n.v = 1 - (t / (N - 1))^2, at most 89.95 degrees from the normal.  A table
 fitted with another clamp shows it in its r = 0 column: the published table's
@@ -137,16 +137,11 @@ def lobe_error(ltc1, nov, roughness, distribution="ggx", masking="height-correla
     the lobe's directional albedo E with F = 1 (e.g. a fitted table's
     ``ltc_2`` norm); by default the converged one
     (:func:`pbrkit.ltc.score.directional_albedo`)."""
-    from ..brdf.distributions import alpha_from_roughness
     from ..brdf.material import Material
     from ..brdf.models import cook_torrance
-    from ..sampling.warps import (
-        pdf_ggx_vndf,
-        pdf_light_from_half,
-        reflect_xyz,
-        warp_ggx_vndf,
-        warp_uniform_sphere,
-    )
+    from ..microfacet.ggx import pdf_ggx_vndf, warp_ggx_vndf
+    from ..microfacet.roughness import alpha_from_roughness
+    from ..sampling.warps import pdf_light_from_half, reflect_xyz, warp_uniform_sphere
     from .distribution import inverse_from_texel, ltc_evaluate, ltc_sample
     from .score import directional_albedo, lobe_codes
 

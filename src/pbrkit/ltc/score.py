@@ -57,13 +57,13 @@ import numpy as np
 from ..albedo.tables import VISIBILITIES, specular_integrals
 from ..brdf.bxdf import isotropic_cosines
 from ..brdf.dispatch import make_bxdf, specular_lobe
-from ..brdf.distributions import alpha_from_roughness
 from ..brdf.fresnel import f_schlick
 from ..brdf.models import model_codes
 from ..brdf.shading.registry import LAYOUT
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, row_kernel, select
 from ..core.quadrature import gauss_legendre_01
+from ..microfacet.roughness import alpha_from_roughness
 from .polygon import transformed_polygon_form_factor
 
 #: The packed parameter row's length (a constant for the compiled kernels).
@@ -128,7 +128,7 @@ RELATIVE_THRESHOLD = 1e-3
 
 #: The microfacet distributions LTC tables are fitted and scored for (``pbrkit ltc
 #: --distribution``; :data:`pbrkit.brdf.models.DISTRIBUTIONS` of ``cook_torrance``),
-#: both with alpha = r^2 (:func:`pbrkit.brdf.distributions.alpha_from_roughness`).
+#: both with alpha = r^2 (:func:`pbrkit.microfacet.roughness.alpha_from_roughness`).
 #: Blinn-Phong is left out: pbrkit pairs it with Beckmann's Smith Lambda (an
 #: approximation, no Smith masking of its own), and a Blinn-Phong lobe of
 #: exponent 2 / alpha^2 - 2 is Beckmann's to within that approximation.
@@ -538,7 +538,7 @@ def lobe_rect_integrals(nov, roughness, corners, distribution="ggx", masking="he
     Fresnel-free microfacet lobe of ``distribution`` (GGX, Walter et al. 2007, or
     Beckmann) and the Smith-family ``masking`` G2 (:data:`LTC_MASKINGS`;
     :func:`lobe_codes`), alpha = r^2 for both distributions
-    (:func:`~pbrkit.brdf.distributions.alpha_from_roughness`, at least 1e-3),
+    (:func:`~pbrkit.microfacet.roughness.alpha_from_roughness`, at least 1e-3),
     evaluated by :func:`pbrkit.brdf.dispatch.specular_lobe` of a ``cook_torrance``
     BxDF (:func:`pbrkit.brdf.dispatch.make_bxdf`), Fc = (1 - v.h)^5, so that with
     Schlick's F (Schlick 1994) the radiance is f0 norm + (1 - f0) fresnel (the

@@ -34,7 +34,7 @@ error has no finite integral: the bins nearest the horizon then dominate the
 the database).  Ngan et al.'s cut, ``max_theta=80``, avoids both.
 
 Models (alpha = r^2 for perceptual roughness r, clamped at
-:data:`pbrkit.brdf.distributions.ALPHA_MIN`):
+:data:`pbrkit.microfacet.roughness.ALPHA_MIN`):
 
 - ``"ggx"``: Lambert diffuse with an RGB albedo (``diffuse``) plus the GGX
   microfacet lobe D V with height-correlated Smith masking
@@ -63,8 +63,8 @@ import numpy as np
 
 from ..brdf import models
 from ..brdf.diffuse import lambert
-from ..brdf.distributions import ALPHA_MIN
 from ..brdf.material import Material
+from ..microfacet.roughness import ALPHA_MIN
 from .merl import MERL_SHAPE, MerlBRDF, merl_bin_centres, merl_directions
 
 __all__ = ["FIT_MAX_THETA", "FIT_MODELS", "FIT_WEIGHTINGS", "FitResult", "fit_measured", "bin_measure", "fit_samples",

@@ -12,7 +12,7 @@ the PBR Lambert gives it, E / pi):
   shade(tone(x)); ``per_light`` sums base / pi E_i shade(tone(max(n.l_i, 0) V_i))
   (Lake et al. 2000 per light).  shade(t) is mix(shadow colour, 1, t) or the ramp
   image.  Highlights: strength x tone of D(n.h) / D(1) of the material's GGX lobe
-  (alpha = r^2, :func:`pbrkit.brdf.distributions.d_ggx`) x E_i V_i / pi.  The
+  (alpha = r^2, :func:`pbrkit.microfacet.ggx.d_ggx`) x E_i V_i / pi.  The
   environment (``environment = true``): the bake's SH irradiance banded relative
   to its brightest direction (a banded SH irradiance), and the prefiltered
   specular in the mirror direction kept where its luminance exceeds the highlight
@@ -51,9 +51,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..brdf.distributions import alpha_from_roughness, d_ggx
 from ..core.color import luminance, rec709_luminance
 from ..core.jit import dual_use, row_kernel
+from ..microfacet.ggx import d_ggx
+from ..microfacet.roughness import alpha_from_roughness
 from ..render.lights import light_incidence
 from ..render.primitives import KIND_NONE, trace_analytic
 from .style import Style

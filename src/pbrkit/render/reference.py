@@ -10,7 +10,7 @@ ch. 9):
   sec. A.5.6 ``PiecewiseConstant2D`` and sec. 12.5.2 image infinite lights),
   with the solid-angle pdf p(u, v) / (2 pi^2 sin theta);
 - BRDF sampling: GGX visible normals (Heitz 2018,
-  :func:`pbrkit.sampling.warps.warp_ggx_vndf`) for the specular lobe and cosine
+  :func:`pbrkit.microfacet.ggx.warp_ggx_vndf`) for the specular lobe and cosine
   sampling for the diffuse one, mixed by an estimate of their albedos;
 - multiple importance sampling with the power heuristic (beta = 2; Veach
   1997, sec. 9.2.4), occlusion by shadow rays;

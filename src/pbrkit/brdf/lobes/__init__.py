@@ -38,19 +38,9 @@ from ...core.jit import dual_use
 from ...core.quadrature import gauss_legendre_01
 from ...core.quadrature import ggx_cos_of_s, ggx_s_of_cos, horizon_limits, horizon_phi_max, split_node
 from ..bxdf import local_cosines
-from ..distributions import d_ggx
-from ...sampling.warps import (
-    pdf_cosine_hemisphere,
-    pdf_ggx_vndf,
-    pdf_ggx_vndf_anisotropic,
-    pdf_gtr1_ndf,
-    pdf_light_from_half,
-    reflect_xyz,
-    warp_cosine_hemisphere,
-    warp_ggx_vndf,
-    warp_ggx_vndf_anisotropic,
-    warp_gtr1_ndf,
-)
+from ...microfacet.ggx import d_ggx, pdf_ggx_vndf, pdf_ggx_vndf_anisotropic, warp_ggx_vndf, warp_ggx_vndf_anisotropic
+from ...microfacet.gtr import pdf_gtr1_ndf, warp_gtr1_ndf
+from ...sampling.warps import pdf_cosine_hemisphere, pdf_light_from_half, reflect_xyz, warp_cosine_hemisphere
 
 __all__ = ["Lobe", "Technique", "GGX_VISIBLE_NORMALS", "COSINE", "gtr1_normals", "quadrature_albedo",
            "half_vector_albedo", "lobe_width", "broad_width", "ROLES", "diffuse_estimate"]

@@ -16,9 +16,10 @@ from __future__ import annotations
 
 from ...core.jit import dual_use
 from ..diffuse import burley, burley_subsurface
-from ..distributions import d_gtr1
 from ..fresnel import f_schlick
-from ..masking import g2_separable, lambda_ggx, visibility
+from ...microfacet.ggx import lambda_ggx
+from ...microfacet.gtr import d_gtr1
+from ...microfacet.smith import g2_separable, visibility
 from . import COSINE, Lobe, diffuse_estimate, gtr1_normals, quadrature_albedo
 
 __all__ = ["SLOTS", "SUBSURFACE", "SHEEN_SLOT", "CLEARCOAT_SLOT", "CLEARCOAT_ALPHA", "DISNEY_DIFFUSE", "SHEEN",

@@ -22,7 +22,7 @@ import math
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use, select
 from ..bxdf import BxDF
-from ..distributions import alpha_from_roughness, anisotropic_alphas_burley
+from ...microfacet.roughness import alpha_from_roughness, anisotropic_alphas_burley
 from ..fresnel import f0_from_reflectance, f0_metallic
 from ..lobes.disney import CLEARCOAT, CLEARCOAT_ALPHA, CLEARCOAT_SLOT, DISNEY_DIFFUSE, SHEEN, SHEEN_SLOT
 from ..lobes.microfacet import microfacet

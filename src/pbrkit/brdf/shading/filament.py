@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ...core.jit import dual_use
 from ..bxdf import NO_EXTRA, BxDF
-from ..distributions import alpha_from_roughness, anisotropic_alphas
+from ...microfacet.roughness import alpha_from_roughness, anisotropic_alphas
 from ..fresnel import f0_from_reflectance, f0_metallic, f90_filament
 from ..lobes.diffuse import diffuse_choice
 from ..lobes.microfacet import microfacet

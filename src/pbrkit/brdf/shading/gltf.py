@@ -23,7 +23,7 @@ from ...core.filtering import linear_1d
 from ...core.jit import dual_use
 from ..bxdf import NO_EXTRA, BxDF
 from ..diffuse import kd_ibl, lambert
-from ..distributions import alpha_from_roughness
+from ...microfacet.roughness import alpha_from_roughness
 from ..fresnel import f0_from_ior, f0_metallic, f_schlick
 from ..lobes import Lobe
 from ..lobes.diffuse import LAMBERT

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ...core.jit import dual_use
 from ..bxdf import NO_EXTRA, BxDF
-from ..distributions import alpha_from_roughness
+from ...microfacet.roughness import alpha_from_roughness
 from ..fresnel import f0_from_reflectance, f0_metallic
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet

@@ -14,7 +14,7 @@ import numpy as np
 
 from ...core.jit import dual_use, select
 from ..bxdf import NO_EXTRA, BxDF
-from ..distributions import alpha_from_roughness
+from ...microfacet.roughness import alpha_from_roughness
 from ..fresnel import f0_metallic
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet

@@ -1,0 +1,163 @@
+"""The package order core -> sampling -> microfacet -> brdf, read from the sources.
+
+Every ``import`` and ``from ... import`` statement of a module (at module level
+or inside a function, absolute or relative) is resolved to the absolute
+module names it may load, with :mod:`ast`, without importing anything; a
+``from package import name`` counts as importing ``package.name`` too, and a
+call ``importlib.import_module("...")`` with a literal name counts as well.
+Then: no module of ``pbrkit.sampling`` may import ``pbrkit.microfacet`` or
+``pbrkit.brdf``, and no module of ``pbrkit.microfacet`` may import
+``pbrkit.brdf``.  The facades ``pbrkit.brdf.distributions`` and the Smith names of
+``pbrkit.brdf.masking`` only re-export, so no formula is written twice.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib
+from pathlib import Path
+
+import pytest
+
+import pbrkit
+
+PACKAGE = Path(pbrkit.__file__).resolve().parent
+
+#: subpackage -> the packages its modules must not import
+FORBIDDEN = {
+    "sampling": ("pbrkit.microfacet", "pbrkit.brdf"),
+    "microfacet": ("pbrkit.brdf",),
+}
+
+
+def _module_name(path):
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def imported_modules(source, module, is_package=False):
+    """The absolute module names the source of ``module`` may import (module docstring)."""
+    package = module.split(".") if is_package else module.split(".")[:-1]
+    found = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module
+            found.add(target)
+            found.update(f"{target}.{alias.name}" for alias in node.names if alias.name != "*")
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+              and node.func.attr == "import_module" and node.args
+              and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
+            found.add(node.args[0].value)
+    return found
+
+
+def _violations(source, module, forbidden, is_package=False):
+    return sorted(name for name in imported_modules(source, module, is_package)
+                  if any(name == f or name.startswith(f + ".") for f in forbidden))
+
+
+@pytest.mark.parametrize("subpackage", sorted(FORBIDDEN))
+def test_lower_layers_do_not_import_higher_ones(subpackage):
+    files = sorted((PACKAGE / subpackage).rglob("*.py"))
+    assert files, subpackage
+    bad = {}
+    for path in files:
+        found = _violations(path.read_text(encoding="utf-8"), _module_name(path), FORBIDDEN[subpackage],
+                            is_package=path.name == "__init__.py")
+        if found:
+            bad[str(path.relative_to(PACKAGE))] = found
+    assert not bad, f"pbrkit.{subpackage} must not import {' or '.join(FORBIDDEN[subpackage])}: {bad}"
+
+
+@pytest.mark.parametrize("source, expected", [
+    ("from ..brdf.distributions import d_ggx\n", ["pbrkit.brdf.distributions", "pbrkit.brdf.distributions.d_ggx"]),
+    ("from .. import brdf\n", ["pbrkit.brdf"]),
+    ("from ..brdf import masking as m\n", ["pbrkit.brdf", "pbrkit.brdf.masking"]),
+    ("import pbrkit.brdf.bxdf\n", ["pbrkit.brdf.bxdf"]),
+    ("from pbrkit.microfacet.ggx import d_ggx\n", ["pbrkit.microfacet.ggx", "pbrkit.microfacet.ggx.d_ggx"]),
+    ("def f():\n    from ...pbrkit import x\n    from ..microfacet import ggx\n    return ggx\n",
+     ["pbrkit.microfacet", "pbrkit.microfacet.ggx"]),
+    ("import importlib\nm = importlib.import_module('pbrkit.brdf.models')\n", ["pbrkit.brdf.models"]),
+    ("from .warps import reflect\nfrom ..core.jit import dual_use\nimport numpy as np\n", []),
+])
+def test_the_check_sees_every_form_of_import(source, expected):
+    """The checker itself: relative (one or two dots, with and without a module),
+    absolute, aliased, function-level and importlib imports are all caught."""
+    assert _violations(source, "pbrkit.sampling.warps", FORBIDDEN["sampling"]) == sorted(expected)
+
+
+def test_relative_imports_of_a_package_init_resolve_from_the_package():
+    assert _violations("from ..brdf import bxdf\n", "pbrkit.microfacet", ("pbrkit.brdf",), is_package=True) == \
+        ["pbrkit.brdf", "pbrkit.brdf.bxdf"]
+    assert _violations("from .ggx import d_ggx\n", "pbrkit.microfacet", ("pbrkit.brdf",), is_package=True) == []
+
+
+def _defined_functions(path):
+    return {node.name for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+            if isinstance(node, ast.FunctionDef)}
+
+
+def test_each_formula_is_written_once():
+    """A function of the microfacet units is defined nowhere else in pbrkit.brdf or
+    pbrkit.sampling, and brdf/distributions.py defines nothing: facades only import."""
+    unit_functions = set()
+    for path in sorted((PACKAGE / "microfacet").glob("*.py")):
+        unit_functions |= {name for name in _defined_functions(path) if not name.startswith("_")}
+    assert {"d_ggx", "lambda_beckmann", "warp_ggx_vndf", "warp_beckmann_vndf", "lambda_blinn_phong"} <= unit_functions
+    for sub in ("brdf", "sampling"):
+        for path in sorted((PACKAGE / sub).rglob("*.py")):
+            twice = _defined_functions(path) & unit_functions
+            assert not twice, f"{path.relative_to(PACKAGE)} defines {sorted(twice)} again"
+    assert _defined_functions(PACKAGE / "brdf" / "distributions.py") == set()
+
+
+def test_facades_re_export_the_units():
+    from pbrkit import microfacet
+    from pbrkit.brdf import distributions, masking
+
+    for name in distributions.__all__:
+        value = getattr(distributions, name)
+        homes = [unit for unit in (microfacet.roughness, microfacet.ggx, microfacet.beckmann, microfacet.gtr,
+                                   microfacet.blinn_phong) if name in unit.__all__]
+        assert len(homes) == 1 and getattr(homes[0], name) is value, name
+    for name in ("COS_MIN", "erf", "g1_smith", "g2_separable", "g2_height_correlated", "visibility"):
+        assert getattr(masking, name) is getattr(microfacet.smith, name), name
+    for name in ("lambda_ggx", "lambda_ggx_anisotropic", "g1_ggx", "v_smith_ggx_height_correlated"):
+        assert getattr(masking, name) is getattr(microfacet.ggx, name), name
+    for name in ("lambda_beckmann", "lambda_beckmann_anisotropic", "g1_beckmann"):
+        assert getattr(masking, name) is getattr(microfacet.beckmann, name), name
+    assert masking.alpha_g_disney is microfacet.roughness.alpha_g_disney
+    assert set(masking.__all__) >= {"k_schlick_from_alpha", "g1_schlick_ggx", "g2_kelemen", "v_kelemen", "v_neubelt"}
+    # the old dotted names still import the facades
+    assert importlib.import_module("pbrkit.distributions") is distributions
+    assert importlib.import_module("pbrkit.masking") is masking
+
+
+def test_sampling_keeps_only_the_generic_warps():
+    from pbrkit import sampling
+
+    assert "reflect" in sampling.__all__ and "sample_cosine_hemisphere" in sampling.__all__
+    leaked = [name for name in sampling.__all__ if any(d in name for d in ("ggx", "beckmann", "gtr", "phong"))]
+    assert not leaked, leaked
+    assert not hasattr(sampling, "sample_ggx_vndf")
+
+
+def test_microfacet_method_table():
+    from pbrkit import microfacet
+    from pbrkit.brdf.bxdf import DISTRIBUTIONS
+
+    assert set(DISTRIBUTIONS) <= set(microfacet.UNITS)
+    assert microfacet.unit("ggx") is microfacet.ggx and microfacet.unit("gtr1") is microfacet.gtr
+    assert microfacet.unit("blinn-phong") is microfacet.blinn_phong
+    assert microfacet.unit("beckmann").warp_beckmann_vndf is microfacet.beckmann.warp_beckmann_vndf
+    with pytest.raises(ValueError, match="choose one of ggx, beckmann, blinn-phong, gtr1"):
+        microfacet.unit("phong")
+    assert pbrkit.microfacet is microfacet  # the lazy name of the API tour
