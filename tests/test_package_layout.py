@@ -152,7 +152,7 @@ def test_sampling_keeps_only_the_generic_warps():
 
 def test_microfacet_method_table():
     from pbrkit import microfacet
-    from pbrkit.brdf.bxdf import DISTRIBUTIONS
+    from pbrkit.brdf.terms import DISTRIBUTIONS
 
     assert set(DISTRIBUTIONS) <= set(microfacet.UNITS)
     assert microfacet.unit("ggx") is microfacet.ggx and microfacet.unit("gtr1") is microfacet.gtr
