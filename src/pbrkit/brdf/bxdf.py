@@ -25,10 +25,11 @@ from typing import NamedTuple
 
 from ..core.jit import dual_use
 from ..core.vec import orthonormal_basis_xyz
+from .fresnel import f0_metallic
 
 __all__ = [
     "C_MODEL", "C_DISTRIBUTION", "C_MASKING", "C_FRESNEL", "C_DIFFUSE", "CODE_COLUMNS", "EXTRA_SLOTS", "NO_EXTRA",
-    "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "tangent_frame", "lobe_bxdf",
+    "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "tangent_frame", "lobe_bxdf", "metallic_workflow",
 ]
 
 #: Columns of a material's integer code row.
@@ -160,6 +161,19 @@ def tangent_frame(nx, ny, nz, anisotropic):
     return orthonormal_basis_xyz(nx, ny, nz)
 
 
+
+
+@dual_use(inline=True)
+def metallic_workflow(codes, row, roughness, alpha, metallic, b0, b1, b2, dielectric_f0, kd):
+    """The BxDF of an isotropic metallic-workflow model: f0 = mix(dielectric_f0, base,
+    metallic) per channel (:func:`pbrkit.brdf.fresnel.f0_metallic`), diffuse colour
+    base kd, f90 = 1, no complex IOR, constant colour or extra values."""
+    z3 = (0.0, 0.0, 0.0)
+    f0 = (f0_metallic(b0, metallic, dielectric_f0), f0_metallic(b1, metallic, dielectric_f0),
+          f0_metallic(b2, metallic, dielectric_f0))
+    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
+                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, z3, z3, dielectric_f0, z3,
+                NO_EXTRA)
 
 
 @dual_use(inline=True)

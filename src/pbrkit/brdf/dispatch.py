@@ -24,6 +24,7 @@ from __future__ import annotations
 from ..core.codegen import generate, if_chain
 from ..core.jit import dual_use
 from .bxdf import BxDF
+from .lobes.microfacet import always, never
 from .shading.registry import COLUMNS, REGISTERED
 
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
@@ -93,24 +94,14 @@ split_sum_f0 = _dispatch("split_sum_f0", ("b",), _part("split_sum_f0", ("b",)))
 fresnel_constant = _dispatch("fresnel_constant", ("b",), _part("constant", ("b",)))
 
 
-@dual_use(inline=True)
-def _true(b):
-    return True
-
-
-@dual_use(inline=True)
-def _false(b):
-    return False
-
-
 def _has_diffuse(m):
     """Whether the model's diffuse lobe is present: a choice that can be "none" is
     present unless the BxDF's diffuse code is that."""
     choice = m.choices.get("diffuse")
     if not m.compiled.diffuse:
-        return _false
+        return never
     if choice is None or "none" not in choice.choices:
-        return _true
+        return always
     from .lobes.diffuse import DIFFUSES
 
     none = DIFFUSES.index("none")
@@ -130,7 +121,7 @@ ibl_diffuse_weight = _dispatch(
 ibl_coat_roughness = _dispatch("ibl_coat_roughness", ("b",),
                                lambda i, m, ns: f"{_put(ns, f'c{i}', m.realtime.coat_roughness)}(b)")
 ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
-                           lambda i, m, ns: f"{_put(ns, f'x{i}', _true if m.realtime.extras else _false)}(b)")
+                           lambda i, m, ns: f"{_put(ns, f'x{i}', always if m.realtime.extras else never)}(b)")
 
 
 @dual_use(inline=True)

@@ -19,7 +19,7 @@ from ...core.jit import dual_use
 from ..terms import Distribution, Masking, Table, choose
 from . import GGX_VISIBLE_NORMALS, Lobe, lobe_width, quadrature_albedo
 
-__all__ = ["Microfacet", "microfacet"]
+__all__ = ["Microfacet", "microfacet", "always", "never"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,10 +66,10 @@ def microfacet(distribution, masking, fresnel, dv=None, name="specular", role="s
         f = choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"))
         estimate = choose(fresnel, "estimate", ("f0", "s", "nov"))
         f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"))
-        constant = choose(fresnel, "constant", (), wrap=lambda m: _true if m.constant else _false)
+        constant = choose(fresnel, "constant", (), wrap=lambda m: always if m.constant else never)
     else:
         f, estimate, f0_of = fresnel.f, fresnel.estimate, fresnel.split_sum_f0
-        constant = _true if fresnel.constant else _false
+        constant = always if fresnel.constant else never
 
     if dv is None:
         @dual_use(inline=True)
@@ -106,10 +106,12 @@ def microfacet(distribution, masking, fresnel, dv=None, name="specular", role="s
 
 
 @dual_use(inline=True)
-def _true(b):
+def always(b):
+    """True whatever the BxDF (a flag of a fixed term)."""
     return True
 
 
 @dual_use(inline=True)
-def _false(b):
+def never(b):
+    """False whatever the BxDF."""
     return False

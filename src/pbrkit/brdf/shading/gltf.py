@@ -21,10 +21,10 @@ from __future__ import annotations
 
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use
-from ..bxdf import NO_EXTRA, BxDF
+from ..bxdf import metallic_workflow
 from ..diffuse import kd_ibl, lambert
 from ...microfacet.roughness import alpha_from_roughness
-from ..fresnel import f0_from_ior, f0_metallic, f_schlick
+from ..fresnel import f0_from_ior, f_schlick
 from ..lobes import Lobe
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet
@@ -40,7 +40,6 @@ __all__ = ["MODEL", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight",
 #: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
 GLTF_IOR = 1.5
 GLTF_DIELECTRIC_F0 = f0_from_ior(GLTF_IOR)
-_Z3 = (0.0, 0.0, 0.0)
 
 
 @dual_use
@@ -59,13 +58,8 @@ def _fresnel_mix_weight(b, c):
 
 @dual_use(inline=True)
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
-    alpha = alpha_from_roughness(roughness)
-    f0d = GLTF_DIELECTRIC_F0
-    f0 = (f0_metallic(b0, metallic, f0d), f0_metallic(b1, metallic, f0d), f0_metallic(b2, metallic, f0d))
-    kd = 1.0 - metallic
-    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
-                alpha, alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3, _Z3, f0d,
-                _Z3, NO_EXTRA)
+    return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
+                             GLTF_DIELECTRIC_F0, 1.0 - metallic)
 
 
 _SPECULAR = microfacet(GGX, SEPARABLE, SCHLICK)

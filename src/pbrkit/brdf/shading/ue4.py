@@ -9,9 +9,9 @@ image-based lighting uses k = alpha / 2 (the split-sum table of Schlick-GGX).
 from __future__ import annotations
 
 from ...core.jit import dual_use
-from ..bxdf import NO_EXTRA, BxDF
+from ..bxdf import metallic_workflow
 from ...microfacet.roughness import alpha_from_roughness
-from ..fresnel import f0_from_reflectance, f0_metallic
+from ..fresnel import f0_from_reflectance
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet
 from ..operators import add
@@ -21,18 +21,10 @@ from .model import Model
 
 __all__ = ["MODEL", "SPECULAR", "ue4_specular"]
 
-_Z3 = (0.0, 0.0, 0.0)
-
-
 @dual_use(inline=True)
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
-    alpha = alpha_from_roughness(roughness)
-    f0d = f0_from_reflectance(params[q, columns.reflectance])
-    f0 = (f0_metallic(b0, metallic, f0d), f0_metallic(b1, metallic, f0d), f0_metallic(b2, metallic, f0d))
-    kd = 1.0 - metallic
-    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
-                alpha, alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3, _Z3, f0d,
-                _Z3, NO_EXTRA)
+    return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
+                             f0_from_reflectance(params[q, columns.reflectance]), 1.0 - metallic)
 
 
 #: D_GGX(alpha = r^2) V_SchlickGGX(k = (r + 1)^2 / 8) F_SG.

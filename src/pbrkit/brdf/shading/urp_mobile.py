@@ -13,9 +13,8 @@ import math
 import numpy as np
 
 from ...core.jit import dual_use, select
-from ..bxdf import NO_EXTRA, BxDF
+from ..bxdf import metallic_workflow
 from ...microfacet.roughness import alpha_from_roughness
-from ..fresnel import f0_metallic
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet
 from ..operators import add
@@ -28,7 +27,6 @@ __all__ = ["MODEL", "URP_DIELECTRIC_F0", "urp_specular", "urp_diffuse_weight", "
 #: URP's dielectric specular colour ``kDielectricSpec.rgb`` (URP ``BRDF.hlsl``).
 URP_DIELECTRIC_F0 = 0.04
 _INV_PI = 1.0 / math.pi
-_Z3 = (0.0, 0.0, 0.0)
 
 
 @dual_use
@@ -58,13 +56,8 @@ def _urp_dv(b, c):
 
 @dual_use(inline=True)
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
-    alpha = alpha_from_roughness(roughness)
-    f0 = (f0_metallic(b0, metallic, URP_DIELECTRIC_F0), f0_metallic(b1, metallic, URP_DIELECTRIC_F0),
-          f0_metallic(b2, metallic, URP_DIELECTRIC_F0))
-    kd = urp_diffuse_weight(metallic)
-    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
-                alpha, alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3, _Z3,
-                URP_DIELECTRIC_F0, _Z3, NO_EXTRA)
+    return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
+                             URP_DIELECTRIC_F0, urp_diffuse_weight(metallic))
 
 
 #: URP's term / pi with F the specular colour (D and V name the GGX and its
