@@ -21,6 +21,8 @@ per-sample code has no model branches.  The generated text is each function's
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from ..core.codegen import generate, if_chain
 from ..core.jit import dual_use
 from .bxdf import BxDF
@@ -30,18 +32,19 @@ from .shading.registry import COLUMNS, REGISTERED
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "fresnel_constant",
            "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_has_extras", "ibl_extras",
-           "specialised", "SOURCES"]
+           "specialised", "SOURCES", "Sampling", "sampling", "MODEL_SAMPLING"]
 
 #: The generated source of every dispatch, by name.
 SOURCES = {}
 
 
-def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), namespace=None):
+def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), namespace=None, models=REGISTERED):
     """``def name(arguments): <head> if selector == i: return call(i) ...`` over the
-    registered models; ``call(i, model)`` gives the expression and registers what it
-    calls in the namespace ``ns``."""
+    registered models (or just ``return call(0)`` for one model in ``models``);
+    ``call(i, model)`` gives the expression and registers what it calls in the
+    namespace ``ns``."""
     ns = dict(namespace or {})
-    calls = [call(i, m, ns) for i, m in enumerate(REGISTERED)]
+    calls = [call(i, m, ns) for i, m in enumerate(models)]
     lines = [f"def {name}({', '.join(arguments)}):", *head] + if_chain(selector, calls)
     source = "\n".join(lines) + "\n"
     SOURCES[name] = source
@@ -63,22 +66,38 @@ table ``codes``, row ``q`` of the parameter table ``params``) with the base colo
 applied): the model's setup.  Tables and row numbers rather than row views: a view
 per call costs reference counting in the innermost loops."""
 
-bxdf_f = _dispatch(
-    "bxdf_f", ("b", "c", "ec0", "ec1", "ec2"),
-    lambda i, m, ns: f"{_put(ns, f'value{i}', m.compiled.value)}(b, c, (ec0, ec1, ec2))",
-    head=("    if c.nol <= 0.0 or c.nov <= 0.0:", "        return 0.0, 0.0, 0.0"), inline=False)
+class Sampling(NamedTuple):
+    """The functions of the Monte Carlo estimator for the models of ``models``:
+    ``bxdf_f(b, c, ec0, ec1, ec2)``, ``lobe_probabilities(b, nov)``,
+    ``sample_wi(b, wox, woy, woz, u_lobe, u1, u2, p_spec, p_coat)``,
+    ``bxdf_pdf(b, c, p_spec, p_coat)``."""
 
-lobe_probabilities = _dispatch(
-    "lobe_probabilities", ("b", "nov"),
-    lambda i, m, ns: f"{_put(ns, f'p{i}', m.compiled.probabilities)}(b, nov)")
+    bxdf_f: object
+    lobe_probabilities: object
+    sample_wi: object
+    bxdf_pdf: object
 
-sample_wi = _dispatch(
-    "sample_wi", ("b", "wox", "woy", "woz", "u_lobe", "u1", "u2", "p_spec", "p_coat"),
-    lambda i, m, ns: f"{_put(ns, f's{i}', m.compiled.sample)}(b, wox, woy, woz, u_lobe, u1, u2, p_spec, p_coat)")
 
-bxdf_pdf = _dispatch(
-    "bxdf_pdf", ("b", "c", "p_spec", "p_coat"),
-    lambda i, m, ns: f"{_put(ns, f'pdf{i}', m.compiled.pdf)}(b, c, p_spec, p_coat)")
+def sampling(models=REGISTERED, suffix=""):
+    """:class:`Sampling` dispatching over ``models`` (one model: its own functions,
+    without a branch, for a kernel compiled for that model alone)."""
+    return Sampling(
+        _dispatch(f"bxdf_f{suffix}", ("b", "c", "ec0", "ec1", "ec2"),
+                  lambda i, m, ns: f"{_put(ns, f'value{i}', m.compiled.value)}(b, c, (ec0, ec1, ec2))",
+                  head=("    if c.nol <= 0.0 or c.nov <= 0.0:", "        return 0.0, 0.0, 0.0"), inline=False,
+                  models=models),
+        _dispatch(f"lobe_probabilities{suffix}", ("b", "nov"),
+                  lambda i, m, ns: f"{_put(ns, f'p{i}', m.compiled.probabilities)}(b, nov)", models=models),
+        _dispatch(f"sample_wi{suffix}", ("b", "wox", "woy", "woz", "u_lobe", "u1", "u2", "p_spec", "p_coat"),
+                  lambda i, m, ns: f"{_put(ns, f's{i}', m.compiled.sample)}(b, wox, woy, woz, u_lobe, u1, u2, p_spec, "
+                                   "p_coat)", models=models),
+        _dispatch(f"bxdf_pdf{suffix}", ("b", "c", "p_spec", "p_coat"),
+                  lambda i, m, ns: f"{_put(ns, f'pdf{i}', m.compiled.pdf)}(b, c, p_spec, p_coat)", models=models))
+
+
+bxdf_f, lobe_probabilities, sample_wi, bxdf_pdf = sampling()
+#: Each registered model's own :class:`Sampling` (no branch on the model), by model code.
+MODEL_SAMPLING = tuple(sampling((m,), f"_{m.name}") for m in REGISTERED)
 
 
 def _part(attribute, arguments):
