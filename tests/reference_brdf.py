@@ -30,6 +30,7 @@ __all__ = [
     "comparison_values",
     "d_ggx",
     "env_brdf_approx_karis",
+    "eon_diffuse",
     "fresnel_conductor",
     "fresnel_dielectric",
     "fresnel_schlick",
@@ -296,3 +297,52 @@ def albedo_maps(n, rule=None):
             for name, value in values.items():
                 maps.setdefault(name, np.empty((n, n)))[j, i] = value
     return maps
+
+
+# ---------------------------------------------------------------- diffuse lobes
+
+
+def eon_diffuse(l, v, rho, r):
+    """EON, the energy-preserving Oren-Nayar diffuse (Portsmouth, Kutz & Hill 2025,
+    "EON: A practical energy-preserving rough diffuse BRDF", JCGT 14(1); OpenPBR 1.1's
+    diffuse), written from the paper: Fujii's lobe (FON)
+
+        f_FON = (rho / pi) A (1 + r s / t),  s = l.v - (n.l)(n.v),  t = max(n.l, n.v) if s > 0 else 1,
+        A = 1 / (1 + c1 r),  c1 = 1/2 - 2 / (3 pi),
+
+    plus the multiple-scattering lobe that restores the energy FON loses,
+
+        f_ms = (rho_ms / pi) (1 - E_F(n.l)) (1 - E_F(n.v)) / (1 - E_avg),
+        rho_ms = rho^2 E_avg / (1 - rho (1 - E_avg)),  E_avg = A (1 + c2 r),  c2 = 2/3 - 28 / (15 pi),
+
+    with FON's albedo in closed form, E_F(mu) = A + (r A / pi) G(mu),
+    G(mu) = S (acos mu - S mu) + (2/3)((S / mu)(1 - S^3) - S), S = sqrt(1 - mu^2).
+    At r = 0 FON is Lambert and loses nothing: no multiple-scattering lobe.
+
+    l, v: directions (..., 3) (normal +z, broadcastable); rho: the diffuse colour
+    (..., 3); r: the perceptual roughness (...).  Returns f (..., 3) for n.l, n.v > 0
+    (no horizon test here)."""
+    l = np.asarray(l, dtype=float)
+    v = np.asarray(v, dtype=float)
+    rho = np.asarray(rho, dtype=float)
+    r = np.asarray(r, dtype=float)
+    c1 = 0.5 - 2.0 / (3.0 * np.pi)
+    c2 = 2.0 / 3.0 - 28.0 / (15.0 * np.pi)
+    a = 1.0 / (1.0 + c1 * r)
+
+    def e_f(mu):
+        s = np.sqrt(1.0 - mu * mu)
+        g = s * (np.arccos(mu) - s * mu) + 2.0 / 3.0 * ((s / mu) * (1.0 - s ** 3) - s)
+        return a + r * a / np.pi * g
+
+    nol, nov = l[..., 2], v[..., 2]
+    s = np.sum(l * v, axis=-1) - nol * nov
+    s_over_t = np.where(s > 0.0, s / np.maximum(nol, nov), s)
+    single = a * (1.0 + r * s_over_t) / np.pi
+    e_avg = a * (1.0 + c2 * r)
+    lost = 1.0 - e_avg
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shape = np.where(lost > 0.0, (1.0 - e_f(nol)) * (1.0 - e_f(nov)) / lost, 0.0)
+    e_avg = e_avg[..., None]
+    rho_ms = rho * rho * e_avg / (1.0 - rho * (1.0 - e_avg))
+    return rho * single[..., None] + rho_ms / np.pi * shape[..., None]
