@@ -27,20 +27,30 @@ __all__ = [
     "albedo_maps",
     "albedo_terms",
     "alpha_of",
+    "burley_diffuse",
     "comparison_values",
+    "d_beckmann_anisotropic",
+    "d_blinn_phong",
     "d_ggx",
+    "d_ggx_anisotropic",
+    "d_gtr1",
+    "disney_subsurface",
     "env_brdf_approx_karis",
     "eon_diffuse",
     "fresnel_conductor",
     "fresnel_dielectric",
     "fresnel_schlick",
+    "fresnel_schlick_f90",
     "fresnel_schlick_pow4",
     "fresnel_ue4_sg",
     "g1_schlick",
     "ggx_albedo",
+    "lambda_beckmann_anisotropic",
     "lambda_ggx",
+    "lambda_ggx_anisotropic",
     "texel_grid",
     "urp_specular_term",
+    "v_kelemen",
 ]
 
 #: alpha = max(r^2, ALPHA_MIN) (README "Conventions").
@@ -96,6 +106,70 @@ def g1_schlick(cos_t, k):
     return cos_t / (cos_t * (1.0 - k) + k)
 
 
+def d_ggx_anisotropic(hx, hy, hz, alpha_x, alpha_y):
+    """Anisotropic GGX of a unit half vector h in the local frame (tangent x, normal z),
+    D = 1 / (pi a_x a_y ((h_x / a_x)^2 + (h_y / a_y)^2 + h_z^2)^2) (Burley 2012, App. B.2,
+    eq. 13; Heitz 2014, eq. 85); zero for h_z <= 0.  With a_x = a_y = alpha it is
+    Walter et al.'s eq. 33 (:func:`d_ggx`)."""
+    s = (hx / alpha_x) ** 2 + (hy / alpha_y) ** 2 + hz * hz
+    return np.where(hz > 0.0, 1.0 / (np.pi * alpha_x * alpha_y * s * s), 0.0)
+
+
+def lambda_ggx_anisotropic(wx, wy, wz, alpha_x, alpha_y):
+    """Smith Lambda of anisotropic GGX for a unit direction w (local frame),
+    (-1 + sqrt(1 + alpha_o^2 tan^2 theta)) / 2 with alpha_o^2 tan^2 theta =
+    (alpha_x^2 w_x^2 + alpha_y^2 w_y^2) / w_z^2 (Heitz 2014, eqs. 72 and 86)."""
+    t = ((alpha_x * wx) ** 2 + (alpha_y * wy) ** 2) / (wz * wz)
+    return 0.5 * (np.sqrt(1.0 + t) - 1.0)
+
+
+def d_beckmann_anisotropic(hx, hy, hz, alpha_x, alpha_y):
+    """Beckmann D = exp(-((h_x / a_x)^2 + (h_y / a_y)^2) / h_z^2) / (pi a_x a_y h_z^4)
+    (Heitz 2014, eq. 84); with a_x = a_y = alpha it is Walter et al. 2007's eq. 25,
+    exp(-tan^2 theta_h / alpha^2) / (pi alpha^2 cos^4 theta_h).  Zero for h_z <= 0."""
+    z = np.where(hz > 0.0, hz, 1.0)
+    e = ((hx / alpha_x) ** 2 + (hy / alpha_y) ** 2) / (z * z)
+    return np.where(hz > 0.0, np.exp(-e) / (np.pi * alpha_x * alpha_y * z ** 4), 0.0)
+
+
+def lambda_beckmann_anisotropic(wx, wy, wz, alpha_x, alpha_y):
+    """Smith Lambda of Beckmann, Lambda = (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)),
+    a = 1 / (alpha_o tan theta) = w_z / sqrt(alpha_x^2 w_x^2 + alpha_y^2 w_y^2)
+    (Heitz 2014, eqs. 83 and 86; Walter et al. 2007, eq. 27 gives G1 = 1 / (1 + Lambda));
+    0 at normal incidence (a infinite).  erf from SciPy."""
+    from scipy.special import erf
+
+    root = np.sqrt((alpha_x * wx) ** 2 + (alpha_y * wy) ** 2)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        a = wz / root
+        lam = 0.5 * (erf(a) - 1.0) + np.exp(-a * a) / (2.0 * a * np.sqrt(np.pi))
+    return np.where(root > 0.0, lam, 0.0)
+
+
+def d_blinn_phong(cos_h, alpha):
+    """Normalised Blinn-Phong D = (e + 2) / (2 pi) cos^e theta_h with the exponent of the
+    Beckmann width, e = 2 / alpha^2 - 2 (Blinn 1977; Walter et al. 2007, eq. 30);
+    zero for cos theta_h <= 0."""
+    e = 2.0 / (alpha * alpha) - 2.0
+    c = np.clip(cos_h, 0.0, 1.0)
+    return np.where(cos_h > 0.0, (e + 2.0) / (2.0 * np.pi) * c ** e, 0.0)
+
+
+def d_gtr1(cos_h, sin2_h, alpha):
+    """GTR with gamma = 1 (Berry 1923), D = (alpha^2 - 1) / (pi ln(alpha^2) (alpha^2 cos^2 theta_h
+    + sin^2 theta_h)) (Burley 2012, App. B.1, eq. 4; the BRDF Explorer's ``GTR1``, whose
+    t = 1 + (alpha^2 - 1) cos^2 is written here from the components); zero for cos <= 0."""
+    a2 = alpha * alpha
+    return np.where(cos_h > 0.0, (a2 - 1.0) / (np.pi * np.log(a2) * (a2 * cos_h * cos_h + sin2_h)), 0.0)
+
+
+def v_kelemen(lov):
+    """Kelemen & Szirmay-Kalos 2001 ("A Microfacet Based Coupled Specular-Matte BRDF Model
+    with Importance Sampling"): G / ((n.l)(n.v)) ~ 2 / (1 + l.v), so the visibility
+    V = G / (4 n.l n.v) = 1 / (2 (1 + l.v)) (= 1 / (4 (l.h)^2))."""
+    return 0.5 / (1.0 + lov)
+
+
 # ---------------------------------------------------------------- Fresnel
 
 
@@ -104,6 +178,14 @@ def fresnel_schlick(c, f0):
     m = 1.0 - c
     m2 = m * m
     return f0 + (1.0 - f0) * (m2 * m2 * m)
+
+
+def fresnel_schlick_f90(c, f0, f90):
+    """Schlick's F with a grazing value f90, F = f0 + (f90 - f0)(1 - c)^5 (Filament
+    documentation sec. 4.4.3, ``F_Schlick(u, f0, f90)``; Schlick 1994 with f90 = 1)."""
+    m = 1.0 - c
+    m2 = m * m
+    return f0 + (f90 - f0) * (m2 * m2 * m)
 
 
 def fresnel_schlick_pow4(c, f0):
@@ -300,6 +382,29 @@ def albedo_maps(n, rule=None):
 
 
 # ---------------------------------------------------------------- diffuse lobes
+
+
+def burley_diffuse(nol, nov, loh, r):
+    """Burley's diffuse factor (times the base colour), Burley 2012, sec. 5.3, eq. 3 and
+    the BRDF Explorer's ``disney.brdf`` (``Fd``): (1 / pi) (1 + (F_D90 - 1)(1 - n.l)^5)
+    (1 + (F_D90 - 1)(1 - n.v)^5), F_D90 = 0.5 + 2 r cos^2 theta_d, cos theta_d = l.h,
+    r the roughness the caller passes (Burley: the perceptual roughness)."""
+    fd90 = 0.5 + 2.0 * r * loh * loh
+    fl = (1.0 - nol) ** 5
+    fv = (1.0 - nov) ** 5
+    return (1.0 + (fd90 - 1.0) * fl) * (1.0 + (fd90 - 1.0) * fv) / np.pi
+
+
+def disney_subsurface(nol, nov, loh, r):
+    """Disney's subsurface approximation (times the base colour), the BRDF Explorer's
+    ``disney.brdf`` (Burley 2012, sec. 5.3, after Hanrahan & Krueger 1993):
+    F_ss90 = r (l.h)^2, F_ss = mix(1, F_ss90, (1 - n.l)^5) mix(1, F_ss90, (1 - n.v)^5),
+    ss = 1.25 (F_ss (1 / (n.l + n.v) - 0.5) + 0.5); the factor is ss / pi."""
+    fss90 = r * loh * loh
+    fl = (1.0 - nol) ** 5
+    fv = (1.0 - nov) ** 5
+    fss = (1.0 + (fss90 - 1.0) * fl) * (1.0 + (fss90 - 1.0) * fv)
+    return 1.25 * (fss * (1.0 / (nol + nov) - 0.5) + 0.5) / np.pi
 
 
 def eon_diffuse(l, v, rho, r):
