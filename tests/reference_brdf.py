@@ -13,6 +13,16 @@ roughness r, alpha = max(r^2, 1e-3).
 approximations report compares (Karis' split-sum A and B, GGX with the Fresnel
 and masking variants, URP's mobile term) on ONE set of light directions, so
 that a 32 x 32 grid costs one node construction per cell.
+
+The second half holds full-model transcriptions of pbrkit's shading models,
+each written from its published source (glTF 2.0 Appendix B, Karis 2013, the
+Filament documentation, Unity URP's ``BRDF.hlsl``, Burley 2012 and the BRDF
+Explorer's ``disney.brdf``, a Cook-Torrance with every D / G / F / diffuse
+choice, EON of Portsmouth, Kutz & Hill 2025): vectorised NumPy functions of
+light and view directions l, v (N, 3) in the local frame (normal +z, tangent +x,
+bitangent +y) and per-element material values, returning the BRDF value f
+(N, 3) -- not f cos -- and 0 unless n.l > 0 and n.v > 0.
+``tests/test_model_values.py`` checks pbrkit's NumPy API against them.
 """
 
 from __future__ import annotations
@@ -22,24 +32,46 @@ from quadrature import albedo_nodes, view_direction
 
 __all__ = [
     "ALPHA_MIN",
+    "CT_DIFFUSES",
+    "CT_DISTRIBUTIONS",
+    "CT_FRESNELS",
+    "CT_MASKINGS",
+    "Geometry",
     "GOLD_ETA_K",
     "RULE",
     "albedo_maps",
     "albedo_terms",
     "alpha_of",
+    "burley_diffuse",
     "comparison_values",
+    "cook_torrance_brdf",
+    "d_beckmann_anisotropic",
+    "d_blinn_phong",
     "d_ggx",
+    "d_ggx_anisotropic",
+    "d_gtr1",
+    "disney_brdf",
+    "disney_subsurface",
     "env_brdf_approx_karis",
+    "eon_diffuse",
+    "filament_brdf",
     "fresnel_conductor",
     "fresnel_dielectric",
     "fresnel_schlick",
+    "fresnel_schlick_f90",
     "fresnel_schlick_pow4",
     "fresnel_ue4_sg",
     "g1_schlick",
     "ggx_albedo",
+    "gltf_brdf",
+    "lambda_beckmann_anisotropic",
     "lambda_ggx",
+    "lambda_ggx_anisotropic",
     "texel_grid",
+    "ue4_brdf",
+    "urp_mobile_brdf",
     "urp_specular_term",
+    "v_kelemen",
 ]
 
 #: alpha = max(r^2, ALPHA_MIN) (README "Conventions").
@@ -95,6 +127,70 @@ def g1_schlick(cos_t, k):
     return cos_t / (cos_t * (1.0 - k) + k)
 
 
+def d_ggx_anisotropic(hx, hy, hz, alpha_x, alpha_y):
+    """Anisotropic GGX of a unit half vector h in the local frame (tangent x, normal z),
+    D = 1 / (pi a_x a_y ((h_x / a_x)^2 + (h_y / a_y)^2 + h_z^2)^2) (Burley 2012, App. B.2,
+    eq. 13; Heitz 2014, eq. 85); zero for h_z <= 0.  With a_x = a_y = alpha it is
+    Walter et al.'s eq. 33 (:func:`d_ggx`)."""
+    s = (hx / alpha_x) ** 2 + (hy / alpha_y) ** 2 + hz * hz
+    return np.where(hz > 0.0, 1.0 / (np.pi * alpha_x * alpha_y * s * s), 0.0)
+
+
+def lambda_ggx_anisotropic(wx, wy, wz, alpha_x, alpha_y):
+    """Smith Lambda of anisotropic GGX for a unit direction w (local frame),
+    (-1 + sqrt(1 + alpha_o^2 tan^2 theta)) / 2 with alpha_o^2 tan^2 theta =
+    (alpha_x^2 w_x^2 + alpha_y^2 w_y^2) / w_z^2 (Heitz 2014, eqs. 72 and 86)."""
+    t = ((alpha_x * wx) ** 2 + (alpha_y * wy) ** 2) / (wz * wz)
+    return 0.5 * (np.sqrt(1.0 + t) - 1.0)
+
+
+def d_beckmann_anisotropic(hx, hy, hz, alpha_x, alpha_y):
+    """Beckmann D = exp(-((h_x / a_x)^2 + (h_y / a_y)^2) / h_z^2) / (pi a_x a_y h_z^4)
+    (Heitz 2014, eq. 84); with a_x = a_y = alpha it is Walter et al. 2007's eq. 25,
+    exp(-tan^2 theta_h / alpha^2) / (pi alpha^2 cos^4 theta_h).  Zero for h_z <= 0."""
+    z = np.where(hz > 0.0, hz, 1.0)
+    e = ((hx / alpha_x) ** 2 + (hy / alpha_y) ** 2) / (z * z)
+    return np.where(hz > 0.0, np.exp(-e) / (np.pi * alpha_x * alpha_y * z ** 4), 0.0)
+
+
+def lambda_beckmann_anisotropic(wx, wy, wz, alpha_x, alpha_y):
+    """Smith Lambda of Beckmann, Lambda = (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)),
+    a = 1 / (alpha_o tan theta) = w_z / sqrt(alpha_x^2 w_x^2 + alpha_y^2 w_y^2)
+    (Heitz 2014, eqs. 83 and 86; Walter et al. 2007, eq. 27 gives G1 = 1 / (1 + Lambda));
+    0 at normal incidence (a infinite).  erf from SciPy."""
+    from scipy.special import erf
+
+    root = np.sqrt((alpha_x * wx) ** 2 + (alpha_y * wy) ** 2)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        a = wz / root
+        lam = 0.5 * (erf(a) - 1.0) + np.exp(-a * a) / (2.0 * a * np.sqrt(np.pi))
+    return np.where(root > 0.0, lam, 0.0)
+
+
+def d_blinn_phong(cos_h, alpha):
+    """Normalised Blinn-Phong D = (e + 2) / (2 pi) cos^e theta_h with the exponent of the
+    Beckmann width, e = 2 / alpha^2 - 2 (Blinn 1977; Walter et al. 2007, eq. 30);
+    zero for cos theta_h <= 0."""
+    e = 2.0 / (alpha * alpha) - 2.0
+    c = np.clip(cos_h, 0.0, 1.0)
+    return np.where(cos_h > 0.0, (e + 2.0) / (2.0 * np.pi) * c ** e, 0.0)
+
+
+def d_gtr1(cos_h, sin2_h, alpha):
+    """GTR with gamma = 1 (Berry 1923), D = (alpha^2 - 1) / (pi ln(alpha^2) (alpha^2 cos^2 theta_h
+    + sin^2 theta_h)) (Burley 2012, App. B.1, eq. 4; the BRDF Explorer's ``GTR1``, whose
+    t = 1 + (alpha^2 - 1) cos^2 is written here from the components); zero for cos <= 0."""
+    a2 = alpha * alpha
+    return np.where(cos_h > 0.0, (a2 - 1.0) / (np.pi * np.log(a2) * (a2 * cos_h * cos_h + sin2_h)), 0.0)
+
+
+def v_kelemen(lov):
+    """Kelemen & Szirmay-Kalos 2001 ("A Microfacet Based Coupled Specular-Matte BRDF Model
+    with Importance Sampling"): G / ((n.l)(n.v)) ~ 2 / (1 + l.v), so the visibility
+    V = G / (4 n.l n.v) = 1 / (2 (1 + l.v)) (= 1 / (4 (l.h)^2))."""
+    return 0.5 / (1.0 + lov)
+
+
 # ---------------------------------------------------------------- Fresnel
 
 
@@ -103,6 +199,14 @@ def fresnel_schlick(c, f0):
     m = 1.0 - c
     m2 = m * m
     return f0 + (1.0 - f0) * (m2 * m2 * m)
+
+
+def fresnel_schlick_f90(c, f0, f90):
+    """Schlick's F with a grazing value f90, F = f0 + (f90 - f0)(1 - c)^5 (Filament
+    documentation sec. 4.4.3, ``F_Schlick(u, f0, f90)``; Schlick 1994 with f90 = 1)."""
+    m = 1.0 - c
+    m2 = m * m
+    return f0 + (f90 - f0) * (m2 * m2 * m)
 
 
 def fresnel_schlick_pow4(c, f0):
@@ -296,3 +400,429 @@ def albedo_maps(n, rule=None):
             for name, value in values.items():
                 maps.setdefault(name, np.empty((n, n)))[j, i] = value
     return maps
+
+
+# ---------------------------------------------------------------- diffuse lobes
+
+
+def burley_diffuse(nol, nov, loh, r):
+    """Burley's diffuse factor (times the base colour), Burley 2012, sec. 5.3, eq. 3 and
+    the BRDF Explorer's ``disney.brdf`` (``Fd``): (1 / pi) (1 + (F_D90 - 1)(1 - n.l)^5)
+    (1 + (F_D90 - 1)(1 - n.v)^5), F_D90 = 0.5 + 2 r cos^2 theta_d, cos theta_d = l.h,
+    r the roughness the caller passes (Burley: the perceptual roughness)."""
+    fd90 = 0.5 + 2.0 * r * loh * loh
+    fl = (1.0 - nol) ** 5
+    fv = (1.0 - nov) ** 5
+    return (1.0 + (fd90 - 1.0) * fl) * (1.0 + (fd90 - 1.0) * fv) / np.pi
+
+
+def disney_subsurface(nol, nov, loh, r):
+    """Disney's subsurface approximation (times the base colour), the BRDF Explorer's
+    ``disney.brdf`` (Burley 2012, sec. 5.3, after Hanrahan & Krueger 1993):
+    F_ss90 = r (l.h)^2, F_ss = mix(1, F_ss90, (1 - n.l)^5) mix(1, F_ss90, (1 - n.v)^5),
+    ss = 1.25 (F_ss (1 / (n.l + n.v) - 0.5) + 0.5); the factor is ss / pi."""
+    fss90 = r * loh * loh
+    fl = (1.0 - nol) ** 5
+    fv = (1.0 - nov) ** 5
+    fss = (1.0 + (fss90 - 1.0) * fl) * (1.0 + (fss90 - 1.0) * fv)
+    return 1.25 * (fss * (1.0 / (nol + nov) - 0.5) + 0.5) / np.pi
+
+
+def eon_diffuse(l, v, rho, r):
+    """EON, the energy-preserving Oren-Nayar diffuse (Portsmouth, Kutz & Hill 2025,
+    "EON: A practical energy-preserving rough diffuse BRDF", JCGT 14(1); OpenPBR 1.1's
+    diffuse), written from the paper: Fujii's lobe (FON)
+
+        f_FON = (rho / pi) A (1 + r s / t),  s = l.v - (n.l)(n.v),  t = max(n.l, n.v) if s > 0 else 1,
+        A = 1 / (1 + c1 r),  c1 = 1/2 - 2 / (3 pi),
+
+    plus the multiple-scattering lobe that restores the energy FON loses,
+
+        f_ms = (rho_ms / pi) (1 - E_F(n.l)) (1 - E_F(n.v)) / (1 - E_avg),
+        rho_ms = rho^2 E_avg / (1 - rho (1 - E_avg)),  E_avg = A (1 + c2 r),  c2 = 2/3 - 28 / (15 pi),
+
+    with FON's albedo in closed form, E_F(mu) = A + (r A / pi) G(mu),
+    G(mu) = S (acos mu - S mu) + (2/3)((S / mu)(1 - S^3) - S), S = sqrt(1 - mu^2).
+    At r = 0 FON is Lambert and loses nothing: no multiple-scattering lobe.
+
+    l, v: directions (..., 3) (normal +z, broadcastable); rho: the diffuse colour
+    (..., 3); r: the perceptual roughness (...).  Returns f (..., 3) for n.l, n.v > 0
+    (no horizon test here)."""
+    l = np.asarray(l, dtype=float)
+    v = np.asarray(v, dtype=float)
+    rho = np.asarray(rho, dtype=float)
+    r = np.asarray(r, dtype=float)
+    c1 = 0.5 - 2.0 / (3.0 * np.pi)
+    c2 = 2.0 / 3.0 - 28.0 / (15.0 * np.pi)
+    a = 1.0 / (1.0 + c1 * r)
+
+    def e_f(mu):
+        s = np.sqrt(1.0 - mu * mu)
+        g = s * (np.arccos(mu) - s * mu) + 2.0 / 3.0 * ((s / mu) * (1.0 - s ** 3) - s)
+        return a + r * a / np.pi * g
+
+    nol, nov = l[..., 2], v[..., 2]
+    s = np.sum(l * v, axis=-1) - nol * nov
+    s_over_t = np.where(s > 0.0, s / np.maximum(nol, nov), s)
+    single = a * (1.0 + r * s_over_t) / np.pi
+    e_avg = a * (1.0 + c2 * r)
+    lost = 1.0 - e_avg
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shape = np.where(lost > 0.0, (1.0 - e_f(nol)) * (1.0 - e_f(nov)) / lost, 0.0)
+    e_avg = e_avg[..., None]
+    rho_ms = rho * rho * e_avg / (1.0 - rho * (1.0 - e_avg))
+    return rho * single[..., None] + rho_ms / np.pi * shape[..., None]
+
+
+# ---------------------------------------------------------------- full models
+#
+# Each model below is a function of l, v (N, 3) in the local frame (normal +z,
+# tangent +x, bitangent +y; unit length) and per-element material values (base
+# colour (N, 3), scalars (N,)), returning f (N, 3), zero unless n.l > 0 and n.v > 0.
+# Roughness: alpha = max(r^2, ALPHA_MIN) (README "Conventions"), anisotropic alphas
+# as each model documents them.
+
+
+class Geometry:
+    """l, v, the half vector h = (l + v) / |l + v| and their cosines in the local frame:
+    n.l, n.v, n.h = h_z, v.h (= l.h), l.v, sin^2 theta_h = h_x^2 + h_y^2 (from the
+    components, without cancellation), and ``above``: n.l > 0 and n.v > 0."""
+
+    def __init__(self, l, v):
+        self.l = l = np.asarray(l, dtype=float)
+        self.v = v = np.asarray(v, dtype=float)
+        h = l + v
+        length = np.linalg.norm(h, axis=-1, keepdims=True)
+        self.h = h = np.where(length > 0.0, h / np.where(length > 0.0, length, 1.0), (0.0, 0.0, 1.0))
+        self.nol, self.nov, self.noh = l[..., 2], v[..., 2], h[..., 2]
+        self.voh = np.sum(v * h, axis=-1)
+        self.lov = np.sum(l * v, axis=-1)
+        self.sin2h = h[..., 0] ** 2 + h[..., 1] ** 2
+        self.above = (self.nol > 0.0) & (self.nov > 0.0)
+
+    def only_above(self, f):
+        """f (N, 3) where l and v are above the surface, else 0."""
+        return np.where(self.above[..., None], f, 0.0)
+
+
+def _alpha(r):
+    return np.maximum(np.asarray(r, dtype=float) ** 2, ALPHA_MIN)
+
+
+def _rgb(x):
+    """A per-element scalar as a column against RGB."""
+    return np.asarray(x, dtype=float)[..., None]
+
+
+def _mix(a, b, t):
+    """GLSL's mix(a, b, t) = a (1 - t) + b t."""
+    return a * (1.0 - t) + b * t
+
+
+def _smith_ggx_visibility_separable(nol, nov, alpha):
+    """The separable Smith-GGX visibility of glTF 2.0 Appendix B.3.2,
+    V = 1 / ((|N.L| + sqrt(alpha^2 + (1 - alpha^2)(N.L)^2)) (|N.V| + sqrt(alpha^2 + (1 - alpha^2)(N.V)^2)))
+    (= G1(l) G1(v) / (4 |N.L| |N.V|), G1 = 2 |N.X| / (|N.X| + sqrt(alpha^2 + (1 - alpha^2)(N.X)^2)))."""
+    a2 = alpha * alpha
+    return 1.0 / ((np.abs(nol) + np.sqrt(a2 + (1.0 - a2) * nol * nol))
+                  * (np.abs(nov) + np.sqrt(a2 + (1.0 - a2) * nov * nov)))
+
+
+def gltf_brdf(l, v, base, metallic, roughness):
+    """The glTF 2.0 metallic-roughness BRDF as the specification's Appendix B writes it
+    (B.2.2, B.3.1 - B.3.5), mixed literally (not folded into one f0):
+
+        material = mix(dielectric_brdf, metal_brdf, metallic)
+        metal_brdf = conductor_fresnel(f0 = baseColor, specular_brdf(alpha))
+                   = specular_brdf(alpha) (baseColor + (1 - baseColor)(1 - |V.H|)^5)
+        dielectric_brdf = fresnel_mix(ior = 1.5, diffuse_brdf(baseColor), specular_brdf(alpha))
+                   = mix(baseColor / pi, specular_brdf(alpha), f0 + (1 - f0)(1 - |V.H|)^5),
+                     f0 = ((1 - ior) / (1 + ior))^2 = 0.04
+        specular_brdf(alpha) = V D, D = alpha^2 / (pi ((N.H)^2 (alpha^2 - 1) + 1)^2) (:func:`d_ggx`),
+        V the separable Smith-GGX visibility (B.3.2), alpha = roughness^2."""
+    g = Geometry(l, v)
+    alpha = _alpha(roughness)
+    with np.errstate(all="ignore"):
+        spec = (d_ggx(g.noh, g.sin2h, alpha) * _smith_ggx_visibility_separable(g.nol, g.nov, alpha))[..., None]
+        fc = ((1.0 - np.abs(g.voh)) ** 5)[..., None]
+        base = np.asarray(base, dtype=float)
+        metal = spec * (base + (1.0 - base) * fc)
+        ior = 1.5
+        f0 = ((1.0 - ior) / (1.0 + ior)) ** 2
+        dielectric = _mix(base / np.pi, spec, f0 + (1.0 - f0) * fc)
+        f = _mix(dielectric, metal, _rgb(metallic))
+    return g.only_above(f)
+
+
+def ue4_brdf(l, v, base, metallic, roughness, reflectance):
+    """Unreal Engine 4 (Karis 2013, "Real Shading in Unreal Engine 4"):
+
+        f = c_diff / pi + D F G / (4 n.l n.v),
+
+    D GGX of alpha = r^2 (eq. 2), G = G1(l) G1(v) Schlick's with the direct-light
+    k = (r + 1)^2 / 8 (eq. 4, r the perceptual roughness), F the spherical-Gaussian
+    Schlick F0 + (1 - F0) 2^((-5.55473 v.h - 6.98316) v.h) (eq. 5); metallic workflow
+    c_diff = base (1 - metallic), F0 = lerp(0.08 specular, base, metallic) with UE4's
+    Specular s expressed as the project's reflectance, 0.08 s = 0.16 reflectance^2."""
+    g = Geometry(l, v)
+    r = np.asarray(roughness, dtype=float)
+    alpha = _alpha(r)
+    k = (r + 1.0) ** 2 / 8.0
+    base = np.asarray(base, dtype=float)
+    with np.errstate(all="ignore"):
+        f0 = _mix(_rgb(0.16 * np.asarray(reflectance) ** 2), base, _rgb(metallic))
+        dg = d_ggx(g.noh, g.sin2h, alpha) * g1_schlick(g.nol, k) * g1_schlick(g.nov, k) / (4.0 * g.nol * g.nov)
+        f = base * (1.0 - _rgb(metallic)) / np.pi + fresnel_ue4_sg(g.voh[..., None], f0) * dg[..., None]
+    return g.only_above(f)
+
+
+def filament_brdf(l, v, base, metallic, roughness, reflectance, anisotropy, diffuse="lambert",
+                  burley_roughness="alpha"):
+    """Filament's standard model (Filament documentation, "Physically Based Rendering in
+    Filament", sec. 4), f = diffuseColor f_d + D V F:
+
+    - sec. 4.8.3 (remapping): alpha = perceptualRoughness^2, diffuseColor = (1 - metallic)
+      baseColor, f0 = 0.16 reflectance^2 (1 - metallic) + baseColor metallic;
+    - sec. 4.4.1, ``D_GGX``: D = (alpha / (1 - (n.h)^2 + (n.h alpha)^2))^2 / pi (1 - (n.h)^2
+      written as h_x^2 + h_y^2);
+    - sec. 4.4.2, ``V_SmithGGXCorrelated``: V = 0.5 / (n.l sqrt((n.v)^2 (1 - alpha^2) + alpha^2)
+      + n.v sqrt((n.l)^2 (1 - alpha^2) + alpha^2));
+    - sec. 4.4.3, ``F_Schlick(l.h, f0, f90)`` = f0 + (f90 - f0)(1 - l.h)^5 with Filament's
+      f90 = saturate(dot(f0, vec3(50 * 0.33))) (its shading code's ``fresnel``, the
+      specular occlusion of f0 below 2 %);
+    - sec. 4.5, f_d: Lambert 1 / pi, or ``Fd_Burley`` (1 / pi) F_Schlick(n.l, 1, f90)
+      F_Schlick(n.v, 1, f90), f90 = 0.5 + 2 alpha (l.h)^2 -- the documentation's alpha,
+      "roughness, remapped from perceptualRoughness" (its table of symbols; the shading
+      code passes ``pixel.roughness``).  ``burley_roughness="perceptual"`` uses the
+      perceptual roughness instead (Burley 2012's own parameter); ``diffuse="none"``: 0;
+    - sec. 4.10.1 (anisotropic model, Kulla & Conty 2017's parameterisation):
+      a_t = max(alpha (1 + anisotropy), 0.001), a_b = max(alpha (1 - anisotropy), 0.001),
+      ``D_GGX_Anisotropic``: a2 = a_t a_b, w = (a_b t.h, a_t b.h, a2 n.h),
+      D = a2 (a2 / w.w)^2 / pi; ``V_SmithGGXCorrelated_Anisotropic``:
+      V = 0.5 / (n.l |(a_t t.v, a_b b.v, n.v)| + n.v |(a_t t.l, a_b b.l, n.l)|);
+      used where anisotropy != 0."""
+    g = Geometry(l, v)
+    r = np.asarray(roughness, dtype=float)
+    alpha = _alpha(r)
+    base = np.asarray(base, dtype=float)
+    m = _rgb(metallic)
+    aniso = np.asarray(anisotropy, dtype=float) + np.zeros_like(alpha)
+    with np.errstate(all="ignore"):
+        f0 = 0.16 * _rgb(reflectance) ** 2 * (1.0 - m) + base * m
+        f90 = np.clip(np.sum(f0 * (50.0 * 0.33), axis=-1), 0.0, 1.0)
+        # isotropic
+        k = alpha / (g.sin2h + (g.noh * alpha) ** 2)
+        d_iso = np.where(g.noh > 0.0, k * k / np.pi, 0.0)
+        a2 = alpha * alpha
+        v_iso = 0.5 / (g.nol * np.sqrt(g.nov ** 2 * (1.0 - a2) + a2) + g.nov * np.sqrt(g.nol ** 2 * (1.0 - a2) + a2))
+        # anisotropic
+        at = np.maximum(alpha * (1.0 + aniso), 0.001)
+        ab = np.maximum(alpha * (1.0 - aniso), 0.001)
+        aa = at * ab
+        w = np.stack([ab * g.h[..., 0], at * g.h[..., 1], aa * g.noh], axis=-1)
+        w2 = aa / np.sum(w * w, axis=-1)
+        d_aniso = np.where(g.noh > 0.0, aa * w2 * w2 / np.pi, 0.0)
+        lam_v = g.nol * np.linalg.norm(np.stack([at * g.v[..., 0], ab * g.v[..., 1], g.nov], axis=-1), axis=-1)
+        lam_l = g.nov * np.linalg.norm(np.stack([at * g.l[..., 0], ab * g.l[..., 1], g.nol], axis=-1), axis=-1)
+        v_aniso = 0.5 / (lam_v + lam_l)
+        dv = np.where(aniso != 0.0, d_aniso * v_aniso, d_iso * v_iso)
+        specular = fresnel_schlick_f90(g.voh[..., None], f0, f90[..., None]) * dv[..., None]
+        if diffuse == "lambert":
+            fd = np.full_like(alpha, 1.0 / np.pi)
+        elif diffuse == "burley":
+            fd = burley_diffuse(g.nol, g.nov, g.voh, alpha if burley_roughness == "alpha" else r)
+        elif diffuse == "none":
+            fd = np.zeros_like(alpha)
+        else:
+            raise ValueError(diffuse)
+        f = (1.0 - m) * base * fd[..., None] + specular
+    return g.only_above(f)
+
+
+def urp_mobile_brdf(l, v, base, metallic, roughness):
+    """Unity URP's BRDF (URP ``BRDF.hlsl``: ``InitializeBRDFData``, ``DirectBRDFSpecular``;
+    after Zioma 2015, "Optimizing PBR for Mobile"), as pbrkit's urp_mobile module
+    describes it: diffuse = base (1 - 0.04)(1 - metallic) (``OneMinusReflectivityMetallic``),
+    specular colour lerp(0.04, base, metallic) (``kDielectricSpec``), the specular term
+    alpha^2 / (d^2 max(0.1, (l.h)^2) (4 alpha + 2)), d = (n.h)^2 (alpha^2 - 1) + 1
+    (:func:`urp_specular_term`), alpha = r^2 (``PerceptualRoughnessToRoughness``), and
+    the BRDF (diffuse + specular term) / pi (Unity's lights carry pi).  Left out, as the
+    module leaves them out: URP's fp16 guards (d's + 1.00001 instead of + 1, alpha
+    clamped at HALF_MIN_SQRT rather than ALPHA_MIN's 1e-3, the mobile clamp to 100)."""
+    g = Geometry(l, v)
+    alpha = _alpha(roughness)
+    base = np.asarray(base, dtype=float)
+    m = _rgb(metallic)
+    with np.errstate(all="ignore"):
+        diffuse = base * (1.0 - 0.04) * (1.0 - m)
+        specular = _mix(0.04, base, m)
+        term = urp_specular_term(g.noh, g.sin2h, g.voh, alpha) * np.pi  # URP's term, before / pi
+        f = (diffuse + specular * term[..., None]) / np.pi
+    return g.only_above(f)
+
+
+def disney_brdf(l, v, base, metallic, roughness, reflectance, anisotropy, subsurface, specular_tint, sheen,
+                sheen_tint, clearcoat, clearcoat_gloss):
+    """Disney's principled BRDF, the BRDF Explorer's ``disney.brdf`` (Burley 2012,
+    "Physically-Based Shading at Disney", sec. 5 and App. B):
+
+        f = ((1 / pi) mix(Fd, ss, subsurface) Cdlin + Fsheen)(1 - metallic) + Gs Fs Ds
+            + 0.25 clearcoat Gr Fr Dr,
+
+    Cdlum = 0.3 R + 0.6 G + 0.1 B, Ctint = Cdlin / Cdlum (1 if Cdlum = 0),
+    Cspec0 = mix(0.08 specular mix(1, Ctint, specularTint), Cdlin, metallic) with
+    0.08 specular = 0.16 reflectance^2 (the project's reflectance),
+    Csheen = mix(1, Ctint, sheenTint); FL, FV, FH = (1 - n.l)^5, (1 - n.v)^5, (1 - l.h)^5;
+    Fd: Burley's diffuse (:func:`burley_diffuse` times pi), ss: the subsurface term
+    (:func:`disney_subsurface` times pi), both of the perceptual roughness;
+    Ds = ``GTR2_aniso`` (anisotropic GGX, :func:`d_ggx_anisotropic`) with
+    aspect = sqrt(1 - 0.9 anisotropic), a_x = alpha / aspect, a_y = alpha aspect
+    (App. B.2; alpha = max(r^2, ALPHA_MIN) and each clamped at 0.001 -- the BRDF
+    Explorer clamps r^2 / aspect and r^2 aspect at 0.001, which differs only where
+    r^2 < 0.001), Fs = mix(Cspec0, 1, FH),
+    Gs = ``smithG_GGX_aniso``(l) ``smithG_GGX_aniso``(v), smithG_GGX_aniso =
+    1 / (n.x + sqrt((x.X a_x)^2 + (x.Y a_y)^2 + (n.x)^2)) (the separable Smith
+    visibility, G1 / (2 n.x) each); clear coat Dr = GTR1 (:func:`d_gtr1`) of
+    alpha = mix(0.1, 0.001, clearcoatGloss), Fr = mix(0.04, 1, FH),
+    Gr = smithG_GGX(n.l, 0.25) smithG_GGX(n.v, 0.25), smithG_GGX(c, a) =
+    1 / (c + sqrt(a^2 + c^2 - a^2 c^2))."""
+    g = Geometry(l, v)
+    r = np.asarray(roughness, dtype=float)
+    alpha = _alpha(r)
+    cd = np.asarray(base, dtype=float)
+    m = _rgb(metallic)
+    with np.errstate(all="ignore"):
+        lum = 0.3 * cd[..., 0] + 0.6 * cd[..., 1] + 0.1 * cd[..., 2]
+        tint = np.where(lum[..., None] > 0.0, cd / np.where(lum > 0.0, lum, 1.0)[..., None], 1.0)
+        cspec0 = _mix(0.16 * _rgb(reflectance) ** 2 * _mix(1.0, tint, _rgb(specular_tint)), cd, m)
+        csheen = _mix(1.0, tint, _rgb(sheen_tint))
+        fh = ((1.0 - g.voh) ** 5)[..., None]
+        fd = burley_diffuse(g.nol, g.nov, g.voh, r) * np.pi
+        ss = disney_subsurface(g.nol, g.nov, g.voh, r) * np.pi
+        diffuse = (1.0 / np.pi) * _mix(fd, ss, np.asarray(subsurface, dtype=float))[..., None] * cd
+        fsheen = fh * _rgb(sheen) * csheen
+        aspect = np.sqrt(1.0 - 0.9 * np.asarray(anisotropy, dtype=float))
+        ax = np.maximum(alpha / aspect, 0.001)
+        ay = np.maximum(alpha * aspect, 0.001)
+        ds = d_ggx_anisotropic(g.h[..., 0], g.h[..., 1], g.noh, ax, ay)
+        fs = _mix(cspec0, 1.0, fh)
+
+        def smith_aniso(w):
+            return 1.0 / (w[..., 2] + np.sqrt((w[..., 0] * ax) ** 2 + (w[..., 1] * ay) ** 2 + w[..., 2] ** 2))
+
+        gs = smith_aniso(g.l) * smith_aniso(g.v)
+
+        def smith(c, a):
+            return 1.0 / (c + np.sqrt(a * a + c * c - a * a * c * c))
+
+        alpha_c = _mix(0.1, 0.001, np.asarray(clearcoat_gloss, dtype=float))
+        dr = d_gtr1(g.noh, g.sin2h, alpha_c)
+        fr = _mix(0.04, 1.0, fh[..., 0])
+        gr = smith(g.nol, 0.25) * smith(g.nov, 0.25)
+        f = ((diffuse + fsheen) * (1.0 - m) + (gs * ds)[..., None] * fs
+             + (0.25 * np.asarray(clearcoat, dtype=float) * gr * fr * dr)[..., None])
+    return g.only_above(f)
+
+
+#: cook_torrance's term names, as the transcription below spells them.
+CT_DISTRIBUTIONS = ("ggx", "beckmann", "blinn-phong")
+CT_MASKINGS = ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4", "kelemen", "implicit")
+CT_FRESNELS = ("schlick", "schlick-pow4", "ue4-sg", "exact-conductor", "exact-dielectric", "none")
+CT_DIFFUSES = ("lambert", "burley", "none", "eon")
+
+
+def cook_torrance_brdf(l, v, base, metallic, roughness, reflectance, anisotropy, distribution, masking, fresnel,
+                       diffuse, eta=None, k=None, specular_color=None):
+    """A Cook & Torrance 1982 microfacet BRDF, f = k_d rho_d f_diffuse + D G F / (4 n.l n.v)
+    (Walter et al. 2007, eq. 20), every term chosen by name:
+
+    - ``distribution`` (alpha = max(r^2, ALPHA_MIN); anisotropic where anisotropy != 0 with
+      Kulla & Conty 2017's a_x = max(alpha (1 + a), ALPHA_MIN), a_y = max(alpha (1 - a),
+      ALPHA_MIN), tangent +x): ``ggx`` (:func:`d_ggx_anisotropic`), ``beckmann``
+      (:func:`d_beckmann_anisotropic`), ``blinn-phong`` (:func:`d_blinn_phong`, exponent
+      2 / alpha^2 - 2; isotropic: the anisotropy is ignored);
+    - ``masking``: Smith's G with the distribution's own Lambda (Blinn-Phong: Beckmann's of
+      the same alpha, Walter et al. 2007 sec. 5.2), ``height-correlated``
+      G = 1 / (1 + Lambda(l) + Lambda(v)) (Heitz 2014, eq. 99) or ``separable``
+      G = 1 / ((1 + Lambda(l))(1 + Lambda(v))) (Heitz 2014, eq. 98); ``schlick-ggx``
+      G1 = n.x / (n.x (1 - k) + k) with k = alpha / 2 and ``schlick-ggx-ue4`` with
+      k = (r + 1)^2 / 8 (Karis 2013, eq. 4; the isotropic alpha); ``kelemen``
+      (:func:`v_kelemen`); ``implicit`` G = (n.l)(n.v) (V = 1/4);
+    - ``fresnel`` of v.h: ``schlick`` (Schlick 1994, eq. 15), ``schlick-pow4`` (the fourth
+      power), ``ue4-sg`` (Karis 2013, eq. 5), each with the metallic-workflow
+      f0 = lerp(0.16 reflectance^2, base, metallic); ``exact-conductor`` of the complex IOR
+      eta + i k (:func:`fresnel_conductor`); ``exact-dielectric`` (:func:`fresnel_dielectric`)
+      of the IOR n = (1 + sqrt(f0)) / (1 - sqrt(f0)) of f0 = 0.16 reflectance^2 (the
+      inverse of f0 = ((n - 1) / (n + 1))^2; metallic ignored); ``none``: F = the constant
+      ``specular_color``;
+    - ``diffuse``, times base (1 - metallic): ``lambert`` 1 / pi, ``burley``
+      (:func:`burley_diffuse` of the perceptual roughness), ``eon`` (:func:`eon_diffuse`,
+      the perceptual roughness), ``none``."""
+    g = Geometry(l, v)
+    r = np.asarray(roughness, dtype=float)
+    alpha = _alpha(r)
+    base = np.asarray(base, dtype=float)
+    m = _rgb(metallic)
+    aniso = np.asarray(anisotropy, dtype=float) + np.zeros_like(alpha)
+    if distribution == "blinn-phong":
+        aniso = np.zeros_like(alpha)
+    ax = np.where(aniso != 0.0, np.maximum(alpha * (1.0 + aniso), ALPHA_MIN), alpha)
+    ay = np.where(aniso != 0.0, np.maximum(alpha * (1.0 - aniso), ALPHA_MIN), alpha)
+    with np.errstate(all="ignore"):
+        if distribution == "ggx":
+            d = d_ggx_anisotropic(g.h[..., 0], g.h[..., 1], g.noh, ax, ay)
+            lam_l = lambda_ggx_anisotropic(g.l[..., 0], g.l[..., 1], g.nol, ax, ay)
+            lam_v = lambda_ggx_anisotropic(g.v[..., 0], g.v[..., 1], g.nov, ax, ay)
+        elif distribution in ("beckmann", "blinn-phong"):
+            if distribution == "beckmann":
+                d = d_beckmann_anisotropic(g.h[..., 0], g.h[..., 1], g.noh, ax, ay)
+            else:
+                d = d_blinn_phong(g.noh, alpha)
+            lam_l = lambda_beckmann_anisotropic(g.l[..., 0], g.l[..., 1], g.nol, ax, ay)
+            lam_v = lambda_beckmann_anisotropic(g.v[..., 0], g.v[..., 1], g.nov, ax, ay)
+        else:
+            raise ValueError(distribution)
+        four = 4.0 * g.nol * g.nov
+        if masking == "height-correlated":
+            vis = 1.0 / (1.0 + lam_l + lam_v) / four
+        elif masking == "separable":
+            vis = 1.0 / ((1.0 + lam_l) * (1.0 + lam_v)) / four
+        elif masking in ("schlick-ggx", "schlick-ggx-ue4"):
+            kk = alpha / 2.0 if masking == "schlick-ggx" else (r + 1.0) ** 2 / 8.0
+            vis = g1_schlick(g.nol, kk) * g1_schlick(g.nov, kk) / four
+        elif masking == "kelemen":
+            vis = v_kelemen(g.lov)
+        elif masking == "implicit":
+            vis = np.full_like(alpha, 0.25)
+        else:
+            raise ValueError(masking)
+        c = g.voh[..., None]
+        f0 = _mix(_rgb(0.16 * np.asarray(reflectance, dtype=float) ** 2), base, m)
+        if fresnel == "schlick":
+            f = fresnel_schlick(c, f0)
+        elif fresnel == "schlick-pow4":
+            f = fresnel_schlick_pow4(c, f0)
+        elif fresnel == "ue4-sg":
+            f = fresnel_ue4_sg(c, f0)
+        elif fresnel == "exact-conductor":
+            f = fresnel_conductor(c, np.asarray(eta, dtype=float), np.asarray(k, dtype=float))
+        elif fresnel == "exact-dielectric":
+            root = np.sqrt(0.16 * _rgb(reflectance) ** 2)
+            f = fresnel_dielectric(c, (1.0 + root) / (1.0 - root)) + np.zeros_like(base)
+        elif fresnel == "none":
+            f = np.asarray(specular_color, dtype=float) + np.zeros_like(base)
+        else:
+            raise ValueError(fresnel)
+        rho = base * (1.0 - m)
+        if diffuse == "lambert":
+            fd = rho / np.pi
+        elif diffuse == "burley":
+            fd = rho * burley_diffuse(g.nol, g.nov, g.voh, r)[..., None]
+        elif diffuse == "eon":
+            fd = eon_diffuse(g.l, g.v, rho, r)
+        elif diffuse == "none":
+            fd = np.zeros_like(base)
+        else:
+            raise ValueError(diffuse)
+        out = fd + f * (d * vis)[..., None]
+    return g.only_above(out)

@@ -17,7 +17,7 @@ import numba
 import numpy as np
 import pytest
 from quadrature import albedo_nodes, hemisphere_rule, view_direction
-from reference_brdf import d_ggx, fresnel_schlick, lambda_ggx
+from reference_brdf import d_ggx, eon_diffuse, fresnel_schlick, lambda_ggx
 
 from pbrkit.brdf.bxdf import EXTRA_SLOTS, BxDF, local_cosines
 from pbrkit.brdf.lobes.diffuse import BURLEY, LAMBERT
@@ -137,7 +137,7 @@ def _cases():
     def ref_layer(l, v, b):  # albedo scaling (KHR_materials_sheen): top + (1 - max E_top(n.v)) base
         dv, _ = _reference_dv(l, v, b.alpha)
         e_top = EON.albedo(b, v[2])
-        return _eon_reference(l, v, rho, b.roughness) + (1.0 - max(e_top)) * dv[:, None]
+        return eon_diffuse(l, v, rho, b.roughness) + (1.0 - max(e_top)) * dv[:, None]
 
     return [
         ("add", add(LAMBERT, SPECULAR), ref_add),
@@ -146,29 +146,6 @@ def _cases():
         ("weighted", add(weighted(_half_weight, LAMBERT), SPECULAR), ref_weighted),
         ("layer", layer(EON, SPECULAR), ref_layer),
     ]
-
-
-def _eon_reference(l, v, rho, r):
-    """EON (Portsmouth, Kutz & Hill 2025), written from the paper: Fujii's lobe with A =
-    1 / (1 + c1 r) and its energy compensation, with E_F in closed form."""
-    c1 = 0.5 - 2.0 / (3.0 * np.pi)
-    c2 = 2.0 / 3.0 - 28.0 / (15.0 * np.pi)
-    a = 1.0 / (1.0 + c1 * r)
-
-    def e_f(mu):
-        s = np.sqrt(1.0 - mu * mu)
-        g = s * (np.arccos(mu) - s * mu) + 2.0 / 3.0 * ((s / mu) * (1.0 - s ** 3) - s)
-        return a + r * a / np.pi * g
-
-    nol, nov = l[:, 2], v[2]
-    s = l @ v - nol * nov
-    st = np.where(s > 0.0, s / np.maximum(nol, nov), s)
-    single = a * (1.0 + r * st) / np.pi
-    e_avg = a * (1.0 + c2 * r)
-    rho = np.asarray(rho)[None, :]
-    rho_ms = rho * rho * e_avg / (1.0 - rho * (1.0 - e_avg))
-    multi = rho_ms / np.pi * ((1.0 - e_f(nol)) * (1.0 - e_f(nov)) / (1.0 - e_avg))[:, None]
-    return rho * single[:, None] + multi
 
 
 CASES = _cases()
