@@ -296,14 +296,14 @@ def compose(composition):
     lines.append("    return pdf")
     pdf_src = "\n".join(lines) + "\n"
 
-    @dual_use(inline=True)
+    @dual_use
     def value(b, c, ec):
         return fvalue(b, c, ec, 1.0)
 
     ns["rec709_luminance"] = rec709_luminance
-    probabilities = generate(probabilities_src, "probabilities", ns)
-    sample = generate(sample_src, "sample", ns)
-    pdf = generate(pdf_src, "pdf", ns)
+    probabilities = generate(probabilities_src, "probabilities", ns, inline=False)
+    sample = generate(sample_src, "sample", ns, inline=False)
+    pdf = generate(pdf_src, "pdf", ns, inline=False)
     return Composition(node, value, probabilities, sample, pdf, spec, coat, tuple(lobe for lobe, _ in diffuse),
                        tuple(lobe for lobe, _ in node.leaves),
                        probabilities_src + "\n" + sample_src + "\n" + pdf_src,

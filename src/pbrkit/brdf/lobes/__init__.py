@@ -86,7 +86,7 @@ class Lobe:
 # ---------------------------------------------------------------- techniques
 
 
-@dual_use(inline=True)
+@dual_use
 def _sample_ggx_visible_normals(b, wox, woy, woz, u1, u2):
     # the mirror reflection of wo about a GGX visible normal (Heitz 2018), anisotropic alphas
     # when the lobe is
@@ -97,7 +97,7 @@ def _sample_ggx_visible_normals(b, wox, woy, woz, u1, u2):
     return reflect_xyz(wox, woy, woz, hx, hy, hz)
 
 
-@dual_use(inline=True)
+@dual_use
 def _pdf_ggx_visible_normals(b, c):
     # D_v(h) / (4 v.h) (Heitz 2018, eq. 17)
     if b.anisotropic:
@@ -107,12 +107,12 @@ def _pdf_ggx_visible_normals(b, c):
     return pdf_light_from_half(ph, c.voh)
 
 
-@dual_use(inline=True)
+@dual_use
 def _sample_cosine(b, wox, woy, woz, u1, u2):
     return warp_cosine_hemisphere(u1, u2)
 
 
-@dual_use(inline=True)
+@dual_use
 def _pdf_cosine(b, c):
     return pdf_cosine_hemisphere(c.nol)
 
@@ -128,12 +128,12 @@ COSINE = Technique("cosine", _sample_cosine, _pdf_cosine)
 def gtr1_normals(alpha):
     """GTR1 normals (Burley 2012, App. B.2) of width ``alpha(b)``, reflected."""
 
-    @dual_use(inline=True)
+    @dual_use
     def sample(b, wox, woy, woz, u1, u2):
         hx, hy, hz = warp_gtr1_ndf(u1, u2, alpha(b))
         return reflect_xyz(wox, woy, woz, hx, hy, hz)
 
-    @dual_use(inline=True)
+    @dual_use
     def pdf(b, c):
         return pdf_light_from_half(pdf_gtr1_ndf(c.noh, alpha(b)), c.voh)
 

@@ -71,6 +71,7 @@ def diffuse_choice(names=DIFFUSES):
     (``names`` are the model's choices, for its declaration; the code indexes the
     whole table)."""
     names = tuple(names)
-    return Lobe("diffuse", choose(DIFFUSE_TABLE, "value", ("c", "ec", "w"), names=names), COSINE, "diffuse",
+    return Lobe("diffuse", choose(DIFFUSE_TABLE, "value", ("c", "ec", "w"), names=names, inline=False), COSINE,
+                "diffuse",
                 choose(DIFFUSE_TABLE, "estimate", ("nov",), names=names),
                 choose(DIFFUSE_TABLE, "albedo", ("nov",), names=names))

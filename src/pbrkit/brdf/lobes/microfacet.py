@@ -47,15 +47,47 @@ class Microfacet:
         return self.masking[masking_name].table
 
 
+def _fresnel_rgb(fresnel):
+    """F of the three channels of one Fresnel term."""
+    f = fresnel.f
+
+    @dual_use(inline=True, cache=False)
+    def rgb(b, voh):
+        return (f(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0], voh),
+                f(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1], voh),
+                f(b, b.f0[2], b.eta[2], b.k[2], b.specular_color[2], voh))
+
+    return rgb
+
+
 def _chosen_distribution(table):
     return Distribution("chosen", choose(table, "d", ("c",)), choose(table, "lambdas", ("c",)), True)
+
+
+#: The microfacet lobes made so far, by their terms: one lobe (and one set of compiled
+#: functions) per combination, shared by the models that use it.
+_MADE = {}
 
 
 def microfacet(distribution, masking, fresnel, dv=None, name="specular", role="specular"):
     """The microfacet :class:`~pbrkit.brdf.lobes.Lobe` of ``distribution``, ``masking``
     and ``fresnel`` (each a term of :mod:`pbrkit.brdf.terms` or a method table to
     choose from by the BxDF's code); ``dv(b, c)`` replaces D V in the value (a
-    model's combined term, such as URP's), D and V still describing the lobe."""
+    model's combined term, such as URP's), D and V still describing the lobe.
+
+    Its pieces (D V, F, the albedo estimate, the split-sum F0) and every model's
+    composed functions are compiled once each per process, as separate functions that
+    every kernel shares (LLVM inlines them where they are called); the glue between
+    them is inlined at Numba's level.  Inlining it all at Numba's level instead made
+    every kernel type every model's whole composition again, which took about twice
+    as long to compile."""
+    key = (id(distribution), id(masking), id(fresnel), id(dv), name, role)
+    if key not in _MADE:
+        _MADE[key] = _microfacet(distribution, masking, fresnel, dv, name, role)
+    return _MADE[key]
+
+
+def _microfacet(distribution, masking, fresnel, dv, name, role):
     dist = _chosen_distribution(distribution) if isinstance(distribution, Table) else distribution
     d = dist.d
     if isinstance(masking, Table):
@@ -64,25 +96,25 @@ def microfacet(distribution, masking, fresnel, dv=None, name="specular", role="s
         v = masking.for_distribution(dist)
     if isinstance(fresnel, Table):
         f = choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"))
+        rgb = choose(fresnel, "rgb", ("voh",), wrap=_fresnel_rgb)
         estimate = choose(fresnel, "estimate", ("f0", "s", "nov"))
         f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"))
         constant = choose(fresnel, "constant", (), wrap=lambda m: always if m.constant else never)
     else:
         f, estimate, f0_of = fresnel.f, fresnel.estimate, fresnel.split_sum_f0
+        rgb = _fresnel_rgb(fresnel)
         constant = always if fresnel.constant else never
 
     if dv is None:
-        @dual_use(inline=True)
+        @dual_use
         def dv(b, c):
             return d(b, c) * v(b, c)
 
-    @dual_use(inline=True)
+    @dual_use
     def fresnel_rgb(b, voh):
-        return (f(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0], voh),
-                f(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1], voh),
-                f(b, b.f0[2], b.eta[2], b.k[2], b.specular_color[2], voh))
+        return rgb(b, voh)
 
-    @dual_use(inline=True)
+    @dual_use
     def split_sum_f0(b):
         return (f0_of(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0]),
                 f0_of(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1]),
@@ -94,7 +126,7 @@ def microfacet(distribution, masking, fresnel, dv=None, name="specular", role="s
         f0, f1, f2 = fresnel_rgb(b, c.voh)
         return f0 * ((spec * ec[0]) * w), f1 * ((spec * ec[1]) * w), f2 * ((spec * ec[2]) * w)
 
-    @dual_use(inline=True)
+    @dual_use
     def lobe_estimate(b, nov):
         return rec709_luminance(estimate(b, b.f0[0], b.specular_color[0], nov),
                                 estimate(b, b.f0[1], b.specular_color[1], nov),
