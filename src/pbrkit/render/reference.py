@@ -86,6 +86,7 @@ from .environment import (
     _texel_pdf,
     _texel_point,
 )
+from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
 from .lights import light_arrays
 from .materials import hit_bxdf, hit_cosines, material_tables
@@ -253,34 +254,16 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
 
 
 
-@dual_use
-def _store_pixel(out_shift, out_sum, out_sumsq, pix, k0, k1, k2, s0, s1, s2, q0, q1, q2):
-    """Write a pixel's shift K (its first sample), sum of (x - K) and sum of (x - K)^2
-    (the shifted-data algorithm of :func:`_fused_kernel`), per channel."""
-    out_shift[pix, 0] = k0
-    out_shift[pix, 1] = k1
-    out_shift[pix, 2] = k2
-    out_sum[pix, 0] = s0
-    out_sum[pix, 1] = s1
-    out_sum[pix, 2] = s2
-    out_sumsq[pix, 0] = q0
-    out_sumsq[pix, 1] = q1
-    out_sumsq[pix, 2] = q2
-
-
 @threaded_kernel
 def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
                   base, mi, mf, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count,
-                  order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, out_shift, out_sum,
-                  out_sumsq):
+                  order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, film):
     """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
     rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
     ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
     emission + punctual light at the primary hit); ``p`` etc. are the primary hits
-    (rows with mat < 0 missed).  Per pixel it accumulates the sum and the sum of
-    squares of (x - K), K = the pixel's first sample (the shifted-data algorithm,
-    which keeps the variance free of cancellation; Chan, Golub and LeVeque,
-    "Algorithms for Computing the Sample Variance", 1983).  It runs pixels ``start`` to
+    (rows with mat < 0 missed).  Per pixel it accumulates the shifted sums of ``film``
+    (:mod:`pbrkit.render.film`).  It runs pixels ``start`` to
     ``stop``, handed out to threads by :func:`pbrkit.core.jit.run_in_threads`."""
     for pix in range(start, stop):
         s0 = 0.0
@@ -389,16 +372,10 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         x2 += t2 * pr[2]
             if j == 0:
                 h0, h1, h2 = x0, x1, x2
-            x0 -= h0
-            x1 -= h1
-            x2 -= h2
-            s0 += x0
-            s1 += x1
-            s2 += x2
-            q0 += x0 * x0
-            q1 += x1 * x1
-            q2 += x2 * x2
-        _store_pixel(out_shift, out_sum, out_sumsq, pix, h0, h1, h2, s0, s1, s2, q0, q1, q2)
+            s0, q0 = shifted_add(h0, s0, q0, x0, 1)
+            s1, q1 = shifted_add(h1, s1, q1, x1, 1)
+            s2, q2 = shifted_add(h2, s2, q2, x2, 1)
+        store_pixel(film, pix, h0, h1, h2, s0, s1, s2, q0, q1, q2)
 
 
 # ------------------------------------------------- direct lighting in lanes (analytic scenes, bounces = 0)
@@ -591,8 +568,7 @@ def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
 @threaded_kernel
 def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, base_value, p, ng, n, v, mat, rough,
                    metal, base, mi, mf, variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip,
-                   first, count, order, planes, sphere_mat, plane_mat, acodes, avalues, averts, out_shift, out_sum,
-                   out_sumsq):
+                   first, count, order, planes, sphere_mat, plane_mat, acodes, avalues, averts, film):
     """Direct lighting (bounces = 0) of an analytic scene and its area lights, the
     estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
     numbers) computed in lanes: the samples of one primary hit go through stages,
@@ -605,11 +581,11 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
     meet (ray by ray: those loops stay scalar), then the pixel's sums in sample
     order.  A primary ray that misses, or sees the surface from behind,
     contributes its ``base_value`` to every sample at once.  Sums as
-    :func:`_fused_kernel`'s (shifted data).  It runs the blocks ``start`` to ``stop``
+    :func:`_fused_kernel`'s (shifted data, :mod:`pbrkit.render.film`).  It runs the blocks ``start`` to ``stop``
     (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
     :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material
     emits (then the BxDF rays look for the surfaces they hit)."""
-    n_pixels = out_sum.shape[0]
+    n_pixels = film.sum.shape[0]
     height = env.shape[0]
     width = env.shape[1]
     n_texels = alias.shape[0]
@@ -618,14 +594,14 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
         _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
                       base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias,
                       row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat,
-                      acodes, avalues, averts, out_shift, out_sum, out_sumsq)
+                      acodes, avalues, averts, film)
 
 
 @lane_stage
 def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
                   base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias, row_cos,
                   c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat, acodes, avalues,
-                  averts, out_shift, out_sum, out_sumsq):
+                  averts, film):
     """The pixels of block ``block`` (:data:`_BLOCK` pixels) of :func:`_direct_kernel`,
     with lane buffers on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
     them apart from the tables, so the loops that gather from tables and store into
@@ -661,20 +637,11 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
             vx, vy, vz = v[row, 0], v[row, 1], v[row, 2]
             nov = nx * vx + ny * vy + nz * vz
             if m < 0 or nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:  # the same value every sample
-                x0 = base_value[row, 0]
-                x1 = base_value[row, 1]
-                x2 = base_value[row, 2]
                 if sub == 0:
-                    k0, k1, k2_ = x0, x1, x2
-                x0 -= k0
-                x1 -= k1
-                x2 -= k2_
-                s0 += n_sub * x0
-                s1 += n_sub * x1
-                s2 += n_sub * x2
-                q0 += n_sub * (x0 * x0)
-                q1 += n_sub * (x1 * x1)
-                q2 += n_sub * (x2 * x2)
+                    k0, k1, k2_ = base_value[row, 0], base_value[row, 1], base_value[row, 2]
+                s0, q0 = shifted_add(k0, s0, q0, base_value[row, 0], n_sub)
+                s1, q1 = shifted_add(k1, s1, q1, base_value[row, 1], n_sub)
+                s2, q2 = shifted_add(k2_, s2, q2, base_value[row, 2], n_sub)
                 continue
             b, t, bt = hit_bxdf(mi, mf, m, rough[row], metal[row], base[row, 0], base[row, 1], base[row, 2], nx, ny, nz)
             p_spec, p_coat = lobe_probabilities(b, nov)
@@ -883,22 +850,16 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                             mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, P_EMISSIVE]
                             mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, P_EMISSIVE + 1]
                             mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, P_EMISSIVE + 2]
-                # --- the pixel's sums, in sample order
+                # --- the pixel's sums, in sample order (the shift: its first sample)
                 if sub == 0 and c0 == 0:
                     k0 = mb[_M_LOCAL, 0]
                     k1 = mb[_M_LOCAL + 1, 0]
                     k2_ = mb[_M_LOCAL + 2, 0]
                 for i in range(lanes):
-                    x0 = mb[_M_LOCAL, i] - k0
-                    x1 = mb[_M_LOCAL + 1, i] - k1
-                    x2 = mb[_M_LOCAL + 2, i] - k2_
-                    s0 += x0
-                    s1 += x1
-                    s2 += x2
-                    q0 += x0 * x0
-                    q1 += x1 * x1
-                    q2 += x2 * x2
-        _store_pixel(out_shift, out_sum, out_sumsq, pix, k0, k1, k2_, s0, s1, s2, q0, q1, q2)
+                    s0, q0 = shifted_add(k0, s0, q0, mb[_M_LOCAL, i], 1)
+                    s1, q1 = shifted_add(k1, s1, q1, mb[_M_LOCAL + 1, i], 1)
+                    s2, q2 = shifted_add(k2_, s2, q2, mb[_M_LOCAL + 2, i], 1)
+        store_pixel(film, pix, k0, k1, k2_, s0, s1, s2, q0, q1, q2)
 
 
 # ------------------------------------------------- wavefront (scenes with meshes)
@@ -1041,10 +1002,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 surface.base_color
         if j == 0:
             shift = x.copy()
-        x -= shift
-        total_sum += x
-        total_sq += x * x
-    return shift, total_sum, total_sq
+        total_sum, total_sq = shifted_add(shift, total_sum, total_sq, x, 1)
+    return Film(shift, total_sum, total_sq)
 
 
 def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, strategy="mis", occlusion=True,
@@ -1090,8 +1049,8 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     if engine == "fused" and geometry.has_meshes:
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
     if geometry.has_meshes or engine == "wavefront":
-        shift, total_sum, total_sq = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code,
-                                         bool(occlusion), mat_i, mat_f)
+        film = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code, bool(occlusion),
+                          mat_i, mat_f)
         engine_name = "wavefront" + (" (Embree)" if geometry.has_meshes else "")
     else:
         rays = prim.dirs.shape[0]
@@ -1112,9 +1071,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         metal[prim.rows] = s.metallic
         base[prim.rows] = s.base_color
         codes, values = light_arrays(geometry.lights)
-        shift = np.zeros((n_pixels, 3))
-        total_sum = np.zeros((n_pixels, 3))
-        total_sq = np.zeros((n_pixels, 3))
+        film = new_film(n_pixels)
         eps = 1e-7 * geometry.scale
         if bounces == 0:
             emissive = bool(np.any(mat_f[:, P_EMISSIVE:P_EMISSIVE + 3] != 0.0))
@@ -1122,20 +1079,17 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
                            bool(occlusion), emissive, base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f,
                            material_variants(mat_i, mat_f), env.radiance, func, total, alias, row_cos, env.cos,
                            env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
-                           geometry.plane_material, *geometry.area_lights.arrays(), shift, total_sum, total_sq)
+                           geometry.plane_material, *geometry.area_lights.arrays(), film)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
             run_in_threads(_fused_kernel, n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
                            base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f, env.radiance, func, total,
                            alias, row_cos, env.cos, env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes,
                            geometry.sphere_material, geometry.plane_material, codes, values,
-                           *geometry.area_lights.arrays(), shift, total_sum, total_sq)
+                           *geometry.area_lights.arrays(), film)
             engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
-    mean_shifted = total_sum / spp
-    mean = shift + mean_shifted
-    var = np.maximum(total_sq / spp - mean_shifted * mean_shifted, 0.0) * (spp / max(spp - 1, 1))
-    stderr = np.sqrt(var / spp)
+    mean, stderr = film_estimate(film, spp)
     image = mean.reshape(cam.height, cam.width, 3)
     stderr = stderr.reshape(cam.height, cam.width, 3)
     mask = prim.hit.reshape(cam.height, cam.width, k2).all(axis=2)
