@@ -59,8 +59,6 @@ from ..brdf.bxdf import (
     P_METALLIC,
     P_ROUGHNESS,
     BxDF,
-    bxdf_f,
-    bxdf_pdf,
     lobe_probabilities,
     sample_wi,
 )
@@ -74,7 +72,7 @@ from ..core.jit import (
     threaded_kernel,
 )
 from ..sampling.random import _path_key, _sample_key, _stream_key, _uniform
-from .area_lights import area_light_hit, area_light_pdf, area_light_sample
+from .area_lights import area_light_hit, area_light_sample
 from .environment import (
     EnvironmentLight,
     _alias_choice,
@@ -86,10 +84,22 @@ from .environment import (
     _texel_pdf,
     _texel_point,
 )
+from .estimator import (
+    STRATEGIES,
+    STRATEGY_MIS,
+    Shading,
+    area_emission,
+    area_shadow_t,
+    bsdf_sample,
+    bsdf_weight,
+    emission_weight,
+    light_sample,
+    view_in_frame,
+)
 from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
 from .lights import light_arrays
-from .materials import hit_bxdf, hit_cosines, material_tables
+from .materials import hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary
 from .primitives import (
     KIND_NONE,
@@ -107,127 +117,61 @@ __all__ = [
 ]
 
 
-@dual_use(inline=True)
-def _power_heuristic(pa, pb):
-    """Veach 1997, sec. 9.2.4: w = pa^2 / (pa^2 + pb^2)."""
-    a = pa * pa
-    b = pb * pb
-    if a + b <= 0.0:
-        return 0.0
-    return a / (a + b)
-
-
 @dual_use
 def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2,
             env, func, total, alias, row_cos, c, s, strategy, acodes, avalues, averts):
-    """The samples of one path vertex.  Returns
-    (environment direction (3), its contribution (3, unshadowed, MIS-weighted),
-     area-light direction (3), the distance to the light, its contribution (3,
-     unshadowed, MIS-weighted), BRDF direction (3), BRDF weight f cos / pdf (3),
-     BRDF pdf).  ``strategy`` 0 = MIS (environment, area-light and BRDF sampling),
-    1 = BRDF sampling only.  The area light is picked uniformly among the scene's
-    (probability 1 / A), then sampled by :func:`pbrkit.render.area_lights.
-    area_light_sample`.  The BRDF, its sampling routine and pdf are the
-    material's BxDF (:mod:`pbrkit.brdf.bxdf`)."""
+    """The samples of one path vertex (the estimator of :mod:`pbrkit.render.estimator`
+    with the random numbers of ``key``).  Returns (environment direction (3), its
+    contribution (3, unshadowed, MIS-weighted), area-light direction (3), the distance
+    to the light, its contribution (3, unshadowed, MIS-weighted), BRDF direction (3),
+    BRDF weight f cos / pdf (3), BRDF pdf); the contributions are 0 where a sample
+    gives nothing, the BRDF weight and pdf 0 where the path ends.  ``strategy``: an
+    index into :data:`pbrkit.render.estimator.STRATEGIES`.  The area light is picked
+    uniformly among the scene's (probability 1 / A), then sampled by
+    :func:`pbrkit.render.area_lights.area_light_sample`.  The BRDF, its sampling
+    routine and pdf are the material's BxDF (:mod:`pbrkit.brdf.bxdf`).  A light
+    sample below the surface (g.l <= 0) or of zero pdf is not evaluated."""
     z3 = (0.0, 0.0, 0.0)
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
     b, t, bt = hit_bxdf(mi, mf, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
     p_spec, p_coat = lobe_probabilities(b, nov)
     # --- environment sample
     light_dir = z3
     light_val = z3
-    if strategy == 0:
+    if strategy == STRATEGY_MIS:
         lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, alias, row_cos, c, s, _uniform(key, 0), _uniform(key, 1))
         light_dir = (lx, ly, lz)
         if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
-            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-            if cs.nol > 0.0:
-                f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
-                pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-                w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
-                light_val = (f[0] * env[ei, ej, 0] * w, f[1] * env[ei, ej, 1] * w, f[2] * env[ei, ej, 2] * w)
+            light_val = light_sample(b, at, p_spec, p_coat, lx, ly, lz, pdf_e, env[ei, ej, 0], env[ei, ej, 1],
+                                     env[ei, ej, 2])
     # --- area-light sample
     area_dir = z3
     area_dist = 0.0
     area_val = z3
     n_area = acodes.shape[0]
-    if strategy == 0 and n_area > 0:
+    if strategy == STRATEGY_MIS and n_area > 0:
         li = min(int(_uniform(key, 5) * n_area), n_area - 1)
         ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(acodes, avalues, averts, li, px, py, pz,
                                                                 _uniform(key, 6), _uniform(key, 7))
         if pdf_a > 0.0 and gx * ax + gy * ay + gz * az > 0.0:
-            pdf_a /= n_area
-            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, ax, ay, az)
-            if cs.nol > 0.0:
-                f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
-                w = _power_heuristic(pdf_a, bxdf_pdf(b, cs, p_spec, p_coat)) * cs.nol / pdf_a
-                area_dir = (ax, ay, az)
-                area_dist = dist
-                area_val = (f[0] * r0 * w, f[1] * r1 * w, f[2] * r2 * w)
+            area_dir = (ax, ay, az)
+            area_dist = dist
+            area_val = light_sample(b, at, p_spec, p_coat, ax, ay, az, pdf_a / n_area, r0, r1, r2)
     # --- BRDF sample
-    tx, ty, tz = t
-    bx, by, bz = bt
-    wox = vx * tx + vy * ty + vz * tz
-    woy = vx * bx + vy * by + vz * bz
-    llx, lly, llz = sample_wi(b, wox, woy, nov, _uniform(key, 4), _uniform(key, 2), _uniform(key, 3), p_spec,
-                              p_coat)
-    lx = llx * tx + lly * bx + llz * nx
-    ly = llx * ty + lly * by + llz * ny
-    lz = llx * tz + lly * bz + llz * nz
-    norm = math.sqrt(lx * lx + ly * ly + lz * lz)
-    if norm <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, z3, z3, 0.0
-    lx /= norm
-    ly /= norm
-    lz /= norm
-    if gx * lx + gy * ly + gz * lz <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
-    cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-    if cs.nol <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
-    pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-    if pdf_b <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
-    f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
-    k = cs.nol / pdf_b
-    return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), (f[0] * k, f[1] * k, f[2] * k), pdf_b
-
-
-@dual_use
-def _area_emission(strategy, pdf_b, acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t, r0, r1, r2):
-    """Radiance (r0, r1, r2) of area light li, hit at distance t by the BRDF sample d
-    from p, times its MIS weight against the light sampling of :func:`_vertex`."""
-    w = 1.0
-    if strategy == 0:
-        pdf_a = area_light_pdf(acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t) / acodes.shape[0]
-        w = _power_heuristic(pdf_b, pdf_a)
-    return r0 * w, r1 * w, r2 * w
-
-
-@dual_use
-def _area_shadow_t(dist):
-    """How far a shadow ray towards an area light point at ``dist`` looks for blockers."""
-    return dist * (1.0 - 1e-6)
-
-
-@dual_use(inline=True)
-def _miss_weight(strategy, pdf_b, pdf_e):
-    """MIS weight of a BRDF sample that reaches the environment, whose environment
-    sampling pdf is pdf_e: the power heuristic, or 1 for BRDF sampling alone."""
-    w = 1.0
-    if strategy == 0:
-        w = _power_heuristic(pdf_b, pdf_e)
-    return w
+    bsdf_dir, bsdf_w, pdf_b = bsdf_sample(b, at, p_spec, p_coat, _uniform(key, 4), _uniform(key, 2),
+                                          _uniform(key, 3))
+    return light_dir, light_val, area_dir, area_dist, area_val, bsdf_dir, bsdf_w, pdf_b
 
 
 @dual_use
 def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
-    """Radiance times the MIS weight of a BRDF sample that reaches the environment
-    (:func:`_miss_weight`)."""
+    """Radiance times the MIS weight of a BRDF sample (pdf ``pdf_b``) that reaches the
+    environment along d (:func:`pbrkit.render.estimator.emission_weight`)."""
     i, j = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
-    w = _miss_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j))
+    w = emission_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j))
     return env[i, j, 0] * w, env[i, j, 1] * w, env[i, j, 2] * w
 
 
@@ -314,7 +258,7 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                     if aval[0] > 0.0 or aval[1] > 0.0 or aval[2] > 0.0:
                         hk = KIND_NONE
                         if occlusion:  # shadow ray to the light point: objects and other area lights
-                            tmax = _area_shadow_t(adist)
+                            tmax = area_shadow_t(adist)
                             _, hk, _ = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True,
                                                       spheres, lo, hi, skip, first, count, order, planes)
                             if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz, adir[0],
@@ -337,8 +281,8 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, bdir[0], bdir[1],
                                                             bdir[2], th)
                         if ai >= 0:
-                            le = _area_emission(strategy, pdf_b, acodes, avalues, averts, ai, px, py, pz, bdir[0],
-                                                bdir[1], bdir[2], at, a0, a1, a2)
+                            le = area_emission(strategy, pdf_b, acodes, avalues, averts, ai, px, py, pz, bdir[0],
+                                               bdir[1], bdir[2], at, a0, a1, a2)
                             x0 += t0 * le[0]
                             x1 += t1 * le[1]
                             x2 += t2 * le[2]
@@ -434,42 +378,30 @@ def _specialised(b, codes):
                 b.subsurface, b.sheen, 0.0, b.clearcoat_alpha)
 
 
-_bxdf_f_lanes = dual_use(inline="llvm")(bxdf_f)
-
-
 @lane_stage
-def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb,
-                    sb):
-    """The BxDF's part of the samples of a set of lane buffers (:func:`_direct_block`), the
-    per-lane work of :func:`_vertex`: f, its pdf and the MIS-weighted value of each of
-    the ``n_eval`` light samples (``mb[_M_LVAL]``: the environment's, then the area
-    lights'), then a direction sampled from the BxDF with
-    its weight f cos / pdf and pdf (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``; zero
-    weight and pdf, and the normal as direction, where :func:`_vertex` gives up).  The
-    same operations in the same order as :func:`_vertex`, so the same numbers.  The
-    kernel calls it with a BxDF specialised by :func:`_specialised` (and p_coat = -0.0:
-    0, as a constant that also folds p_spec + p_coat to p_spec), or with any BxDF."""
-    nov = nx * vx + ny * vy + nz * vz
-    if strategy == 0:
+def _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, sb):
+    """The BxDF's part of the samples in a set of lane buffers (:func:`_direct_block`) at
+    the shading point ``at`` (:class:`pbrkit.render.estimator.Shading`): the
+    MIS-weighted value of each of the ``n_eval`` light samples (``mb[_M_LVAL]``: the
+    environment's, then the area lights'; :func:`pbrkit.render.estimator.light_sample`),
+    then a direction sampled from the BxDF with its weight f cos / pdf and pdf
+    (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``;
+    :func:`pbrkit.render.estimator.bsdf_weight` of the local direction that
+    :func:`pbrkit.brdf.bxdf.sample_wi` draws).  The kernel calls it with a BxDF
+    specialised by :func:`_specialised` (and p_coat = -0.0: 0, as a constant that also
+    folds p_spec + p_coat to p_spec), or with any BxDF."""
+    if strategy == STRATEGY_MIS:
         for i in range(n_eval):
-            lx = lb[_L_DIR, i]
-            ly = lb[_L_DIR + 1, i]
-            lz = lb[_L_DIR + 2, i]
-            pdf_e = lb[_L_PDF, i]
-            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-            f = _bxdf_f_lanes(b, cs, 1.0, 1.0, 1.0)
-            pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-            w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
-            ok = pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0 and cs.nol > 0.0
-            mb[_M_LVAL, i] = f[0] * lb[_L_RAD, i] * w if ok else 0.0
-            mb[_M_LVAL + 1, i] = f[1] * lb[_L_RAD + 1, i] * w if ok else 0.0
-            mb[_M_LVAL + 2, i] = f[2] * lb[_L_RAD + 2, i] * w if ok else 0.0
-    tx, ty, tz = t
-    bx, by, bz = bt
-    wox = vx * tx + vy * ty + vz * tz
-    woy = vx * bx + vy * by + vz * bz
-    # the local directions; with one lobe its choice is a constant, so the other lobe's
-    # warp is not computed as well
+            v0, v1, v2 = light_sample(b, at, p_spec, p_coat, lb[_L_DIR, i], lb[_L_DIR + 1, i], lb[_L_DIR + 2, i],
+                                      lb[_L_PDF, i], lb[_L_RAD, i], lb[_L_RAD + 1, i], lb[_L_RAD + 2, i])
+            mb[_M_LVAL, i] = v0
+            mb[_M_LVAL + 1, i] = v1
+            mb[_M_LVAL + 2, i] = v2
+    # the BxDF samples: estimator.bsdf_sample in its two steps, the local directions
+    # (sample_wi) in loops of their own, so that with one lobe its choice is a constant and
+    # the other lobes' warps are not computed as well, then bsdf_weight in one loop (one
+    # copy of the BxDF's evaluation per specialisation, not one per lobe choice)
+    wox, woy, nov = view_in_frame(at)
     if p_coat <= 0.0 and p_spec >= 1.0:
         for i in range(count):
             llx, lly, llz = sample_wi(b, wox, woy, nov, 0.0, ub[_U_1, i], ub[_U_2, i], 1.0, -0.0)
@@ -489,28 +421,14 @@ def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat
             mb[_M_LOCAL + 1, i] = lly
             mb[_M_LOCAL + 2, i] = llz
     for i in range(count):
-        llx = mb[_M_LOCAL, i]
-        lly = mb[_M_LOCAL + 1, i]
-        llz = mb[_M_LOCAL + 2, i]
-        lx = llx * tx + lly * bx + llz * nx
-        ly = llx * ty + lly * by + llz * ny
-        lz = llx * tz + lly * bz + llz * nz
-        norm = math.sqrt(lx * lx + ly * ly + lz * lz)
-        lx /= norm
-        ly /= norm
-        lz /= norm
-        cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-        pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-        f = _bxdf_f_lanes(b, cs, 1.0, 1.0, 1.0)
-        k = cs.nol / pdf_b
-        ok = norm > 0.0 and gx * lx + gy * ly + gz * lz > 0.0 and cs.nol > 0.0 and pdf_b > 0.0
-        sb[_S_DIR, i] = lx if ok else nx
-        sb[_S_DIR + 1, i] = ly if ok else ny
-        sb[_S_DIR + 2, i] = lz if ok else nz
-        sb[_S_W, i] = f[0] * k if ok else 0.0
-        sb[_S_W + 1, i] = f[1] * k if ok else 0.0
-        sb[_S_W + 2, i] = f[2] * k if ok else 0.0
-        sb[_S_PDF, i] = pdf_b if ok else 0.0
+        d, w, pdf_b = bsdf_weight(b, at, p_spec, p_coat, mb[_M_LOCAL, i], mb[_M_LOCAL + 1, i], mb[_M_LOCAL + 2, i])
+        sb[_S_DIR, i] = d[0]
+        sb[_S_DIR + 1, i] = d[1]
+        sb[_S_DIR + 2, i] = d[2]
+        sb[_S_W, i] = w[0]
+        sb[_S_W + 1, i] = w[1]
+        sb[_S_W + 2, i] = w[2]
+        sb[_S_PDF, i] = pdf_b
 
 
 @lane_stage
@@ -644,6 +562,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                 s2, q2 = shifted_add(k2_, s2, q2, base_value[row, 2], n_sub)
                 continue
             b, t, bt = hit_bxdf(mi, mf, m, rough[row], metal[row], base[row, 0], base[row, 1], base[row, 2], nx, ny, nz)
+            at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
             p_spec, p_coat = lobe_probabilities(b, nov)
             ox = px + eps * gx
             oy = py + eps * gy
@@ -657,7 +576,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                     ub[_U_LOBE, i] = _uniform(key, 4)
                     ub[_U_1, i] = _uniform(key, 2)
                     ub[_U_2, i] = _uniform(key, 3)
-                if strategy == 0:
+                if strategy == STRATEGY_MIS:
                     for i in range(lanes):
                         key = _sample_key(stream, sub + k2 * (c0 + i))
                         k, f = _alias_column(n_texels, _uniform(key, 0))
@@ -679,7 +598,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                 # --- area-light samples (as _vertex: a light picked uniformly, then a point on it),
                 # after the environment's in the same buffers, so the BxDF evaluates both in one loop
                 n_eval = lanes
-                if strategy == 0 and n_area > 0:
+                if strategy == STRATEGY_MIS and n_area > 0:
                     n_eval = 2 * lanes
                     for i in range(lanes):
                         key = _sample_key(stream, sub + k2 * (c0 + i))
@@ -694,40 +613,39 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         lb[_L_RAD, j] = r0
                         lb[_L_RAD + 1, j] = r1
                         lb[_L_RAD + 2, j] = r2
-                        xb[_X_ADIST, i] = _area_shadow_t(dist)
+                        xb[_X_ADIST, i] = area_shadow_t(dist)
                 # --- the BxDF (specialised for the materials of _VARIANTS)
                 vr = variant[m]
                 if vr == 0:
-                    _material_lanes(_specialised(b, _VARIANTS[0]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
+                    _material_lanes(_specialised(b, _VARIANTS[0]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
+                                    mb, sb)
                 elif vr == 1:
-                    _material_lanes(_specialised(b, _VARIANTS[1]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
+                    _material_lanes(_specialised(b, _VARIANTS[1]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
+                                    mb, sb)
                 elif vr == 2:
-                    _material_lanes(_specialised(b, _VARIANTS[2]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
+                    _material_lanes(_specialised(b, _VARIANTS[2]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
+                                    mb, sb)
                 elif vr == 3:
-                    _material_lanes(_specialised(b, _VARIANTS[3]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
+                    _material_lanes(_specialised(b, _VARIANTS[3]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
+                                    mb, sb)
                 elif vr == 4:
-                    _material_lanes(_specialised(b, _VARIANTS[4]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
+                    _material_lanes(_specialised(b, _VARIANTS[4]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
+                                    mb, sb)
                 elif vr == 5:
-                    _material_lanes(_specialised(b, _VARIANTS[5]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
+                    _material_lanes(_specialised(b, _VARIANTS[5]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
+                                    mb, sb)
                 else:
-                    _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, lanes,
-                                    n_eval, ub, lb, mb, sb)
+                    _material_lanes(b, at, p_spec, p_coat, strategy, lanes, n_eval, ub, lb, mb, sb)
                 # --- the environment the BxDF samples see
                 for i in range(lanes):  # _env_miss, with the loads in the loop
                     ei, ej = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
-                    w = _miss_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
+                    w = emission_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
                     lb[_L_LE, i] = env[ei, ej, 0] * w
                     lb[_L_LE + 1, i] = env[ei, ej, 1] * w
                     lb[_L_LE + 2, i] = env[ei, ej, 2] * w
                 # --- shadow rays and BxDF rays
                 if occlusion and bulk:
-                    if strategy == 0:
+                    if strategy == STRATEGY_MIS:
                         _trace_lanes(ox, oy, oz, lb, _L_DIR, lanes, spheres, planes, ha, hb)
                         for i in range(lanes):
                             shadow[0, i] = ha[_T_T, i]
@@ -741,7 +659,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         ha[_T_T, i] = np.inf
                         ha[_T_KIND, i] = KIND_NONE
                         ha[_T_INDEX, i] = -1.0
-                        if strategy == 0 and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
+                        if strategy == STRATEGY_MIS and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
                                               or mb[_M_LVAL + 2, i] > 0.0):
                             if trace_analytic(ox, oy, oz, lb[_L_DIR, i], lb[_L_DIR + 1, i], lb[_L_DIR + 2, i], 0.0,
                                               np.inf, True, spheres, lo, hi, skip, first, count, order,
@@ -763,7 +681,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                     for i in range(lanes):
                         j = lanes + i
                         shadow[1, i] = np.inf
-                        if strategy == 0 and occlusion:
+                        if strategy == STRATEGY_MIS and occlusion:
                             if (shadow[0, i] == np.inf and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
                                                             or mb[_M_LVAL + 2, i] > 0.0)
                                     and area_light_hit(acodes, avalues, averts, ox, oy, oz, lb[_L_DIR, i],
@@ -783,11 +701,11 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         xb[_X_END, i] = 0.0
                         if sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0):
                             th = ha[_T_T, i] if occlusion else np.inf
-                            at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, sb[_S_DIR, i],
-                                                                sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], th)
+                            at_, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, sb[_S_DIR, i],
+                                                                 sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], th)
                             if ai >= 0:
-                                le = _area_emission(strategy, sb[_S_PDF, i], acodes, avalues, averts, ai, px, py, pz,
-                                                    sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], at, a0, a1, a2)
+                                le = area_emission(strategy, sb[_S_PDF, i], acodes, avalues, averts, ai, px, py, pz,
+                                                   sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], at_, a0, a1, a2)
                                 xb[_X_AEM, i] = sb[_S_W, i] * le[0]
                                 xb[_X_AEM + 1, i] = sb[_S_W + 1, i] * le[1]
                                 xb[_X_AEM + 2, i] = sb[_S_W + 2, i] * le[2]
@@ -804,7 +722,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         l0 = mb[_M_LVAL, i]
                         l1 = mb[_M_LVAL + 1, i]
                         l2 = mb[_M_LVAL + 2, i]
-                        lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
+                        lit = (strategy == STRATEGY_MIS and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
                                and not (occlusion and shadow[0, i] < np.inf))
                         w0 = sb[_S_W, i]
                         w1 = sb[_S_W + 1, i]
@@ -822,13 +740,13 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         l0 = mb[_M_LVAL, i]
                         l1 = mb[_M_LVAL + 1, i]
                         l2 = mb[_M_LVAL + 2, i]
-                        lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
+                        lit = (strategy == STRATEGY_MIS and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
                                and not (occlusion and shadow[0, i] < np.inf))
                         j = lanes + i
                         a0 = mb[_M_LVAL, j]
                         a1 = mb[_M_LVAL + 1, j]
                         a2 = mb[_M_LVAL + 2, j]
-                        area_lit = (strategy == 0 and (a0 > 0.0 or a1 > 0.0 or a2 > 0.0)
+                        area_lit = (strategy == STRATEGY_MIS and (a0 > 0.0 or a1 > 0.0 or a2 > 0.0)
                                     and not (occlusion and shadow[1, i] < np.inf))
                         w0 = sb[_S_W, i]
                         w1 = sb[_S_W + 1, i]
@@ -882,15 +800,15 @@ def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, p, ng, n, 
             area_val[i, a] = aval[a]
             brdf_dir[i, a] = bdir[a]
             brdf_w[i, a] = bw[a]
-        area_dist[i] = _area_shadow_t(adist)
+        area_dist[i] = area_shadow_t(adist)
         brdf_pdf[i] = pdf_b
 
 
 @row_kernel(6)
 def _area_emission_batch(start, stop, strategy, pdf_b, acodes, avalues, averts, index, p, d, t, radiance, out):
     for i in range(start, stop):
-        le = _area_emission(strategy, pdf_b[i], acodes, avalues, averts, index[i], p[i, 0], p[i, 1], p[i, 2],
-                            d[i, 0], d[i, 1], d[i, 2], t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
+        le = area_emission(strategy, pdf_b[i], acodes, avalues, averts, index[i], p[i, 0], p[i, 1], p[i, 2],
+                           d[i, 0], d[i, 1], d[i, 2], t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
         out[i, 0] = le[0]
         out[i, 1] = le[1]
         out[i, 2] = le[2]
@@ -1021,7 +939,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     numbers for the same scene."""
     spp = checks.integer(spp, "spp", 1, 1 << 20)
     bounces = checks.integer(bounces, "bounces", 0, 64)
-    if strategy not in ("mis", "brdf"):
+    if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; use 'mis' or 'brdf'")
     if engine not in ("auto", "fused", "wavefront"):
         raise ValueError(f"unknown engine {engine!r}; use 'auto', 'fused' or 'wavefront'")
@@ -1045,7 +963,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     if prim.rows.size:
         base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, True)
     t2 = time.perf_counter()
-    code = 0 if strategy == "mis" else 1
+    code = STRATEGIES.index(strategy)
     if engine == "fused" and geometry.has_meshes:
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
     if geometry.has_meshes or engine == "wavefront":
