@@ -219,13 +219,16 @@ def area_shadow_t(dist):
 
 
 @dual_use
-def area_emission(strategy, pdf_b, acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t, r0, r1, r2):
-    """Radiance (r0, r1, r2) of area light ``li`` (:class:`pbrkit.render.area_lights.AreaLights`'
-    arrays), met at distance t by the BSDF sample d (pdf ``pdf_b``) from p, times its
-    MIS weight (:func:`emission_weight`; the light is sampled with probability 1 / A,
-    then by :func:`pbrkit.render.area_lights.area_light_pdf`)."""
+def area_emission(strategy, pdf_b, area, li, px, py, pz, dx, dy, dz, t, r0, r1, r2):
+    """Radiance (r0, r1, r2) of area light ``li`` of ``area``
+    (:class:`pbrkit.render.records.AreaArrays`), met at distance t by the BSDF sample
+    d (pdf ``pdf_b``) from p, times its MIS weight (:func:`emission_weight`; the light
+    is sampled with probability 1 / A, then by
+    :func:`pbrkit.render.area_lights.area_light_pdf`)."""
     pdf_a = 0.0
     if strategy == STRATEGY_MIS:
-        pdf_a = area_light_pdf(acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t) / acodes.shape[0]
+        pdf_a = area_light_pdf(area.codes, area.values, area.vertices, li, px, py, pz, dx, dy, dz,
+                               t) / area.codes.shape[0]
     w = emission_weight(strategy, pdf_b, pdf_a)
     return r0 * w, r1 * w, r2 * w
+

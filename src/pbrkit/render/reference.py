@@ -25,18 +25,24 @@ ch. 9):
   assumes, to isolate the shading approximations in a comparison.  Punctual
   lights cast shadows either way (exact shadow rays, as the real-time path's
   ideal shadow map), so both modes light a point the same way.
-- scenes of spheres and planes run in one fused kernel per pixel (all
-  samples, ray casting included): direct lighting (``bounces`` = 0) in SIMD
-  lanes (:func:`_direct_kernel`), paths with bounces sample by sample
-  (:func:`_fused_kernel`); scenes with triangle meshes run as a wavefront
-  loop over the samples, casting with Embree; all give the same numbers for
-  the same scene (tested), and the same bytes for any thread count.
+- the estimator is written once, as scalar functions
+  (:mod:`pbrkit.render.estimator`, which derives it), and so are the pixel's sums
+  (:mod:`pbrkit.render.film`); three engines schedule them.  Scenes of spheres
+  and planes run in one fused kernel per pixel (all samples, ray casting
+  included): direct lighting (``bounces`` = 0) in SIMD lanes
+  (:func:`_direct_kernel`), paths with bounces sample by sample
+  (:func:`_fused_kernel`, one :func:`_vertex` per bounce); scenes with triangle
+  meshes run as a wavefront loop over the samples (:func:`_wavefront`, the same
+  :func:`_vertex` on every path of a bounce at once), casting with Embree.  All
+  give the same numbers for the same scene (tested), and the same bytes for any
+  thread count.  The kernels take the scene as a few records of arrays
+  (:mod:`pbrkit.render.records`).
 """
 
 from __future__ import annotations
 
-import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -98,7 +104,6 @@ from .estimator import (
 )
 from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
-from .lights import light_arrays
 from .materials import hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary
 from .primitives import (
@@ -111,6 +116,7 @@ from .primitives import (
     trace_analytic,
 )
 from .punctual import punctual_at, punctual_radiance
+from .records import Materials, Points, analytic_shapes, area_arrays, environment_arrays, punctual_lights
 
 __all__ = [
     "render_reference",
@@ -118,16 +124,18 @@ __all__ = [
 
 
 @dual_use
-def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2,
-            env, func, total, alias, row_cos, c, s, strategy, acodes, avalues, averts):
+def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal,
+            b0, b1, b2):
     """The samples of one path vertex (the estimator of :mod:`pbrkit.render.estimator`
-    with the random numbers of ``key``).  Returns (environment direction (3), its
-    contribution (3, unshadowed, MIS-weighted), area-light direction (3), the distance
-    to the light, its contribution (3, unshadowed, MIS-weighted), BRDF direction (3),
-    BRDF weight f cos / pdf (3), BRDF pdf); the contributions are 0 where a sample
-    gives nothing, the BRDF weight and pdf 0 where the path ends.  ``strategy``: an
-    index into :data:`pbrkit.render.estimator.STRATEGIES`.  The area light is picked
-    uniformly among the scene's (probability 1 / A), then sampled by
+    with the random numbers of ``key``) at a point of material ``m`` with the textured
+    roughness, metallic and base colour, geometric normal g, shading normal n, seen
+    from v.  Returns (environment direction (3), its contribution (3, unshadowed,
+    MIS-weighted), area-light direction (3), the distance to the light, its
+    contribution (3, unshadowed, MIS-weighted), BRDF direction (3), BRDF weight
+    f cos / pdf (3), BRDF pdf); the contributions are 0 where a sample gives nothing,
+    the BRDF weight and pdf 0 where the path ends.  ``strategy``: an index into
+    :data:`pbrkit.render.estimator.STRATEGIES`.  The area light is picked uniformly
+    among the scene's (probability 1 / A), then sampled by
     :func:`pbrkit.render.area_lights.area_light_sample`.  The BRDF, its sampling
     routine and pdf are the material's BxDF (:mod:`pbrkit.brdf.bxdf`).  A light
     sample below the surface (g.l <= 0) or of zero pdf is not evaluated."""
@@ -135,27 +143,29 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
-    b, t, bt = hit_bxdf(mi, mf, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz)
     at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
     p_spec, p_coat = lobe_probabilities(b, nov)
     # --- environment sample
     light_dir = z3
     light_val = z3
     if strategy == STRATEGY_MIS:
-        lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, alias, row_cos, c, s, _uniform(key, 0), _uniform(key, 1))
+        lx, ly, lz, pdf_e, ei, ej = _env_sample(env.func, env.total, env.alias, env.rows, env.cos, env.sin,
+                                                _uniform(key, 0), _uniform(key, 1))
         light_dir = (lx, ly, lz)
         if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
-            light_val = light_sample(b, at, p_spec, p_coat, lx, ly, lz, pdf_e, env[ei, ej, 0], env[ei, ej, 1],
-                                     env[ei, ej, 2])
+            radiance = env.radiance
+            light_val = light_sample(b, at, p_spec, p_coat, lx, ly, lz, pdf_e, radiance[ei, ej, 0],
+                                     radiance[ei, ej, 1], radiance[ei, ej, 2])
     # --- area-light sample
     area_dir = z3
     area_dist = 0.0
     area_val = z3
-    n_area = acodes.shape[0]
+    n_area = area.codes.shape[0]
     if strategy == STRATEGY_MIS and n_area > 0:
         li = min(int(_uniform(key, 5) * n_area), n_area - 1)
-        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(acodes, avalues, averts, li, px, py, pz,
-                                                                _uniform(key, 6), _uniform(key, 7))
+        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(area.codes, area.values, area.vertices, li, px, py,
+                                                                pz, _uniform(key, 6), _uniform(key, 7))
         if pdf_a > 0.0 and gx * ax + gy * ay + gz * az > 0.0:
             area_dir = (ax, ay, az)
             area_dist = dist
@@ -167,12 +177,13 @@ def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, roug
 
 
 @dual_use
-def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
+def _env_miss(strategy, pdf_b, env, dx, dy, dz):
     """Radiance times the MIS weight of a BRDF sample (pdf ``pdf_b``) that reaches the
     environment along d (:func:`pbrkit.render.estimator.emission_weight`)."""
-    i, j = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
-    w = emission_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j))
-    return env[i, j, 0] * w, env[i, j, 1] * w, env[i, j, 2] * w
+    radiance = env.radiance
+    i, j = _env_texel(radiance.shape[0], radiance.shape[1], env.cos, env.sin, dx, dy, dz)
+    w = emission_weight(strategy, pdf_b, _env_pdf_texel(env.func, env.total, i, j))
+    return radiance[i, j, 0] * w, radiance[i, j, 1] * w, radiance[i, j, 2] * w
 
 
 @dual_use
@@ -195,20 +206,46 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
     return px, py, pz, nx, ny, nz, m
 
 
-
-
-
 @threaded_kernel
-def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
-                  base, mi, mf, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count,
-                  order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, film):
+def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, hits, materials, env, shapes,
+                  lights, area, film):
     """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
     rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
     ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
-    emission + punctual light at the primary hit); ``p`` etc. are the primary hits
-    (rows with mat < 0 missed).  Per pixel it accumulates the shifted sums of ``film``
-    (:mod:`pbrkit.render.film`).  It runs pixels ``start`` to
-    ``stop``, handed out to threads by :func:`pbrkit.core.jit.run_in_threads`."""
+    emission + punctual light at the primary hit); ``hits`` the primary hits
+    (:class:`pbrkit.render.records.Points`; rows with material < 0 missed).  Each
+    bounce is one :func:`_vertex`, whose samples it traces: shadow rays for the light
+    samples, then the BRDF sample's ray, which meets an area light, the environment
+    or the next surface.  Per pixel it accumulates the shifted sums of ``film``
+    (:mod:`pbrkit.render.film`).  It runs pixels ``start`` to ``stop``, handed out to
+    threads by :func:`pbrkit.core.jit.run_in_threads`."""
+    p = hits.p
+    ng = hits.ng
+    n = hits.n
+    v = hits.v
+    mat = hits.material
+    rough = hits.roughness
+    metal = hits.metallic
+    base = hits.base_color
+    mi = materials.codes
+    mf = materials.params
+    spheres = shapes.spheres
+    lo = shapes.lo
+    hi = shapes.hi
+    skip = shapes.skip
+    first = shapes.first
+    count = shapes.count
+    order = shapes.order
+    planes = shapes.planes
+    sphere_mat = shapes.sphere_material
+    plane_mat = shapes.plane_material
+    eps = shapes.eps
+    codes = lights.codes
+    values = lights.values
+    acodes = area.codes
+    avalues = area.values
+    averts = area.vertices
+    n_area = acodes.shape[0]
     for pix in range(start, stop):
         s0 = 0.0
         s1 = 0.0
@@ -237,19 +274,19 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                 for bounce in range(bounces + 1):
                     key = _path_key(seed, pix, j, bounce)
                     ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
-                        key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me, b0, b1, b2, env, func,
-                        total, alias, row_cos, c, s, strategy, acodes, avalues, averts)
+                        key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me,
+                        b0, b1, b2)
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
                     if lval[0] > 0.0 or lval[1] > 0.0 or lval[2] > 0.0:
                         hk = KIND_NONE
                         if occlusion:  # the objects and the area lights hide the environment
-                            _, hk, _ = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True,
-                                                      spheres, lo, hi, skip, first, count, order, planes)
-                            if hk == KIND_NONE and acodes.shape[0]:
-                                if area_light_hit(acodes, avalues, averts, ox, oy, oz, ldir[0], ldir[1], ldir[2],
-                                                  np.inf)[1] >= 0:
+                            hk = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True, spheres, lo, hi,
+                                                skip, first, count, order, planes)[1]
+                            if hk == KIND_NONE and n_area:
+                                if area_light_hit(acodes, avalues, averts, ox, oy, oz, ldir[0],
+                                                  ldir[1], ldir[2], np.inf)[1] >= 0:
                                     hk = KIND_SPHERE
                         if hk == KIND_NONE:
                             x0 += t0 * lval[0]
@@ -259,10 +296,10 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         hk = KIND_NONE
                         if occlusion:  # shadow ray to the light point: objects and other area lights
                             tmax = area_shadow_t(adist)
-                            _, hk, _ = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True,
-                                                      spheres, lo, hi, skip, first, count, order, planes)
-                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz, adir[0],
-                                                                  adir[1], adir[2], tmax)[1] >= 0:
+                            hk = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True, spheres, lo, hi,
+                                                skip, first, count, order, planes)[1]
+                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz,
+                                                                  adir[0], adir[1], adir[2], tmax)[1] >= 0:
                                 hk = KIND_SPHERE
                         if hk == KIND_NONE:
                             x0 += t0 * aval[0]
@@ -272,24 +309,24 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         break
                     th, hk, hi_ = np.inf, KIND_NONE, -1
                     if occlusion:
-                        th, hk, hi_ = trace_analytic(ox, oy, oz, bdir[0], bdir[1], bdir[2], 0.0, np.inf, False,
-                                                     spheres, lo, hi, skip, first, count, order, planes)
+                        th, hk, hi_ = trace_analytic(ox, oy, oz, bdir[0], bdir[1], bdir[2], 0.0, np.inf, False, spheres,
+                                                     lo, hi, skip, first, count, order, planes)
                     t0 *= bw[0]
                     t1 *= bw[1]
                     t2 *= bw[2]
-                    if acodes.shape[0]:  # an area light before the next surface (any, without occlusion)
-                        at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, bdir[0], bdir[1],
-                                                            bdir[2], th)
+                    if n_area:  # an area light before the next surface (any, without occlusion)
+                        at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz,
+                                                            bdir[0], bdir[1], bdir[2], th)
                         if ai >= 0:
-                            le = area_emission(strategy, pdf_b, acodes, avalues, averts, ai, px, py, pz, bdir[0],
-                                               bdir[1], bdir[2], at, a0, a1, a2)
+                            le = area_emission(strategy, pdf_b, area, ai, px, py, pz, bdir[0], bdir[1], bdir[2], at,
+                                               a0, a1, a2)
                             x0 += t0 * le[0]
                             x1 += t1 * le[1]
                             x2 += t2 * le[2]
                             if occlusion:  # the light is opaque: the path ends on it
                                 break
                     if hk == KIND_NONE:
-                        le = _env_miss(strategy, pdf_b, env, func, total, c, s, bdir[0], bdir[1], bdir[2])
+                        le = _env_miss(strategy, pdf_b, env, bdir[0], bdir[1], bdir[2])
                         x0 += t0 * le[0]
                         x1 += t1 * le[1]
                         x2 += t2 * le[2]
@@ -378,6 +415,30 @@ def _specialised(b, codes):
                 b.subsurface, b.sheen, 0.0, b.clearcoat_alpha)
 
 
+@dual_use(inline=True)
+def _lanes_for_variant(vr, b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, sb):
+    """:func:`_material_lanes` for a material of specialisation ``vr``
+    (:func:`material_variants`): one copy per row of :data:`_VARIANTS`, with the BxDF
+    rebuilt from that constant code row (:func:`_specialised`) and p_coat = -0.0 (0, as
+    a constant that also folds p_spec + p_coat to p_spec), and one copy for any BxDF
+    (vr = -1).  Inlined into the kernel's stage (Numba IR), so that every copy is
+    optimised there, beside the lane buffers it works on."""
+    if vr == 0:
+        _material_lanes(_specialised(b, _VARIANTS[0]), at, p_spec, -0.0, strategy, count, n_eval, ub, lb, mb, sb)
+    elif vr == 1:
+        _material_lanes(_specialised(b, _VARIANTS[1]), at, p_spec, -0.0, strategy, count, n_eval, ub, lb, mb, sb)
+    elif vr == 2:
+        _material_lanes(_specialised(b, _VARIANTS[2]), at, p_spec, -0.0, strategy, count, n_eval, ub, lb, mb, sb)
+    elif vr == 3:
+        _material_lanes(_specialised(b, _VARIANTS[3]), at, p_spec, -0.0, strategy, count, n_eval, ub, lb, mb, sb)
+    elif vr == 4:
+        _material_lanes(_specialised(b, _VARIANTS[4]), at, p_spec, -0.0, strategy, count, n_eval, ub, lb, mb, sb)
+    elif vr == 5:
+        _material_lanes(_specialised(b, _VARIANTS[5]), at, p_spec, -0.0, strategy, count, n_eval, ub, lb, mb, sb)
+    else:
+        _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, sb)
+
+
 @lane_stage
 def _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, sb):
     """The BxDF's part of the samples in a set of lane buffers (:func:`_direct_block`) at
@@ -388,8 +449,7 @@ def _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, 
     (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``;
     :func:`pbrkit.render.estimator.bsdf_weight` of the local direction that
     :func:`pbrkit.brdf.bxdf.sample_wi` draws).  The kernel calls it with a BxDF
-    specialised by :func:`_specialised` (and p_coat = -0.0: 0, as a constant that also
-    folds p_spec + p_coat to p_spec), or with any BxDF."""
+    specialised by :func:`_specialised` or with any BxDF (:func:`_lanes_for_variant`)."""
     if strategy == STRATEGY_MIS:
         for i in range(n_eval):
             v0, v1, v2 = light_sample(b, at, p_spec, p_coat, lb[_L_DIR, i], lb[_L_DIR + 1, i], lb[_L_DIR + 2, i],
@@ -483,48 +543,45 @@ def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
             ha[_T_INDEX, i] = hb[_T_INDEX, i]
 
 
-@threaded_kernel
-def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, base_value, p, ng, n, v, mat, rough,
-                   metal, base, mi, mf, variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip,
-                   first, count, order, planes, sphere_mat, plane_mat, acodes, avalues, averts, film):
-    """Direct lighting (bounces = 0) of an analytic scene and its area lights, the
-    estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
-    numbers) computed in lanes: the samples of one primary hit go through stages,
-    each a loop over up to :data:`_LANES` samples in structure-of-arrays buffers
-    (:func:`_direct_block`) that LLVM vectorises: random numbers, environment
-    samples and area-light samples, the BxDF at both and its own sample
-    (:func:`_material_lanes`, specialised by :data:`_VARIANTS`), the environment
-    seen by the BxDF samples, shadow and BxDF rays (:func:`_trace_lanes`, or the
-    BVH for larger scenes), the area lights' shadows and the emission BxDF samples
-    meet (ray by ray: those loops stay scalar), then the pixel's sums in sample
-    order.  A primary ray that misses, or sees the surface from behind,
-    contributes its ``base_value`` to every sample at once.  Sums as
-    :func:`_fused_kernel`'s (shifted data, :mod:`pbrkit.render.film`).  It runs the blocks ``start`` to ``stop``
-    (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
-    :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material
-    emits (then the BxDF rays look for the surfaces they hit)."""
+def _direct_lighting(seed, spp, k2, strategy, occlusion, base_value, hits, materials, env, shapes, area, film):
+    """Direct lighting of an analytic scene into ``film`` (:class:`pbrkit.render.film.Film`)
+    by :func:`_direct_kernel` on a pool of threads: ``base_value`` (rays, 3) the
+    deterministic part of each ray, ``hits`` the primary hits
+    (:class:`pbrkit.render.records.Points`, rows with material -1 missed), the
+    scene as :mod:`pbrkit.render.records`' records."""
     n_pixels = film.sum.shape[0]
-    height = env.shape[0]
-    width = env.shape[1]
-    n_texels = alias.shape[0]
-    bulk = spheres.shape[0] + planes.shape[0] <= _BULK_PRIMITIVES
+    emissive = bool(np.any(materials.params[:, P_EMISSIVE:P_EMISSIVE + 3] != 0.0))
+    run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, strategy,
+                   bool(occlusion), emissive, base_value, hits, materials,
+                   material_variants(materials.codes, materials.params), env, shapes, area, film)
+
+
+@threaded_kernel
+def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, base_value, hits, materials, variant,
+                   env, shapes, area, film):
+    """Direct lighting (bounces = 0) of an analytic scene and its area lights (module
+    docstring): rays are (pixel, sub-pixel) pairs, sample j of a pixel uses sub-pixel
+    j mod k2.  A primary ray that misses, or sees the surface from behind, contributes
+    its ``base_value`` to every sample at once.  Sums as the fused kernel's (shifted
+    data, :mod:`pbrkit.render.film`).  It runs the blocks ``start`` to ``stop``
+    (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
+    :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material emits
+    (then the BxDF rays look for the surfaces they hit); ``variant``: each material's
+    specialisation (:func:`material_variants`)."""
     for block in range(start, stop):
-        _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
-                      base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias,
-                      row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat,
-                      acodes, avalues, averts, film)
+        _direct_block(block, seed, spp, k2, strategy, occlusion, emissive, base_value, hits, materials, variant, env,
+                      shapes, area, film)
 
 
 @lane_stage
-def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
-                  base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias, row_cos,
-                  c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat, acodes, avalues,
-                  averts, film):
+def _direct_block(block, seed, spp, k2, strategy, occlusion, emissive, base_value, hits, materials, variant, env,
+                  shapes, area, film):
     """The pixels of block ``block`` (:data:`_BLOCK` pixels) of :func:`_direct_kernel`,
     with lane buffers on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
     them apart from the tables, so the loops that gather from tables and store into
-    them are vectorised.  No function called in a loop over lanes takes an array
-    (reference counting would add calls that keep LLVM from vectorising the loop)."""
+    them are vectorised.  The arrays are read out of the records here, once; no
+    function called in a loop over lanes takes an array (reference counting would add
+    calls that keep LLVM from vectorising the loop)."""
     ub = stack_array(5, 256)
     lb = stack_array(10, 512)  # environment samples, then area-light samples
     mb = stack_array(6, 512)
@@ -533,6 +590,43 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
     hb = stack_array(3, 256)
     shadow = stack_array(2, 256)  # environment samples; area-light samples
     xb = stack_array(5, 256)  # area lights: shadow ray length; emission seen by BxDF samples; path ended on a light
+    # one reference per array (attribute reads; unpacking a record as a tuple would count two)
+    p = hits.p
+    ng = hits.ng
+    n = hits.n
+    v = hits.v
+    mat = hits.material
+    rough = hits.roughness
+    metal = hits.metallic
+    base = hits.base_color
+    mi = materials.codes
+    mf = materials.params
+    radiance = env.radiance
+    func = env.func
+    total = env.total
+    alias = env.alias
+    row_cos = env.rows
+    c = env.cos
+    s = env.sin
+    spheres = shapes.spheres
+    lo = shapes.lo
+    hi = shapes.hi
+    skip = shapes.skip
+    first = shapes.first
+    count = shapes.count
+    order = shapes.order
+    planes = shapes.planes
+    sphere_mat = shapes.sphere_material
+    plane_mat = shapes.plane_material
+    eps = shapes.eps
+    acodes = area.codes
+    avalues = area.values
+    averts = area.vertices
+    n_pixels = film.sum.shape[0]
+    height = radiance.shape[0]
+    width = radiance.shape[1]
+    n_texels = alias.shape[0]
+    bulk = spheres.shape[0] + planes.shape[0] <= _BULK_PRIMITIVES
     n_area = acodes.shape[0]
     for pix in range(block * _BLOCK, min(n_pixels, block * _BLOCK + _BLOCK)):
         stream = _stream_key(seed, pix, 0)
@@ -592,9 +686,9 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         lb[_L_DIR + 1, i] = ly
                         lb[_L_DIR + 2, i] = lz
                         lb[_L_PDF, i] = _texel_pdf(func[ei, ej], total)
-                        lb[_L_RAD, i] = env[ei, ej, 0]
-                        lb[_L_RAD + 1, i] = env[ei, ej, 1]
-                        lb[_L_RAD + 2, i] = env[ei, ej, 2]
+                        lb[_L_RAD, i] = radiance[ei, ej, 0]
+                        lb[_L_RAD + 1, i] = radiance[ei, ej, 1]
+                        lb[_L_RAD + 2, i] = radiance[ei, ej, 2]
                 # --- area-light samples (as _vertex: a light picked uniformly, then a point on it),
                 # after the environment's in the same buffers, so the BxDF evaluates both in one loop
                 n_eval = lanes
@@ -615,34 +709,14 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         lb[_L_RAD + 2, j] = r2
                         xb[_X_ADIST, i] = area_shadow_t(dist)
                 # --- the BxDF (specialised for the materials of _VARIANTS)
-                vr = variant[m]
-                if vr == 0:
-                    _material_lanes(_specialised(b, _VARIANTS[0]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
-                                    mb, sb)
-                elif vr == 1:
-                    _material_lanes(_specialised(b, _VARIANTS[1]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
-                                    mb, sb)
-                elif vr == 2:
-                    _material_lanes(_specialised(b, _VARIANTS[2]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
-                                    mb, sb)
-                elif vr == 3:
-                    _material_lanes(_specialised(b, _VARIANTS[3]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
-                                    mb, sb)
-                elif vr == 4:
-                    _material_lanes(_specialised(b, _VARIANTS[4]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
-                                    mb, sb)
-                elif vr == 5:
-                    _material_lanes(_specialised(b, _VARIANTS[5]), at, p_spec, -0.0, strategy, lanes, n_eval, ub, lb,
-                                    mb, sb)
-                else:
-                    _material_lanes(b, at, p_spec, p_coat, strategy, lanes, n_eval, ub, lb, mb, sb)
+                _lanes_for_variant(variant[m], b, at, p_spec, p_coat, strategy, lanes, n_eval, ub, lb, mb, sb)
                 # --- the environment the BxDF samples see
-                for i in range(lanes):  # _env_miss, with the loads in the loop
+                for i in range(lanes):  # reference._env_miss, with the loads in the loop
                     ei, ej = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
                     w = emission_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
-                    lb[_L_LE, i] = env[ei, ej, 0] * w
-                    lb[_L_LE + 1, i] = env[ei, ej, 1] * w
-                    lb[_L_LE + 2, i] = env[ei, ej, 2] * w
+                    lb[_L_LE, i] = radiance[ei, ej, 0] * w
+                    lb[_L_LE + 1, i] = radiance[ei, ej, 1] * w
+                    lb[_L_LE + 2, i] = radiance[ei, ej, 2] * w
                 # --- shadow rays and BxDF rays
                 if occlusion and bulk:
                     if strategy == STRATEGY_MIS:
@@ -660,7 +734,7 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                         ha[_T_KIND, i] = KIND_NONE
                         ha[_T_INDEX, i] = -1.0
                         if strategy == STRATEGY_MIS and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
-                                              or mb[_M_LVAL + 2, i] > 0.0):
+                                                         or mb[_M_LVAL + 2, i] > 0.0):
                             if trace_analytic(ox, oy, oz, lb[_L_DIR, i], lb[_L_DIR + 1, i], lb[_L_DIR + 2, i], 0.0,
                                               np.inf, True, spheres, lo, hi, skip, first, count, order,
                                               planes)[1] != KIND_NONE:
@@ -674,9 +748,9 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                             ha[_T_T, i] = th
                             ha[_T_KIND, i] = hk
                             ha[_T_INDEX, i] = hi_
-                # --- area lights (as _fused_kernel): they hide the environment samples and each
-                # other from the shadow rays; a BxDF sample that meets one before any surface sees
-                # its emission, MIS-weighted, and (with occlusion) ends there
+                # --- area lights (as the fused kernel): they hide the environment samples and
+                # each other from the shadow rays; a BxDF sample that meets one before any surface
+                # sees its emission, MIS-weighted, and (with occlusion) ends there
                 if n_area > 0:
                     for i in range(lanes):
                         j = lanes + i
@@ -704,16 +778,16 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
                             at_, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, sb[_S_DIR, i],
                                                                  sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], th)
                             if ai >= 0:
-                                le = area_emission(strategy, sb[_S_PDF, i], acodes, avalues, averts, ai, px, py, pz,
-                                                   sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], at_, a0, a1, a2)
+                                le = area_emission(strategy, sb[_S_PDF, i], area, ai, px, py, pz, sb[_S_DIR, i],
+                                                   sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], at_, a0, a1, a2)
                                 xb[_X_AEM, i] = sb[_S_W, i] * le[0]
                                 xb[_X_AEM + 1, i] = sb[_S_W + 1, i] * le[1]
                                 xb[_X_AEM + 2, i] = sb[_S_W + 2, i] * le[2]
                                 xb[_X_END, i] = 1.0 if occlusion else 0.0
                 # --- each sample's value: base + the environment sample if unshadowed + the
                 # area-light sample if unshadowed + the area light a BxDF sample meets + the BxDF
-                # sample's environment if it escapes, or the emission of what it hits (in
-                # _fused_kernel's order); into the rows of the spent local directions
+                # sample's environment if it escapes, or the emission of what it hits (in the
+                # fused kernel's order); into the rows of the spent local directions
                 base0 = base_value[row, 0]
                 base1 = base_value[row, 1]
                 base2 = base_value[row, 2]
@@ -783,51 +857,86 @@ def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed
 # ------------------------------------------------- wavefront (scenes with meshes)
 
 
-@row_kernel(5)
-def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
-                  total, alias, row_cos, c, s, acodes, avalues, averts, light_dir, light_val, area_dir, area_dist,
-                  area_val, brdf_dir, brdf_w, brdf_pdf):
+class VertexSamples(NamedTuple):
+    """:func:`_vertex`'s results for a wavefront of path vertices, one row each."""
+
+    light_dir: np.ndarray
+    light_val: np.ndarray
+    area_dir: np.ndarray
+    area_dist: np.ndarray  # how far the shadow ray looks (area_shadow_t)
+    area_val: np.ndarray
+    bsdf_dir: np.ndarray
+    bsdf_w: np.ndarray
+    bsdf_pdf: np.ndarray
+
+
+def _vertex_samples(count):
+    """Empty :class:`VertexSamples` for ``count`` vertices."""
+    vec = lambda: np.empty((count, 3))  # noqa: E731
+    return VertexSamples(vec(), vec(), vec(), np.empty(count), vec(), vec(), vec(), np.empty(count))
+
+
+@row_kernel(lambda seed, sample, bounce, strategy, pixel, *rest: pixel.shape[0])
+def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, points, materials, env, area, out):
+    p = points.p
+    ng = points.ng
+    n = points.n
+    v = points.v
+    mat = points.material
+    rough = points.roughness
+    metal = points.metallic
+    base = points.base_color
+    light_dir = out.light_dir
+    light_val = out.light_val
+    area_dir = out.area_dir
+    area_dist = out.area_dist
+    area_val = out.area_val
+    bsdf_dir = out.bsdf_dir
+    bsdf_w = out.bsdf_w
+    bsdf_pdf = out.bsdf_pdf
     for i in range(start, stop):
         key = _path_key(seed, pixel[i], sample, bounce)
         ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
-            key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
-            v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], env, func, total,
-            alias, row_cos, c, s, strategy, acodes, avalues, averts)
+            key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
+            n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
+            base[i, 2])
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
             area_dir[i, a] = adir[a]
             area_val[i, a] = aval[a]
-            brdf_dir[i, a] = bdir[a]
-            brdf_w[i, a] = bw[a]
+            bsdf_dir[i, a] = bdir[a]
+            bsdf_w[i, a] = bw[a]
         area_dist[i] = area_shadow_t(adist)
-        brdf_pdf[i] = pdf_b
+        bsdf_pdf[i] = pdf_b
 
 
-@row_kernel(6)
-def _area_emission_batch(start, stop, strategy, pdf_b, acodes, avalues, averts, index, p, d, t, radiance, out):
+@row_kernel(4)
+def _area_emission_batch(start, stop, strategy, pdf_b, area, index, p, d, t, radiance, out):
     for i in range(start, stop):
-        le = area_emission(strategy, pdf_b[i], acodes, avalues, averts, index[i], p[i, 0], p[i, 1], p[i, 2],
-                           d[i, 0], d[i, 1], d[i, 2], t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
+        le = area_emission(strategy, pdf_b[i], area, index[i], p[i, 0], p[i, 1], p[i, 2], d[i, 0], d[i, 1], d[i, 2],
+                           t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
         out[i, 0] = le[0]
         out[i, 1] = le[1]
         out[i, 2] = le[2]
 
 
 @row_kernel(2)
-def _miss_batch(start, stop, strategy, pdf_b, d, env, func, total, c, s, out):
+def _miss_batch(start, stop, strategy, pdf_b, d, env, out):
     for i in range(start, stop):
-        le = _env_miss(strategy, pdf_b[i], env, func, total, c, s, d[i, 0], d[i, 1], d[i, 2])
+        le = _env_miss(strategy, pdf_b[i], env, d[i, 0], d[i, 1], d[i, 2])
         out[i, 0] = le[0]
         out[i, 1] = le[1]
         out[i, 2] = le[2]
 
 
-def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, mat_i,
-               mat_f):
-    func, total, alias, row_cos = env.distribution
-    area = geometry.area_lights
-    has_area = len(area) > 0
+def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, materials):
+    """Every sample of a scene with triangle meshes (Embree) as a loop over samples and
+    bounces, each step on the whole wavefront of paths at once (:func:`_vertex_batch`,
+    then shadow rays, BRDF rays and what they meet); returns the :class:`Film`."""
+    envs = environment_arrays(env)
+    area = area_arrays(geometry)
+    has_area = len(geometry.area_lights) > 0
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
@@ -851,19 +960,11 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             count = pix.size
             if count == 0:
                 break
-            ldir = np.empty((count, 3))
-            lval = np.empty((count, 3))
-            adir = np.empty((count, 3))
-            adist = np.empty(count)
-            aval = np.empty((count, 3))
-            bdir = np.empty((count, 3))
-            bw = np.empty((count, 3))
-            bpdf = np.empty(count)
-            _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), np.ascontiguousarray(surf_p),
-                          np.ascontiguousarray(surf_ng), np.ascontiguousarray(surf_n), np.ascontiguousarray(v),
-                          np.ascontiguousarray(surf_mat), np.ascontiguousarray(surf_r), np.ascontiguousarray(surf_m),
-                          np.ascontiguousarray(surf_b), mat_i, mat_f, env.radiance, func, total, alias, row_cos, env.cos,
-                          env.sin, *area.arrays(), ldir, lval, adir, adist, aval, bdir, bw, bpdf)
+            vs = _vertex_samples(count)
+            points = Points(*(np.ascontiguousarray(a) for a in (surf_p, surf_ng, surf_n, v, surf_mat, surf_r,
+                                                                 surf_m, surf_b)))
+            _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), points, materials, envs, area, vs)
+            ldir, lval, adir, adist, aval, bdir, bw, bpdf = vs
             for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
                 lit = np.flatnonzero(np.any(value > 0.0, axis=1))
                 if lit.size and occlusion:  # the objects and the area lights cast shadows
@@ -888,9 +989,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 seen = np.flatnonzero(ai >= 0)
                 if seen.size:
                     le = np.empty((seen.size, 3))
-                    _area_emission_batch(strategy, np.ascontiguousarray(bpdf[go][seen]), *area.arrays(),
-                                         ai[seen], np.ascontiguousarray(surf_p[go][seen]),
-                                         np.ascontiguousarray(dirs[seen]), at[seen], radiance[seen], le)
+                    _area_emission_batch(strategy, np.ascontiguousarray(bpdf[go][seen]), area, ai[seen],
+                                         np.ascontiguousarray(surf_p[go][seen]), np.ascontiguousarray(dirs[seen]),
+                                         at[seen], radiance[seen], le)
                     np.add.at(x, pix[seen], through[seen] * le)
                     if hits is not None:  # the light is opaque: those paths end on it
                         escaped[seen] = False
@@ -898,8 +999,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             miss = np.flatnonzero(escaped)
             if miss.size:
                 le = np.empty((miss.size, 3))
-                _miss_batch(strategy, np.ascontiguousarray(bpdf[go][miss]), np.ascontiguousarray(dirs[miss]),
-                            env.radiance, func, total, env.cos, env.sin, le)
+                _miss_batch(strategy, np.ascontiguousarray(bpdf[go][miss]), np.ascontiguousarray(dirs[miss]), envs,
+                            le)
                 np.add.at(x, pix[miss], through[miss] * le)
             if hits is None:
                 break
@@ -914,7 +1015,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             pix = pix[hit]
             v = -dirs[hit]
             if geometry.lights:
-                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, mat_i, mat_f))
+                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, materials.codes,
+                                                              materials.params))
             surf_p, surf_ng, surf_n = surface.p, surface.ng, surface.n
             surf_mat, surf_r, surf_m, surf_b = surface.material, surface.roughness, surface.metallic, \
                 surface.base_color
@@ -922,6 +1024,26 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             shift = x.copy()
         total_sum, total_sq = shifted_add(shift, total_sum, total_sq, x, 1)
     return Film(shift, total_sum, total_sq)
+
+
+def _primary_points(prim, v):
+    """The primary hits as :class:`pbrkit.render.records.Points`, one row per ray (rows
+    of rays that missed: material -1, zeros)."""
+    rays = prim.dirs.shape[0]
+    s = prim.surface
+    mat = np.full(rays, -1, dtype=np.int64)
+    p, ng, n, vv, base = (np.zeros((rays, 3)) for _ in range(5))
+    rough = np.zeros(rays)
+    metal = np.zeros(rays)
+    mat[prim.rows] = s.material
+    p[prim.rows] = s.p
+    ng[prim.rows] = s.ng
+    n[prim.rows] = s.n
+    vv[prim.rows] = v
+    rough[prim.rows] = s.roughness
+    metal[prim.rows] = s.metallic
+    base[prim.rows] = s.base_color
+    return Points(p, ng, n, vv, mat, rough, metal, base)
 
 
 def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, strategy="mis", occlusion=True,
@@ -948,63 +1070,41 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     t0 = time.perf_counter()
     geometry = geometry or Geometry(scene)
     env = env or EnvironmentLight(scene.environment)
-    func, total, alias, row_cos = env.distribution
+    env.distribution  # noqa: B018  (computed here: loading, not sampling)
     t1 = time.perf_counter()
     prim = _primary(scene, geometry)
     cam = scene.camera
     k2 = cam.supersample ** 2
     n_pixels = cam.width * cam.height
-    mat_i, mat_f = material_tables(geometry.materials)
+    materials = Materials(*material_tables(geometry.materials))
     s = prim.surface
     v = -prim.dirs[prim.rows]
     # deterministic part of each ray: background, or emission + punctual lights at the hit
     base_value = np.zeros((prim.dirs.shape[0], 3))
     base_value[~prim.hit] = _background(prim, env)
     if prim.rows.size:
-        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, True)
+        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, materials.codes, materials.params,
+                                                               None, True)
     t2 = time.perf_counter()
     code = STRATEGIES.index(strategy)
     if engine == "fused" and geometry.has_meshes:
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
     if geometry.has_meshes or engine == "wavefront":
         film = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code, bool(occlusion),
-                          mat_i, mat_f)
+                          materials)
         engine_name = "wavefront" + (" (Embree)" if geometry.has_meshes else "")
     else:
-        rays = prim.dirs.shape[0]
-        mat = np.full(rays, -1, dtype=np.int64)
-        p = np.zeros((rays, 3))
-        ng = np.zeros((rays, 3))
-        n = np.zeros((rays, 3))
-        vv = np.zeros((rays, 3))
-        rough = np.zeros(rays)
-        metal = np.zeros(rays)
-        base = np.zeros((rays, 3))
-        mat[prim.rows] = s.material
-        p[prim.rows] = s.p
-        ng[prim.rows] = s.ng
-        n[prim.rows] = s.n
-        vv[prim.rows] = v
-        rough[prim.rows] = s.roughness
-        metal[prim.rows] = s.metallic
-        base[prim.rows] = s.base_color
-        codes, values = light_arrays(geometry.lights)
+        hits = _primary_points(prim, v)
         film = new_film(n_pixels)
-        eps = 1e-7 * geometry.scale
+        envs = environment_arrays(env)
+        shapes = analytic_shapes(geometry)
+        area = area_arrays(geometry)
         if bounces == 0:
-            emissive = bool(np.any(mat_f[:, P_EMISSIVE:P_EMISSIVE + 3] != 0.0))
-            run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, code,
-                           bool(occlusion), emissive, base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f,
-                           material_variants(mat_i, mat_f), env.radiance, func, total, alias, row_cos, env.cos,
-                           env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
-                           geometry.plane_material, *geometry.area_lights.arrays(), film)
+            _direct_lighting(seed, spp, k2, code, occlusion, base_value, hits, materials, envs, shapes, area, film)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
             run_in_threads(_fused_kernel, n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
-                           base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f, env.radiance, func, total,
-                           alias, row_cos, env.cos, env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes,
-                           geometry.sphere_material, geometry.plane_material, codes, values,
-                           *geometry.area_lights.arrays(), film)
+                           base_value, hits, materials, envs, shapes, punctual_lights(geometry), area, film)
             engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
     mean, stderr = film_estimate(film, spp)
@@ -1019,4 +1119,3 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
              "timings": {"load": t1 - t0, "primary_rays": t2 - t1, "sampling": t3 - t2, "total": t3 - t0},
              "paths_per_second": surface_paths / max(t3 - t2, 1e-9), "pixels": n_pixels}
     return RenderResult(image, mask, stderr, stats)
-
