@@ -21,7 +21,8 @@ from pbrkit.render.environment import (
     _sincos,
 )
 from pbrkit.render.materials import material_tables
-from pbrkit.render.reference import _VARIANTS, material_variants, render_reference
+from pbrkit.render.lanes import _VARIANTS, material_variants
+from pbrkit.render.reference import render_reference
 from pbrkit.render.scene import (
     Camera,
     EnvironmentSpec,

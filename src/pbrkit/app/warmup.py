@@ -48,7 +48,7 @@ def kernels_cached():
     the others too, or they are cheap to compile: no warm-up)."""
     from ..core.cache import cached_kernels
 
-    return cached_kernels("render", "reference._direct_kernel-*")
+    return cached_kernels("render", "lanes._direct_kernel-*")
 
 
 def _claim(folder, step, owner):

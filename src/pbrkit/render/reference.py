@@ -25,60 +25,52 @@ ch. 9):
   assumes, to isolate the shading approximations in a comparison.  Punctual
   lights cast shadows either way (exact shadow rays, as the real-time path's
   ideal shadow map), so both modes light a point the same way.
-- scenes of spheres and planes run in one fused kernel per pixel (all
-  samples, ray casting included): direct lighting (``bounces`` = 0) in SIMD
-  lanes (:func:`_direct_kernel`), paths with bounces sample by sample
-  (:func:`_fused_kernel`); scenes with triangle meshes run as a wavefront
-  loop over the samples, casting with Embree; all give the same numbers for
-  the same scene (tested), and the same bytes for any thread count.
+- the estimator is written once, as scalar functions
+  (:mod:`pbrkit.render.estimator`, which derives it), and so are the pixel's sums
+  (:mod:`pbrkit.render.film`); three engines schedule them.  Scenes of spheres
+  and planes run in one fused kernel per pixel (all samples, ray casting
+  included): direct lighting (``bounces`` = 0) in SIMD lanes
+  (:mod:`pbrkit.render.lanes`), paths with bounces sample by sample
+  (:func:`_fused_kernel`, one :func:`_vertex` per bounce); scenes with triangle
+  meshes run as a wavefront loop over the samples (:func:`_wavefront`, the same
+  :func:`_vertex` on every path of a bounce at once), casting with Embree.  All
+  give the same numbers for the same scene (tested), and the same bytes for any
+  thread count.  The kernels take the scene as a few records of arrays
+  (:mod:`pbrkit.render.records`).
 """
 
 from __future__ import annotations
 
-import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 
-from ..brdf.bxdf import CODE_COLUMNS
-from ..brdf.dispatch import bxdf_f, bxdf_pdf, lobe_probabilities, sample_wi, specialised
-from ..brdf.shading.registry import COLUMNS, VARIANTS
+from ..brdf.dispatch import lobe_probabilities
+from ..brdf.shading.registry import COLUMNS
 from ..core import checks
-from ..core.jit import (
-    dual_use,
-    lane_stage,
-    row_kernel,
-    run_in_threads,
-    stack_array,
-    threaded_kernel,
+from ..core.jit import dual_use, row_kernel, run_in_threads, threaded_kernel
+from ..sampling.random import _path_key, _uniform
+from .area_lights import area_light_hit, area_light_sample
+from .environment import EnvironmentLight, _env_pdf_texel, _env_sample, _env_texel
+from .estimator import (
+    STRATEGIES,
+    STRATEGY_MIS,
+    Shading,
+    area_emission,
+    area_shadow_t,
+    bsdf_sample,
+    emission_weight,
+    light_sample,
 )
-from ..sampling.random import _path_key, _sample_key, _stream_key, _uniform
-from .area_lights import area_light_hit, area_light_pdf, area_light_sample
-from .environment import (
-    EnvironmentLight,
-    _alias_choice,
-    _alias_column,
-    _env_pdf_texel,
-    _env_sample,
-    _env_texel,
-    _texel_of,
-    _texel_pdf,
-    _texel_point,
-)
+from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
-from .lights import light_arrays
-from .materials import hit_bxdf, hit_cosines, material_tables
+from .lanes import direct_lighting
+from .materials import hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary
-from .primitives import (
-    KIND_NONE,
-    KIND_PLANE,
-    KIND_SPHERE,
-    _ray_plane,
-    _ray_sphere,
-    sphere_normal_and_point,
-    trace_analytic,
-)
+from .primitives import KIND_NONE, KIND_SPHERE, sphere_normal_and_point, trace_analytic
 from .punctual import punctual_at, punctual_radiance
+from .records import Materials, Points, analytic_shapes, area_arrays, environment_arrays, punctual_lights
 
 __all__ = [
     "render_reference",
@@ -92,128 +84,67 @@ _METALLIC = COLUMNS.metallic
 _BASE_COLOR = COLUMNS.base_color
 
 
-@dual_use(inline=True)
-def _power_heuristic(pa, pb):
-    """Veach 1997, sec. 9.2.4: w = pa^2 / (pa^2 + pb^2)."""
-    a = pa * pa
-    b = pb * pb
-    if a + b <= 0.0:
-        return 0.0
-    return a / (a + b)
-
-
 @dual_use
-def _vertex(key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal, b0, b1, b2,
-            env, func, total, alias, row_cos, c, s, strategy, acodes, avalues, averts):
-    """The samples of one path vertex.  Returns
-    (environment direction (3), its contribution (3, unshadowed, MIS-weighted),
-     area-light direction (3), the distance to the light, its contribution (3,
-     unshadowed, MIS-weighted), BRDF direction (3), BRDF weight f cos / pdf (3),
-     BRDF pdf).  ``strategy`` 0 = MIS (environment, area-light and BRDF sampling),
-    1 = BRDF sampling only.  The area light is picked uniformly among the scene's
-    (probability 1 / A), then sampled by :func:`pbrkit.render.area_lights.
-    area_light_sample`.  The BRDF, its sampling routine and pdf are the
-    material's BxDF (:mod:`pbrkit.brdf.bxdf`)."""
+def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal,
+            b0, b1, b2):
+    """The samples of one path vertex (the estimator of :mod:`pbrkit.render.estimator`
+    with the random numbers of ``key``) at a point of material ``m`` with the textured
+    roughness, metallic and base colour, geometric normal g, shading normal n, seen
+    from v.  Returns (environment direction (3), its contribution (3, unshadowed,
+    MIS-weighted), area-light direction (3), the distance to the light, its
+    contribution (3, unshadowed, MIS-weighted), BRDF direction (3), BRDF weight
+    f cos / pdf (3), BRDF pdf); the contributions are 0 where a sample gives nothing,
+    the BRDF weight and pdf 0 where the path ends.  ``strategy``: an index into
+    :data:`pbrkit.render.estimator.STRATEGIES`.  The area light is picked uniformly
+    among the scene's (probability 1 / A), then sampled by
+    :func:`pbrkit.render.area_lights.area_light_sample`.  The BRDF, its sampling
+    routine and pdf are the material's BxDF (:mod:`pbrkit.brdf.bxdf`).  A light
+    sample below the surface (g.l <= 0) or of zero pdf is not evaluated."""
     z3 = (0.0, 0.0, 0.0)
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
-    b, t, bt = hit_bxdf(mi, mf, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
     p_spec, p_coat = lobe_probabilities(b, nov)
     # --- environment sample
     light_dir = z3
     light_val = z3
-    if strategy == 0:
-        lx, ly, lz, pdf_e, ei, ej = _env_sample(func, total, alias, row_cos, c, s, _uniform(key, 0), _uniform(key, 1))
+    if strategy == STRATEGY_MIS:
+        lx, ly, lz, pdf_e, ei, ej = _env_sample(env.func, env.total, env.alias, env.rows, env.cos, env.sin,
+                                                _uniform(key, 0), _uniform(key, 1))
         light_dir = (lx, ly, lz)
         if pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0:
-            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-            if cs.nol > 0.0:
-                f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
-                pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-                w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
-                light_val = (f[0] * env[ei, ej, 0] * w, f[1] * env[ei, ej, 1] * w, f[2] * env[ei, ej, 2] * w)
+            radiance = env.radiance
+            light_val = light_sample(b, at, p_spec, p_coat, lx, ly, lz, pdf_e, radiance[ei, ej, 0],
+                                     radiance[ei, ej, 1], radiance[ei, ej, 2])
     # --- area-light sample
     area_dir = z3
     area_dist = 0.0
     area_val = z3
-    n_area = acodes.shape[0]
-    if strategy == 0 and n_area > 0:
+    n_area = area.codes.shape[0]
+    if strategy == STRATEGY_MIS and n_area > 0:
         li = min(int(_uniform(key, 5) * n_area), n_area - 1)
-        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(acodes, avalues, averts, li, px, py, pz,
-                                                                _uniform(key, 6), _uniform(key, 7))
+        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(area.codes, area.values, area.vertices, li, px, py,
+                                                                pz, _uniform(key, 6), _uniform(key, 7))
         if pdf_a > 0.0 and gx * ax + gy * ay + gz * az > 0.0:
-            pdf_a /= n_area
-            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, ax, ay, az)
-            if cs.nol > 0.0:
-                f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
-                w = _power_heuristic(pdf_a, bxdf_pdf(b, cs, p_spec, p_coat)) * cs.nol / pdf_a
-                area_dir = (ax, ay, az)
-                area_dist = dist
-                area_val = (f[0] * r0 * w, f[1] * r1 * w, f[2] * r2 * w)
+            area_dir = (ax, ay, az)
+            area_dist = dist
+            area_val = light_sample(b, at, p_spec, p_coat, ax, ay, az, pdf_a / n_area, r0, r1, r2)
     # --- BRDF sample
-    tx, ty, tz = t
-    bx, by, bz = bt
-    wox = vx * tx + vy * ty + vz * tz
-    woy = vx * bx + vy * by + vz * bz
-    llx, lly, llz = sample_wi(b, wox, woy, nov, _uniform(key, 4), _uniform(key, 2), _uniform(key, 3), p_spec,
-                              p_coat)
-    lx = llx * tx + lly * bx + llz * nx
-    ly = llx * ty + lly * by + llz * ny
-    lz = llx * tz + lly * bz + llz * nz
-    norm = math.sqrt(lx * lx + ly * ly + lz * lz)
-    if norm <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, z3, z3, 0.0
-    lx /= norm
-    ly /= norm
-    lz /= norm
-    if gx * lx + gy * ly + gz * lz <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
-    cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-    if cs.nol <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
-    pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-    if pdf_b <= 0.0:
-        return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), z3, 0.0
-    f = bxdf_f(b, cs, 1.0, 1.0, 1.0)
-    k = cs.nol / pdf_b
-    return light_dir, light_val, area_dir, area_dist, area_val, (lx, ly, lz), (f[0] * k, f[1] * k, f[2] * k), pdf_b
+    bsdf_dir, bsdf_w, pdf_b = bsdf_sample(b, at, p_spec, p_coat, _uniform(key, 4), _uniform(key, 2),
+                                          _uniform(key, 3))
+    return light_dir, light_val, area_dir, area_dist, area_val, bsdf_dir, bsdf_w, pdf_b
 
 
 @dual_use
-def _area_emission(strategy, pdf_b, acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t, r0, r1, r2):
-    """Radiance (r0, r1, r2) of area light li, hit at distance t by the BRDF sample d
-    from p, times its MIS weight against the light sampling of :func:`_vertex`."""
-    w = 1.0
-    if strategy == 0:
-        pdf_a = area_light_pdf(acodes, avalues, averts, li, px, py, pz, dx, dy, dz, t) / acodes.shape[0]
-        w = _power_heuristic(pdf_b, pdf_a)
-    return r0 * w, r1 * w, r2 * w
-
-
-@dual_use
-def _area_shadow_t(dist):
-    """How far a shadow ray towards an area light point at ``dist`` looks for blockers."""
-    return dist * (1.0 - 1e-6)
-
-
-@dual_use(inline=True)
-def _miss_weight(strategy, pdf_b, pdf_e):
-    """MIS weight of a BRDF sample that reaches the environment, whose environment
-    sampling pdf is pdf_e: the power heuristic, or 1 for BRDF sampling alone."""
-    w = 1.0
-    if strategy == 0:
-        w = _power_heuristic(pdf_b, pdf_e)
-    return w
-
-
-@dual_use
-def _env_miss(strategy, pdf_b, env, func, total, c, s, dx, dy, dz):
-    """Radiance times the MIS weight of a BRDF sample that reaches the environment
-    (:func:`_miss_weight`)."""
-    i, j = _env_texel(env.shape[0], env.shape[1], c, s, dx, dy, dz)
-    w = _miss_weight(strategy, pdf_b, _env_pdf_texel(func, total, i, j))
-    return env[i, j, 0] * w, env[i, j, 1] * w, env[i, j, 2] * w
+def _env_miss(strategy, pdf_b, env, dx, dy, dz):
+    """Radiance times the MIS weight of a BRDF sample (pdf ``pdf_b``) that reaches the
+    environment along d (:func:`pbrkit.render.estimator.emission_weight`)."""
+    radiance = env.radiance
+    i, j = _env_texel(radiance.shape[0], radiance.shape[1], env.cos, env.sin, dx, dy, dz)
+    w = emission_weight(strategy, pdf_b, _env_pdf_texel(env.func, env.total, i, j))
+    return radiance[i, j, 0] * w, radiance[i, j, 1] * w, radiance[i, j, 2] * w
 
 
 @dual_use
@@ -236,38 +167,46 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
     return px, py, pz, nx, ny, nz, m
 
 
-
-
-
-@dual_use
-def _store_pixel(out_shift, out_sum, out_sumsq, pix, k0, k1, k2, s0, s1, s2, q0, q1, q2):
-    """Write a pixel's shift K (its first sample), sum of (x - K) and sum of (x - K)^2
-    (the shifted-data algorithm of :func:`_fused_kernel`), per channel."""
-    out_shift[pix, 0] = k0
-    out_shift[pix, 1] = k1
-    out_shift[pix, 2] = k2
-    out_sum[pix, 0] = s0
-    out_sum[pix, 1] = s1
-    out_sum[pix, 2] = s2
-    out_sumsq[pix, 0] = q0
-    out_sumsq[pix, 1] = q1
-    out_sumsq[pix, 2] = q2
-
-
 @threaded_kernel
-def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, p, ng, n, v, mat, rough, metal,
-                  base, mi, mf, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip, first, count,
-                  order, planes, sphere_mat, plane_mat, codes, values, acodes, avalues, averts, out_shift, out_sum,
-                  out_sumsq):
+def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, hits, materials, env, shapes,
+                  lights, area, film):
     """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
     rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
     ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
-    emission + punctual light at the primary hit); ``p`` etc. are the primary hits
-    (rows with mat < 0 missed).  Per pixel it accumulates the sum and the sum of
-    squares of (x - K), K = the pixel's first sample (the shifted-data algorithm,
-    which keeps the variance free of cancellation; Chan, Golub and LeVeque,
-    "Algorithms for Computing the Sample Variance", 1983).  It runs pixels ``start`` to
-    ``stop``, handed out to threads by :func:`pbrkit.core.jit.run_in_threads`."""
+    emission + punctual light at the primary hit); ``hits`` the primary hits
+    (:class:`pbrkit.render.records.Points`; rows with material < 0 missed).  Each
+    bounce is one :func:`_vertex`, whose samples it traces: shadow rays for the light
+    samples, then the BRDF sample's ray, which meets an area light, the environment
+    or the next surface.  Per pixel it accumulates the shifted sums of ``film``
+    (:mod:`pbrkit.render.film`).  It runs pixels ``start`` to ``stop``, handed out to
+    threads by :func:`pbrkit.core.jit.run_in_threads`."""
+    p = hits.p
+    ng = hits.ng
+    n = hits.n
+    v = hits.v
+    mat = hits.material
+    rough = hits.roughness
+    metal = hits.metallic
+    base = hits.base_color
+    mi = materials.codes
+    mf = materials.params
+    spheres = shapes.spheres
+    lo = shapes.lo
+    hi = shapes.hi
+    skip = shapes.skip
+    first = shapes.first
+    count = shapes.count
+    order = shapes.order
+    planes = shapes.planes
+    sphere_mat = shapes.sphere_material
+    plane_mat = shapes.plane_material
+    eps = shapes.eps
+    codes = lights.codes
+    values = lights.values
+    acodes = area.codes
+    avalues = area.values
+    averts = area.vertices
+    n_area = acodes.shape[0]
     for pix in range(start, stop):
         s0 = 0.0
         s1 = 0.0
@@ -296,19 +235,19 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                 for bounce in range(bounces + 1):
                     key = _path_key(seed, pix, j, bounce)
                     ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
-                        key, mi, mf, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me, b0, b1, b2, env, func,
-                        total, alias, row_cos, c, s, strategy, acodes, avalues, averts)
+                        key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me,
+                        b0, b1, b2)
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
                     if lval[0] > 0.0 or lval[1] > 0.0 or lval[2] > 0.0:
                         hk = KIND_NONE
                         if occlusion:  # the objects and the area lights hide the environment
-                            _, hk, _ = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True,
-                                                      spheres, lo, hi, skip, first, count, order, planes)
-                            if hk == KIND_NONE and acodes.shape[0]:
-                                if area_light_hit(acodes, avalues, averts, ox, oy, oz, ldir[0], ldir[1], ldir[2],
-                                                  np.inf)[1] >= 0:
+                            hk = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True, spheres, lo, hi,
+                                                skip, first, count, order, planes)[1]
+                            if hk == KIND_NONE and n_area:
+                                if area_light_hit(acodes, avalues, averts, ox, oy, oz, ldir[0],
+                                                  ldir[1], ldir[2], np.inf)[1] >= 0:
                                     hk = KIND_SPHERE
                         if hk == KIND_NONE:
                             x0 += t0 * lval[0]
@@ -317,11 +256,11 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                     if aval[0] > 0.0 or aval[1] > 0.0 or aval[2] > 0.0:
                         hk = KIND_NONE
                         if occlusion:  # shadow ray to the light point: objects and other area lights
-                            tmax = _area_shadow_t(adist)
-                            _, hk, _ = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True,
-                                                      spheres, lo, hi, skip, first, count, order, planes)
-                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz, adir[0],
-                                                                  adir[1], adir[2], tmax)[1] >= 0:
+                            tmax = area_shadow_t(adist)
+                            hk = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True, spheres, lo, hi,
+                                                skip, first, count, order, planes)[1]
+                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz,
+                                                                  adir[0], adir[1], adir[2], tmax)[1] >= 0:
                                 hk = KIND_SPHERE
                         if hk == KIND_NONE:
                             x0 += t0 * aval[0]
@@ -331,24 +270,24 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         break
                     th, hk, hi_ = np.inf, KIND_NONE, -1
                     if occlusion:
-                        th, hk, hi_ = trace_analytic(ox, oy, oz, bdir[0], bdir[1], bdir[2], 0.0, np.inf, False,
-                                                     spheres, lo, hi, skip, first, count, order, planes)
+                        th, hk, hi_ = trace_analytic(ox, oy, oz, bdir[0], bdir[1], bdir[2], 0.0, np.inf, False, spheres,
+                                                     lo, hi, skip, first, count, order, planes)
                     t0 *= bw[0]
                     t1 *= bw[1]
                     t2 *= bw[2]
-                    if acodes.shape[0]:  # an area light before the next surface (any, without occlusion)
-                        at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, bdir[0], bdir[1],
-                                                            bdir[2], th)
+                    if n_area:  # an area light before the next surface (any, without occlusion)
+                        at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz,
+                                                            bdir[0], bdir[1], bdir[2], th)
                         if ai >= 0:
-                            le = _area_emission(strategy, pdf_b, acodes, avalues, averts, ai, px, py, pz, bdir[0],
-                                                bdir[1], bdir[2], at, a0, a1, a2)
+                            le = area_emission(strategy, pdf_b, area, ai, px, py, pz, bdir[0], bdir[1], bdir[2], at,
+                                               a0, a1, a2)
                             x0 += t0 * le[0]
                             x1 += t1 * le[1]
                             x2 += t2 * le[2]
                             if occlusion:  # the light is opaque: the path ends on it
                                 break
                     if hk == KIND_NONE:
-                        le = _env_miss(strategy, pdf_b, env, func, total, c, s, bdir[0], bdir[1], bdir[2])
+                        le = _env_miss(strategy, pdf_b, env, bdir[0], bdir[1], bdir[2])
                         x0 += t0 * le[0]
                         x1 += t1 * le[1]
                         x2 += t2 * le[2]
@@ -375,553 +314,95 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         x2 += t2 * pr[2]
             if j == 0:
                 h0, h1, h2 = x0, x1, x2
-            x0 -= h0
-            x1 -= h1
-            x2 -= h2
-            s0 += x0
-            s1 += x1
-            s2 += x2
-            q0 += x0 * x0
-            q1 += x1 * x1
-            q2 += x2 * x2
-        _store_pixel(out_shift, out_sum, out_sumsq, pix, h0, h1, h2, s0, s1, s2, q0, q1, q2)
-
-
-# ------------------------------------------------- direct lighting in lanes (analytic scenes, bounces = 0)
-
-#: The materials the direct-lighting kernel specialises, as code rows (model,
-#: distribution, masking, Fresnel, diffuse): the registry's variants
-#: (:data:`pbrkit.brdf.shading.registry.VARIANTS`, declared by the models).  The BxDF
-#: of such a material is rebuilt with these codes as constants
-#: (:func:`pbrkit.brdf.dispatch.specialised`), so that LLVM drops every other branch
-#: of the dispatch and vectorises the lane loops.  Other materials run the same loops
-#: unspecialised.
-_VARIANTS = tuple(codes for codes, _ in VARIANTS)
-#: Lanes (samples of one primary hit) per pass through the stages.
-_LANES = 256
-#: Scenes with at most this many spheres and planes test every ray against each of
-#: them in vectorised loops; larger ones traverse the sphere BVH ray by ray.
-_BULK_PRIMITIVES = 16
-#: Rows of the lane buffers of :func:`_direct_block` (``stack_array(rows, columns)``
-#: there, one array per stage's output): no loop reads the array it writes, and LLVM,
-#: which knows separate allocations apart, vectorises every stage without run-time
-#: overlap checks.
-_U_LOBE, _U_1, _U_2, _U_K, _U_DV = range(5)                  # random numbers; alias draw
-_L_DIR, _L_PDF, _L_RAD, _L_LE = 0, 3, 4, 7                   # light samples (environment, then area); BxDF's env.
-_M_LVAL, _M_LOCAL = 0, 3                                     # BxDF at them; local BxDF directions
-_S_DIR, _S_W, _S_PDF = 0, 3, 6                               # BxDF samples
-_T_T, _T_KIND, _T_INDEX = range(3)                           # ray hits
-_X_ADIST, _X_AEM, _X_END = 0, 1, 4                           # area lights: shadow length; emission met; path ended
-#: Pixels per parallel work item.
-_BLOCK = 8
-
-
-def material_variants(codes, params):
-    """The specialisation (index into :data:`_VARIANTS`, or -1) of each material row of
-    :func:`pbrkit.render.materials.material_tables`' ``(codes, params)``: isotropic
-    materials whose code row is one of the variants."""
-    out = np.full(codes.shape[0], -1, dtype=np.int64)
-    for m in range(codes.shape[0]):
-        if params[m, COLUMNS.anisotropy] == 0.0 and tuple(codes[m, :CODE_COLUMNS]) in _VARIANTS:
-            out[m] = _VARIANTS.index(tuple(codes[m, :CODE_COLUMNS]))
-    return out
-
-
-_specialised = specialised
-
-
-_bxdf_f_lanes = dual_use(inline="llvm")(bxdf_f)
-
-
-@lane_stage
-def _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb,
-                    sb):
-    """The BxDF's part of the samples of a set of lane buffers (:func:`_direct_block`), the
-    per-lane work of :func:`_vertex`: f, its pdf and the MIS-weighted value of each of
-    the ``n_eval`` light samples (``mb[_M_LVAL]``: the environment's, then the area
-    lights'), then a direction sampled from the BxDF with
-    its weight f cos / pdf and pdf (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``; zero
-    weight and pdf, and the normal as direction, where :func:`_vertex` gives up).  The
-    same operations in the same order as :func:`_vertex`, so the same numbers.  The
-    kernel calls it with a BxDF specialised by :func:`_specialised` (and p_coat = -0.0:
-    0, as a constant that also folds p_spec + p_coat to p_spec), or with any BxDF."""
-    nov = nx * vx + ny * vy + nz * vz
-    if strategy == 0:
-        for i in range(n_eval):
-            lx = lb[_L_DIR, i]
-            ly = lb[_L_DIR + 1, i]
-            lz = lb[_L_DIR + 2, i]
-            pdf_e = lb[_L_PDF, i]
-            cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-            f = _bxdf_f_lanes(b, cs, 1.0, 1.0, 1.0)
-            pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-            w = _power_heuristic(pdf_e, pdf_b) * cs.nol / pdf_e
-            ok = pdf_e > 0.0 and gx * lx + gy * ly + gz * lz > 0.0 and cs.nol > 0.0
-            mb[_M_LVAL, i] = f[0] * lb[_L_RAD, i] * w if ok else 0.0
-            mb[_M_LVAL + 1, i] = f[1] * lb[_L_RAD + 1, i] * w if ok else 0.0
-            mb[_M_LVAL + 2, i] = f[2] * lb[_L_RAD + 2, i] * w if ok else 0.0
-    tx, ty, tz = t
-    bx, by, bz = bt
-    wox = vx * tx + vy * ty + vz * tz
-    woy = vx * bx + vy * by + vz * bz
-    # the local directions; with one lobe its choice is a constant, so the other lobe's
-    # warp is not computed as well
-    if p_coat <= 0.0 and p_spec >= 1.0:
-        for i in range(count):
-            llx, lly, llz = sample_wi(b, wox, woy, nov, 0.0, ub[_U_1, i], ub[_U_2, i], 1.0, -0.0)
-            mb[_M_LOCAL, i] = llx
-            mb[_M_LOCAL + 1, i] = lly
-            mb[_M_LOCAL + 2, i] = llz
-    elif p_coat <= 0.0 and p_spec <= 0.0:
-        for i in range(count):
-            llx, lly, llz = sample_wi(b, wox, woy, nov, 0.5, ub[_U_1, i], ub[_U_2, i], 0.0, -0.0)
-            mb[_M_LOCAL, i] = llx
-            mb[_M_LOCAL + 1, i] = lly
-            mb[_M_LOCAL + 2, i] = llz
-    else:
-        for i in range(count):
-            llx, lly, llz = sample_wi(b, wox, woy, nov, ub[_U_LOBE, i], ub[_U_1, i], ub[_U_2, i], p_spec, p_coat)
-            mb[_M_LOCAL, i] = llx
-            mb[_M_LOCAL + 1, i] = lly
-            mb[_M_LOCAL + 2, i] = llz
-    for i in range(count):
-        llx = mb[_M_LOCAL, i]
-        lly = mb[_M_LOCAL + 1, i]
-        llz = mb[_M_LOCAL + 2, i]
-        lx = llx * tx + lly * bx + llz * nx
-        ly = llx * ty + lly * by + llz * ny
-        lz = llx * tz + lly * bz + llz * nz
-        norm = math.sqrt(lx * lx + ly * ly + lz * lz)
-        lx /= norm
-        ly /= norm
-        lz /= norm
-        cs = hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz)
-        pdf_b = bxdf_pdf(b, cs, p_spec, p_coat)
-        f = _bxdf_f_lanes(b, cs, 1.0, 1.0, 1.0)
-        k = cs.nol / pdf_b
-        ok = norm > 0.0 and gx * lx + gy * ly + gz * lz > 0.0 and cs.nol > 0.0 and pdf_b > 0.0
-        sb[_S_DIR, i] = lx if ok else nx
-        sb[_S_DIR + 1, i] = ly if ok else ny
-        sb[_S_DIR + 2, i] = lz if ok else nz
-        sb[_S_W, i] = f[0] * k if ok else 0.0
-        sb[_S_W + 1, i] = f[1] * k if ok else 0.0
-        sb[_S_W + 2, i] = f[2] * k if ok else 0.0
-        sb[_S_PDF, i] = pdf_b if ok else 0.0
-
-
-@lane_stage
-def _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q, src, dst):
-    """One step of :func:`_trace_lanes`: the hits ``src`` of the rays from o along
-    ``dirs[row:row + 3]`` updated with primitive q (planes first, then spheres: the
-    tests of :func:`pbrkit.render.primitives.trace_analytic` in its order, without
-    the BVH) into ``dst``."""
-    n_planes = planes.shape[0]
-    if q < n_planes:
-        qx, qy, qz, px, py, pz = planes[q, 0], planes[q, 1], planes[q, 2], planes[q, 3], planes[q, 4], planes[q, 5]
-        for i in range(count):
-            t = _ray_plane(ox, oy, oz, dirs[row, i], dirs[row + 1, i], dirs[row + 2, i], qx, qy, qz, px, py, pz)
-            best = src[_T_T, i]
-            closer = 0.0 < t < best
-            dst[_T_T, i] = t if closer else best
-            dst[_T_KIND, i] = KIND_PLANE if closer else src[_T_KIND, i]
-            dst[_T_INDEX, i] = q if closer else src[_T_INDEX, i]
-    else:
-        s = q - n_planes
-        cx = spheres[s, 0]
-        cy = spheres[s, 1]
-        cz = spheres[s, 2]
-        r = spheres[s, 3]
-        for i in range(count):
-            t = _ray_sphere(ox, oy, oz, dirs[row, i], dirs[row + 1, i], dirs[row + 2, i], cx, cy, cz, r, 0.0)
-            best = src[_T_T, i]
-            closer = t < best
-            dst[_T_T, i] = t if closer else best
-            dst[_T_KIND, i] = KIND_SPHERE if closer else src[_T_KIND, i]
-            dst[_T_INDEX, i] = s if closer else src[_T_INDEX, i]
-
-
-@lane_stage
-def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
-    """Closest hits, t in (0, inf), of the rays from o along ``dirs[row:row + 3]`` against
-    every plane and sphere, in ``ha``: rows t (inf: none), kind, index (:func:`_hit_lanes`,
-    alternating between the hit buffers ``ha`` and ``hb``)."""
-    for i in range(count):
-        ha[_T_T, i] = np.inf
-        ha[_T_KIND, i] = KIND_NONE
-        ha[_T_INDEX, i] = -1.0
-    n = planes.shape[0] + spheres.shape[0]
-    for q in range(0, n - 1, 2):
-        _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q, ha, hb)
-        _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q + 1, hb, ha)
-    if n % 2:
-        _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, n - 1, ha, hb)
-        for i in range(count):
-            ha[_T_T, i] = hb[_T_T, i]
-            ha[_T_KIND, i] = hb[_T_KIND, i]
-            ha[_T_INDEX, i] = hb[_T_INDEX, i]
-
-
-@threaded_kernel
-def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, base_value, p, ng, n, v, mat, rough,
-                   metal, base, mi, mf, variant, env, func, total, alias, row_cos, c, s, eps, spheres, lo, hi, skip,
-                   first, count, order, planes, sphere_mat, plane_mat, acodes, avalues, averts, out_shift, out_sum,
-                   out_sumsq):
-    """Direct lighting (bounces = 0) of an analytic scene and its area lights, the
-    estimator of :func:`_vertex` and :func:`_fused_kernel` (same random numbers, same
-    numbers) computed in lanes: the samples of one primary hit go through stages,
-    each a loop over up to :data:`_LANES` samples in structure-of-arrays buffers
-    (:func:`_direct_block`) that LLVM vectorises: random numbers, environment
-    samples and area-light samples, the BxDF at both and its own sample
-    (:func:`_material_lanes`, specialised by :data:`_VARIANTS`), the environment
-    seen by the BxDF samples, shadow and BxDF rays (:func:`_trace_lanes`, or the
-    BVH for larger scenes), the area lights' shadows and the emission BxDF samples
-    meet (ray by ray: those loops stay scalar), then the pixel's sums in sample
-    order.  A primary ray that misses, or sees the surface from behind,
-    contributes its ``base_value`` to every sample at once.  Sums as
-    :func:`_fused_kernel`'s (shifted data).  It runs the blocks ``start`` to ``stop``
-    (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
-    :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material
-    emits (then the BxDF rays look for the surfaces they hit)."""
-    n_pixels = out_sum.shape[0]
-    height = env.shape[0]
-    width = env.shape[1]
-    n_texels = alias.shape[0]
-    bulk = spheres.shape[0] + planes.shape[0] <= _BULK_PRIMITIVES
-    for block in range(start, stop):
-        _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
-                      base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias,
-                      row_cos, c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat,
-                      acodes, avalues, averts, out_shift, out_sum, out_sumsq)
-
-
-@lane_stage
-def _direct_block(block, n_pixels, height, width, n_texels, bulk, emissive, seed, spp, k2, strategy, occlusion,
-                  base_value, p, ng, n, v, mat, rough, metal, base, mi, mf, variant, env, func, total, alias, row_cos,
-                  c, s, eps, spheres, lo, hi, skip, first, count, order, planes, sphere_mat, plane_mat, acodes, avalues,
-                  averts, out_shift, out_sum, out_sumsq):
-    """The pixels of block ``block`` (:data:`_BLOCK` pixels) of :func:`_direct_kernel`,
-    with lane buffers on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
-    them apart from the tables, so the loops that gather from tables and store into
-    them are vectorised.  No function called in a loop over lanes takes an array
-    (reference counting would add calls that keep LLVM from vectorising the loop)."""
-    ub = stack_array(5, 256)
-    lb = stack_array(10, 512)  # environment samples, then area-light samples
-    mb = stack_array(6, 512)
-    sb = stack_array(7, 256)
-    ha = stack_array(3, 256)
-    hb = stack_array(3, 256)
-    shadow = stack_array(2, 256)  # environment samples; area-light samples
-    xb = stack_array(5, 256)  # area lights: shadow ray length; emission seen by BxDF samples; path ended on a light
-    n_area = acodes.shape[0]
-    for pix in range(block * _BLOCK, min(n_pixels, block * _BLOCK + _BLOCK)):
-        stream = _stream_key(seed, pix, 0)
-        s0 = 0.0
-        s1 = 0.0
-        s2 = 0.0
-        q0 = 0.0
-        q1 = 0.0
-        q2 = 0.0
-        k0 = 0.0
-        k1 = 0.0
-        k2_ = 0.0
-        for sub in range(min(k2, spp)):
-            row = pix * k2 + sub
-            n_sub = (spp - sub + k2 - 1) // k2
-            m = mat[row]
-            px, py, pz = p[row, 0], p[row, 1], p[row, 2]
-            gx, gy, gz = ng[row, 0], ng[row, 1], ng[row, 2]
-            nx, ny, nz = n[row, 0], n[row, 1], n[row, 2]
-            vx, vy, vz = v[row, 0], v[row, 1], v[row, 2]
-            nov = nx * vx + ny * vy + nz * vz
-            if m < 0 or nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:  # the same value every sample
-                x0 = base_value[row, 0]
-                x1 = base_value[row, 1]
-                x2 = base_value[row, 2]
-                if sub == 0:
-                    k0, k1, k2_ = x0, x1, x2
-                x0 -= k0
-                x1 -= k1
-                x2 -= k2_
-                s0 += n_sub * x0
-                s1 += n_sub * x1
-                s2 += n_sub * x2
-                q0 += n_sub * (x0 * x0)
-                q1 += n_sub * (x1 * x1)
-                q2 += n_sub * (x2 * x2)
-                continue
-            b, t, bt = hit_bxdf(mi, mf, m, rough[row], metal[row], base[row, 0], base[row, 1], base[row, 2], nx, ny, nz)
-            p_spec, p_coat = lobe_probabilities(b, nov)
-            ox = px + eps * gx
-            oy = py + eps * gy
-            oz = pz + eps * gz
-            for c0 in range(0, n_sub, _LANES):
-                lanes = min(_LANES, n_sub - c0)
-                # --- random numbers and environment samples (the alias table's draws in a
-                # loop of their own, so that its random loads overlap: _env_sample in two parts)
-                for i in range(lanes):
-                    key = _sample_key(stream, sub + k2 * (c0 + i))
-                    ub[_U_LOBE, i] = _uniform(key, 4)
-                    ub[_U_1, i] = _uniform(key, 2)
-                    ub[_U_2, i] = _uniform(key, 3)
-                if strategy == 0:
-                    for i in range(lanes):
-                        key = _sample_key(stream, sub + k2 * (c0 + i))
-                        k, f = _alias_column(n_texels, _uniform(key, 0))
-                        k, dv = _alias_choice(k, f, alias[k, 0], alias[k, 1])
-                        ub[_U_K, i] = k
-                        ub[_U_DV, i] = dv
-                    for i in range(lanes):
-                        key = _sample_key(stream, sub + k2 * (c0 + i))
-                        ei, ej = _texel_of(np.int64(ub[_U_K, i]), width)
-                        lx, ly, lz = _texel_point(row_cos[ei], row_cos[ei + 1], width, ej, ub[_U_DV, i], _uniform(key, 1),
-                                                  c, s)
-                        lb[_L_DIR, i] = lx
-                        lb[_L_DIR + 1, i] = ly
-                        lb[_L_DIR + 2, i] = lz
-                        lb[_L_PDF, i] = _texel_pdf(func[ei, ej], total)
-                        lb[_L_RAD, i] = env[ei, ej, 0]
-                        lb[_L_RAD + 1, i] = env[ei, ej, 1]
-                        lb[_L_RAD + 2, i] = env[ei, ej, 2]
-                # --- area-light samples (as _vertex: a light picked uniformly, then a point on it),
-                # after the environment's in the same buffers, so the BxDF evaluates both in one loop
-                n_eval = lanes
-                if strategy == 0 and n_area > 0:
-                    n_eval = 2 * lanes
-                    for i in range(lanes):
-                        key = _sample_key(stream, sub + k2 * (c0 + i))
-                        li = min(np.int64(_uniform(key, 5) * n_area), n_area - 1)
-                        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(acodes, avalues, averts, li, px, py, pz,
-                                                                                _uniform(key, 6), _uniform(key, 7))
-                        j = lanes + i
-                        lb[_L_DIR, j] = ax
-                        lb[_L_DIR + 1, j] = ay
-                        lb[_L_DIR + 2, j] = az
-                        lb[_L_PDF, j] = pdf_a / n_area if pdf_a > 0.0 and gx * ax + gy * ay + gz * az > 0.0 else 0.0
-                        lb[_L_RAD, j] = r0
-                        lb[_L_RAD + 1, j] = r1
-                        lb[_L_RAD + 2, j] = r2
-                        xb[_X_ADIST, i] = _area_shadow_t(dist)
-                # --- the BxDF (specialised for the materials of _VARIANTS)
-                vr = variant[m]
-                if vr == 0:
-                    _material_lanes(_specialised(b, _VARIANTS[0]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
-                elif vr == 1:
-                    _material_lanes(_specialised(b, _VARIANTS[1]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
-                elif vr == 2:
-                    _material_lanes(_specialised(b, _VARIANTS[2]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
-                elif vr == 3:
-                    _material_lanes(_specialised(b, _VARIANTS[3]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
-                elif vr == 4:
-                    _material_lanes(_specialised(b, _VARIANTS[4]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
-                elif vr == 5:
-                    _material_lanes(_specialised(b, _VARIANTS[5]), t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec,
-                                    -0.0, strategy, lanes, n_eval, ub, lb, mb, sb)
-                else:
-                    _material_lanes(b, t, bt, nx, ny, nz, gx, gy, gz, vx, vy, vz, p_spec, p_coat, strategy, lanes,
-                                    n_eval, ub, lb, mb, sb)
-                # --- the environment the BxDF samples see
-                for i in range(lanes):  # _env_miss, with the loads in the loop
-                    ei, ej = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
-                    w = _miss_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
-                    lb[_L_LE, i] = env[ei, ej, 0] * w
-                    lb[_L_LE + 1, i] = env[ei, ej, 1] * w
-                    lb[_L_LE + 2, i] = env[ei, ej, 2] * w
-                # --- shadow rays and BxDF rays
-                if occlusion and bulk:
-                    if strategy == 0:
-                        _trace_lanes(ox, oy, oz, lb, _L_DIR, lanes, spheres, planes, ha, hb)
-                        for i in range(lanes):
-                            shadow[0, i] = ha[_T_T, i]
-                    _trace_lanes(ox, oy, oz, sb, _S_DIR, lanes, spheres, planes, ha, hb)
-                # --- rays that the bulk tests did not trace: ray by ray through the BVH (shadow
-                # rays only where the sample brings light, BxDF rays where the environment or an
-                # emissive surface does), into the same buffers
-                if occlusion and not bulk:
-                    for i in range(lanes):
-                        shadow[0, i] = np.inf
-                        ha[_T_T, i] = np.inf
-                        ha[_T_KIND, i] = KIND_NONE
-                        ha[_T_INDEX, i] = -1.0
-                        if strategy == 0 and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
-                                              or mb[_M_LVAL + 2, i] > 0.0):
-                            if trace_analytic(ox, oy, oz, lb[_L_DIR, i], lb[_L_DIR + 1, i], lb[_L_DIR + 2, i], 0.0,
-                                              np.inf, True, spheres, lo, hi, skip, first, count, order,
-                                              planes)[1] != KIND_NONE:
-                                shadow[0, i] = 0.0
-                        closest = emissive or n_area > 0  # what the ray hits first matters
-                        if sb[_S_PDF, i] > 0.0 and (closest or lb[_L_LE, i] > 0.0 or lb[_L_LE + 1, i] > 0.0
-                                                    or lb[_L_LE + 2, i] > 0.0):
-                            th, hk, hi_ = trace_analytic(ox, oy, oz, sb[_S_DIR, i], sb[_S_DIR + 1, i],
-                                                         sb[_S_DIR + 2, i], 0.0, np.inf, not closest, spheres, lo, hi,
-                                                         skip, first, count, order, planes)
-                            ha[_T_T, i] = th
-                            ha[_T_KIND, i] = hk
-                            ha[_T_INDEX, i] = hi_
-                # --- area lights (as _fused_kernel): they hide the environment samples and each
-                # other from the shadow rays; a BxDF sample that meets one before any surface sees
-                # its emission, MIS-weighted, and (with occlusion) ends there
-                if n_area > 0:
-                    for i in range(lanes):
-                        j = lanes + i
-                        shadow[1, i] = np.inf
-                        if strategy == 0 and occlusion:
-                            if (shadow[0, i] == np.inf and (mb[_M_LVAL, i] > 0.0 or mb[_M_LVAL + 1, i] > 0.0
-                                                            or mb[_M_LVAL + 2, i] > 0.0)
-                                    and area_light_hit(acodes, avalues, averts, ox, oy, oz, lb[_L_DIR, i],
-                                                       lb[_L_DIR + 1, i], lb[_L_DIR + 2, i], np.inf)[1] >= 0):
-                                shadow[0, i] = 0.0
-                            if mb[_M_LVAL, j] > 0.0 or mb[_M_LVAL + 1, j] > 0.0 or mb[_M_LVAL + 2, j] > 0.0:
-                                tmax = xb[_X_ADIST, i]
-                                if (trace_analytic(ox, oy, oz, lb[_L_DIR, j], lb[_L_DIR + 1, j], lb[_L_DIR + 2, j], 0.0,
-                                                   tmax, True, spheres, lo, hi, skip, first, count, order,
-                                                   planes)[1] != KIND_NONE
-                                        or area_light_hit(acodes, avalues, averts, ox, oy, oz, lb[_L_DIR, j],
-                                                          lb[_L_DIR + 1, j], lb[_L_DIR + 2, j], tmax)[1] >= 0):
-                                    shadow[1, i] = 0.0
-                        xb[_X_AEM, i] = 0.0
-                        xb[_X_AEM + 1, i] = 0.0
-                        xb[_X_AEM + 2, i] = 0.0
-                        xb[_X_END, i] = 0.0
-                        if sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0):
-                            th = ha[_T_T, i] if occlusion else np.inf
-                            at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz, sb[_S_DIR, i],
-                                                                sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], th)
-                            if ai >= 0:
-                                le = _area_emission(strategy, sb[_S_PDF, i], acodes, avalues, averts, ai, px, py, pz,
-                                                    sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i], at, a0, a1, a2)
-                                xb[_X_AEM, i] = sb[_S_W, i] * le[0]
-                                xb[_X_AEM + 1, i] = sb[_S_W + 1, i] * le[1]
-                                xb[_X_AEM + 2, i] = sb[_S_W + 2, i] * le[2]
-                                xb[_X_END, i] = 1.0 if occlusion else 0.0
-                # --- each sample's value: base + the environment sample if unshadowed + the
-                # area-light sample if unshadowed + the area light a BxDF sample meets + the BxDF
-                # sample's environment if it escapes, or the emission of what it hits (in
-                # _fused_kernel's order); into the rows of the spent local directions
-                base0 = base_value[row, 0]
-                base1 = base_value[row, 1]
-                base2 = base_value[row, 2]
-                if n_area == 0:  # two loops, so that this one keeps no branch on the area lights
-                    for i in range(lanes):
-                        l0 = mb[_M_LVAL, i]
-                        l1 = mb[_M_LVAL + 1, i]
-                        l2 = mb[_M_LVAL + 2, i]
-                        lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
-                               and not (occlusion and shadow[0, i] < np.inf))
-                        w0 = sb[_S_W, i]
-                        w1 = sb[_S_W + 1, i]
-                        w2 = sb[_S_W + 2, i]
-                        sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
-                        escaped = not occlusion or ha[_T_KIND, i] == KIND_NONE
-                        mb[_M_LOCAL, i] = (base0 + (l0 if lit else 0.0)) + ((w0 * lb[_L_LE, i] if escaped else 0.0)
-                                                                            if sampled else 0.0)
-                        mb[_M_LOCAL + 1, i] = (base1 + (l1 if lit else 0.0)) + (
-                            (w1 * lb[_L_LE + 1, i] if escaped else 0.0) if sampled else 0.0)
-                        mb[_M_LOCAL + 2, i] = (base2 + (l2 if lit else 0.0)) + (
-                            (w2 * lb[_L_LE + 2, i] if escaped else 0.0) if sampled else 0.0)
-                else:
-                    for i in range(lanes):
-                        l0 = mb[_M_LVAL, i]
-                        l1 = mb[_M_LVAL + 1, i]
-                        l2 = mb[_M_LVAL + 2, i]
-                        lit = (strategy == 0 and (l0 > 0.0 or l1 > 0.0 or l2 > 0.0)
-                               and not (occlusion and shadow[0, i] < np.inf))
-                        j = lanes + i
-                        a0 = mb[_M_LVAL, j]
-                        a1 = mb[_M_LVAL + 1, j]
-                        a2 = mb[_M_LVAL + 2, j]
-                        area_lit = (strategy == 0 and (a0 > 0.0 or a1 > 0.0 or a2 > 0.0)
-                                    and not (occlusion and shadow[1, i] < np.inf))
-                        w0 = sb[_S_W, i]
-                        w1 = sb[_S_W + 1, i]
-                        w2 = sb[_S_W + 2, i]
-                        sampled = sb[_S_PDF, i] > 0.0 and (w0 > 0.0 or w1 > 0.0 or w2 > 0.0)
-                        escaped = (not occlusion or ha[_T_KIND, i] == KIND_NONE) and xb[_X_END, i] == 0.0
-                        x0 = ((base0 + (l0 if lit else 0.0)) + (a0 if area_lit else 0.0)) + xb[_X_AEM, i]
-                        x1 = ((base1 + (l1 if lit else 0.0)) + (a1 if area_lit else 0.0)) + xb[_X_AEM + 1, i]
-                        x2 = ((base2 + (l2 if lit else 0.0)) + (a2 if area_lit else 0.0)) + xb[_X_AEM + 2, i]
-                        mb[_M_LOCAL, i] = x0 + ((w0 * lb[_L_LE, i] if escaped else 0.0) if sampled else 0.0)
-                        mb[_M_LOCAL + 1, i] = x1 + ((w1 * lb[_L_LE + 1, i] if escaped else 0.0) if sampled else 0.0)
-                        mb[_M_LOCAL + 2, i] = x2 + ((w2 * lb[_L_LE + 2, i] if escaped else 0.0) if sampled else 0.0)
-                if emissive:  # emission of the surfaces the BxDF samples hit
-                    for i in range(lanes):
-                        if (sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0)
-                                and occlusion and ha[_T_KIND, i] != KIND_NONE and (n_area == 0 or xb[_X_END, i] == 0.0)):
-                            hi_ = np.int64(ha[_T_INDEX, i])
-                            hm = sphere_mat[hi_] if np.int64(ha[_T_KIND, i]) == KIND_SPHERE else plane_mat[hi_]
-                            mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, _EMISSIVE]
-                            mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, _EMISSIVE + 1]
-                            mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, _EMISSIVE + 2]
-                # --- the pixel's sums, in sample order
-                if sub == 0 and c0 == 0:
-                    k0 = mb[_M_LOCAL, 0]
-                    k1 = mb[_M_LOCAL + 1, 0]
-                    k2_ = mb[_M_LOCAL + 2, 0]
-                for i in range(lanes):
-                    x0 = mb[_M_LOCAL, i] - k0
-                    x1 = mb[_M_LOCAL + 1, i] - k1
-                    x2 = mb[_M_LOCAL + 2, i] - k2_
-                    s0 += x0
-                    s1 += x1
-                    s2 += x2
-                    q0 += x0 * x0
-                    q1 += x1 * x1
-                    q2 += x2 * x2
-        _store_pixel(out_shift, out_sum, out_sumsq, pix, k0, k1, k2_, s0, s1, s2, q0, q1, q2)
+            s0, q0 = shifted_add(h0, s0, q0, x0, 1)
+            s1, q1 = shifted_add(h1, s1, q1, x1, 1)
+            s2, q2 = shifted_add(h2, s2, q2, x2, 1)
+        store_pixel(film, pix, h0, h1, h2, s0, s1, s2, q0, q1, q2)
 
 
 # ------------------------------------------------- wavefront (scenes with meshes)
 
 
-@row_kernel(5)
-def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, p, ng, n, v, mat, rough, metal, base, mi, mf, env, func,
-                  total, alias, row_cos, c, s, acodes, avalues, averts, light_dir, light_val, area_dir, area_dist,
-                  area_val, brdf_dir, brdf_w, brdf_pdf):
+class VertexSamples(NamedTuple):
+    """:func:`_vertex`'s results for a wavefront of path vertices, one row each."""
+
+    light_dir: np.ndarray
+    light_val: np.ndarray
+    area_dir: np.ndarray
+    area_dist: np.ndarray  # how far the shadow ray looks (area_shadow_t)
+    area_val: np.ndarray
+    bsdf_dir: np.ndarray
+    bsdf_w: np.ndarray
+    bsdf_pdf: np.ndarray
+
+
+def _vertex_samples(count):
+    """Empty :class:`VertexSamples` for ``count`` vertices."""
+    vec = lambda: np.empty((count, 3))  # noqa: E731
+    return VertexSamples(vec(), vec(), vec(), np.empty(count), vec(), vec(), vec(), np.empty(count))
+
+
+@row_kernel(lambda seed, sample, bounce, strategy, pixel, *rest: pixel.shape[0])
+def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, points, materials, env, area, out):
+    p = points.p
+    ng = points.ng
+    n = points.n
+    v = points.v
+    mat = points.material
+    rough = points.roughness
+    metal = points.metallic
+    base = points.base_color
+    light_dir = out.light_dir
+    light_val = out.light_val
+    area_dir = out.area_dir
+    area_dist = out.area_dist
+    area_val = out.area_val
+    bsdf_dir = out.bsdf_dir
+    bsdf_w = out.bsdf_w
+    bsdf_pdf = out.bsdf_pdf
     for i in range(start, stop):
         key = _path_key(seed, pixel[i], sample, bounce)
         ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
-            key, mi, mf, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
-            v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], env, func, total,
-            alias, row_cos, c, s, strategy, acodes, avalues, averts)
+            key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
+            n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
+            base[i, 2])
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
             area_dir[i, a] = adir[a]
             area_val[i, a] = aval[a]
-            brdf_dir[i, a] = bdir[a]
-            brdf_w[i, a] = bw[a]
-        area_dist[i] = _area_shadow_t(adist)
-        brdf_pdf[i] = pdf_b
+            bsdf_dir[i, a] = bdir[a]
+            bsdf_w[i, a] = bw[a]
+        area_dist[i] = area_shadow_t(adist)
+        bsdf_pdf[i] = pdf_b
 
 
-@row_kernel(6)
-def _area_emission_batch(start, stop, strategy, pdf_b, acodes, avalues, averts, index, p, d, t, radiance, out):
+@row_kernel(4)
+def _area_emission_batch(start, stop, strategy, pdf_b, area, index, p, d, t, radiance, out):
     for i in range(start, stop):
-        le = _area_emission(strategy, pdf_b[i], acodes, avalues, averts, index[i], p[i, 0], p[i, 1], p[i, 2],
-                            d[i, 0], d[i, 1], d[i, 2], t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
+        le = area_emission(strategy, pdf_b[i], area, index[i], p[i, 0], p[i, 1], p[i, 2], d[i, 0], d[i, 1], d[i, 2],
+                           t[i], radiance[i, 0], radiance[i, 1], radiance[i, 2])
         out[i, 0] = le[0]
         out[i, 1] = le[1]
         out[i, 2] = le[2]
 
 
 @row_kernel(2)
-def _miss_batch(start, stop, strategy, pdf_b, d, env, func, total, c, s, out):
+def _miss_batch(start, stop, strategy, pdf_b, d, env, out):
     for i in range(start, stop):
-        le = _env_miss(strategy, pdf_b[i], env, func, total, c, s, d[i, 0], d[i, 1], d[i, 2])
+        le = _env_miss(strategy, pdf_b[i], env, d[i, 0], d[i, 1], d[i, 2])
         out[i, 0] = le[0]
         out[i, 1] = le[1]
         out[i, 2] = le[2]
 
 
-def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, mat_i,
-               mat_f):
-    func, total, alias, row_cos = env.distribution
-    area = geometry.area_lights
-    has_area = len(area) > 0
+def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, materials):
+    """Every sample of a scene with triangle meshes (Embree) as a loop over samples and
+    bounces, each step on the whole wavefront of paths at once (:func:`_vertex_batch`,
+    then shadow rays, BRDF rays and what they meet); returns the :class:`Film`."""
+    envs = environment_arrays(env)
+    area = area_arrays(geometry)
+    has_area = len(geometry.area_lights) > 0
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
@@ -945,19 +426,11 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             count = pix.size
             if count == 0:
                 break
-            ldir = np.empty((count, 3))
-            lval = np.empty((count, 3))
-            adir = np.empty((count, 3))
-            adist = np.empty(count)
-            aval = np.empty((count, 3))
-            bdir = np.empty((count, 3))
-            bw = np.empty((count, 3))
-            bpdf = np.empty(count)
-            _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), np.ascontiguousarray(surf_p),
-                          np.ascontiguousarray(surf_ng), np.ascontiguousarray(surf_n), np.ascontiguousarray(v),
-                          np.ascontiguousarray(surf_mat), np.ascontiguousarray(surf_r), np.ascontiguousarray(surf_m),
-                          np.ascontiguousarray(surf_b), mat_i, mat_f, env.radiance, func, total, alias, row_cos, env.cos,
-                          env.sin, *area.arrays(), ldir, lval, adir, adist, aval, bdir, bw, bpdf)
+            vs = _vertex_samples(count)
+            points = Points(*(np.ascontiguousarray(a) for a in (surf_p, surf_ng, surf_n, v, surf_mat, surf_r,
+                                                                 surf_m, surf_b)))
+            _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), points, materials, envs, area, vs)
+            ldir, lval, adir, adist, aval, bdir, bw, bpdf = vs
             for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
                 lit = np.flatnonzero(np.any(value > 0.0, axis=1))
                 if lit.size and occlusion:  # the objects and the area lights cast shadows
@@ -982,9 +455,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 seen = np.flatnonzero(ai >= 0)
                 if seen.size:
                     le = np.empty((seen.size, 3))
-                    _area_emission_batch(strategy, np.ascontiguousarray(bpdf[go][seen]), *area.arrays(),
-                                         ai[seen], np.ascontiguousarray(surf_p[go][seen]),
-                                         np.ascontiguousarray(dirs[seen]), at[seen], radiance[seen], le)
+                    _area_emission_batch(strategy, np.ascontiguousarray(bpdf[go][seen]), area, ai[seen],
+                                         np.ascontiguousarray(surf_p[go][seen]), np.ascontiguousarray(dirs[seen]),
+                                         at[seen], radiance[seen], le)
                     np.add.at(x, pix[seen], through[seen] * le)
                     if hits is not None:  # the light is opaque: those paths end on it
                         escaped[seen] = False
@@ -992,8 +465,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             miss = np.flatnonzero(escaped)
             if miss.size:
                 le = np.empty((miss.size, 3))
-                _miss_batch(strategy, np.ascontiguousarray(bpdf[go][miss]), np.ascontiguousarray(dirs[miss]),
-                            env.radiance, func, total, env.cos, env.sin, le)
+                _miss_batch(strategy, np.ascontiguousarray(bpdf[go][miss]), np.ascontiguousarray(dirs[miss]), envs,
+                            le)
                 np.add.at(x, pix[miss], through[miss] * le)
             if hits is None:
                 break
@@ -1008,16 +481,35 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             pix = pix[hit]
             v = -dirs[hit]
             if geometry.lights:
-                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, mat_i, mat_f))
+                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, materials.codes,
+                                                              materials.params))
             surf_p, surf_ng, surf_n = surface.p, surface.ng, surface.n
             surf_mat, surf_r, surf_m, surf_b = surface.material, surface.roughness, surface.metallic, \
                 surface.base_color
         if j == 0:
             shift = x.copy()
-        x -= shift
-        total_sum += x
-        total_sq += x * x
-    return shift, total_sum, total_sq
+        total_sum, total_sq = shifted_add(shift, total_sum, total_sq, x, 1)
+    return Film(shift, total_sum, total_sq)
+
+
+def _primary_points(prim, v):
+    """The primary hits as :class:`pbrkit.render.records.Points`, one row per ray (rows
+    of rays that missed: material -1, zeros)."""
+    rays = prim.dirs.shape[0]
+    s = prim.surface
+    mat = np.full(rays, -1, dtype=np.int64)
+    p, ng, n, vv, base = (np.zeros((rays, 3)) for _ in range(5))
+    rough = np.zeros(rays)
+    metal = np.zeros(rays)
+    mat[prim.rows] = s.material
+    p[prim.rows] = s.p
+    ng[prim.rows] = s.ng
+    n[prim.rows] = s.n
+    vv[prim.rows] = v
+    rough[prim.rows] = s.roughness
+    metal[prim.rows] = s.metallic
+    base[prim.rows] = s.base_color
+    return Points(p, ng, n, vv, mat, rough, metal, base)
 
 
 def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, strategy="mis", occlusion=True,
@@ -1035,7 +527,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     numbers for the same scene."""
     spp = checks.integer(spp, "spp", 1, 1 << 20)
     bounces = checks.integer(bounces, "bounces", 0, 64)
-    if strategy not in ("mis", "brdf"):
+    if strategy not in STRATEGIES:
         raise ValueError(f"unknown strategy {strategy!r}; use 'mis' or 'brdf'")
     if engine not in ("auto", "fused", "wavefront"):
         raise ValueError(f"unknown engine {engine!r}; use 'auto', 'fused' or 'wavefront'")
@@ -1044,71 +536,44 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     t0 = time.perf_counter()
     geometry = geometry or Geometry(scene)
     env = env or EnvironmentLight(scene.environment)
-    func, total, alias, row_cos = env.distribution
+    env.distribution  # noqa: B018  (computed here: loading, not sampling)
     t1 = time.perf_counter()
     prim = _primary(scene, geometry)
     cam = scene.camera
     k2 = cam.supersample ** 2
     n_pixels = cam.width * cam.height
-    mat_i, mat_f = material_tables(geometry.materials)
+    materials = Materials(*material_tables(geometry.materials))
     s = prim.surface
     v = -prim.dirs[prim.rows]
     # deterministic part of each ray: background, or emission + punctual lights at the hit
     base_value = np.zeros((prim.dirs.shape[0], 3))
     base_value[~prim.hit] = _background(prim, env)
     if prim.rows.size:
-        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, mat_i, mat_f, None, True)
+        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, materials.codes, materials.params,
+                                                               None, True)
     t2 = time.perf_counter()
-    code = 0 if strategy == "mis" else 1
+    code = STRATEGIES.index(strategy)
     if engine == "fused" and geometry.has_meshes:
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
     if geometry.has_meshes or engine == "wavefront":
-        shift, total_sum, total_sq = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code,
-                                         bool(occlusion), mat_i, mat_f)
+        film = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code, bool(occlusion),
+                          materials)
         engine_name = "wavefront" + (" (Embree)" if geometry.has_meshes else "")
     else:
-        rays = prim.dirs.shape[0]
-        mat = np.full(rays, -1, dtype=np.int64)
-        p = np.zeros((rays, 3))
-        ng = np.zeros((rays, 3))
-        n = np.zeros((rays, 3))
-        vv = np.zeros((rays, 3))
-        rough = np.zeros(rays)
-        metal = np.zeros(rays)
-        base = np.zeros((rays, 3))
-        mat[prim.rows] = s.material
-        p[prim.rows] = s.p
-        ng[prim.rows] = s.ng
-        n[prim.rows] = s.n
-        vv[prim.rows] = v
-        rough[prim.rows] = s.roughness
-        metal[prim.rows] = s.metallic
-        base[prim.rows] = s.base_color
-        codes, values = light_arrays(geometry.lights)
-        shift = np.zeros((n_pixels, 3))
-        total_sum = np.zeros((n_pixels, 3))
-        total_sq = np.zeros((n_pixels, 3))
-        eps = 1e-7 * geometry.scale
+        hits = _primary_points(prim, v)
+        film = new_film(n_pixels)
+        envs = environment_arrays(env)
+        shapes = analytic_shapes(geometry)
+        area = area_arrays(geometry)
         if bounces == 0:
-            emissive = bool(np.any(mat_f[:, _EMISSIVE:_EMISSIVE + 3] != 0.0))
-            run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, code,
-                           bool(occlusion), emissive, base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f,
-                           material_variants(mat_i, mat_f), env.radiance, func, total, alias, row_cos, env.cos,
-                           env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
-                           geometry.plane_material, *geometry.area_lights.arrays(), shift, total_sum, total_sq)
+            direct_lighting(seed, spp, k2, code, occlusion, base_value, hits, materials, envs, shapes, area, film)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
             run_in_threads(_fused_kernel, n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
-                           base_value, p, ng, n, vv, mat, rough, metal, base, mat_i, mat_f, env.radiance, func, total,
-                           alias, row_cos, env.cos, env.sin, eps, geometry.spheres, *geometry.bvh, geometry.planes,
-                           geometry.sphere_material, geometry.plane_material, codes, values,
-                           *geometry.area_lights.arrays(), shift, total_sum, total_sq)
+                           base_value, hits, materials, envs, shapes, punctual_lights(geometry), area, film)
             engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
-    mean_shifted = total_sum / spp
-    mean = shift + mean_shifted
-    var = np.maximum(total_sq / spp - mean_shifted * mean_shifted, 0.0) * (spp / max(spp - 1, 1))
-    stderr = np.sqrt(var / spp)
+    mean, stderr = film_estimate(film, spp)
     image = mean.reshape(cam.height, cam.width, 3)
     stderr = stderr.reshape(cam.height, cam.width, 3)
     mask = prim.hit.reshape(cam.height, cam.width, k2).all(axis=2)
@@ -1120,4 +585,3 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
              "timings": {"load": t1 - t0, "primary_rays": t2 - t1, "sampling": t3 - t2, "total": t3 - t0},
              "paths_per_second": surface_paths / max(t3 - t2, 1e-9), "pixels": n_pixels}
     return RenderResult(image, mask, stderr, stats)
-

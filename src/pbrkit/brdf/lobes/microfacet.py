@@ -95,13 +95,12 @@ def _microfacet(distribution, masking, fresnel, dv, name, role):
     else:
         v = masking.for_distribution(dist)
     if isinstance(fresnel, Table):
-        f = choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"))
         rgb = choose(fresnel, "rgb", ("voh",), wrap=_fresnel_rgb)
         estimate = choose(fresnel, "estimate", ("f0", "s", "nov"))
         f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"))
         constant = choose(fresnel, "constant", (), wrap=lambda m: always if m.constant else never)
     else:
-        f, estimate, f0_of = fresnel.f, fresnel.estimate, fresnel.split_sum_f0
+        estimate, f0_of = fresnel.estimate, fresnel.split_sum_f0
         rgb = _fresnel_rgb(fresnel)
         constant = always if fresnel.constant else never
 
