@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from pbrkit.brdf import models
-from pbrkit.brdf.bxdf import lobe_probabilities
+from pbrkit.brdf.dispatch import lobe_probabilities
 from pbrkit.render.estimator import (
     STRATEGY_BSDF,
     STRATEGY_MIS,

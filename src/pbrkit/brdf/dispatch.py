@@ -32,7 +32,7 @@ from .shading.registry import COLUMNS, REGISTERED
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "fresnel_constant",
            "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_has_extras", "ibl_extras",
-           "specialised", "SOURCES", "Sampling", "sampling", "MODEL_SAMPLING"]
+           "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL"]
 
 #: The generated source of every dispatch, by name.
 SOURCES = {}
@@ -97,7 +97,7 @@ def sampling(models=REGISTERED, suffix=""):
 
 bxdf_f, lobe_probabilities, sample_wi, bxdf_pdf = sampling()
 #: Each registered model's own :class:`Sampling` (no branch on the model), by model code.
-MODEL_SAMPLING = tuple(sampling((m,), f"_{m.name}") for m in REGISTERED)
+SAMPLING_BY_MODEL = tuple(sampling((m,), f"_{m.name}") for m in REGISTERED)
 
 
 def _part(attribute, arguments):
