@@ -10,7 +10,8 @@ can be read and documented; nothing generated is typed by hand.
 from __future__ import annotations
 
 import numba
-from numba.extending import register_jitable
+
+from .jit import jitable
 
 __all__ = ["generate", "if_chain"]
 
@@ -30,7 +31,7 @@ def generate(source, name, namespace, inline=True):
     elif inline:
         compiled = numba.njit(inline="always", error_model="numpy")(fn)
     else:
-        compiled = register_jitable(fn)
+        compiled = jitable(fn)
     compiled.__source__ = source
     return compiled
 

@@ -33,13 +33,15 @@ import numba
 import numpy as np
 from numba import types
 from numba.core import cgutils
+from numba.core.targetconfig import ConfigStack
 from numba.core.caching import CacheImpl, _CacheLocator
 from numba.core.errors import RequireLiteralValue
-from numba.extending import intrinsic, overload, register_jitable
+from numba.core.typing.templates import infer, infer_global, make_overload_template
+from numba.extending import intrinsic, overload
 
 from .cache import cache_directory, source_hash
 
-__all__ = ["dual_use", "kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage", "stack_array",
+__all__ = ["dual_use", "jitable", "kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage", "stack_array",
            "select",
            "source_hash", "cache_directory"]
 
@@ -68,7 +70,49 @@ def dual_use(fn=None, *, inline=False, cache=True):
         return numba.njit(forceinline=True, error_model="numpy")(fn)
     if inline:
         return numba.njit(inline="always", cache=cache, error_model="numpy")(fn)
-    return register_jitable(fn)
+    return jitable(fn)
+
+
+# The compiler flags a called helper's compilation takes from its caller's (Numba's
+# CPUTargetOptions.finalize: ``inherit_if_not_set``); the caller's other flags (its
+# Python wrapper, ``nogil``, ...) do not change the helper's code.
+_INHERITED_FLAGS = ("nrt", "fastmath", "error_model", "forceinline")
+
+
+def _hashable(value):
+    """A flag's value as a dictionary key (``fastmath`` is a set of LLVM flags)."""
+    return frozenset(value.flags) if hasattr(value, "flags") else value
+
+
+def jitable(fn):
+    """Register the Python function ``fn`` as a helper that Numba kernels compile for
+    scalars when they call it, as Numba's ``register_jitable`` does (an ``overload``
+    whose implementation is ``fn`` itself, never inlined at the IR level), and return
+    ``fn`` unchanged for Python callers.
+
+    Numba keeps one compilation of such a helper per argument types *and* per set
+    of the calling compilation's flags, so a helper called from a kernel, from a
+    ``nogil`` kernel and from another helper is compiled three times over, to the
+    same code.  Here the compilations are shared between callers whose flags agree
+    on those a helper inherits (:data:`_INHERITED_FLAGS`): the same machine code,
+    compiled once per process."""
+    def implementation(*args, **kwargs):
+        return fn
+
+    template = make_overload_template(fn, implementation, {"no_cpython_wrapper": True, "nopython": True},
+                                      False, "never")
+
+    class SharedTemplate(template):
+        def _get_impl(self, args, kws):
+            flags = ConfigStack.top_or_none()
+            inherited = None if flags is None else tuple(_hashable(getattr(flags, name)) for name in _INHERITED_FLAGS)
+            key = self.context, tuple(args), tuple(kws.items()), inherited
+            cached = self._impl_cache.get(key)
+            return cached if cached is not None else self._build_impl(key, args, kws)
+
+    infer(SharedTemplate)
+    infer_global(fn, types.Function(SharedTemplate))
+    return fn
 
 
 def kernel(fn):
