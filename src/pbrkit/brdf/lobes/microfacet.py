@@ -47,9 +47,8 @@ class Microfacet:
         return self.masking[masking_name].table
 
 
-def _fresnel_rgb(fresnel):
-    """F of the three channels of one Fresnel term."""
-    f = fresnel.f
+def _fresnel_rgb(f):
+    """F of the three channels, from ``f(b, f0, eta, k, s, voh)`` of one."""
 
     @dual_use(inline=True, cache=False)
     def rgb(b, voh):
@@ -61,7 +60,11 @@ def _fresnel_rgb(fresnel):
 
 
 def _chosen_distribution(table):
-    return Distribution("chosen", choose(table, "d", ("c",)), choose(table, "lambdas", ("c",)), True)
+    """The distribution chosen by the BxDF's code: D and the Lambdas each one compiled
+    function (called, not inlined at Numba's level, by every masking form that uses
+    them: typing every distribution once, not once per use)."""
+    return Distribution("chosen", choose(table, "d", ("c",), inline=False),
+                        choose(table, "lambdas", ("c",), inline=False), True)
 
 
 #: The microfacet lobes made so far, by their terms: one lobe (and one set of compiled
@@ -94,14 +97,14 @@ def _microfacet(distribution, masking, fresnel, dv, name, role):
         v = choose(masking, "v", ("c",), wrap=lambda m: m.for_distribution(dist))
     else:
         v = masking.for_distribution(dist)
-    if isinstance(fresnel, Table):
-        rgb = choose(fresnel, "rgb", ("voh",), wrap=_fresnel_rgb)
-        estimate = choose(fresnel, "estimate", ("f0", "s", "nov"))
-        f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"))
+    if isinstance(fresnel, Table):  # each chosen per channel by one compiled function, called thrice
+        rgb = _fresnel_rgb(choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"), inline=False))
+        estimate = choose(fresnel, "estimate", ("f0", "s", "nov"), inline=False)
+        f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"), inline=False)
         constant = choose(fresnel, "constant", (), wrap=lambda m: always if m.constant else never)
     else:
         estimate, f0_of = fresnel.estimate, fresnel.split_sum_f0
-        rgb = _fresnel_rgb(fresnel)
+        rgb = _fresnel_rgb(fresnel.f)
         constant = always if fresnel.constant else never
 
     if dv is None:
