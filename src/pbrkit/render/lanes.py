@@ -54,7 +54,7 @@ _LANES = 256
 #: Scenes with at most this many spheres and planes test every ray against each of
 #: them in vectorised loops; larger ones traverse the sphere BVH ray by ray.
 _BULK_PRIMITIVES = 16
-#: Rows of the lane buffers of :func:`_direct_block` (``stack_array(rows, columns)``
+#: Rows of the lane buffers of :func:`_direct_kernel` (``stack_array(rows, columns)``
 #: there, one array per stage's output): no loop reads the array it writes, and LLVM,
 #: which knows separate allocations apart, vectorises every stage without run-time
 #: overlap checks.
@@ -84,7 +84,7 @@ def material_variants(codes, params):
 
 @lane_stage
 def _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, sb):
-    """The BxDF's part of the samples in a set of lane buffers (:func:`_direct_block`) at
+    """The BxDF's part of the samples in a set of lane buffers (:func:`_direct_kernel`) at
     the shading point ``at`` (:class:`pbrkit.render.estimator.Shading`): the
     MIS-weighted value of each of the ``n_eval`` light samples (``mb[_M_LVAL]``: the
     environment's, then the area lights'; :func:`pbrkit.render.estimator.light_sample`),
@@ -206,25 +206,19 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
     docstring): rays are (pixel, sub-pixel) pairs, sample j of a pixel uses sub-pixel
     j mod k2.  A primary ray that misses, or sees the surface from behind, contributes
     its ``base_value`` to every sample at once.  Sums as the fused kernel's (shifted
-    data, :mod:`pbrkit.render.film`).  It runs the blocks ``start`` to ``stop``
-    (:data:`_BLOCK` pixels each, :func:`_direct_block`), handed out to threads by
+    data, :mod:`pbrkit.render.film`).  It runs the pixels of blocks ``start`` to
+    ``stop`` (:data:`_BLOCK` pixels each), handed out to threads by
     :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material emits
     (then the BxDF rays look for the surfaces they hit); ``variant``: each material's
-    specialisation (:func:`material_variants`)."""
-    for block in range(start, stop):
-        _direct_block(block, seed, spp, k2, strategy, occlusion, emissive, base_value, hits, materials, variant, env,
-                      shapes, area, film)
+    specialisation (:func:`material_variants`).
 
-
-@lane_stage
-def _direct_block(block, seed, spp, k2, strategy, occlusion, emissive, base_value, hits, materials, variant, env,
-                  shapes, area, film):
-    """The pixels of block ``block`` (:data:`_BLOCK` pixels) of :func:`_direct_kernel`,
-    with lane buffers on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
+    Lane buffers are on the stack (:func:`pbrkit.core.jit.stack_array`): LLVM knows
     them apart from the tables, so the loops that gather from tables and store into
     them are vectorised.  The arrays are read out of the records here, once; no
     function called in a loop over lanes takes an array (reference counting would add
-    calls that keep LLVM from vectorising the loop)."""
+    calls that keep LLVM from vectorising the loop).  The kernel is one function,
+    not a loop calling a stage: LLVM then optimises its code once, where a stage
+    would be optimised in its own compilation and again inlined into the kernel."""
     ub = stack_array(5, 256)
     lb = stack_array(10, 512)  # environment samples, then area-light samples
     mb = stack_array(6, 512)
@@ -271,7 +265,7 @@ def _direct_block(block, seed, spp, k2, strategy, occlusion, emissive, base_valu
     n_texels = alias.shape[0]
     bulk = spheres.shape[0] + planes.shape[0] <= _BULK_PRIMITIVES
     n_area = acodes.shape[0]
-    for pix in range(block * _BLOCK, min(n_pixels, block * _BLOCK + _BLOCK)):
+    for pix in range(start * _BLOCK, min(n_pixels, stop * _BLOCK)):
         stream = _stream_key(seed, pix, 0)
         s0 = 0.0
         s1 = 0.0
