@@ -41,7 +41,7 @@ from ..sampling.warps import (
     _stack,
     _vector3,
 )
-from .smith import COS_MIN, _tan2, erf, g1_smith
+from .smith import COS_MIN, _tan2, erf, g1_smith, visible_normal_pdf
 
 __all__ = [
     "d_beckmann",
@@ -306,9 +306,8 @@ def pdf_beckmann_vndf_anisotropic(wox, woy, woz, hx, hy, hz, alpha_x, alpha_y):
     vy = woy * sign
     vz = woz * sign
     voh = vx * hx + vy * hy + vz * hz
-    g1 = g1_smith(lambda_beckmann_anisotropic(vz, vx, vy, alpha_x, alpha_y))
-    d = d_beckmann_anisotropic(hz, hx, hy, alpha_x, alpha_y)
-    return g1 * np.maximum(voh, 0.0) * d / np.maximum(vz, COS_MIN)
+    return visible_normal_pdf(lambda_beckmann_anisotropic(vz, vx, vy, alpha_x, alpha_y), voh,
+                              d_beckmann_anisotropic(hz, hx, hy, alpha_x, alpha_y), vz)
 
 
 @dual_use
@@ -321,8 +320,7 @@ def pdf_beckmann_vndf(nov, noh, voh, alpha):
     flip = nov < 0.0
     c = np.abs(nov)
     vh = select(flip, -voh, voh)
-    g1 = g1_smith(lambda_beckmann(c, alpha))
-    return g1 * np.maximum(vh, 0.0) * d_beckmann(noh, alpha) / np.maximum(c, COS_MIN)
+    return visible_normal_pdf(lambda_beckmann(c, alpha), vh, d_beckmann(noh, alpha), c)
 
 
 # ------------------------------------------------------------------ NumPy wrappers

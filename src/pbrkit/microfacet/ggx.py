@@ -30,7 +30,7 @@ import numpy as np
 
 from ..core.jit import dual_use, select
 from ..sampling.warps import _TINY, _TWO_PI, _alpha, _direction_from_cos2, _square, _stack, _vector3
-from .smith import COS_MIN, _tan2, g1_smith
+from .smith import COS_MIN, _tan2, g1_smith, visible_normal_pdf
 
 __all__ = [
     "d_ggx",
@@ -261,9 +261,8 @@ def pdf_ggx_vndf_anisotropic(wox, woy, woz, hx, hy, hz, alpha_x, alpha_y):
     vy = woy * sign
     vz = woz * sign
     voh = vx * hx + vy * hy + vz * hz
-    g1 = g1_smith(lambda_ggx_anisotropic(vz, vx, vy, alpha_x, alpha_y))
-    d = d_ggx_anisotropic(hz, hx, hy, alpha_x, alpha_y)
-    return g1 * np.maximum(voh, 0.0) * d / np.maximum(vz, COS_MIN)
+    return visible_normal_pdf(lambda_ggx_anisotropic(vz, vx, vy, alpha_x, alpha_y), voh,
+                              d_ggx_anisotropic(hz, hx, hy, alpha_x, alpha_y), vz)
 
 
 @dual_use
@@ -276,8 +275,7 @@ def pdf_ggx_vndf(nov, noh, voh, alpha):
     flip = nov < 0.0
     c = np.abs(nov)
     vh = select(flip, -voh, voh)
-    g1 = g1_smith(lambda_ggx(c, alpha))
-    return g1 * np.maximum(vh, 0.0) * d_ggx(noh, alpha) / np.maximum(c, COS_MIN)
+    return visible_normal_pdf(lambda_ggx(c, alpha), vh, d_ggx(noh, alpha), c)
 
 
 # ------------------------------------------------------------------ NumPy wrappers

@@ -30,6 +30,7 @@ __all__ = [
     "COS_MIN",
     "erf",
     "g1_smith",
+    "visible_normal_pdf",
     "g2_separable",
     "g2_height_correlated",
     "visibility",
@@ -69,6 +70,16 @@ def _tan2(cos_theta):
 def g1_smith(lambda_v):
     """Smith masking G1 = 1 / (1 + Lambda) (Heitz 2014, eq. 43)."""
     return 1.0 / (1.0 + lambda_v)
+
+
+@dual_use
+def visible_normal_pdf(lambda_v, voh, d, cos_v):
+    """The distribution of visible normals D_wo(h) = G1(wo) max(0, wo.h) D(h) / wo.z
+    (Heitz & d'Eon 2014; Heitz 2014, eq. 16; Heitz 2018, eq. 3), the pdf of a
+    visible-normal sampler w.r.t. the solid angle of h, from the Smith Lambda(wo)
+    of the distribution, wo.h, D(h) and wo.z (clamped at :data:`COS_MIN`, the clamp
+    Lambda uses, so a grazing view gives the finite limit)."""
+    return g1_smith(lambda_v) * np.maximum(voh, 0.0) * d / np.maximum(cos_v, COS_MIN)
 
 
 @dual_use
