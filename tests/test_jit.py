@@ -55,3 +55,57 @@ def test_dual_use_runs_on_arrays_and_inside_kernels():
     use(a, out)
     np.testing.assert_array_equal(out, twice_plus(a, a - 1.0))
     np.testing.assert_array_equal(out, [1.0, 5.0, 8.0])
+
+
+def test_a_helper_compiles_once_for_callers_that_differ_only_in_flags_it_does_not_inherit():
+    """jit.jitable: one compilation of a helper serves a plain kernel, a ``nogil`` kernel
+    and another helper (Numba's register_jitable compiles it once for each: its cache
+    key holds every flag of the caller); a caller with another error model, a flag the
+    helper inherits, gets its own compilation, which divides by zero as that model says."""
+    import numba
+    from numba.core import event
+
+    def scale(x):
+        return x / (x - 1.0)
+
+    jit.jitable(scale)
+
+    def twice(x):
+        return scale(x) + scale(x)
+
+    jit.jitable(twice)
+
+    compiled = []
+
+    class Listener(event.Listener):
+        def on_start(self, ev):
+            if ev.data["dispatcher"].py_func is scale:
+                compiled.append(str(ev.data["args"]))
+
+        def on_end(self, ev):
+            pass
+
+    def call(x):
+        return scale(x)
+
+    def call_twice(x):
+        return twice(x)
+
+    listener = Listener()
+    event.register("numba:compile", listener)
+    try:
+        plain = numba.njit(error_model="numpy")(call)
+        nogil = numba.njit(error_model="numpy", nogil=True)(call)
+        nested = numba.njit(error_model="numpy")(call_twice)
+        python_model = numba.njit(error_model="python")(call)
+        assert plain(3.0) == nogil(3.0) == 1.5 and nested(3.0) == 3.0
+        assert len(compiled) == 1
+        assert np.isinf(plain(1.0))  # NumPy's error model: x / 0 is inf
+        try:
+            python_model(1.0)
+            raise AssertionError("Python's error model raises on a division by zero")
+        except ZeroDivisionError:
+            pass
+        assert len(compiled) == 2
+    finally:
+        event.unregister("numba:compile", listener)

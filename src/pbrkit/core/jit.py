@@ -4,7 +4,7 @@ two for kernels, and a disk cache that follows pbrkit's sources.
 Each formula in pbrkit is written once, as a plain NumPy function decorated
 with :func:`dual_use`.  Called from Python it runs on arrays of any leading
 shape (NumPy broadcasting); called from a Numba kernel it is compiled for
-scalars into that kernel (Numba's ``register_jitable``).  So the NumPy
+scalars into that kernel (:func:`jitable`, as Numba's ``register_jitable``).  So the NumPy
 reference path and the compiled hot path share one formula.
 
 Kernels (:func:`kernel`, :func:`threaded_kernel`, :func:`row_kernel`) use
