@@ -33,16 +33,16 @@ import numba
 import numpy as np
 from numba import types
 from numba.core import cgutils
-from numba.core.targetconfig import ConfigStack
 from numba.core.caching import CacheImpl, _CacheLocator
 from numba.core.errors import RequireLiteralValue
+from numba.core.targetconfig import ConfigStack
 from numba.core.typing.templates import infer, infer_global, make_overload_template
 from numba.extending import intrinsic, overload
 
 from .cache import cache_directory, source_hash
 
-__all__ = ["dual_use", "jitable", "kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage", "stack_array",
-           "select",
+__all__ = ["dual_use", "jitable", "kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage",
+           "stack_array", "select",
            "source_hash", "cache_directory"]
 
 _PACKAGE_ROOT = Path(__file__).resolve().parent.parent

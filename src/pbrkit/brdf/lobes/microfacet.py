@@ -48,15 +48,16 @@ class Microfacet:
 
 
 def _fresnel_rgb(f):
-    """F of the three channels, from ``f(b, f0, eta, k, s, voh)`` of one."""
+    """F of the three channels, ``fresnel_rgb(b, voh)``, from ``f(b, f0, eta, k, s, voh)``
+    of one: one compiled function."""
 
-    @dual_use(inline=True, cache=False)
-    def rgb(b, voh):
+    @dual_use
+    def fresnel_rgb(b, voh):
         return (f(b, b.f0[0], b.eta[0], b.k[0], b.specular_color[0], voh),
                 f(b, b.f0[1], b.eta[1], b.k[1], b.specular_color[1], voh),
                 f(b, b.f0[2], b.eta[2], b.k[2], b.specular_color[2], voh))
 
-    return rgb
+    return fresnel_rgb
 
 
 def _chosen_distribution(table):
@@ -98,23 +99,19 @@ def _microfacet(distribution, masking, fresnel, dv, name, role):
     else:
         v = masking.for_distribution(dist)
     if isinstance(fresnel, Table):  # each chosen per channel by one compiled function, called thrice
-        rgb = _fresnel_rgb(choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"), inline=False))
+        fresnel_rgb = _fresnel_rgb(choose(fresnel, "f", ("f0", "eta", "k", "s", "voh"), inline=False))
         estimate = choose(fresnel, "estimate", ("f0", "s", "nov"), inline=False)
         f0_of = choose(fresnel, "split_sum_f0", ("f0", "eta", "k", "s"), inline=False)
         constant = choose(fresnel, "constant", (), wrap=lambda m: always if m.constant else never)
     else:
         estimate, f0_of = fresnel.estimate, fresnel.split_sum_f0
-        rgb = _fresnel_rgb(fresnel.f)
+        fresnel_rgb = _fresnel_rgb(fresnel.f)
         constant = always if fresnel.constant else never
 
     if dv is None:
         @dual_use
         def dv(b, c):
             return d(b, c) * v(b, c)
-
-    @dual_use
-    def fresnel_rgb(b, voh):
-        return rgb(b, voh)
 
     @dual_use
     def split_sum_f0(b):
