@@ -514,6 +514,16 @@ def _rgb(x):
     return np.asarray(x, dtype=float)[..., None]
 
 
+def _inputs(l, v, roughness, base, metallic, anisotropy):
+    """The inputs of an anisotropic model as arrays: the geometry, the perceptual
+    roughness r, alpha = r^2 (clamped), the base colour, metallic as a column against
+    RGB and the anisotropy broadcast against alpha."""
+    r = np.asarray(roughness, dtype=float)
+    alpha = _alpha(r)
+    return (Geometry(l, v), r, alpha, np.asarray(base, dtype=float), _rgb(metallic),
+            np.asarray(anisotropy, dtype=float) + np.zeros_like(alpha))
+
+
 def _mix(a, b, t):
     """GLSL's mix(a, b, t) = a (1 - t) + b t."""
     return a * (1.0 - t) + b * t
@@ -601,12 +611,7 @@ def filament_brdf(l, v, base, metallic, roughness, reflectance, anisotropy, diff
       D = a2 (a2 / w.w)^2 / pi; ``V_SmithGGXCorrelated_Anisotropic``:
       V = 0.5 / (n.l |(a_t t.v, a_b b.v, n.v)| + n.v |(a_t t.l, a_b b.l, n.l)|);
       used where anisotropy != 0."""
-    g = Geometry(l, v)
-    r = np.asarray(roughness, dtype=float)
-    alpha = _alpha(r)
-    base = np.asarray(base, dtype=float)
-    m = _rgb(metallic)
-    aniso = np.asarray(anisotropy, dtype=float) + np.zeros_like(alpha)
+    g, r, alpha, base, m, aniso = _inputs(l, v, roughness, base, metallic, anisotropy)
     with np.errstate(all="ignore"):
         f0 = 0.16 * _rgb(reflectance) ** 2 * (1.0 - m) + base * m
         f90 = np.clip(np.sum(f0 * (50.0 * 0.33), axis=-1), 0.0, 1.0)
@@ -758,12 +763,7 @@ def cook_torrance_brdf(l, v, base, metallic, roughness, reflectance, anisotropy,
     - ``diffuse``, times base (1 - metallic): ``lambert`` 1 / pi, ``burley``
       (:func:`burley_diffuse` of the perceptual roughness), ``eon`` (:func:`eon_diffuse`,
       the perceptual roughness), ``none``."""
-    g = Geometry(l, v)
-    r = np.asarray(roughness, dtype=float)
-    alpha = _alpha(r)
-    base = np.asarray(base, dtype=float)
-    m = _rgb(metallic)
-    aniso = np.asarray(anisotropy, dtype=float) + np.zeros_like(alpha)
+    g, r, alpha, base, m, aniso = _inputs(l, v, roughness, base, metallic, anisotropy)
     if distribution == "blinn-phong":
         aniso = np.zeros_like(alpha)
     ax = np.where(aniso != 0.0, np.maximum(alpha * (1.0 + aniso), ALPHA_MIN), alpha)
