@@ -58,10 +58,13 @@ def test_dual_use_runs_on_arrays_and_inside_kernels():
 
 
 def test_a_helper_compiles_once_for_callers_that_differ_only_in_flags_it_does_not_inherit():
-    """jit.jitable: one compilation of a helper serves a plain kernel, a ``nogil`` kernel
-    and another helper (Numba's register_jitable compiles it once for each: its cache
-    key holds every flag of the caller); a caller with another error model, a flag the
-    helper inherits, gets its own compilation, which divides by zero as that model says."""
+    """jit.jitable: one compilation of a helper serves a plain kernel, a ``nogil`` kernel,
+    another helper, a force-inlined helper and a force-inlined kernel (Numba's
+    register_jitable compiles it once for each: its cache key holds every flag of the
+    caller, and ``forceinline`` passes from caller to callee); a caller with another
+    error model, a flag the helper inherits, gets its own compilation, which divides by
+    zero as that model says.  A helper made with ``forceinline=True`` is marked for
+    LLVM to inline, its callees not."""
     import numba
     from numba.core import event
 
@@ -75,7 +78,13 @@ def test_a_helper_compiles_once_for_callers_that_differ_only_in_flags_it_does_no
 
     jit.jitable(twice)
 
+    def twice_inlined(x):
+        return scale(x) * scale(x)
+
+    jit.jitable(twice_inlined, forceinline=True)
+
     compiled = []
+    helpers = {}
 
     class Listener(event.Listener):
         def on_start(self, ev):
@@ -83,13 +92,16 @@ def test_a_helper_compiles_once_for_callers_that_differ_only_in_flags_it_does_no
                 compiled.append(str(ev.data["args"]))
 
         def on_end(self, ev):
-            pass
+            helpers[ev.data["dispatcher"].py_func.__name__] = ev.data["dispatcher"]
 
     def call(x):
         return scale(x)
 
     def call_twice(x):
         return twice(x)
+
+    def call_twice_inlined(x):
+        return twice_inlined(x)
 
     listener = Listener()
     event.register("numba:compile", listener)
@@ -98,8 +110,13 @@ def test_a_helper_compiles_once_for_callers_that_differ_only_in_flags_it_does_no
         nogil = numba.njit(error_model="numpy", nogil=True)(call)
         nested = numba.njit(error_model="numpy")(call_twice)
         python_model = numba.njit(error_model="python")(call)
-        assert plain(3.0) == nogil(3.0) == 1.5 and nested(3.0) == 3.0
+        inlined = numba.njit(error_model="numpy")(call_twice_inlined)
+        forced = numba.njit(error_model="numpy", forceinline=True)(call)
+        assert plain(3.0) == nogil(3.0) == forced(3.0) == 1.5 and nested(3.0) == 3.0 and inlined(3.0) == 2.25
         assert len(compiled) == 1
+        code = {name: [r.library.get_llvm_str() for r in d.overloads.values()] for name, d in helpers.items()}
+        assert all("alwaysinline" in c for c in code["twice_inlined"])  # LLVM must inline it ...
+        assert not any("alwaysinline" in c for c in code["scale"])  # ... and not its callee
         assert np.isinf(plain(1.0))  # NumPy's error model: x / 0 is inf
         try:
             python_model(1.0)

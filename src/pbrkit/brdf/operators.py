@@ -296,7 +296,7 @@ def compose(composition):
     lines.append("    return pdf")
     pdf_src = "\n".join(lines) + "\n"
 
-    @dual_use
+    @dual_use(inline="llvm")
     def value(b, c, ec):
         return fvalue(b, c, ec, 1.0)
 

@@ -21,13 +21,14 @@ def generate(source, name, namespace, inline=True):
     ``namespace``, as a dual-use helper: ``inline=True`` inlines it at Numba's IR level
     where a kernel calls it (like ``dual_use(inline=True)``, without a disk cache: it
     is compiled into its callers), ``"llvm"`` compiles it once and has LLVM inline
-    it, False registers it as a plain jitable helper."""
+    it (:func:`pbrkit.core.jit.jitable` with ``forceinline``), False registers it as
+    a plain jitable helper."""
     scope = dict(namespace)
     exec(compile(source, f"<pbrkit generated {name}>", "exec"), scope)
     fn = scope[name]
     fn.__source__ = source
     if inline == "llvm":
-        compiled = numba.njit(forceinline=True, error_model="numpy")(fn)
+        compiled = jitable(fn, forceinline=True)
     elif inline:
         compiled = numba.njit(inline="always", error_model="numpy")(fn)
     else:

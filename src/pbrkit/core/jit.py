@@ -56,18 +56,19 @@ def dual_use(fn=None, *, inline=False, cache=True):
     instead of leaving the choice to LLVM: for the few tiny helpers in the
     innermost loops (cube-map texel fetches) where a call costs as much as the
     work; called from Python such a helper is compiled for its argument types.
-    ``inline="llvm"`` compiles it once and has LLVM always inline it
-    (``njit(forceinline=True)``): for helpers that take arrays and are called in
-    loops that should become SIMD code, where inlining in Numba's IR would add
-    reference counting of those arrays (calls) to the loop.  Use as ``@dual_use``,
+    ``inline="llvm"`` compiles it as a :func:`jitable` that LLVM always inlines
+    (``forceinline``), its own callees not: for the few larger helpers between a
+    kernel and its formulas whose call costs a kernel's speed (a model's value and
+    setup), where inlining in Numba's IR would repeat their typing in every kernel;
+    called from Python it is ``fn`` itself.  Use as ``@dual_use``,
     ``@dual_use(inline=True)`` or ``@dual_use(inline="llvm")``.  ``cache=False``
     keeps an inlined helper out of the disk cache, for helpers made by other
     functions (closures over compiled functions and arrays) that Python calls too:
     their compiled code is inlined into the kernels, which are cached."""
     if fn is None:
         return functools.partial(dual_use, inline=inline, cache=cache)
-    if inline == "llvm":  # not cached: a function loaded from the cache has no IR to inline
-        return numba.njit(forceinline=True, error_model="numpy")(fn)
+    if inline == "llvm":
+        return jitable(fn, forceinline=True)
     if inline:
         return numba.njit(inline="always", cache=cache, error_model="numpy")(fn)
     return jitable(fn)
@@ -76,7 +77,9 @@ def dual_use(fn=None, *, inline=False, cache=True):
 # The compiler flags a called helper's compilation takes from its caller's (Numba's
 # CPUTargetOptions.finalize: ``inherit_if_not_set``); the caller's other flags (its
 # Python wrapper, ``nogil``, ...) do not change the helper's code.
-_INHERITED_FLAGS = ("nrt", "fastmath", "error_model", "forceinline")
+# ``forceinline`` is inherited too, but a helper here sets its own (False unless asked),
+# so a helper called from a force-inlined one is not compiled a second time.
+_INHERITED_FLAGS = ("nrt", "fastmath", "error_model")
 
 
 def _hashable(value):
@@ -84,7 +87,7 @@ def _hashable(value):
     return frozenset(value.flags) if hasattr(value, "flags") else value
 
 
-def jitable(fn):
+def jitable(fn, *, forceinline=False):
     """Register the Python function ``fn`` as a helper that Numba kernels compile for
     scalars when they call it, as Numba's ``register_jitable`` does (an ``overload``
     whose implementation is ``fn`` itself, never inlined at the IR level), and return
@@ -95,12 +98,13 @@ def jitable(fn):
     ``nogil`` kernel and from another helper is compiled three times over, to the
     same code.  Here the compilations are shared between callers whose flags agree
     on those a helper inherits (:data:`_INHERITED_FLAGS`): the same machine code,
-    compiled once per process."""
+    compiled once per process.  ``forceinline=True`` has LLVM inline it into every
+    caller; either way the choice is the helper's own, not inherited from a caller."""
     def implementation(*args, **kwargs):
         return fn
 
-    template = make_overload_template(fn, implementation, {"no_cpython_wrapper": True, "nopython": True},
-                                      False, "never")
+    options = {"no_cpython_wrapper": True, "nopython": True, "forceinline": forceinline}
+    template = make_overload_template(fn, implementation, options, False, "never")
 
     class SharedTemplate(template):
         def _get_impl(self, args, kws):

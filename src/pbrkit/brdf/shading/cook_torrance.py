@@ -55,7 +55,7 @@ CHOICES = (
 )
 
 
-@dual_use
+@dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     alpha = alpha_from_roughness(roughness)
     anisotropy = params[q, columns.anisotropy]

@@ -70,7 +70,7 @@ def disney_clearcoat_alpha(gloss):
     return 0.1 + (0.001 - 0.1) * gloss
 
 
-@dual_use
+@dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     alpha = alpha_from_roughness(roughness)
     anisotropy = params[q, columns.anisotropy]

@@ -27,7 +27,7 @@ _Z3 = (0.0, 0.0, 0.0)
 DIFFUSE = Choice("diffuse", ("lambert", "burley", "none"), "lambert", "the diffuse lobe")
 
 
-@dual_use
+@dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     alpha = alpha_from_roughness(roughness)
     anisotropy = params[q, columns.anisotropy]

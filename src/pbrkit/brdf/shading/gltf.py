@@ -56,7 +56,7 @@ def _fresnel_mix_weight(b, c):
     return gltf_fresnel_mix_weight(c.voh)
 
 
-@dual_use
+@dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
                              GLTF_DIELECTRIC_F0, 1.0 - metallic)

@@ -21,7 +21,7 @@ from .model import Model
 
 __all__ = ["MODEL", "SPECULAR", "ue4_specular"]
 
-@dual_use
+@dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
                              f0_from_reflectance(params[q, columns.reflectance]), 1.0 - metallic)

@@ -54,7 +54,7 @@ def _urp_dv(b, c):
     return urp_specular(c.noh, c.voh, b.alpha) * _INV_PI
 
 
-@dual_use
+@dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
                              URP_DIELECTRIC_F0, urp_diffuse_weight(metallic))
