@@ -29,18 +29,14 @@ samples and bounces, reusing per-ray buffers.  Not included: glTF meshes and
 textures and large environment maps (known only once loaded; a glTF file's
 own sizes are checked when it is read).
 
-The memory available is ``MemAvailable`` of ``/proc/meminfo`` (else the free
-pages ``os.sysconf('SC_PAGE_SIZE') * os.sysconf('SC_AVPHYS_PAGES')``), lowered
-to the headroom of a cgroup memory limit if one is set; where none of these
-can be read the check is skipped.
+The memory available is :func:`pbrkit.core.inputs.available_memory`; where the
+system does not say, the check is skipped.
 """
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 from ..core.errors import InputError
+from ..core.inputs import available_memory, size_text
 
 __all__ = [
     "BAKE_BYTES_PER_TEXEL",
@@ -57,7 +53,6 @@ BYTES_PER_RAY = {"realtime": 768, "reference": 1280, "compare": 1280}
 BAKE_BYTES_PER_TEXEL = 128
 #: Memory that does not scale with the image (environment, tables, kernels).
 FIXED_BYTES = 256 << 20
-_GIB = 1 << 30
 
 
 def estimate_render_memory(scene, mode, bake_size=256):
@@ -71,66 +66,6 @@ def estimate_render_memory(scene, mode, bake_size=256):
             and bake_size > 0:
         parts["bake"] = 6 * bake_size * bake_size * BAKE_BYTES_PER_TEXEL
     return sum(parts.values()), parts
-
-
-def _read_int(path):
-    """The integer in a one-number file (cgroup limits), None if absent or not a number."""
-    try:
-        return int(Path(path).read_text().split()[0])
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-def _meminfo_available():
-    """``MemAvailable`` of ``/proc/meminfo`` in bytes, None where unknown."""
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemAvailable:"):
-                return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    return None
-
-
-def _sysconf_available():
-    """Free physical memory from ``os.sysconf``, None where unsupported."""
-    try:
-        pages, size = os.sysconf("SC_AVPHYS_PAGES"), os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):
-        return None
-    return pages * size if pages > 0 and size > 0 else None
-
-
-def _cgroup_headroom():
-    """Bytes left under a cgroup memory limit (v2, else v1), None without a limit."""
-    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
-                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
-                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
-        limit, usage = _read_int(limit_file), _read_int(usage_file)
-        if limit is not None and usage is not None and limit < 1 << 60:  # "max" / huge: no limit
-            return max(limit - usage, 0)
-    return None
-
-
-def available_memory():
-    """Bytes this process can still allocate without swapping (module docstring), or
-    None where the system does not say."""
-    free = _meminfo_available()
-    if free is None:
-        free = _sysconf_available()
-    headroom = _cgroup_headroom()
-    if headroom is not None:
-        free = headroom if free is None else min(free, headroom)
-    return free
-
-
-def _size_text(n):
-    """Bytes as a short figure: '512 GiB', '1.5 GiB', '300 MiB'."""
-    if n >= 10 * _GIB:
-        return f"{n / _GIB:.0f} GiB"
-    if n >= _GIB:
-        return f"{n / _GIB:.1f} GiB"
-    return f"{max(n >> 20, 1)} MiB"
 
 
 def _advice(scene, parts):
@@ -157,6 +92,6 @@ def check_render_memory(scene, mode, spp, bounces=0, bake_size=256, available=No
         size = f"{cam.width} x {cam.height}"
         if cam.supersample > 1:
             size += f" (supersample {cam.supersample})"
-        raise InputError(f"a {size} {mode} render needs about {_size_text(need)} of memory; this machine has "
-                         f"{_size_text(free)} available; {_advice(scene, parts)}", getattr(scene, "source", None))
+        raise InputError(f"a {size} {mode} render needs about {size_text(need)} of memory; this machine has "
+                         f"{size_text(free)} available; {_advice(scene, parts)}", getattr(scene, "source", None))
     return need
