@@ -271,7 +271,8 @@ GLTF_CASES = {
     "no meshes": (lambda doc, blob: [doc.pop(k) for k in ("meshes", "nodes", "scenes", "scene", "extensions")],
                   "no meshes to render"),
     "scene without meshes": (_set(["scenes", 0, "nodes"], []), "no meshes to render"),
-    "missing external buffer": (_set(["buffers", 0, "uri"], "model.bin"), "cannot read 'model.bin'"),
+    "missing external buffer": (_set(["buffers", 0, "uri"], "model.bin"),
+                                "buffers[0].uri 'model.bin': file not found"),
     "data URI without comma": (_set(["buffers", 0, "uri"], "data:application/octet-stream;base64"),
                                "malformed data URI"),
     "data URI bad base64": (_set(["buffers", 0, "uri"], "data:application/octet-stream;base64,@@@"),
@@ -372,7 +373,7 @@ FILE_CASES = {
     "glb JSON not UTF-8": ("model.glb", lambda p: p.write_bytes(b"glTF" + struct.pack("<II", 2, 24) +
                                                                 struct.pack("<II", 4, 0x4E4F534A) + b"\xff" * 4 +
                                                                 b"\0" * 4), "not UTF-8"),
-    "a directory": ("model.gltf", lambda p: p.mkdir(), "cannot read glTF file"),
+    "a directory": ("model.gltf", lambda p: p.mkdir(), "is a folder, not a regular file"),
 }
 
 

@@ -14,8 +14,6 @@ ValueError naming its JSON location (the caller adds the file name).
 
 from __future__ import annotations
 
-import base64
-import binascii
 import json
 import math
 import re
@@ -25,13 +23,15 @@ from pathlib import Path
 import numpy as np
 
 from ..core.checks import is_finite_number
+from ..core.inputs import check_allocation, check_regular, read_bytes, size_text
 from ..core.filtering import CLAMP_TO_EDGE as _WRAP_CLAMP
 from ..core.filtering import MIRRORED_REPEAT as _WRAP_MIRROR
 from ..core.filtering import REPEAT as _WRAP_REPEAT
 from ..render.lights import LIGHT_TYPES
+from .gltf_resources import data_uri_bytes
 
-__all__ = ["read_gltf_document", "validate_gltf_document", "data_uri_bytes", "COMPONENT_TYPES", "COMPONENT_NAMES",
-           "COMPONENT_COUNTS"]
+__all__ = ["MAX_GLTF_BYTES", "read_gltf_document", "validate_gltf_document", "data_uri_bytes", "COMPONENT_TYPES",
+           "COMPONENT_NAMES", "COMPONENT_COUNTS"]
 
 #: Accessor component types (glTF 2.0 sec. 3.6.2.2) and their NumPy types, names and counts per type.
 _BYTE, _UBYTE, _SHORT, _USHORT, _UINT, _FLOAT = 5120, 5121, 5122, 5123, 5125, 5126
@@ -47,29 +47,46 @@ COMPONENT_COUNTS = _NCOMP
 # ============================================================ the container
 
 _GLB_MAGIC = b"glTF"
+#: Largest .gltf / .glb file read: 2 GiB (a .glb's length field is 32 bits, so at most
+#: 4 GiB; real models are well under 1 GiB).
+MAX_GLTF_BYTES = 2 << 30
+#: Peak memory of reading a glTF file, in multiples of its size: its bytes, the decoded
+#: JSON text and the parsed document (JSON strings, such as data: URIs, are held once
+#: more as Python str).  A floor: JSON made of many tiny objects or numbers takes more as
+#: Python objects (up to about 20 times its text), which only MAX_GLTF_BYTES bounds.
+_READ_FACTOR = 3
 _CHUNK_JSON = 0x4E4F534A
 _CHUNK_BIN = 0x004E4942
 
 
 def read_gltf_document(path):
     """``(document, binary chunk or None)`` of a ``.gltf`` or ``.glb`` file (a
-    ``.glb`` is recognised by its magic).  ValueError naming the problem."""
+    ``.glb`` is recognised by its magic; the binary chunk is a ``memoryview``).
+
+    The file must be a regular file of at most :data:`MAX_GLTF_BYTES` (a symbolic
+    link to ``/dev/zero`` or a pipe is refused before it is read), and the memory
+    it needs (:data:`_READ_FACTOR` times its size: its bytes, the decoded JSON text
+    and the parsed document) is checked first.  :class:`pbrkit.core.errors.InputError`
+    naming ``path`` for those; ValueError naming the problem for the content."""
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise ValueError(f"cannot read glTF file: {exc.strerror or exc}") from None
+    expected = "a glTF 2.0 file (.gltf JSON or .glb binary glTF)"
+    size = check_regular(path, expected)
+    if size <= MAX_GLTF_BYTES:
+        check_allocation(size * _READ_FACTOR, f"reading this {size_text(size)} glTF file", path)
+    data = read_bytes(path, MAX_GLTF_BYTES, expected)
     if not data:
         raise ValueError("the file is empty (0 bytes); expected glTF 2.0 JSON or binary glTF")
     if data[:4] == _GLB_MAGIC:
-        return _parse_glb(data)
+        return _parse_glb(memoryview(data))
     if path.suffix.lower() == ".glb":
-        raise ValueError(f"not a binary glTF file: it starts with {data[:4]!r}, not the magic b'glTF'")
+        raise ValueError("not a binary glTF file: its first 4 bytes are not the magic b'glTF' (glTF 2.0 sec. 4.4.3.1)")
     return _parse_json(data, "the file"), None
 
 
 def _parse_glb(data):
-    """Split a binary glTF (glTF 2.0 sec. 4.4) into its JSON document and BIN chunk."""
+    """Split a binary glTF (glTF 2.0 sec. 4.4: a 12-byte header, then chunks of an
+    8-byte header and their data, the JSON chunk first and an optional BIN chunk
+    second) into its JSON document and BIN chunk (a view of ``data``, not a copy)."""
     if len(data) < 12:
         raise ValueError(f"truncated binary glTF: {len(data)} bytes, shorter than its 12-byte header")
     _, version, length = struct.unpack_from("<4sII", data)
@@ -92,7 +109,7 @@ def _parse_glb(data):
     if not chunks or chunks[0][0] != _CHUNK_JSON:
         raise ValueError("binary glTF without a JSON chunk first")
     blob = chunks[1][1] if len(chunks) > 1 and chunks[1][0] == _CHUNK_BIN else None
-    return _parse_json(chunks[0][1], "the JSON chunk"), blob
+    return _parse_json(bytes(chunks[0][1]), "the JSON chunk"), blob
 
 
 def _reject_constant(name):
@@ -115,6 +132,19 @@ def _parse_json(raw, what):
     if not isinstance(doc, dict):
         raise ValueError(f"not a glTF file: the JSON is {_json_kind(doc)}, not an object with an 'asset'")
     return doc
+
+
+def _shown(value, limit=60):
+    """A JSON value of the file for a message: a short plain string (a word or a number
+    written as text, at most 16 characters) or a non-string value quoted, escaped and
+    cut to ``limit`` characters; any other string described by its length only, so a
+    message never carries a line of the file."""
+    if isinstance(value, str):
+        if len(value) <= 16 and re.fullmatch(r"[A-Za-z0-9 ._+-]*", value):
+            return repr(value)
+        return f"a string of {len(value)} characters"
+    text = ascii(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def _json_kind(value):
@@ -160,7 +190,7 @@ def _array(value, where, of_objects=False):
 def _integer(value, where, lo=0, hi=None):
     if not _is_int(value) or value < lo or (hi is not None and value > hi):
         bound = f"from {lo} to {hi}" if hi is not None else f">= {lo}"
-        raise ValueError(f"{where} must be an integer {bound}; got {value!r}")
+        raise ValueError(f"{where} must be an integer {bound}; got {_shown(value)}")
     return value
 
 
@@ -168,7 +198,7 @@ def _number(value, where, lo=None, hi=None):
     if not is_finite_number(value) or (lo is not None and value < lo) or (hi is not None and value > hi):
         bound = f" in [{lo}, {hi}]" if lo is not None and hi is not None else (
             f" >= {lo}" if lo is not None else "")
-        raise ValueError(f"{where} must be a finite number{bound}; got {value!r}")
+        raise ValueError(f"{where} must be a finite number{bound}; got {_shown(value)}")
     return value
 
 
@@ -177,25 +207,25 @@ def _numbers(value, where, n, lo=None, hi=None):
             lo is not None and min(value) < lo) or (hi is not None and max(value) > hi):
         bound = f" in [{lo}, {hi}]" if lo is not None and hi is not None else (
             f" >= {lo}" if lo is not None else "")
-        raise ValueError(f"{where} must be an array of {n} finite numbers{bound}; got {value!r}")
+        raise ValueError(f"{where} must be an array of {n} finite numbers{bound}; got {_shown(value)}")
     return value
 
 
 def _choice(value, where, choices):
     if isinstance(value, bool) or value not in choices:
-        raise ValueError(f"{where} must be one of {', '.join(map(str, choices))}; got {value!r}")
+        raise ValueError(f"{where} must be one of {', '.join(map(str, choices))}; got {_shown(value)}")
     return value
 
 
 def _boolean(value, where):
     if not isinstance(value, bool):
-        raise ValueError(f"{where} must be true or false; got {value!r}")
+        raise ValueError(f"{where} must be true or false; got {_shown(value)}")
     return value
 
 
 def _string(value, where):
     if not isinstance(value, str):
-        raise ValueError(f"{where} must be a string; got {value!r}")
+        raise ValueError(f"{where} must be a string; got {_shown(value)}")
     return value
 
 
@@ -209,7 +239,7 @@ class _Indices:
         """``value`` as a valid index into ``array`` (a key of ``counts``)."""
         n = self.counts[array]
         if not _is_int(value):
-            raise ValueError(f"{where} must be an integer index into {array}; got {value!r}")
+            raise ValueError(f"{where} must be an integer index into {array}; got {_shown(value)}")
         if not 0 <= value < n:
             have = f"the file has {n} {array} (indices 0 to {n - 1})" if n else f"the file has no {array}"
             raise ValueError(f"{where} is {value}, but {have}")
@@ -275,12 +305,12 @@ def _check_asset(asset):
     _object(asset, "asset")
     version = asset.get("version")
     if not isinstance(version, str) or not re.fullmatch(r"\d+\.\d+", version):
-        raise ValueError(f"asset.version must be a string like \"2.0\"; got {version!r}")
+        raise ValueError(f"asset.version must be a string like \"2.0\"; got {_shown(version)}")
     if version.split(".")[0] != "2":
         raise ValueError(f"glTF version {version} is not supported (pbrkit reads glTF 2.x)")
     minimum = asset.get("minVersion")
     if minimum is not None and minimum != "2.0":
-        raise ValueError(f"the file needs glTF {minimum!r} (asset.minVersion); pbrkit reads glTF 2.0")
+        raise ValueError(f"the file needs glTF {_shown(minimum)} (asset.minVersion); pbrkit reads glTF 2.0")
 
 
 def _light_definitions(doc):
@@ -302,7 +332,7 @@ def _check_light(light, where):
     if light.get("range") is not None:
         _number(light["range"], f"{where}.range", 0.0)
         if light["range"] <= 0.0:
-            raise ValueError(f"{where}.range must be positive; got {light['range']!r}")
+            raise ValueError(f"{where}.range must be positive; got {_shown(light['range'])}")
     if light.get("spot") is not None:
         spot = _object(light["spot"], f"{where}.spot")
         for key in ("innerConeAngle", "outerConeAngle"):
@@ -322,7 +352,7 @@ def _check_node(node, where, index):
         if node.get(key) is not None:
             _numbers(node[key], f"{where}.{key}", n)
     if node.get("rotation") is not None and not any(node["rotation"]):
-        raise ValueError(f"{where}.rotation must be a unit quaternion (x, y, z, w); got {node['rotation']!r}")
+        raise ValueError(f"{where}.rotation must be a unit quaternion (x, y, z, w); got {_shown(node['rotation'])}")
     ext = node.get("extensions")
     if ext is not None and _object(ext, f"{where}.extensions").get("KHR_lights_punctual") is not None:
         light = _object(ext["KHR_lights_punctual"], f"{where}.extensions.KHR_lights_punctual")
@@ -360,7 +390,7 @@ def _check_accessor(acc, where, index):
     component = acc.get("componentType")
     if not _is_int(component) or component not in _COMPONENT:
         known = ", ".join(f"{k} ({v})" for k, v in _COMPONENT_NAMES.items())
-        raise ValueError(f"{where}.componentType must be one of {known}; got {component!r}")
+        raise ValueError(f"{where}.componentType must be one of {known}; got {_shown(component)}")
     if acc.get("normalized") is not None:
         _boolean(acc["normalized"], f"{where}.normalized")
     _integer(acc.get("count"), f"{where}.count", 1)
@@ -381,7 +411,7 @@ def _check_sparse(sparse, where, count, index):
     component = sparse["indices"].get("componentType")
     if not _is_int(component) or component not in (_UBYTE, _USHORT, _UINT):
         raise ValueError(f"{where}.indices.componentType must be 5121 (UNSIGNED_BYTE), 5123 (UNSIGNED_SHORT) "
-                         f"or 5125 (UNSIGNED_INT); got {component!r}")
+                         f"or 5125 (UNSIGNED_INT); got {_shown(component)}")
 
 
 def _check_buffer_view(view, where, index):
@@ -391,7 +421,7 @@ def _check_buffer_view(view, where, index):
     _integer(view.get("byteLength"), f"{where}.byteLength", 1)
     stride = view.get("byteStride")
     if stride is not None and (not _is_int(stride) or not 4 <= stride <= 252 or stride % 4):
-        raise ValueError(f"{where}.byteStride must be a multiple of 4 from 4 to 252; got {stride!r}")
+        raise ValueError(f"{where}.byteStride must be a multiple of 4 from 4 to 252; got {_shown(stride)}")
 
 
 def _check_buffer(buffer, where, index):
@@ -548,16 +578,3 @@ def _inside(where, obj, count, item, stride, view_index, view):
     if end > view["byteLength"]:
         raise ValueError(f"{where} ({count} elements of {item} bytes, byteOffset {start}, stride {stride}) needs "
                          f"{end} bytes, past the end of bufferViews[{view_index}] ({view['byteLength']} bytes)")
-
-
-def data_uri_bytes(uri):
-    """The bytes of a base64 ``data:`` URI (RFC 2397)."""
-    head, comma, payload = uri.partition(",")
-    if not comma:
-        raise ValueError("malformed data URI: no ',' before the data")
-    if not head.endswith(";base64"):
-        raise ValueError("data URIs must be base64-encoded (data:<type>;base64,<data>)")
-    try:
-        return base64.b64decode("".join(payload.split()), validate=True)
-    except (binascii.Error, ValueError) as exc:
-        raise ValueError(f"malformed data URI: invalid base64 ({exc})") from None

@@ -41,20 +41,28 @@ warning or an empty image:
   finite values, one count per primitive, and indices below that count;
 - a file whose default scene holds no triangle mesh (and no light) is
   refused: there is nothing to render.
+
+A model is untrusted input (:mod:`pbrkit.core.inputs`): the file itself must be
+a regular file of at most :data:`pbrkit.io.gltf_document.MAX_GLTF_BYTES`; the
+buffers and images its URIs name must lie under its folder or a root the user
+allows (``allow_roots``), external buffers are read to exactly their
+``byteLength``, images are checked by their headers before decoding
+(:mod:`pbrkit.io.gltf_resources`); every accessor's memory
+(:func:`accessor_bytes`) and the memory of all the meshes the scene places
+(:data:`BYTES_PER_VERTEX`, :data:`BYTES_PER_TRIANGLE`, from the accessors'
+counts alone) are checked against the memory available before anything is
+allocated.
 """
 
 from __future__ import annotations
 
-import re
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from urllib.parse import unquote
 
 import numpy as np
 
-from ..core.color import srgb_to_linear
 from ..core.errors import InputError
+from ..core.inputs import Confinement, check_allocation, describe, size_text
 from ..io.gltf_document import (
     _COMPONENT,
     _COMPONENT_NAMES,
@@ -63,10 +71,10 @@ from ..io.gltf_document import (
     _UBYTE,
     _UINT,
     _USHORT,
-    data_uri_bytes,
     read_gltf_document,
     validate_gltf_document,
 )
+from ..io.gltf_resources import MAX_IMAGE_BYTES, buffer_file_bytes, decode_image, uri_bytes
 from .lights import Light
 from .scene import MaterialSpec, trs_matrix
 from .tangents import mikktspace_tangents
@@ -119,30 +127,58 @@ _FORMATS = {
 }
 #: Largest texture coordinate accepted (beyond it texel addressing loses all precision).
 _MAX_TEXCOORD = 1e6
+#: Peak bytes per vertex and per triangle of the meshes built from a glTF file and handed
+#: to the renderer (:func:`_check_mesh_memory`, before any accessor is read): the accessor
+#: data read and converted to float64, the world-space copies of :class:`Mesh`, the
+#: float32 / int32 copies and the BVH that Embree builds.  Measured as the growth of the
+#: process's peak RSS over ``Geometry`` (Python 3.11, NumPy 2; 500^2 to 1500^2 vertex grids
+#: with POSITION, TEXCOORD_0 and uint32 indices, with NORMAL and flat-shaded without it):
+#: about 120 bytes per vertex (flat shading: per unshared vertex) and 90 per triangle.  The
+#: constants leave room for TANGENT / MikkTSpace tangents and more UV sets (not measured).
+BYTES_PER_VERTEX = 200
+BYTES_PER_TRIANGLE = 160
+
+
+def accessor_bytes(accessor):
+    """Peak bytes of reading ``accessor`` (glTF 2.0 sec. 3.6.2): its elements copied out
+    of the buffer (or zeros), the float64 result, and a sparse substitution's indices,
+    values and copy (sec. 3.6.2.3)."""
+    count, ncomp = accessor["count"], _NCOMP[accessor["type"]]
+    item = np.dtype(_COMPONENT[accessor["componentType"]]).itemsize
+    total = count * ncomp * (2 * item + 8)
+    sparse = accessor.get("sparse")
+    if sparse is not None:
+        index_size = np.dtype(_COMPONENT[sparse["indices"]["componentType"]]).itemsize
+        total += sparse["count"] * (index_size + 8 + ncomp * item) + count * ncomp * item
+    return total
 
 # ============================================================ reading data
 
 
 class _GltfReader:
-    """A checked glTF document (module docstring) and the bytes, images and textures it refers to."""
+    """A checked glTF document (module docstring) and the bytes, images and textures it refers to.
+    ``allow_roots``: folders besides the file's own whose files its URIs may name."""
 
-    def __init__(self, path):
+    def __init__(self, path, allow_roots=()):
         self.path = Path(path)
         try:
             self.doc, self.blob = read_gltf_document(self.path)
             validate_gltf_document(self.doc)
+        except InputError:
+            raise
         except ValueError as exc:
             raise InputError(str(exc), path) from None
+        self.confinement = Confinement(self.path.parent, allow_roots)
         self._buffers = {}
         self._images = {}
         self.notes = []
         required = set(self.doc.get("extensionsRequired") or [])
         unsupported = sorted(required - _SUPPORTED_REQUIRED)
         if unsupported:
-            raise InputError(f"requires unsupported glTF extension(s): {', '.join(unsupported)}", path)
+            raise InputError(f"requires unsupported glTF extension(s): {', '.join(map(describe, unsupported))}", path)
         used = sorted(set(self.doc.get("extensionsUsed") or []) - _SUPPORTED_REQUIRED)
         if used:
-            self.notes.append(f"ignored optional extension(s): {', '.join(used)}")
+            self.notes.append(f"ignored optional extension(s): {', '.join(map(describe, used))}")
 
     def fail(self, problem):
         raise InputError(problem, self.path)
@@ -151,35 +187,35 @@ class _GltfReader:
         """The top-level array ``name`` ([] when absent)."""
         return self.doc.get(name) or []
 
-    def _uri_bytes(self, uri, where):
-        if uri.startswith("data:"):
-            try:
-                return data_uri_bytes(uri)
-            except ValueError as exc:
-                self.fail(f"{where}: {exc}")
-        if re.match(r"[A-Za-z][A-Za-z0-9+.-]*://", uri):
-            self.fail(f"{where} {uri!r}: only relative file paths and data: URIs are supported")
-        try:
-            return (self.path.parent / unquote(uri)).read_bytes()
-        except OSError as exc:
-            self.fail(f"{where}: cannot read {uri!r} (relative to the glTF file): {exc.strerror or exc}")
+    def check_allocation(self, nbytes, what):
+        """:func:`pbrkit.core.inputs.check_allocation` naming this file."""
+        return check_allocation(nbytes, what, self.path)
 
     def buffer(self, index):
-        """The bytes of buffers[index], exactly its byteLength."""
+        """The bytes of buffers[index], exactly its byteLength (glTF 2.0 sec. 3.6.1.1):
+        the .glb's BIN chunk, a data: URI, or a confined external file read no further
+        (:func:`pbrkit.io.gltf_resources.buffer_file_bytes`)."""
         if index not in self._buffers:
             b = self.items("buffers")[index]
             where = f"buffers[{index}]"
-            if b.get("uri") is None:
-                if index != 0 or self.blob is None:
-                    self.fail(f"{where} has no uri and is not the binary chunk of a .glb (only buffers[0] of a "
-                              ".glb may omit its uri)")
-                data = self.blob
-            else:
-                data = self._uri_bytes(b["uri"], f"{where}.uri")
-            if len(data) < b["byteLength"]:
-                self.fail(f"{where} holds {len(data)} bytes, fewer than its byteLength {b['byteLength']} "
-                          "(truncated file?)")
-            self._buffers[index] = data[:b["byteLength"]]
+            length = b["byteLength"]
+            try:
+                if b.get("uri") is None:
+                    if index != 0 or self.blob is None:
+                        self.fail(f"{where} has no uri and is not the binary chunk of a .glb (only buffers[0] of "
+                                  "a .glb may omit its uri)")
+                    data = self.blob
+                elif b["uri"].startswith("data:"):
+                    data = uri_bytes(b["uri"], f"{where}.uri", self.confinement, None, "")
+                else:
+                    data = buffer_file_bytes(b["uri"], f"{where}.uri", self.confinement, length, self.path)
+            except InputError:
+                raise
+            except ValueError as exc:
+                self.fail(str(exc))
+            if len(data) < length:
+                self.fail(f"{where} holds {len(data)} bytes, fewer than its byteLength {length} (truncated file?)")
+            self._buffers[index] = memoryview(data)[:length]
         return self._buffers[index]
 
     def view_bytes(self, index):
@@ -194,6 +230,8 @@ class _GltfReader:
         item = np.dtype(dtype).itemsize * ncomp
         stride = stride or item
         need = offset + (count - 1) * stride + item
+        if need > len(raw):  # excluded by validate_gltf_document (_check_ranges); never read past a view
+            self.fail(f"bufferViews[{view}] holds {len(raw)} bytes; an accessor needs {need}")
         buf = np.frombuffer(raw, dtype=np.uint8, count=need - offset, offset=offset)
         if stride == item:
             return np.frombuffer(buf.tobytes(), dtype=dtype).reshape(count, ncomp)
@@ -201,14 +239,7 @@ class _GltfReader:
         return np.frombuffer(np.ascontiguousarray(rows).tobytes(), dtype=dtype).reshape(count, ncomp)
 
     def _zeros(self, index, count, ncomp, dtype):
-        """The all-zero data of an accessor without a bufferView, if memory allows."""
-        from .budget import available_memory
-
-        need = count * ncomp * (np.dtype(dtype).itemsize + 8)
-        free = available_memory()
-        if free is not None and need > free:
-            self.fail(f"accessors[{index}] (count {count}, no bufferView) would need {need / 2**30:.1f} GiB of "
-                      f"memory; this machine has {free / 2**30:.1f} GiB available")
+        """The all-zero data of an accessor without a bufferView (glTF 2.0 sec. 3.6.2.3)."""
         return np.zeros((count, ncomp), dtype=dtype)
 
     def accessor(self, index, normalize_ints=True):
@@ -217,6 +248,8 @@ class _GltfReader:
         a = self.items("accessors")[index]
         dtype = _COMPONENT[a["componentType"]]
         ncomp = _NCOMP[a["type"]]
+        self.check_allocation(accessor_bytes(a), f"accessors[{index}] (count {a['count']:,} {a['type']}"
+                              f"{', no bufferView' if a.get('bufferView') is None else ''})")
         if a.get("bufferView") is not None:
             data = self._read_view(a["bufferView"], a.get("byteOffset") or 0, a["count"], dtype, ncomp)
         else:
@@ -274,35 +307,21 @@ class _GltfReader:
         return self._images[key]
 
     def _decode_image(self, index, srgb):
-        import imageio.v3 as iio
-
+        """glTF 2.0 sec. 3.8.4: an image from a bufferView or a uri (data: or a confined
+        file), its header checked before decoding (:mod:`pbrkit.io.gltf_resources`)."""
         im = self.items("images")[index]
         where = f"images[{index}]"
-        if im.get("bufferView") is not None:
-            data = self.view_bytes(im["bufferView"])[0]
-        else:
-            data = self._uri_bytes(im["uri"], f"{where}.uri")
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                pixels = np.asarray(iio.imread(data))
-        except Exception as exc:  # decoders raise many kinds on corrupt data
-            detail = " ".join(str(exc).split()) or type(exc).__name__
-            self.fail(f"cannot decode {where} (not an image file pbrkit can read, such as PNG or JPEG): {detail}")
-        if pixels.ndim == 2:
-            pixels = pixels[..., None]
-        if pixels.ndim != 3 or not 1 <= pixels.shape[2] <= 4 or 0 in pixels.shape:
-            self.fail(f"{where} has shape {pixels.shape}; expected a 2D image with 1 to 4 channels")
-        if pixels.dtype in (np.uint8, np.uint16):
-            # integer texels: decode through a table of every code (exactly the formula, per code)
-            top = np.iinfo(pixels.dtype).max
-            codes = np.arange(top + 1, dtype=np.float64) / top
-            unorm = codes.astype(np.float32)
-            return _rgba(pixels, srgb, unorm, srgb_to_linear(codes).astype(np.float32))
-        values = pixels.astype(np.float32)
-        if not np.all(np.isfinite(values)):
-            self.fail(f"{where} has non-finite texels")
-        return _rgba(values, srgb)
+            if im.get("bufferView") is not None:
+                data = self.view_bytes(im["bufferView"])[0]
+            else:
+                data = uri_bytes(im["uri"], f"{where}.uri", self.confinement, MAX_IMAGE_BYTES,
+                                 f"an image of at most {size_text(MAX_IMAGE_BYTES)}")
+            return decode_image(data, where, srgb, self.path)
+        except InputError:
+            raise
+        except ValueError as exc:
+            self.fail(str(exc))
 
     def texture(self, index, srgb, cache):
         key = (index, srgb)
@@ -319,24 +338,6 @@ class _GltfReader:
                 mag = s.get("magFilter")
             cache[key] = (len(cache), Texture(self.image(t["source"], srgb), wrap_s, wrap_t, mag))
         return cache[key][0]
-
-
-def _rgba(values, srgb, unorm=None, decoded=None):
-    """(H, W, C) texels -> (H, W, 4) float32 RGBA (grey and grey-alpha expanded), the
-    colour channels sRGB-decoded when ``srgb``.  Float texels are values in [0, 1];
-    integer ones are codes, looked up in ``unorm`` (code / max) and, for sRGB colour,
-    ``decoded`` (:func:`pbrkit.core.color.srgb_to_linear` of each code)."""
-    c = values.shape[2]
-    colour = values[..., :1] if c in (1, 2) else values[..., :3]
-    alpha = values[..., 1] if c == 2 else values[..., 3] if c == 4 else None
-    rgba = np.ones(values.shape[:2] + (4,), dtype=np.float32)
-    if unorm is None:
-        rgba[..., :3] = srgb_to_linear(colour).astype(np.float32) if srgb else colour
-    else:
-        rgba[..., :3] = np.take(decoded if srgb else unorm, colour)
-    if alpha is not None:
-        rgba[..., 3] = alpha if unorm is None else np.take(unorm, alpha)
-    return rgba
 
 
 # ============================================================ materials
@@ -372,7 +373,9 @@ def _gltf_material(reader, index, cache):
     strength = 1.0 if strength is None else float(strength)
     if (m.get("alphaMode") or "OPAQUE") != "OPAQUE":
         reader.notes.append(f"material {index}: alphaMode {m['alphaMode']} rendered as OPAQUE")
-    name = m.get("name") if isinstance(m.get("name"), str) and m.get("name") else f"gltf-material-{index}"
+    name = m.get("name")  # shown in messages: a short printable one only
+    if not (isinstance(name, str) and name and name.isprintable() and len(name) <= 64):
+        name = f"gltf-material-{index}"
     try:
         spec = MaterialSpec(name=name, base_color=tuple(float(x) for x in bc[:3]), metallic=float(metallic),
                             roughness=float(roughness), emissive=tuple(emissive * strength),
@@ -506,13 +509,14 @@ def _scene_roots(reader):
     return [i for i in range(len(nodes)) if i not in children], "the file's root nodes"
 
 
-def load_gltf(path, transform=None):
+def load_gltf(path, transform=None, allow_roots=()):
     """Read a glTF 2.0 file into world-space triangle meshes, materials and lights.
 
-    ``transform`` (4 x 4) is applied on top of the file's node transforms.
-    Problems (module docstring) raise :class:`pbrkit.core.errors.InputError`
-    naming the file."""
-    reader = _GltfReader(path)
+    ``transform`` (4 x 4) is applied on top of the file's node transforms.  The
+    files its URIs name must lie under its own folder or one of ``allow_roots``
+    (:mod:`pbrkit.io.gltf_resources`).  Problems (module docstring) raise
+    :class:`pbrkit.core.errors.InputError` naming the file."""
+    reader = _GltfReader(path, allow_roots)
     try:
         with np.errstate(all="ignore"):  # overflows and the like are detected and reported by _load
             return _load(reader, np.eye(4) if transform is None else np.asarray(transform, dtype=float))
@@ -520,14 +524,47 @@ def load_gltf(path, transform=None):
         raise InputError("not enough memory to load this glTF file", path) from None
 
 
+def _mesh_size(reader, roots):
+    """(vertices, triangles) of every mesh the scene's nodes place, from the accessors'
+    counts alone (glTF 2.0 sec. 3.7.2: a primitive's vertex count is its POSITION
+    count, its triangles a third of its indices for TRIANGLES, two fewer for strips and
+    fans; without NORMAL every triangle gets three vertices of its own)."""
+    nodes, meshes, accessors = reader.items("nodes"), reader.items("meshes"), reader.items("accessors")
+    vertices = triangles = 0
+    stack = list(roots)
+    while stack:  # the nodes form a forest (checked): every node is met once
+        node = nodes[stack.pop()]
+        stack.extend(node.get("children") or [])
+        for prim in meshes[node["mesh"]]["primitives"] if node.get("mesh") is not None else ():
+            position = prim["attributes"].get("POSITION")
+            if position is None:
+                continue
+            v = accessors[position]["count"]
+            n = v if prim.get("indices") is None else accessors[prim["indices"]]["count"]
+            mode = prim.get("mode")
+            t = n // 3 if mode in (None, 4) else max(n - 2, 0) if mode in (5, 6) else 0
+            vertices += v + (3 * t if prim["attributes"].get("NORMAL") is None else 0)
+            triangles += t
+    return vertices, triangles
+
+
+def _check_mesh_memory(reader, roots, origin):
+    """Refuse a file whose meshes would not fit in memory, before reading them
+    (:data:`BYTES_PER_VERTEX`, :data:`BYTES_PER_TRIANGLE`)."""
+    vertices, triangles = _mesh_size(reader, roots)
+    reader.check_allocation(vertices * BYTES_PER_VERTEX + triangles * BYTES_PER_TRIANGLE,
+                            f"the meshes of {origin} ({vertices:,} vertices, {triangles:,} triangles)")
+
+
 def _load(reader, top):
+    roots, origin = _scene_roots(reader)
+    _check_mesh_memory(reader, roots, origin)
     texture_cache = {}
     materials = [_gltf_material(reader, i, texture_cache) for i in range(len(reader.items("materials")))]
     state = {"default_material": None}
     meshes = []
     lights = []
     light_defs = ((reader.doc.get("extensions") or {}).get("KHR_lights_punctual") or {}).get("lights") or []
-    roots, origin = _scene_roots(reader)
     stack = [(i, top) for i in roots]
     while stack:
         ni, parent = stack.pop()
