@@ -609,6 +609,10 @@ def render(
         help="Real time in a non-photorealistic style: a preset (pbr, toon, toon-per-light, mtoon, hatching, "
              "outline) or a .toml / .json file with a [style] table (pbrkit.npr.style); replaces the scene's "
              "[style]."),
+    allow_root: Optional[list[Path]] = typer.Option(
+        None, "--allow-root", metavar="DIR",
+        help="A folder besides a glTF model's own whose files its buffer and image URIs may name "
+             "(repeatable; the scene key allow_roots)."),
     quiet: bool = _quiet_option(),
 ):
     """Render a scene in real time (split-sum IBL, punctual lights, LTC area lights), as Monte Carlo
@@ -624,7 +628,7 @@ def render(
         checks.integer(spp, "--spp", 1, 1 << 20)
     if mode != "reference":
         checks.power_of_two(bake_size, "--bake-size", 2, 4096)
-    scene_obj = command_scene(scene, width, height, env, fix_nonfinite)
+    scene_obj = command_scene(scene, width, height, env, fix_nonfinite, allow_root or ())
     style_obj = None
     if style is not None:
         from ..npr.style import resolve_style

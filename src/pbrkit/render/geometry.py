@@ -94,7 +94,7 @@ class Geometry:
         self.notes = []
         for obj in scene.objects:
             if isinstance(obj, GltfObject):
-                asset = load_gltf(obj.file, obj.matrix())
+                asset = load_gltf(obj.file, obj.matrix(), getattr(scene, "allow_roots", ()))
                 offset = len(self.materials)
                 self.materials.extend(asset.materials)
                 for m in asset.meshes:

@@ -5,6 +5,9 @@ A scene file (TOML shown; JSON has the same structure).  Relative paths are
 relative to the scene file's folder.  Every key is optional except
 ``objects``; unknown keys are errors::
 
+    allow_roots = ["../shared-textures"]  # folders besides a glTF model's own that its
+                                  # buffer and image URIs may name (also --allow-root)
+
     [camera]                      # pinhole camera, looks down its -Z
     position = [0.0, 0.0, 5.0]
     look_at = [0.0, 0.0, 0.0]
@@ -117,6 +120,7 @@ import numpy as np
 from ..brdf.shading.registry import MODELS
 from ..core import checks
 from ..core.errors import InputError
+from ..io.gltf_resources import allowed_root
 from .area_lights import AREA_LIGHT_TYPES, AreaLight
 from .lights import LIGHT_TYPES, Light
 from .material_spec import CHOICES, NUMBERS, SURFACE_KEYS, MaterialSpec
@@ -374,6 +378,7 @@ class Scene:
     area_lights: tuple = ()
     source: str = "<scene>"
     style: object = None  # a pbrkit.npr.style.Style, from [style]
+    allow_roots: tuple = ()  # folders besides a glTF file's own whose files it may name (allow_roots)
 
     def __post_init__(self):
         if not self.objects:
@@ -490,7 +495,7 @@ def _check_values(table, checks, label):
             raise ValueError(f"{label(key)} must be {check.phrase}, got {_show(value)}")
 
 
-_SECTIONS = {"camera", "environment", "materials", "objects", "lights", "style"}
+_SECTIONS = {"camera", "environment", "materials", "objects", "lights", "style", "allow_roots"}
 _CAMERA_KEYS = {"position", "look_at", "up", "fov", "width", "height", "supersample"}
 _ENV_KEYS = {"file", "bake", "color", "intensity", "rotation"}
 _MATERIAL_KEYS = {p.name for p in NUMBERS + CHOICES} | set(SURFACE_KEYS) - {"double_sided"}
@@ -543,7 +548,16 @@ def scene_from_dict(data, base_dir=None, source="<scene>"):
                  materials=_materials_from(data.get("materials", {})),
                  objects=_objects_from(data.get("objects", []), base_dir),
                  **_lights_from(data.get("lights", [])), source=source,
-                 style=_style_from(data["style"], base_dir) if "style" in data else None)
+                 style=_style_from(data["style"], base_dir) if "style" in data else None,
+                 allow_roots=_allow_roots_from(data.get("allow_roots", []), base_dir))
+
+
+def _allow_roots_from(items, base_dir):
+    """The folders of the ``allow_roots`` key (relative to the scene file's folder): a
+    glTF model may name files under them besides its own folder (:mod:`pbrkit.core.inputs`)."""
+    if not isinstance(items, list) or not all(_STRING.ok(item) for item in items):
+        raise ValueError(f"allow_roots must be a list of folder paths (non-empty strings), got {_show(items)}")
+    return tuple(allowed_root(item, base_dir, f"allow_roots[{i}]") for i, item in enumerate(items))
 
 
 def _style_from(table, base_dir):
@@ -711,10 +725,17 @@ def _area_scene(width, height, environment=None):
                  materials=materials, objects=tuple(objects), area_lights=(light,), source="area")
 
 
-def command_scene(name_or_path, width=None, height=None, env=None, fix_nonfinite=False):
+def command_scene(name_or_path, width=None, height=None, env=None, fix_nonfinite=False, allow_roots=()):
     """The scene ``pbrkit render`` and ``pbrkit batch render`` draw: :func:`resolve_scene`
     with ``env`` (an environment image file or a bake folder) replacing the scene's
-    environment, and ``fix_nonfinite`` repairing its NaN / Inf pixels."""
+    environment, ``fix_nonfinite`` repairing its NaN / Inf pixels, and ``allow_roots``
+    (``--allow-root``) added to the scene's ``allow_roots``."""
+    roots = []
+    for root in allow_roots:
+        try:
+            roots.append(allowed_root(root, None, "--allow-root"))
+        except ValueError as exc:
+            raise InputError(str(exc)) from None
     environment = None
     if env is not None:
         env = Path(env)
@@ -724,6 +745,8 @@ def command_scene(name_or_path, width=None, height=None, env=None, fix_nonfinite
     scene = resolve_scene(name_or_path, width, height, environment)
     if fix_nonfinite:
         scene = replace(scene, environment=replace(scene.environment, fix_nonfinite=True))
+    if roots:
+        scene = replace(scene, allow_roots=scene.allow_roots + tuple(roots))
     return scene
 
 
