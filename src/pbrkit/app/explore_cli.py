@@ -174,6 +174,10 @@ def register(app):
             from ..core.atomic import check_output_directory
 
             check_output_directory(out, force)
+        else:
+            from ..explore.server import check_port
+
+            check_port(port)  # before any work: a port in use is refused with its one line
         from ..explore import views as V
 
         for option, name in EXPLORE_PARAMETERS.items():
