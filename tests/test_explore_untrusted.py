@@ -9,7 +9,8 @@
   (pbrkit.explore.server);
 - Bokeh, Tornado and Panel log nothing on the terminal while serving, pbrkit's
   own lines still show;
-- a port in use is one line naming ``--port``, exit status 1.
+- a port in use is one line naming ``--port``, exit status 1;
+- the material and fit errors name the flag, not the material ``'explore'``.
 """
 
 from __future__ import annotations
@@ -242,3 +243,29 @@ def test_serve_names_the_port_when_it_cannot_bind(busy_port):
         serve(port=busy_port, open_browser=False, announce=announced.append)
     assert str(caught.value).startswith(f"--port {busy_port}: in use")
     assert isinstance(caught.value, OSError) and announced == []
+
+
+# ------------------------------------------------------------------ errors name the flag
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["--model", "cook_torrance", "--fresnel", "exact-conductor"], ["--fresnel: ", "needs eta and k"]),
+    (["--model", "disney", "--anisotropy", "-0.5"], ["--anisotropy: ", "[0, 1]", "disney"]),
+    (["--model", "filament", "--diffuse", "eon"], ["--diffuse: ", "has no diffuse 'eon'"]),
+    (["--model", "cook_torrance", "--distribution", "blinn-phong", "--anisotropy", "0.5"],
+     ["--distribution: ", "isotropic"]),
+    (["--no-fit-fresnel"], ["--no-fit-fresnel is for --fit"]),
+    (["--fit-weighting", "cosine"], ["--fit-weighting is for --fit"]),
+])
+def test_material_and_fit_errors_name_the_flag(tmp_path, args, fragments):
+    out = tmp_path / "out"
+    assert_refused(invoke("--static", "-o", out, *args), *fragments, absent=[out])
+
+
+def test_the_second_brdf_errors_name_compare():
+    from pbrkit.app.explore_cli import _flagged
+
+    error = _flagged(ValueError("material 'explore': sheen needs model 'disney'"), "ue4", compare=True)
+    assert str(error) == "--compare ue4: sheen needs model 'disney'"
+    error = _flagged(ValueError("material 'explore': something else"), "gltf")
+    assert str(error) == "--model gltf: something else"
