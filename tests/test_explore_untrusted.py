@@ -10,13 +10,16 @@
 - Bokeh, Tornado and Panel log nothing on the terminal while serving, pbrkit's
   own lines still show;
 - a port in use is one line naming ``--port``, exit status 1;
-- the material and fit errors name the flag, not the material ``'explore'``.
+- the material and fit errors name the flag, not the material ``'explore'``;
+- ``--static`` writes strict JSON: a fit whose numbers overflow is refused with
+  one line naming what, and NaN or Infinity never reaches ``explore.json``.
 """
 
 from __future__ import annotations
 
 import base64
 import http.client
+import json
 import logging
 import os
 import queue
@@ -29,6 +32,7 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -269,3 +273,65 @@ def test_the_second_brdf_errors_name_compare():
     assert str(error) == "--compare ue4: sheen needs model 'disney'"
     error = _flagged(ValueError("material 'explore': something else"), "gltf")
     assert str(error) == "--model gltf: something else"
+
+
+# ------------------------------------------------------------------ strict JSON
+
+
+@pytest.fixture(scope="module")
+def merl_files(tmp_path_factory):
+    from pbrkit.explore.views import model_brdf
+    from pbrkit.measured.merl import merl_bytes, merl_table
+
+    root = tmp_path_factory.mktemp("merl")
+    brdf = model_brdf("cook_torrance", (0.6, 0.3, 0.2), 0.0, 0.3)
+    table = merl_table(lambda l, v, n: brdf.evaluate(l, v, n))
+    (root / "ggx.binary").write_bytes(merl_bytes(table))
+    (root / "huge.binary").write_bytes(merl_bytes(np.where(table >= 0, table * 1e300, table)))  # finite, too large
+    return root
+
+
+def test_a_fit_that_overflows_is_refused_naming_what(merl_files, tmp_path):
+    out = tmp_path / "out"
+    result = invoke("--static", "--merl", merl_files / "huge.binary", "--fit", "ggx", "-o", out)
+    assert_refused(result, "--fit ggx: the fit to 'huge'", "is not finite", absent=[out], progress=True)
+
+
+def test_disney_fit_without_fresnel_names_the_flag(merl_files, tmp_path):
+    out = tmp_path / "out"
+    result = invoke("--static", "--merl", merl_files / "ggx.binary", "--fit", "disney", "--no-fit-fresnel", "-o", out)
+    assert_refused(result, "--no-fit-fresnel: only --fit ggx", absent=[out])
+
+
+class _Overflowing:
+    """A BRDF of 1e308 everywhere: finite values whose albedo overflows."""
+
+    name = "overflowing"
+
+    def evaluate(self, l, v, n=None):
+        return np.full(np.broadcast_shapes(np.shape(l), np.shape(v)), 1e308)
+
+
+def test_non_finite_summaries_are_refused_before_anything_is_written(tmp_path):
+    from pbrkit.explore.static import check_finite, write_static
+    from pbrkit.explore.views import model_brdf
+
+    out = tmp_path / "out"
+    with pytest.raises(ValueError, match=r"^explore\.json: second\.albedo_luminance\.\w+ is not finite \(inf\)"):
+        write_static(out, model_brdf(), _Overflowing())
+    assert not out.exists() and not list(tmp_path.glob(".out*"))
+    with pytest.raises(ValueError, match=r"explore\.json: fit\.error\[1\] is not finite \(nan\)"):
+        check_finite({"fit": {"error": [1.0, float("nan")]}})
+    check_finite({"a": [1.0, {"b": 2}], "c": "text", "d": None})
+
+
+def test_the_json_written_is_strict(tmp_path):
+    out = tmp_path / "out"
+    result = invoke("--static", "--model", "ue4", "-q", "-o", out)
+    assert result.exit_code == 0, result.output
+    text = (out / "explore.json").read_text()
+
+    def refuse(constant):
+        raise AssertionError(f"non-strict JSON constant {constant}")
+
+    json.loads(text, parse_constant=refuse)

@@ -93,6 +93,21 @@ def _model_brdf(V, model, *args, compare=False, **kwargs):
         raise _flagged(exc, model, compare) from None
 
 
+def _check_finite(what, values):
+    """Raise a one-line ValueError naming ``what`` and the key if a number of
+    ``values`` (a dict of numbers or sequences of numbers) is NaN or infinite."""
+    import numpy as np
+
+    for key, value in values.items():
+        try:
+            a = np.asarray(value, dtype=np.float64).ravel()
+        except (TypeError, ValueError):  # not numbers (a name)
+            continue
+        bad = a[~np.isfinite(a)]
+        if bad.size:
+            raise ValueError(f"{what}: {key} is not finite ({bad[0]}); the measured values are too large to fit")
+
+
 def register(app):
     """Add ``pbrkit explore`` to ``app`` (the helpers of :mod:`pbrkit.app.cli` are
     imported here: ``cli`` imports this module at its end)."""
@@ -284,6 +299,9 @@ def _write_static(out, first, second, measured, fit, weighting, fit_fresnel, rad
                                       max_theta=FIT_MAX_THETA)
             except ValueError as exc:
                 raise ValueError(f"--fit {fit}: {exc}") from None
+            what = f"--fit {fit}: the fit to {measured.name!r}"
+            _check_finite(what, result.parameters)
+            _check_finite(what, {f"error {k}": v for k, v in result.error.items()})
             first = V.fitted_brdf(result)
             extra["fit"] = {"model": result.model, "fresnel": result.fresnel, "weighting": result.weighting,
                             "parameters": result.parameters, "error": result.error, "measured": result.name}
