@@ -57,6 +57,57 @@ def _angle(option, value, hi):
     return _unit(option, value, 0.0, hi)
 
 
+#: The flag of each material key that a model's check can name (the rest of
+#: EXPLORE_PARAMETERS' keys are added below).
+_KEY_FLAGS = {"distribution": "--distribution", "masking": "--masking", "fresnel": "--fresnel",
+              "diffuse": "--diffuse", "conductor": "--conductor", "base_color": "--base-color",
+              "metallic": "--metallic", "roughness": "--roughness",
+              **{name: option for option, name in EXPLORE_PARAMETERS.items()}}
+_SPEC_PREFIX = "material 'explore': "
+
+
+def _flagged(exc, model, compare=False):
+    """A ValueError of :func:`pbrkit.explore.views.model_brdf` (a scene material's
+    check, ``material 'explore': ...``: :class:`pbrkit.render.material_spec.MaterialSpec`)
+    as one naming the flag: the option of the first material key the message
+    names (``--fresnel: fresnel 'exact-conductor' needs ...``), else ``--model M``;
+    for the second BRDF, ``--compare M``."""
+    import re
+
+    text = str(exc)
+    if text.startswith(_SPEC_PREFIX):
+        text = text[len(_SPEC_PREFIX):]
+    if compare:
+        return ValueError(f"--compare {model}: {text}")
+    found = [(m.start(), flag) for key, flag in _KEY_FLAGS.items()
+             for m in [re.search(rf"(?<![\w-]){re.escape(key)}(?![\w-])", text)] if m]
+    flag = min(found)[1] if found and not text.startswith("unknown model") else f"--model {model}"
+    return ValueError(f"{flag}: {text}")
+
+
+def _model_brdf(V, model, *args, compare=False, **kwargs):
+    """:func:`pbrkit.explore.views.model_brdf`, its errors naming the flag (:func:`_flagged`)."""
+    try:
+        return V.model_brdf(model, *args, **kwargs)
+    except ValueError as exc:
+        raise _flagged(exc, model, compare) from None
+
+
+def _check_finite(what, values):
+    """Raise a one-line ValueError naming ``what`` and the key if a number of
+    ``values`` (a dict of numbers or sequences of numbers) is NaN or infinite."""
+    import numpy as np
+
+    for key, value in values.items():
+        try:
+            a = np.asarray(value, dtype=np.float64).ravel()
+        except (TypeError, ValueError):  # not numbers (a name)
+            continue
+        bad = a[~np.isfinite(a)]
+        if bad.size:
+            raise ValueError(f"{what}: {key} is not finite ({bad[0]}); the measured values are too large to fit")
+
+
 def register(app):
     """Add ``pbrkit explore`` to ``app`` (the helpers of :mod:`pbrkit.app.cli` are
     imported here: ``cli`` imports this module at its end)."""
@@ -155,6 +206,13 @@ def register(app):
             raise ValueError(f"--port: must be in [0, 65535]; got {port}")
         if fit is not None and (merl is None or not static):
             raise ValueError("--fit needs --merl and --static (the app has a fit button)")
+        if fit is None and no_fit_fresnel:
+            raise ValueError("--no-fit-fresnel is for --fit ggx")
+        if fit is None and fit_weighting != "log":
+            raise ValueError("--fit-weighting is for --fit")
+        if fit == "disney" and no_fit_fresnel:
+            raise ValueError("--no-fit-fresnel: only --fit ggx takes it (disney's Schlick Fresnel is part of the "
+                             "model)")
         if compare is not None and merl is not None:
             raise ValueError("give --compare or --merl, not both (one second BRDF)")
         _unit("--metallic", metallic)
@@ -174,6 +232,10 @@ def register(app):
             from ..core.atomic import check_output_directory
 
             check_output_directory(out, force)
+        else:
+            from ..explore.server import check_port
+
+            check_port(port)  # before any work: a port in use is refused with its one line
         from ..explore import views as V
 
         for option, name in EXPLORE_PARAMETERS.items():
@@ -193,7 +255,7 @@ def register(app):
                 if model != "filament":
                     raise ValueError("--diffuse: only models cook_torrance and filament take it")
                 terms = {"diffuse": diffuse}
-        first = V.model_brdf(model, rgb, metallic, roughness, conductor=conductor, **terms, **given)
+        first = _model_brdf(V, model, rgb, metallic, roughness, conductor=conductor, **terms, **given)
         second = None
         measured = None
         if compare is not None:
@@ -202,8 +264,8 @@ def register(app):
                 second_terms = terms
             elif compare == "filament" and "diffuse" in terms:
                 second_terms = {"diffuse": terms["diffuse"]}
-            second = V.model_brdf(compare, rgb, metallic, roughness, conductor=conductor, **second_terms,
-                                  **V.applicable_parameters(compare, given))
+            second = _model_brdf(V, compare, rgb, metallic, roughness, conductor=conductor, **second_terms,
+                                 compare=True, **V.applicable_parameters(compare, given))
         if merl is not None:
             from ..measured.merl import read_merl
 
@@ -232,8 +294,14 @@ def _write_static(out, first, second, measured, fit, weighting, fit_fresnel, rad
             from ..measured.fit import FIT_MAX_THETA, fit_measured
 
             stages.start(f"fit {fit}")
-            result = fit_measured(measured, model=fit, fresnel=fit_fresnel, weighting=weighting,
-                                  max_theta=FIT_MAX_THETA)
+            try:
+                result = fit_measured(measured, model=fit, fresnel=fit_fresnel, weighting=weighting,
+                                      max_theta=FIT_MAX_THETA)
+            except ValueError as exc:
+                raise ValueError(f"--fit {fit}: {exc}") from None
+            what = f"--fit {fit}: the fit to {measured.name!r}"
+            _check_finite(what, result.parameters)
+            _check_finite(what, {f"error {k}": v for k, v in result.error.items()})
             first = V.fitted_brdf(result)
             extra["fit"] = {"model": result.model, "fresnel": result.fresnel, "weighting": result.weighting,
                             "parameters": result.parameters, "error": result.error, "measured": result.name}

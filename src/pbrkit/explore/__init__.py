@@ -5,6 +5,8 @@ Burley 2012) built on pbrkit's own models.
   by pbrkit's models (no plotting library);
 - :mod:`~pbrkit.explore.app`: the Panel / Bokeh application (served by
   ``pbrkit explore``, or displayed in Jupyter: ``explorer()``);
+- :mod:`~pbrkit.explore.server`: its local server, which answers only requests
+  that name it by a loopback name and port (no DNS rebinding);
 - :mod:`~pbrkit.explore.static`: the same views as PNG and SVG (Matplotlib),
   ``pbrkit explore --static -o DIR``.
 """

@@ -591,29 +591,11 @@ def explorer(**kwargs):
 
 
 def serve(port=0, open_browser=True, announce=print, **kwargs):
-    """Serve the explorer on http://127.0.0.1:PORT/ (only the loopback address; port
-    0 picks a free one) until Ctrl-C; ``announce`` receives the URL once the server
-    listens.  Each browser session gets its own :class:`Explorer` built with
-    ``kwargs``."""
-    import panel as pn
+    """Serve the explorer on http://127.0.0.1:PORT/ (only the loopback address, and
+    only to requests that name it: :mod:`pbrkit.explore.server`; port 0 picks a
+    free one) until Ctrl-C; ``announce`` receives the URL once the server listens.
+    Each browser session gets its own :class:`Explorer` built with ``kwargs``.  A
+    port that cannot be bound raises :class:`pbrkit.explore.server.ListenError`."""
+    from .server import run
 
-    if port == 0:
-        port = _free_port()
-    origins = [f"127.0.0.1:{port}", f"localhost:{port}"]
-    server = pn.serve({"/": lambda: explorer(**kwargs)}, port=port, address="127.0.0.1", websocket_origin=origins,
-                      show=open_browser, start=False, title="pbrkit explore", verbose=False)
-    server.start()
-    announce(f"http://127.0.0.1:{server.port}/")
-    try:
-        server.io_loop.start()
-    finally:
-        server.stop()
-
-
-def _free_port():
-    """A TCP port free on 127.0.0.1 now (the OS's choice for port 0)."""
-    import socket
-
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+    run(lambda: explorer(**kwargs), port=port, open_browser=open_browser, announce=announce)

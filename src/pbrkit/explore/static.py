@@ -19,7 +19,7 @@ import numpy as np
 
 from . import views as V
 
-__all__ = ["VIEW_NAMES", "static_figures", "write_static", "figure_bytes"]
+__all__ = ["VIEW_NAMES", "static_figures", "write_static", "figure_bytes", "check_finite"]
 
 #: The views written (each as NAME.png and NAME.svg); ``compare`` only with a second BRDF.
 VIEW_NAMES = ("incidence_plane", "lobe_3d", "theta_h_slice", "theta_d_slice", "half_diff_image", "albedo",
@@ -280,6 +280,22 @@ def _summary(brdf, second, angles, compensation, extra):
     return record
 
 
+def check_finite(record, where=""):
+    """Raise a one-line ValueError naming the entry (``explore.json:
+    second.albedo_luminance.theta_v_max``) of the first NaN or infinite number in
+    ``record`` (nested dicts and lists): the JSON written is strict (RFC 8259 has
+    no NaN or Infinity; ``json.dumps(allow_nan=False)``)."""
+    if isinstance(record, dict):
+        for key, value in record.items():
+            check_finite(value, f"{where}.{key}" if where else str(key))
+    elif isinstance(record, (list, tuple)):
+        for k, value in enumerate(record):
+            check_finite(value, f"{where}[{k}]")
+    elif isinstance(record, (float, np.floating)) and not math.isfinite(float(record)):
+        raise ValueError(f"explore.json: {where} is not finite ({float(record)}); the BRDF's values are too large "
+                         f"to summarise")
+
+
 def write_static(out, brdf, second=None, force=False, progress=None, extra=None, **angles):
     """Write every view of :func:`static_figures` as ``NAME.png`` and ``NAME.svg``
     and ``explore.json`` into the folder ``out`` (absent or empty unless
@@ -290,6 +306,13 @@ def write_static(out, brdf, second=None, force=False, progress=None, extra=None,
 
     check_output_directory(out, force)
     compensation = angles.pop("compensation", "filament")
+    defaults = {"theta_v": 45.0, "light_theta": 45.0, "light_phi": 135.0, "theta_h": 0.0, "theta_d": 30.0,
+                "phi_d": 90.0}
+    degrees = {k: round(math.degrees(angles[k]), 6) if k in angles else v for k, v in defaults.items()}
+    degrees["exposure_ev"] = float(angles.get("exposure", 0.0))
+    with V.view_threads(1):
+        record = _summary(brdf, second, degrees, compensation, extra)
+    check_finite(record)  # before drawing: strict JSON (RFC 8259 has no NaN or Infinity)
     figures = static_figures(brdf, second, compensation=compensation, progress=progress, **angles)
     files = {}
     for name, fig in figures.items():
@@ -298,13 +321,8 @@ def write_static(out, brdf, second=None, force=False, progress=None, extra=None,
         files[f"{name}.svg"] = svg
     if progress is not None:
         progress("write")
-    defaults = {"theta_v": 45.0, "light_theta": 45.0, "light_phi": 135.0, "theta_h": 0.0, "theta_d": 30.0,
-                "phi_d": 90.0}
-    degrees = {k: round(math.degrees(angles[k]), 6) if k in angles else v for k, v in defaults.items()}
-    degrees["exposure_ev"] = float(angles.get("exposure", 0.0))
-    record = _summary(brdf, second, degrees, compensation, extra)
     record["views"] = {name: [f"{name}.png", f"{name}.svg"] for name in figures}
-    files["explore.json"] = (json.dumps(record, indent=2, sort_keys=True) + "\n").encode("utf-8")
+    files["explore.json"] = (json.dumps(record, indent=2, sort_keys=True, allow_nan=False) + "\n").encode("utf-8")
     with atomic_directory(out, force) as tmp:
         for name, data in files.items():
             write_bytes(tmp / name, data)
