@@ -22,6 +22,7 @@ from ..core.errors import InputError
 from ..core.jit import kernel
 from .image_checks import (
     _check_pixels,
+    _check_size,
     _finite_float,
     _read_bytes,
     image_format,
@@ -110,6 +111,10 @@ def inflate_bounded(compressed, size, path, what="PNG image data"):
 
 
 def _decode_png16(data, path, width, height, channels):
+    """The pixels (H, W, C) uint16 of a non-interlaced 16-bit colour PNG: the size
+    checked against the limits, the compressed data (:func:`inflate_bounded`) and
+    the memory before anything is decompressed."""
+    _check_size(path, height, width)
     idat = []
     pos = 8
     while pos + 8 <= len(data):
@@ -122,7 +127,15 @@ def _decode_png16(data, path, width, height, channels):
             break
         pos += 12 + length
     stride = width * channels * 2
-    raw = np.frombuffer(inflate_bounded(b"".join(idat), height * (stride + 1), path), dtype=np.uint8)
+    compressed = b"".join(idat)
+    need = height * (stride + 1)
+    if need > DEFLATE_MAX_RATIO * len(compressed) + 64:
+        raise InputError(f"truncated PNG image data: a {width}x{height} image needs {need} bytes, its "
+                         f"{len(compressed)} compressed bytes hold at most {DEFLATE_MAX_RATIO * len(compressed) + 64}",
+                         path)
+    # compressed rows (1 + 8C bytes a pixel), unfiltered rows, uint16, float64 and float32 samples
+    _check_pixels(path, height, width, 1 + 24 * channels, "PNG image")
+    raw = np.frombuffer(inflate_bounded(compressed, need, path), dtype=np.uint8)
     rows = np.empty((height, stride), dtype=np.uint8)
     bad = _png_unfilter(raw, height, stride, channels * 2, rows)
     if bad >= 0:
@@ -136,18 +149,16 @@ def _read_ldr(path, fmt):
     data = _read_bytes(path, "a PNG or JPEG file")
     info = _png_16bit_info(data) if fmt == "png" else None
     if info is not None:
-        # compressed rows (1 + 8C bytes a pixel), unfiltered rows, uint16, float64 and float32 samples
-        _check_pixels(path, info[1], info[0], 1 + 24 * info[2], "PNG image")
         pixels = _decode_png16(data, path, *info)
     else:
         try:
-            props = iio.improps(data, extension=".png" if fmt == "png" else ".jpg")
+            props = iio.improps(data, plugin="pillow", extension=".png" if fmt == "png" else ".jpg")
             shape = props.shape
             if len(shape) >= 2:
                 channels = shape[2] if len(shape) > 2 else 1
                 # decoded samples (up to 2 bytes), the float64 sRGB decoding (2 arrays) and float32
                 _check_pixels(path, shape[0], shape[1], 22 * channels, f"{fmt.upper()} image")
-            pixels = iio.imread(data, extension=".png" if fmt == "png" else ".jpg")
+            pixels = iio.imread(data, plugin="pillow", extension=".png" if fmt == "png" else ".jpg")
         except InputError:
             raise
         except MemoryError:
