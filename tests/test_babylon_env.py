@@ -295,7 +295,7 @@ def test_read_names_the_file(tmp_path):
     path.write_bytes(b"nope")
     with pytest.raises(InputError, match="broken.env: not a Babylon.js .env file"):
         read_babylon_env(path)
-    with pytest.raises(InputError, match="missing.env: cannot read"):
+    with pytest.raises(InputError, match="missing.env: file not found"):
         read_babylon_env(tmp_path / "missing.env")
 
 

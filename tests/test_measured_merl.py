@@ -289,7 +289,7 @@ def test_bad_files(tmp_path):
     text = tmp_path / "notes.binary"
     text.write_text("MERL BRDF database: gold-metallic-paint\nthis is not the binary file\n")
     _one_line_error(text, "not a MERL BRDF file")
-    _one_line_error(tmp_path, "directory")
+    _one_line_error(tmp_path, "a folder, not a regular file")
 
 
 def test_bad_tables(tmp_path):

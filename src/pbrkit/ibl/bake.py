@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -149,10 +150,21 @@ def _check_options(size, min_size, irradiance_size, lut_size, specular_format, m
 
 
 def _sha256(path):
+    """SHA-256 of the source file ``path``: a regular file only
+    (:func:`pbrkit.core.inputs.open_regular`; a device such as /dev/zero would
+    never end), read to its length as it was opened."""
+    from ..core.inputs import open_regular
+    from ..io.image_checks import IMAGE_EXPECTED, MAX_IMAGE_BYTES
+
     digest = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(_CHUNK), b""):
+    with open_regular(path, MAX_IMAGE_BYTES, IMAGE_EXPECTED) as f:
+        left = os.fstat(f.fileno()).st_size
+        while left > 0:
+            block = f.read(min(_CHUNK, left))
+            if not block:
+                break
             digest.update(block)
+            left -= len(block)
     return digest.hexdigest()
 
 

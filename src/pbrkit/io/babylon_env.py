@@ -49,6 +49,13 @@ read back from a loaded file, ``tests/test_engine_babylon.py``).
 The PNGs are written deterministically: 8-bit RGBA, no ancillary chunks
 (no gamma or colour chunks, so browsers apply no colour conversion, and no
 timestamps), the Paeth filter on every row and zlib level 6.
+
+The reader takes the file as untrusted input (:mod:`pbrkit.io.containers`):
+only a regular file is read; every image must lie inside the file and its PNG
+header must declare the face size of its level before anything is
+decompressed, decompression is bounded by that size (:func:`pbrkit.io.png.inflate_bounded`),
+the memory of the decoded chain is checked first, and no message quotes the
+manifest or the images.
 """
 
 from __future__ import annotations
@@ -63,8 +70,9 @@ import numpy as np
 
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
+from ..core.inputs import check_allocation
 from .containers import read_container, validate_levels
-from .png import PNG_SIGNATURE, _png_unfilter, png_file_bytes
+from .png import PNG_SIGNATURE, _png_unfilter, inflate_bounded, png_file_bytes
 
 __all__ = [
     "ENV_MAGIC",
@@ -150,9 +158,11 @@ def _png_rgba8(image):
     return png_file_bytes(width, height, 8, 6, raw, _ZLIB_LEVEL)
 
 
-def _decode_png_rgba8(data, what):
-    """(H, W, 4) uint8 of an 8-bit RGBA or RGB PNG (RGB gets alpha 255);
-    raises ValueError with a short reason."""
+def _decode_png_rgba8(data, what, size=None):
+    """(H, W, 4) uint8 of an 8-bit RGBA or RGB PNG (RGB gets alpha 255), of
+    ``size`` x ``size`` pixels when ``size`` is given (checked before anything is
+    decompressed); raises ValueError with a short reason that quotes nothing of
+    the data."""
     if data[:8] != PNG_SIGNATURE:
         raise ValueError(f"{what} is not a PNG image")
     pos, header, idat = 8, None, []
@@ -161,11 +171,11 @@ def _decode_png_rgba8(data, what):
             raise ValueError(f"{what}: truncated PNG (no IEND)")
         length, tag = struct.unpack(">I4s", data[pos:pos + 8])
         if pos + 12 + length > len(data):
-            raise ValueError(f"{what}: truncated PNG chunk {tag!r}")
+            raise ValueError(f"{what}: truncated PNG chunk at byte {pos}")
         body = data[pos + 8:pos + 8 + length]
         (crc,) = struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])
         if zlib.crc32(tag + body) & 0xFFFFFFFF != crc:
-            raise ValueError(f"{what}: PNG chunk {tag!r} fails its CRC")
+            raise ValueError(f"{what}: the PNG chunk at byte {pos} fails its CRC")
         if tag == b"IHDR":
             if length != 13:
                 raise ValueError(f"{what}: bad PNG IHDR")
@@ -181,14 +191,15 @@ def _decode_png_rgba8(data, what):
     if depth != 8 or ctype not in (2, 6) or interlace != 0:
         raise ValueError(f"{what}: PNG must be 8-bit RGBA or RGB, non-interlaced "
                          f"(bit depth {depth}, colour type {ctype}, interlace {interlace})")
+    if size is not None and (width, height) != (size, size):
+        raise ValueError(f"{what}: image is {width}x{height}, expected {size}x{size}")
     channels = 4 if ctype == 6 else 3
-    try:
-        raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
-    except zlib.error as exc:
-        raise ValueError(f"{what}: corrupt PNG image data ({exc})") from None
     stride = width * channels
-    if raw.size < height * (stride + 1):
-        raise ValueError(f"{what}: truncated PNG image data")
+    try:
+        raw = np.frombuffer(inflate_bounded(b"".join(idat), height * (stride + 1), None, "PNG image data"),
+                            dtype=np.uint8)
+    except InputError as exc:
+        raise ValueError(f"{what}: {exc.problem}") from None
     rows = np.empty((height, stride), dtype=np.uint8)
     bad = _png_unfilter(raw, height, stride, channels, rows)
     if bad >= 0:
@@ -349,20 +360,28 @@ def parse_babylon_env(data, name=None):
     if end < 0:
         _fail(name, "truncated .env file: the JSON manifest has no NUL terminator")
     try:
-        manifest = json.loads(data[8:end].decode("ascii"))
-    except (UnicodeDecodeError, ValueError) as exc:
-        _fail(name, f"bad JSON manifest ({exc})")
+        text = data[8:end].decode("ascii")
+    except UnicodeDecodeError as exc:
+        _fail(name, f"the JSON manifest is not ASCII (byte {8 + exc.start})")
+    try:
+        manifest = json.loads(text)
+    except json.JSONDecodeError as exc:
+        _fail(name, f"bad JSON manifest ({exc.msg} at character {exc.pos})")
+    except (ValueError, RecursionError):
+        _fail(name, "bad JSON manifest")
     if not isinstance(manifest, dict):
         _fail(name, "the JSON manifest is not an object")
     version = manifest.get("version")
     if version not in (1, 2) or isinstance(version, bool):
-        _fail(name, f"unsupported .env version {version!r} (1 and 2 are known)")
+        _fail(name, "unsupported .env version (1 and 2 are known)")
     image_type = manifest.get("imageType", _IMAGE_TYPE) if version == 2 else _IMAGE_TYPE
     if image_type != _IMAGE_TYPE:
-        _fail(name, f"imageType {image_type!r}: only image/png can be decoded")
+        _fail(name, "imageType is not image/png, the only one that can be decoded")
     width = manifest.get("width")
     if not _non_negative_int(width) or width < 1 or width & (width - 1):
-        _fail(name, f"width {width!r} is not a power of two")
+        _fail(name, "width is not a power of two")
+    if width > 1 << 16:
+        _fail(name, "width is more than 65536, the largest face size read (corrupt manifest)")
     count = round(math.log2(width)) + 1
     specular = manifest.get("specular")
     mipmaps = specular.get("mipmaps") if isinstance(specular, dict) else None
@@ -372,8 +391,17 @@ def parse_babylon_env(data, name=None):
         _fail(name, f"{len(mipmaps)} specular images, expected {6 * count} (6 faces x {count} levels for width {width})")
     scale = specular.get("lodGenerationScale") or 0.8  # missing or 0 reads as 0.8, as in Babylon
     if not isinstance(scale, (int, float)) or isinstance(scale, bool) or not math.isfinite(scale):
-        _fail(name, f"lodGenerationScale {scale!r} is not a number")
+        _fail(name, "lodGenerationScale is not a finite number")
     payload = end + 1
+    # Every face is a PNG of at least n (3n + 1) filtered bytes, which deflate shrinks at most 1032-fold.
+    texels = 6 * sum(max(1, width >> p) ** 2 for p in range(count))
+    least = (3 * texels + 6 * sum(max(1, width >> p) for p in range(count))) // 1032
+    if least > len(data) - payload:
+        _fail(name, f"width {width}: the {6 * count} images need at least {least} bytes, the file holds "
+                    f"{len(data) - payload} after the manifest (truncated or corrupt)")
+    # per texel: the face's PNG rows and pixels (about 9 bytes), float64 decoding temporaries (80)
+    # and the float32 faces and their stack (24)
+    check_allocation(texels * 113, f"the {width}x{width} cube chain", name)
     levels = []
     for p in range(count):
         n = max(1, width >> p)
@@ -390,11 +418,9 @@ def parse_babylon_env(data, name=None):
                 _fail(name, f"{what}: image at {entry['position']}+{entry['length']} runs past the end "
                             f"of the file (truncated, {len(data)} bytes)")
             try:
-                image = _decode_png_rgba8(data[start:stop], what)
+                image = _decode_png_rgba8(data[start:stop], what, n)
             except ValueError as exc:
                 _fail(name, str(exc))
-            if image.shape[:2] != (n, n):
-                _fail(name, f"{what}: image is {image.shape[1]}x{image.shape[0]}, expected {n}x{n}")
             if np.any(image[..., 3] == 0):
                 _fail(name, f"{what}: RGBD alpha 0 (no divisor)")
             faces.append(rgbd_decode(image[::-1]))  # back to row 0 = t = 0
@@ -409,7 +435,7 @@ def parse_babylon_env(data, name=None):
             v = irradiance.get(term)
             if not (isinstance(v, list) and len(v) == 3
                     and all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in v)):
-                _fail(name, f"irradiance term {term!r} must be 3 numbers, got {v!r}")
+                _fail(name, f"irradiance term {term!r} must be 3 numbers")
             polynomial[term] = np.array(v, dtype=np.float64)
     return manifest, levels, polynomial
 
@@ -425,6 +451,6 @@ def read_babylon_env(path):
     ``irradianceTexture`` is left in the manifest, not decoded.  A bad magic,
     unterminated or invalid JSON, wrong image counts or sizes, images outside
     the file or corrupt PNGs raise :class:`~pbrkit.core.errors.InputError`
-    (a ``ValueError``) naming the file.
+    (a ``ValueError``) naming the file; no message quotes the file.
     """
-    return read_container(path, parse_babylon_env)
+    return read_container(path, parse_babylon_env, "a Babylon.js .env file")

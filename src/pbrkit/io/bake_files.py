@@ -12,13 +12,17 @@ renamed into place at the end, so a failure leaves nothing behind)::
     faces/specular_m{m}_{px|nx|py|ny|pz|nz}.exr, faces/irradiance_{face}.exr
     preview.png                        every level as a tone-mapped cross
 
-and :func:`load_bake` reads it back.  Same input and options, same bytes:
+and :func:`load_bake` reads it back, as untrusted input: regular files only, the
+manifest as bounded text (:func:`pbrkit.core.inputs.read_text`), the table with
+:func:`pbrkit.io.npy_files.read_npy`, images and KTX2 files through their readers,
+and messages that never quote the manifest.  Same input and options, same bytes:
 nothing time- or machine-dependent is written.
 """
 
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -160,7 +164,7 @@ def _entry(manifest, path, dotted, check=None, what=None):
     keys = dotted.split(".")
     for depth, key in enumerate(keys):
         if not isinstance(value, dict):
-            raise InputError(f"{'.'.join(keys[:depth])!r} must be a JSON object; got {value!r:.80}", path)
+            raise InputError(f"{'.'.join(keys[:depth])!r} must be a JSON object; got {_kind(value)}", path)
         value = value.get(key, _MISSING)
         if value is _MISSING:
             raise InputError(f"missing {'.'.join(keys[:depth + 1])!r}", path)
@@ -170,8 +174,20 @@ def _entry(manifest, path, dotted, check=None, what=None):
         except (TypeError, ValueError, OverflowError):
             ok = False
         if not ok:
-            raise InputError(f"{dotted!r} must be {what}; got {value!r:.80}", path)
+            raise InputError(f"{dotted!r} must be {what}; got {_kind(value)}", path)
     return value
+
+
+def _kind(value):
+    """What a JSON value is, for a message that must not quote the manifest: 'a
+    list of 3', 'a string', 'the number 7' (numbers are named, they are no text)."""
+    if isinstance(value, bool) or value is None:
+        return "true" if value is True else "false" if value is False else "null"
+    if isinstance(value, (int, float)):
+        return f"the number {value:.6g}" if isinstance(value, float) else f"the number {value}"
+    if isinstance(value, (list, dict)):
+        return f"{'a list' if isinstance(value, list) else 'an object'} of {len(value)}"
+    return "a string" if isinstance(value, str) else type(value).__name__
 
 
 def _positive_int(value):
@@ -184,17 +200,18 @@ def _read_manifest(root):
     unreadable, not JSON or not an object."""
     from ..core.errors import InputError
 
+    from ..core.inputs import read_text
+
     path = root / "manifest.json"
+    if not os.path.lexists(path):
+        raise InputError("not a bake directory (no manifest.json)", path)
+    text = read_text(path, expected="a bake manifest (JSON)")  # a regular file of at most MAX_TEXT_BYTES
     try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError("not a bake directory (no manifest.json)", path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read the manifest ({exc.strerror or exc})", path) from None
-    except UnicodeDecodeError:
-        raise InputError("manifest is not UTF-8 text", path) from None
+        manifest = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"manifest is not valid JSON ({exc.msg} at line {exc.lineno})", path) from None
+    except (ValueError, RecursionError):
+        raise InputError("manifest is not valid JSON (nested too deeply or a number too long)", path) from None
     if not isinstance(manifest, dict):
         raise InputError(f"manifest must be a JSON object; got {type(manifest).__name__}", path)
     return path, manifest
@@ -213,6 +230,7 @@ def load_bake(out_dir, prefer="exr"):
     from ..ibl.bake import FORMAT, Bake
     from .images import read_image
     from .ktx2 import read_ktx2
+    from .npy_files import read_npy
 
     root = Path(out_dir)
     if prefer not in ("exr", "ktx2"):
@@ -222,7 +240,7 @@ def load_bake(out_dir, prefer="exr"):
                          else "not a bake directory (a file)", root)
     path, manifest = _read_manifest(root)
     if manifest.get("format") != FORMAT:
-        raise InputError(f"not a pbrkit bake manifest (format {manifest.get('format')!r})", path)
+        raise InputError(f"not a pbrkit bake manifest ('format' is not {FORMAT!r})", path)
     levels = _entry(manifest, path, "outputs.specular.levels", _positive_int, "a positive integer")
     size = _entry(manifest, path, "outputs.specular.size", _positive_int, "a positive integer")
     irr_size = _entry(manifest, path, "outputs.irradiance.size", _positive_int, "a positive integer")
@@ -252,13 +270,10 @@ def load_bake(out_dir, prefer="exr"):
     if irradiance.shape != (6, irr_size, irr_size, 3):
         raise InputError(f"irradiance has shape {irradiance.shape}, expected {(6, irr_size, irr_size, 3)}", root)
     lut_path = root / "brdf_lut.npy"
-    try:
-        lut = np.load(lut_path, allow_pickle=False)
-    except FileNotFoundError:
-        raise InputError("missing (the DFG table of the bake)", lut_path) from None
-    except (OSError, ValueError, EOFError) as exc:
-        raise InputError(f"cannot read the table ({exc})", lut_path) from None
-    if not isinstance(lut, np.ndarray) or lut.dtype.kind not in "fiu":
+    if not os.path.lexists(lut_path):
+        raise InputError("missing (the DFG table of the bake)", lut_path)
+    lut = read_npy(lut_path, "the bake's DFG table (.npy, N x N x 2)")
+    if lut.dtype.kind not in "fiu":
         raise InputError("not a numeric .npy array", lut_path)
     if lut.ndim != 3 or lut.shape[0] != lut.shape[1] or lut.shape[2] not in (2, 3) or lut.shape[0] < 2:
         raise InputError(f"table has shape {lut.shape}, expected (N, N, 2)", lut_path)

@@ -1,4 +1,11 @@
-"""Texel encodings and level checks shared by the KTX2 and DDS containers.
+"""Texel encodings, level checks and the file reading shared by the texture
+containers (KTX 1.1, KTX 2.0, DDS, Babylon.js ``.env``).
+
+The files are untrusted input (:mod:`pbrkit.core.inputs`): :func:`read_container`
+reads only a regular file of at most :data:`MAX_CONTAINER_BYTES`, with the memory
+for it checked first, and each parser checks the level sizes its header declares
+against the file's length, then the memory of the decoded levels
+(:func:`check_decoded`), before decoding any.
 """
 
 from __future__ import annotations
@@ -9,7 +16,11 @@ import os
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.inputs import check_allocation, open_regular, size_text
 from .float_packing import pack_b10g11r11, to_float16, unpack_b10g11r11
+
+#: Largest texture container file read (a float32 RGBA cube map chain of 16384^2 faces is 8.6 GB).
+MAX_CONTAINER_BYTES = 16 << 30
 
 __all__ = [
     "texel_size",
@@ -81,16 +92,40 @@ def max_mip_levels(width, height):
     return int(math.floor(math.log2(max(width, height)))) + 1
 
 
-def read_container(path, parse):
+def read_file(path, expected, limit=MAX_CONTAINER_BYTES):
+    """The bytes of the regular file ``path`` (:func:`pbrkit.core.inputs.open_regular`:
+    a device, pipe, socket or folder is refused, also behind a symbolic link) of at
+    most ``limit`` bytes, with the memory to hold them checked before reading."""
+    with open_regular(path, limit, expected) as f:
+        size = os.fstat(f.fileno()).st_size
+        check_allocation(size, f"reading the file ({size_text(size)})", path)
+        try:
+            data = f.read(size + 1)
+        except OSError as exc:
+            raise InputError(f"cannot read file ({exc.strerror or exc}); expected {expected}", path) from None
+    if len(data) != size:
+        raise InputError(f"changed while it was read; expected {expected}", path)
+    return data
+
+
+def read_container(path, parse, expected="a texture container file"):
     """``parse(data, name=path)`` of the bytes of the texture container file
-    ``path`` (KTX2, DDS); a file that cannot be read raises :class:`InputError`
-    naming it."""
-    try:
-        with open(path, "rb") as f:
-            data = f.read()
-    except OSError as exc:
-        raise InputError(f"cannot read the file ({exc.strerror or exc})", os.fspath(path)) from None
-    return parse(data, name=os.fspath(path))
+    ``path`` (:func:`read_file`); a file that cannot be read raises
+    :class:`InputError` naming it and what was ``expected``."""
+    return parse(read_file(path, expected), name=os.fspath(path))
+
+
+#: Bytes :func:`decode_texels` allocates per decoded channel: the float32 result, plus
+#: the float16 values it converts from, or the unpacking temporaries of B10G11R11.
+_DECODED_CHANNEL_BYTES = {"float16": 6, "float32": 4, "b10g11r11": 16}
+
+
+def check_decoded(name, encoding, channels, texels, what="the texture's levels"):
+    """Refuse (:class:`InputError`) decoding ``texels`` texels when their memory
+    exceeds what is available: :func:`decode_texels`'s allocations, a copy of the
+    stored bytes and one of the result (a parser stacks cube faces)."""
+    per_texel = 2 * channels * _DECODED_CHANNEL_BYTES[encoding] + texel_size(encoding, channels)
+    check_allocation(texels * per_texel, f"{what} ({texels:,} texels)", name)
 
 
 def validate_levels(levels, cube):

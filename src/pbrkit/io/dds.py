@@ -42,6 +42,7 @@ import numpy as np
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
 from .containers import (
+    check_decoded,
     decode_texels,
     encode_texels,
     format_code,
@@ -190,7 +191,7 @@ def parse_dds(data, name=None):
     if pf_size != 32:
         _fail(name, f"DDS_PIXELFORMAT dwSize {pf_size}, expected 32")
     if not pf_flags & _DDPF_FOURCC or fourcc != _FOURCC_DX10:
-        _fail(name, f"pixel format is not FOURCC 'DX10' (flags 0x{pf_flags:X}, fourCC {fourcc!r})")
+        _fail(name, f"pixel format is not FOURCC 'DX10' (flags 0x{pf_flags:X}); pbrkit reads DX10 headers only")
     if any(reserved1) or reserved2:
         _fail(name, "reserved header fields are not zero")
     required = _DDSD_CAPS | _DDSD_HEIGHT | _DDSD_WIDTH | _DDSD_PIXELFORMAT
@@ -237,6 +238,7 @@ def parse_dds(data, name=None):
     expected = _HEADER_SIZE + faces * sum(sizes)
     if len(data) != expected:
         _fail(name, f"file has {len(data)} bytes, expected {expected} for the declared images")
+    check_decoded(name, encoding, channels, faces * sum(sizes) // texel, f"the {n_levels} level(s) of the DDS file")
     per_level = [[] for _ in range(n_levels)]
     offset = _HEADER_SIZE
     for _face in range(faces):
@@ -256,6 +258,8 @@ def read_dds(path):
     first, (H, W, C) or (6, N, N, C) for a cube map.  Strict: magic, sizes,
     FOURCC, flags and caps, DX10 fields, pitch and the exact file length are
     checked; a violation raises :class:`~pbrkit.core.errors.InputError` (a
-    ``ValueError``) naming the file.
+    ``ValueError``) naming the file.  Only a regular file is read, and the
+    images the header declares must match the file's length before any is
+    decoded (:mod:`pbrkit.io.containers`).
     """
-    return read_container(path, parse_dds)
+    return read_container(path, parse_dds, "a DDS file (DX10 header, float format)")

@@ -1,4 +1,12 @@
 """Radiance RGBE ``.hdr`` files: reader and writer (see :mod:`pbrkit.io.images`).
+
+Written from Ward, "Real Pixels" (Graphics Gems II, 1991) and the Radiance
+sources (``src/common/color.c`` ``freadcolrs``, ``resolu.h``).  The file is
+untrusted input (:mod:`pbrkit.io.image_checks`): the resolution line's size is
+checked against what the rest of the file can hold (every scanline takes at
+least 4 bytes, 4 more per old-style run marker needed to span it) and against
+the memory available before the pixels are allocated, and no message quotes
+the header.
 """
 
 from __future__ import annotations
@@ -10,7 +18,7 @@ import numpy as np
 from ..core.atomic import atomic_path
 from ..core.errors import InputError
 from ..core.jit import kernel, row_kernel
-from .image_checks import _check_size, _finite_float, _read_bytes
+from .image_checks import _check_pixels, _check_size, _finite_float, _read_bytes
 
 __all__ = [
     "read_hdr",
@@ -116,19 +124,19 @@ def _parse_hdr_header(data, path):
         line = line.strip()
         if line.startswith(b"FORMAT="):
             fmt = line[7:].strip().decode("latin-1")
-        elif line.startswith(b"EXPOSURE="):
-            notes.append(f"header {line.decode('latin-1')} not applied (pixels used as stored)")
+        elif line.startswith(b"EXPOSURE=") and "EXPOSURE" not in " ".join(notes):
+            notes.append("header EXPOSURE= not applied (pixels used as stored)")
     if fmt is not None and fmt != "32-bit_rle_rgbe":
         if fmt == "32-bit_rle_xyze":
             raise InputError("Radiance XYZE pixels are not supported (convert to RGBE)", path)
-        raise InputError(f"corrupt Radiance header: unknown FORMAT={fmt}", path)
+        raise InputError("corrupt Radiance header: unknown FORMAT= line; expected FORMAT=32-bit_rle_rgbe", path)
     nl = data.find(b"\n", end + 2, end + 2 + 256)
     if nl < 0:
         raise InputError("truncated or corrupt Radiance header (no resolution line)", path)
     res = data[end + 2:nl].strip()
     m = _RES_RE.match(res)
     if m is None or m.group(2) == m.group(5):
-        raise InputError(f"corrupt Radiance resolution line {res[:60]!r}", path)
+        raise InputError("corrupt Radiance resolution line; expected one such as '-Y 512 +X 1024'", path)
     major_sign, major_axis, n_major, minor_sign, minor_axis, n_minor = m.groups()
     n_major, n_minor = int(n_major), int(n_minor)
     if major_axis == b"Y":
@@ -136,12 +144,20 @@ def _parse_hdr_header(data, path):
     else:
         height, width = n_minor, n_major
     _check_size(path, height, width)
+    # Every scanline takes at least one flat pixel (4 bytes) and one old-style run
+    # marker (4 bytes) per base-256 digit of the rest of its length (freadcolrs).
+    least = n_major * 4 * (1 + ((n_minor - 1).bit_length() + 7) // 8) if n_minor > 0 else 0
+    if least > len(data) - (nl + 1):
+        raise InputError(f"truncated RGBE pixel data: {width}x{height} pixels need at least {least} bytes, "
+                         f"the file holds {len(data) - (nl + 1)} after its header", path)
+    # peak of _read_hdr: RGBE bytes (4), decoding temporaries (16), float RGB and a reoriented copy (24)
+    _check_pixels(path, height, width, 44, "Radiance image")
     return dict(offset=nl + 1, n_major=n_major, n_minor=n_minor, major=(major_sign + major_axis).decode(),
                 minor=(minor_sign + minor_axis).decode(), notes=notes)
 
 
 def _read_hdr(path):
-    data = _read_bytes(path)
+    data = _read_bytes(path, "a Radiance RGBE .hdr file")
     head = _parse_hdr_header(data, path)
     n_major, n_minor = head["n_major"], head["n_minor"]
     buf = np.frombuffer(data, dtype=np.uint8)
@@ -169,7 +185,9 @@ def _read_hdr(path):
 
 
 def read_hdr(path):
-    """Radiance RGBE image as float32 (H, W, 3), row 0 at the top (see module doc)."""
+    """Radiance RGBE image as float32 (H, W, 3), row 0 at the top (see module doc).
+    A file that is not a regular file, a header or size it cannot hold, or corrupt
+    run-length data raise :class:`~pbrkit.core.errors.InputError` naming it."""
     return _read_hdr(path)[0]
 
 

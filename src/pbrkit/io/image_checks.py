@@ -1,24 +1,42 @@
 """Checks and small helpers shared by the image readers and writers.
+
+Image files are untrusted input (:mod:`pbrkit.core.inputs`): a reader opens
+only regular files (:func:`open_or_fail`, :func:`_read_bytes`), of at most
+:data:`MAX_IMAGE_BYTES`, with the memory for reading them checked first; the
+size a header declares is checked against :data:`MAX_SIDE` / :data:`MAX_PIXELS`,
+against what the file can hold and against the memory available
+(:func:`_check_pixels`) before any pixel is allocated; and no message quotes
+the file's bytes, lines or header text (:func:`safe_reason` for the text of a
+library's exception).
 """
 
 from __future__ import annotations
 
+import os
+import re
 from pathlib import Path
 
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.inputs import check_allocation, open_regular, size_text
 
 __all__ = [
     "MAX_SIDE",
     "MAX_PIXELS",
+    "MAX_IMAGE_BYTES",
     "LDRInputWarning",
     "image_format",
+    "safe_reason",
 ]
 
 MAX_SIDE = 32768
 #: Largest image read, in pixels: a 32768 x 16384 equirect (6 GiB as float32 RGB).
 MAX_PIXELS = 32768 * 16384
+#: Largest image file read: :data:`MAX_PIXELS` of float32 RGBA plus 1 MiB of header.
+MAX_IMAGE_BYTES = MAX_PIXELS * 16 + (1 << 20)
+#: What an image reader expects, for the messages of :mod:`pbrkit.core.inputs`.
+IMAGE_EXPECTED = "an image file (.hdr, .exr, .pfm, .png or .jpg)"
 
 
 class LDRInputWarning(UserWarning):
@@ -52,9 +70,29 @@ def _check_size(path, height, width):
                          f"{MAX_PIXELS:,} pixels (corrupt header or absurd size)", path)
 
 
-def _read_bytes(path):
-    with open_or_fail(path) as f:
-        return f.read()
+def _check_pixels(path, height, width, bytes_per_pixel, what="image"):
+    """:func:`_check_size`, then the memory for ``bytes_per_pixel`` bytes of each of
+    the ``height`` x ``width`` pixels the reader allocates (its peak, every
+    temporary included) against the memory available
+    (:func:`pbrkit.core.inputs.check_allocation`): both before any pixel is allocated."""
+    _check_size(path, height, width)
+    check_allocation(height * width * bytes_per_pixel, f"the {width}x{height} {what}", path)
+
+
+def _read_bytes(path, expected=IMAGE_EXPECTED):
+    """The bytes of the regular file ``path`` (at most :data:`MAX_IMAGE_BYTES`), with
+    the memory to hold them checked before reading."""
+    with open_or_fail(path, expected) as f:
+        size = os.fstat(f.fileno()).st_size
+        check_allocation(size, f"reading the file ({size_text(size)})", path)
+        try:
+            data = f.read(size + 1)
+        except OSError as exc:
+            raise InputError(f"cannot read file ({exc.strerror or exc}); expected {expected}", path) from None
+    if len(data) != size:
+        raise InputError(f"changed while it was read ({len(data)} bytes read, {size} expected); expected {expected}",
+                         path)
+    return data
 
 
 def image_format(path):
@@ -71,8 +109,8 @@ def image_format(path):
             return fmt
     expected = _SUFFIX.get(path.suffix.lower())
     what = f"not a valid {expected.upper()} file" if expected else "unrecognised image format"
-    raise InputError(f"{what} (first bytes {head[:8]!r}); expected Radiance .hdr, OpenEXR .exr, .pfm, "
-                     ".png or .jpg", path)
+    raise InputError(f"{what} (its first bytes are no known image signature); expected Radiance .hdr, "
+                     "OpenEXR .exr, .pfm, .png or .jpg", path)
 
 
 def _as_hwc(image, what="image"):
@@ -97,19 +135,31 @@ def _finite_float(image, what):
 
 
 
-def open_or_fail(path):
-    """Open ``path`` for binary reading or raise :class:`InputError`."""
-    try:
-        return Path(path).open("rb")
-    except FileNotFoundError:
-        raise InputError("file not found", path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, not an image file", path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read file ({exc.strerror or exc})", path) from None
+def open_or_fail(path, expected=IMAGE_EXPECTED):
+    """``path`` opened for binary reading if it is a regular file (also behind a
+    symbolic link) of at most :data:`MAX_IMAGE_BYTES`
+    (:func:`pbrkit.core.inputs.open_regular`), else :class:`InputError`."""
+    return open_regular(path, MAX_IMAGE_BYTES, expected)
+
+
+_QUOTED = re.compile(r"""b?'(?:[^'\\]|\\.)*'|b?"(?:[^"\\]|\\.)*"|b?'[^']*$|b?"[^"]*$""")
+
+
+def safe_reason(exc, limit=160):
+    """One line from a library's exception (or text) for a message about an untrusted
+    file: anything quoted (names, bytes the library echoes from the file) becomes
+    ``'...'``, characters outside printable ASCII are dropped, and the text is cut
+    to ``limit`` characters; the exception's type name where nothing is left."""
+    text = exc if isinstance(exc, str) else str(exc)
+    text = _QUOTED.sub("'...'", text)
+    text = "".join(c for c in text if " " <= c <= "~")
+    text = " ".join(text.split())
+    if len(text) > limit:
+        text = text[:limit - 3] + "..."
+    return text or ("" if isinstance(exc, str) else type(exc).__name__)
 
 
 def _one_line(exc):
-    return " ".join(str(exc).split()) or type(exc).__name__
+    return safe_reason(exc)
 
 

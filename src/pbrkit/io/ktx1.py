@@ -59,6 +59,7 @@ import numpy as np
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
 from .containers import (
+    check_decoded,
     decode_texels,
     encode_texels,
     format_code,
@@ -247,12 +248,12 @@ def _parse_key_values(data, name):
         except UnicodeDecodeError:
             _fail(name, f"key at key/value offset {pos} is not UTF-8")
         if key in entries:
-            _fail(name, f"key {key!r} appears more than once")
+            _fail(name, f"the key at key/value offset {pos} appears more than once")
         entries[key] = kv[nul + 1 :]
         end = pos + 4 + length
         padded = end + _pad4(length)
         if padded > len(data) or any(data[end:padded]):
-            _fail(name, f"valuePadding after key {key!r} is missing or not zero")
+            _fail(name, f"valuePadding after the key at key/value offset {pos} is missing or not zero")
         pos = padded
     return entries
 
@@ -304,7 +305,7 @@ def parse_ktx1(data, name=None):
 
     texel = texel_size(encoding, channels)
     pos = _HEADER_SIZE + kv_len
-    levels = []
+    spans = []  # (offset, shape) of each level, all checked against the file before any is decoded
     info["imageSizes"] = []
     for p in range(n_levels):
         w, h = max(1, width >> p), max(1, height >> p)
@@ -321,12 +322,14 @@ def parse_ktx1(data, name=None):
         n = faces * face_size
         if pos + n > len(data):
             _fail(name, f"level {p} is truncated: needs {n} bytes at offset {pos}, the file has {len(data) - pos}")
-        shape = (6, h, w) if faces == 6 else (h, w)
-        levels.append(decode_texels(data[pos : pos + n], encoding, channels, shape))
+        spans.append((pos, n, (6, h, w) if faces == 6 else (h, w)))
         info["imageSizes"].append(image_size)
         pos += n + _pad4(n)  # mipPadding: none for 4- and 8-byte texels
     if pos != len(data):
         _fail(name, f"{len(data) - pos} unexpected bytes after the last level")
+    check_decoded(name, encoding, channels, sum(n for _, n, _ in spans) // texel,
+                  f"the {n_levels} level(s) of the KTX1 file")
+    levels = [decode_texels(data[at : at + n], encoding, channels, shape) for at, n, shape in spans]
     info["cube"] = faces == 6
     info["levelCount"] = n_levels
     return info, levels, key_values
@@ -348,6 +351,8 @@ def read_ktx1(path):
     consistency, key/value entries and padding, every imageSize and the
     exact file length; any violation raises
     :class:`~pbrkit.core.errors.InputError` (a ``ValueError``) with a
-    one-line message naming the file.
+    one-line message naming the file.  Only a regular file is read, every
+    level is checked against the file's length before any is decoded, and no
+    message quotes a key or value (:mod:`pbrkit.io.containers`).
     """
-    return read_container(path, parse_ktx1)
+    return read_container(path, parse_ktx1, "a KTX 1.1 file (R11F_G11F_B10F or RGBA16F)")

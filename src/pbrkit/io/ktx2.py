@@ -45,6 +45,7 @@ import struct
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
 from .containers import (
+    check_decoded,
     decode_texels,
     encode_texels,
     format_code,
@@ -371,16 +372,16 @@ def _parse_kvd(data, name):
             except UnicodeDecodeError:
                 pass
         if key in entries:
-            _fail(name, f"key {key!r} appears more than once")
+            _fail(name, f"the key at kvd offset {pos - 4} appears more than once")
         entries[key] = value
         keys.append(key)
         pos += length
         padded = _align(pos, 4)
         if padded > len(data) or any(data[pos:padded]):
-            _fail(name, f"valuePadding after key {key!r} is missing or not zero")
+            _fail(name, f"valuePadding after the key at kvd offset {pos - length - 4} is missing or not zero")
         pos = padded
     if keys != sorted(keys):
-        _fail(name, f"keys are not sorted by code point: {keys}")
+        _fail(name, f"the {len(keys)} keys are not sorted by code point")
     return entries
 
 
@@ -449,7 +450,7 @@ def parse_ktx2(data, name=None):
     key_values = _parse_kvd(data[kvd_off : kvd_off + kvd_len], name) if kvd_len else {}
     orientation = key_values.get("KTXorientation")
     if orientation is not None and orientation != "rd":
-        _fail(name, f"KTXorientation {orientation!r} is not supported (pbrkit reads 'rd', top-left origin)")
+        _fail(name, "KTXorientation is not 'rd' (top-left origin), the only one pbrkit reads")
 
     texel = texel_size(encoding, channels)
     alignment = math.lcm(texel, 4)
@@ -458,10 +459,10 @@ def parse_ktx2(data, name=None):
         {"byteOffset": o, "byteLength": n, "uncompressedByteLength": u} for o, n, u in entries
     ]
     # Levels are stored smallest first, each at the next lcm(texel, 4) boundary
-    # with zero mipPadding; level 0 ends the file.
+    # with zero mipPadding; level 0 ends the file.  All are checked against the
+    # file before any is decoded.
     expected_offset = _align(meta_end, alignment)
     previous_end = meta_end
-    levels = [None] * n_levels
     for p in reversed(range(n_levels)):
         offset, length, uncompressed = entries[p]
         w, h = max(1, width >> p), max(1, height >> p)
@@ -472,16 +473,22 @@ def parse_ktx2(data, name=None):
         if offset != expected_offset:
             _fail(name, f"level {p}: byteOffset {offset}, expected {expected_offset} "
                         f"(levels smallest first, aligned to {alignment})")
+        if offset + length > len(data):
+            _fail(name, f"level {p} ({length} bytes at offset {offset}) extends past the end of the file "
+                        f"({len(data)} bytes)")
         if any(data[previous_end:offset]):
             _fail(name, f"mipPadding before level {p} is not zero")
-        if offset + length > len(data):
-            _fail(name, f"level {p} extends past the end of the file")
-        shape = (6, h, w) if faces == 6 else (h, w)
-        levels[p] = decode_texels(data[offset : offset + length], encoding, channels, shape)
         previous_end = offset + length
         expected_offset = _align(previous_end, alignment)
     if previous_end != len(data):
         _fail(name, f"{len(data) - previous_end} unexpected bytes after level 0")
+    check_decoded(name, encoding, channels, sum(n for _, n, _ in entries) // texel,
+                  f"the {n_levels} level(s) of the KTX2 file")
+    levels = []
+    for p, (offset, length, _) in enumerate(entries):
+        w, h = max(1, width >> p), max(1, height >> p)
+        shape = (6, h, w) if faces == 6 else (h, w)
+        levels.append(decode_texels(data[offset : offset + length], encoding, channels, shape))
     return header, levels, key_values
 
 
@@ -498,6 +505,8 @@ def read_ktx2(path):
     and lengths, DFD contents for the format, key order and padding, level
     order, alignment, zero padding and the exact file length are checked;
     any violation raises :class:`~pbrkit.core.errors.InputError` (a
-    ``ValueError``) naming the file.
+    ``ValueError``) naming the file.  Only a regular file is read, every
+    level is checked against the file's length before any is decoded, and
+    no message quotes a key or value (:mod:`pbrkit.io.containers`).
     """
-    return read_container(path, parse_ktx2)
+    return read_container(path, parse_ktx2, "a KTX 2.0 file (float format)")

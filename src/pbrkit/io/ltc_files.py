@@ -37,6 +37,7 @@ lobe (Fc = (1 - v.h)^5), written in the same formats (:func:`write_fresnel_table
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -170,13 +171,12 @@ def read_ltc_npy(path):
     when it is missing, unreadable or not such a table."""
     from ..core.errors import InputError
 
+    from .npy_files import read_npy
+
     path = Path(path)
-    try:
-        table = np.load(path, allow_pickle=False)
-    except FileNotFoundError:
-        raise InputError("no such LTC table", path) from None
-    except (OSError, ValueError, EOFError) as exc:
-        raise InputError(f"cannot read the LTC table ({exc})", path) from None
+    if not os.path.lexists(path):
+        raise InputError("no such LTC table", path)
+    table = read_npy(path, "an LTC table (.npy, N x N x 4)")  # a regular file, its length what its header says
     try:
         return check_ltc_table(table, "the LTC table")
     except ValueError as exc:

@@ -1,4 +1,12 @@
 """Portable Float Map ``.pfm`` files (see :mod:`pbrkit.io.images`).
+
+Written from Paul Debevec's description of the format (HDRShop, "PFM Portable
+Float Map"): ``PF`` (RGB) or ``Pf`` (grey), white space, ``W H``, white space,
+a scale whose sign gives the byte order (negative: little-endian), one white
+space character, then W x H float32 pixels, rows bottom to top.  The file is
+untrusted input (:mod:`pbrkit.io.image_checks`): the declared size is checked
+against the file's length and the memory available before the pixels are
+copied, and no message quotes the header.
 """
 
 from __future__ import annotations
@@ -9,7 +17,7 @@ import numpy as np
 
 from ..core.atomic import atomic_path
 from ..core.errors import InputError
-from .image_checks import _check_size, _finite_float, _read_bytes
+from .image_checks import _check_pixels, _check_size, _finite_float, _read_bytes
 
 __all__ = [
     "read_pfm",
@@ -23,22 +31,23 @@ _PFM_RE = re.compile(rb"^(PF|Pf)\s+(\d+)\s+(\d+)\s+([-+]?(?:\d+\.?\d*|\.\d+)(?:[
 
 
 def _read_pfm(path):
-    data = _read_bytes(path)
+    data = _read_bytes(path, "a Portable Float Map .pfm file")
     m = _PFM_RE.match(data[:256])
     if m is None:
         if data[:2] in (b"PF", b"Pf"):
             raise InputError("corrupt or truncated PFM header", path)
-        raise InputError(f"not a PFM file (first bytes {data[:8]!r})", path)
+        raise InputError("not a PFM file (no 'PF' or 'Pf' signature)", path)
     kind, width, height, scale = m.groups()
     width, height, scale = int(width), int(height), float(scale)
     _check_size(path, height, width)
     if scale == 0.0 or not np.isfinite(scale):
-        raise InputError(f"corrupt PFM header: scale {scale} must be non-zero", path)
+        raise InputError("corrupt PFM header: the scale must be a non-zero finite number", path)
     channels = 3 if kind == b"PF" else 1
     count = width * height * channels
     offset = m.end()
     if len(data) - offset < 4 * count:
         raise InputError(f"truncated PFM data ({len(data) - offset} of {4 * count} bytes)", path)
+    _check_pixels(path, height, width, 8 * channels, "PFM image")  # a byte-swapped copy, then the flipped one
     dtype = np.dtype("<f4" if scale < 0 else ">f4")
     img = np.frombuffer(data, dtype=dtype, count=count, offset=offset).reshape(height, width, channels)
     notes = [f"PFM {'little' if scale < 0 else 'big'}-endian"]
@@ -48,7 +57,8 @@ def _read_pfm(path):
 
 
 def read_pfm(path):
-    """Portable Float Map as float32 (H, W, 3) or (H, W, 1), row 0 at the top."""
+    """Portable Float Map as float32 (H, W, 3) or (H, W, 1), row 0 at the top; values
+    as stored (NaN and Inf included).  Refusals: :class:`~pbrkit.core.errors.InputError`."""
     return _read_pfm(path)[0]
 
 

@@ -1,4 +1,12 @@
 """PNG and JPEG files: 8- and 16-bit, sRGB-decoded on reading (see :mod:`pbrkit.io.images`).
+
+16-bit colour PNGs are decoded here from the PNG specification (ISO/IEC 15948,
+sections 5 "Datastream structure", 9 "Filtering" and 10 "Compression"); the
+others go through imageio (Pillow).  The file is untrusted input
+(:mod:`pbrkit.io.image_checks`): the IHDR size is checked against the size
+limits, against what the compressed data can hold (deflate expands at most
+1032-fold, RFC 1951) and against the memory available before decompressing,
+which is bounded by the size declared; no message quotes the file.
 """
 
 from __future__ import annotations
@@ -13,11 +21,12 @@ from ..core.color import linear_to_srgb, srgb_to_linear
 from ..core.errors import InputError
 from ..core.jit import kernel
 from .image_checks import (
+    _check_pixels,
     _check_size,
     _finite_float,
-    _one_line,
     _read_bytes,
     image_format,
+    safe_reason,
 )
 
 __all__ = [
@@ -80,7 +89,32 @@ def _png_16bit_info(data):
     return width, height, 3 if ctype == 2 else 4
 
 
+#: Largest expansion of deflate (RFC 1951): 258 bytes from a 2-bit code, about 1032 to 1.
+DEFLATE_MAX_RATIO = 1032
+
+
+def inflate_bounded(compressed, size, path, what="PNG image data"):
+    """The first ``size`` bytes zlib-decompressed from ``compressed``, refused
+    (:class:`InputError`) when ``compressed`` cannot hold that many (deflate's
+    largest expansion, :data:`DEFLATE_MAX_RATIO`), is corrupt, or ends before them;
+    never more than ``size`` bytes are produced."""
+    if size > DEFLATE_MAX_RATIO * len(compressed) + 64:
+        raise InputError(f"truncated {what}: {size} bytes declared, {len(compressed)} compressed bytes can hold "
+                         f"at most {DEFLATE_MAX_RATIO * len(compressed) + 64}", path)
+    try:
+        raw = zlib.decompressobj().decompress(compressed, size)
+    except zlib.error:
+        raise InputError(f"corrupt {what} (not valid zlib data)", path) from None
+    if len(raw) < size:
+        raise InputError(f"truncated {what} ({len(raw)} of {size} bytes)", path)
+    return raw
+
+
 def _decode_png16(data, path, width, height, channels):
+    """The pixels (H, W, C) uint16 of a non-interlaced 16-bit colour PNG: the size
+    checked against the limits, the compressed data (:func:`inflate_bounded`) and
+    the memory before anything is decompressed."""
+    _check_size(path, height, width)
     idat = []
     pos = 8
     while pos + 8 <= len(data):
@@ -92,13 +126,16 @@ def _decode_png16(data, path, width, height, channels):
         elif ctype == b"IEND":
             break
         pos += 12 + length
-    try:
-        raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
-    except zlib.error as exc:
-        raise InputError(f"corrupt PNG image data ({exc})", path) from None
     stride = width * channels * 2
-    if raw.size < height * (stride + 1):
-        raise InputError("truncated PNG image data", path)
+    compressed = b"".join(idat)
+    need = height * (stride + 1)
+    if need > DEFLATE_MAX_RATIO * len(compressed) + 64:
+        raise InputError(f"truncated PNG image data: a {width}x{height} image needs {need} bytes, its "
+                         f"{len(compressed)} compressed bytes hold at most {DEFLATE_MAX_RATIO * len(compressed) + 64}",
+                         path)
+    # compressed rows (1 + 8C bytes a pixel), unfiltered rows, uint16, float64 and float32 samples
+    _check_pixels(path, height, width, 1 + 24 * channels, "PNG image")
+    raw = np.frombuffer(inflate_bounded(compressed, need, path), dtype=np.uint8)
     rows = np.empty((height, stride), dtype=np.uint8)
     bad = _png_unfilter(raw, height, stride, channels * 2, rows)
     if bad >= 0:
@@ -109,26 +146,30 @@ def _decode_png16(data, path, width, height, channels):
 def _read_ldr(path, fmt):
     import imageio.v3 as iio
 
-    data = _read_bytes(path)
+    data = _read_bytes(path, "a PNG or JPEG file")
     info = _png_16bit_info(data) if fmt == "png" else None
     if info is not None:
-        _check_size(path, info[1], info[0])
         pixels = _decode_png16(data, path, *info)
     else:
         try:
-            props = iio.improps(data, extension=".png" if fmt == "png" else ".jpg")
+            props = iio.improps(data, plugin="pillow", extension=".png" if fmt == "png" else ".jpg")
             shape = props.shape
             if len(shape) >= 2:
-                _check_size(path, shape[0], shape[1])
-            pixels = iio.imread(data, extension=".png" if fmt == "png" else ".jpg")
+                channels = shape[2] if len(shape) > 2 else 1
+                # decoded samples (up to 2 bytes), the float64 sRGB decoding (2 arrays) and float32
+                _check_pixels(path, shape[0], shape[1], 22 * channels, f"{fmt.upper()} image")
+            pixels = iio.imread(data, plugin="pillow", extension=".png" if fmt == "png" else ".jpg")
         except InputError:
             raise
+        except MemoryError:
+            raise InputError(f"not enough memory to decode the {fmt.upper()} file", path) from None
         except Exception as exc:
-            raise InputError(f"corrupt or truncated {fmt.upper()} file ({_one_line(exc)})", path) from None
+            raise InputError(f"corrupt or truncated {fmt.upper()} file ({safe_reason(exc)})", path) from None
     if pixels.ndim == 2:
         pixels = pixels[:, :, None]
     if pixels.dtype not in (np.uint8, np.uint16) or pixels.ndim != 3:
-        raise InputError(f"unsupported {fmt.upper()} pixel layout {pixels.dtype} {pixels.shape}", path)
+        raise InputError(f"unsupported {fmt.upper()} pixel layout {pixels.dtype} {pixels.shape}; expected 8- or "
+                         "16-bit grey, RGB or RGBA", path)
     bits = 8 * pixels.dtype.itemsize
     notes = [f"{fmt.upper()} {bits}-bit sRGB decoded to linear"]
     if fmt == "png" and info is None and len(data) > 28 and data[24] == 16 and pixels.dtype == np.uint8:

@@ -39,12 +39,20 @@ Directions below the horizon, and missing bins, give 0.
 The database is not bundled (its licence is non-commercial); pbrkit's tests
 write synthetic files from its own models with :func:`merl_table` and
 :func:`write_merl`.
+
+A file is untrusted input (:mod:`pbrkit.core.inputs`): :func:`read_merl` opens
+only a regular file, reads its 12-byte header first, and reads the values only
+when the header declares the 90 x 90 x 180 table and the file's length is
+exactly what that declaration gives (12 + 3 x 1458000 x 8 bytes), with the
+memory checked first; no message quotes the file's bytes or the header's
+numbers (a header that is not the table's is not echoed: it may be text).
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -52,6 +60,7 @@ import numpy as np
 
 from ..core.atomic import write_bytes
 from ..core.errors import InputError
+from ..core.inputs import check_allocation, open_regular
 from ..core.jit import dual_use, row_kernel, select
 from ..core.vec import orthonormal_basis_xyz
 
@@ -348,41 +357,67 @@ class MerlBRDF:
 # ------------------------------------------------------------------ the file
 
 
+def _other_header(dims, size):
+    """Why a header ``dims`` other than (90, 90, 180) is refused.  Its numbers are
+    named only where each is a plausible dimension (1 to 65536: two zero high
+    bytes, which text never has), so a text file's first bytes are never echoed."""
+    if not all(1 <= d <= 1 << 16 for d in dims):
+        return ("not a MERL BRDF file: its 12-byte header is not three little-endian int32 dimensions; "
+                "expected 90 x 90 x 180")
+    declared = _HEADER_BYTES + 3 * 8 * math.prod(dims)
+    agrees = "the file's length agrees" if declared == size else f"{declared} bytes, the file has {size}"
+    return (f"not a MERL BRDF file of the database's table: header dimensions {dims[0]} x {dims[1]} x {dims[2]} "
+            f"({agrees}); pbrkit reads 90 x 90 x 180 bins")
+
+
+_EXPECTED = "a MERL BRDF file (a 90 x 90 x 180 int32 header and 3 x 1458000 float64 values)"
+
+
 def _read_file(path):
-    try:
-        with Path(path).open("rb") as f:
-            return f.read(_FILE_BYTES + 1)
-    except FileNotFoundError:
-        raise InputError("file not found", path) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, not a MERL BRDF file", path) from None
-    except OSError as exc:
-        raise InputError(f"cannot read file ({exc.strerror or exc})", path) from None
+    """The bytes of the MERL file ``path``: the header checked before the values
+    are read (module doc)."""
+    with open_regular(path, None, _EXPECTED) as f:
+        size = os.fstat(f.fileno()).st_size
+        try:
+            head = f.read(_HEADER_BYTES)
+        except OSError as exc:
+            raise InputError(f"cannot read file ({exc.strerror or exc}); expected {_EXPECTED}", path) from None
+        if len(head) < _HEADER_BYTES:
+            raise InputError(f"not a MERL BRDF file: {size} bytes, shorter than its 12-byte header", path)
+        dims = tuple(int(x) for x in np.frombuffer(head, dtype="<i4", count=3))
+        if dims != MERL_SHAPE:
+            raise InputError(_other_header(dims, size), path)
+        if size != _FILE_BYTES:
+            if size < _FILE_BYTES:
+                problem = f"truncated MERL BRDF file: {size} bytes, expected the {_FILE_BYTES} its header declares"
+            else:
+                problem = (f"MERL BRDF file of {size} bytes, longer than the {_FILE_BYTES} its header declares "
+                           "(trailing data)")
+            raise InputError(problem, path)
+        # the values, a non-finite mask, the scaled table and the MerlBRDF's copy
+        check_allocation(_FILE_BYTES * 3 + _BINS * 3, "the MERL table", path)
+        try:
+            data = f.read(_FILE_BYTES - _HEADER_BYTES + 1)
+        except OSError as exc:
+            raise InputError(f"cannot read file ({exc.strerror or exc}); expected {_EXPECTED}", path) from None
+    if len(data) != _FILE_BYTES - _HEADER_BYTES:
+        raise InputError(f"changed while it was read; expected {_EXPECTED}", path)
+    return data
 
 
 def read_merl(path) -> MerlBRDF:
     """Read a MERL binary BRDF file (module doc) into a :class:`MerlBRDF` named
-    after the file's stem.  A missing or unreadable file, a header other than
+    after the file's stem.  A missing file or one that is not a regular file (a
+    device, pipe or folder, also behind a symbolic link), a header other than
     (90, 90, 180), a file shorter or longer than 12 + 3 x 1458000 x 8 bytes, or
     NaN / Inf values raise :class:`pbrkit.core.errors.InputError` with one line
-    naming the file."""
+    naming the file and never quoting it."""
     data = _read_file(path)
-    if len(data) < _HEADER_BYTES:
-        raise InputError(f"not a MERL BRDF file: {len(data)} bytes, shorter than its 12-byte header", path)
-    dims = tuple(int(x) for x in np.frombuffer(data, dtype="<i4", count=3))
-    if dims != MERL_SHAPE:
-        raise InputError(f"not a MERL BRDF file: header dimensions {dims[0]} x {dims[1]} x {dims[2]}, "
-                         f"expected 90 x 90 x 180", path)
-    if len(data) != _FILE_BYTES:
-        if len(data) < _FILE_BYTES:
-            problem = f"truncated MERL BRDF file: {len(data)} bytes, expected {_FILE_BYTES}"
-        else:
-            problem = f"MERL BRDF file longer than the {_FILE_BYTES} bytes its header gives (trailing data)"
-        raise InputError(problem, path)
-    raw = np.frombuffer(data, dtype="<f8", offset=_HEADER_BYTES).reshape((3,) + MERL_SHAPE)
+    raw = np.frombuffer(data, dtype="<f8").reshape((3,) + MERL_SHAPE)
     bad = ~np.isfinite(raw)
     if np.any(bad):
         raise InputError(f"MERL BRDF file has {int(bad.sum())} non-finite (NaN / Inf) value(s)", path)
+    del bad
     table = raw * np.asarray(MERL_SCALE)[:, None, None, None]
     return MerlBRDF(table, Path(path).name.split(".")[0] or Path(path).name)
 
