@@ -101,3 +101,20 @@ def test_package_data_is_declared():
     data = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]
     assert {"environment.hdr", "LICENSE-environment.md"} <= set(data["pbrkit.data"])
     assert (ROOT / "src" / "pbrkit" / "data" / "__init__.py").is_file()
+
+
+def test_readme_input_rules_state_the_limits_the_code_enforces():
+    """The README's "Input rules" section states the limits of pbrkit.core.inputs and
+    the glTF reader, and the options it names exist on the commands."""
+    from typer.main import get_command
+
+    from pbrkit.app.cli import app
+    from pbrkit.core.inputs import MAX_TEXT_BYTES, size_text
+    from pbrkit.io.gltf_document import MAX_GLTF_BYTES
+
+    text = " ".join((ROOT / "README.md").read_text().split("## Input rules", 1)[1].split("\n## ", 1)[0].split())
+    assert MAX_GLTF_BYTES % (1 << 30) == 0
+    assert f"at most {size_text(MAX_TEXT_BYTES)}, glTF files {MAX_GLTF_BYTES >> 30} GiB" in text
+    render = get_command(app).commands["render"]
+    assert "--allow-root" in {opt for p in render.params for opt in p.opts}
+    assert "allow_roots" in text and "--allow-root" in text
