@@ -19,6 +19,7 @@ from .cli import (
     EXPOSURE_LIMIT,
     LAYOUTS,
     MODES,
+    OUT_DIR,
     RENDER_ENGINES,
     TONEMAPS,
     _check_exposure,
@@ -54,7 +55,7 @@ def _list_option():
 
 
 def _out_option():
-    return typer.Option(..., "-o", "--out", metavar="DIR",
+    return typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
                         help="Output folder: OUT/<name>/ per input, OUT/index.html, OUT/batch.json.")
 
 
@@ -172,8 +173,6 @@ def batch_bake(
     targets = check_bake_options(options, target)
     _cluster_checks(scheduler, workers, threads, dashboard)
     found = expand_inputs(inputs, list_file, "bake")
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"{out}: exists and is not a directory")
     with BatchProgress("batch bake", len(found), quiet) as progress:
         summary = run_batch("bake", found, out, options, targets, force=force, scheduler=scheduler,
                             workers=workers, threads=threads, dashboard=dashboard, progress=progress)
@@ -239,8 +238,6 @@ def batch_render(
                                   bake_size, fix_nonfinite, occlusion, style, image_format)
     _cluster_checks(scheduler, workers, threads, dashboard)
     found = expand_inputs(scenes, list_file, "render")
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"{out}: exists and is not a directory")
     with BatchProgress("batch render", len(found), quiet) as progress:
         summary = run_batch("render", found, out, options, force=force, scheduler=scheduler, workers=workers,
                             threads=threads, dashboard=dashboard, progress=progress)
