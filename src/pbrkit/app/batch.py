@@ -43,7 +43,7 @@ The rules (the README's ``pbrkit batch`` section states them for users):
   The re-run finds no folder (the rename never happened) or a complete one.
 - **Workers**: a ``LocalCluster``'s workers are forked from this process with
   the tasks' modules already imported, where that is safe (Linux, Numba's
-  thread pool not started here: :func:`_fork_is_safe`), else spawned (Dask's
+  thread pool not started here: :func:`pbrkit.app.scheduler._fork_is_safe`), else spawned (Dask's
   default); each runs one task at a time with ``--threads`` Numba threads.
 - **Numba's cache** (:mod:`pbrkit.core.jit`): the workers of a
   ``LocalCluster`` share this process's ``$PBRKIT_CACHE_DIR`` (or its
@@ -81,6 +81,8 @@ import warnings
 from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
+
+from .scheduler import DEFAULT_SCHEDULER_TIMEOUT, cache_is_cold, cache_state, dask_client, default_workers
 
 __all__ = [
     "KINDS",
@@ -633,150 +635,6 @@ def run_task(job):
     return dict(base, **outcome)
 
 
-# =================================================================== cluster
-
-
-def cache_state(kind="bake"):
-    """(cache directory, whether it holds compiled kernels of the subpackage the
-    batch's tasks use: ``ibl`` for bakes, ``render`` for renders), as seen by the
-    process that calls it (a worker)."""
-    from ..core.cache import cache_directory, cached_kernels
-
-    return str(cache_directory()), cached_kernels("ibl" if kind == "bake" else "render")
-
-
-def cache_is_cold(client, kind):
-    """True when every worker reports the same Numba cache directory and it has no
-    kernels yet for ``kind`` (:func:`cache_state`): the batch then runs its first
-    input alone, so that the other workers load what it compiled."""
-    try:
-        states = client.run(cache_state, kind)
-    except Exception:  # a worker that cannot answer: no warm-up
-        return False
-    folders = {folder for folder, _ in states.values()}
-    return bool(states) and len(folders) == 1 and not any(warm for _, warm in states.values())
-
-
-def default_workers():
-    """Worker processes of a LocalCluster by default: the cores this process may use."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):
-        return max(1, os.cpu_count() or 1)
-
-
-#: Modules a task imports (at its top or inside functions), imported once in this process
-#: before a LocalCluster forks its workers, so that no worker imports them again.
-_TASK_MODULES = {
-    "bake": ("pbrkit.ibl.bake", "pbrkit.io.bake_files", "pbrkit.io.environment", "pbrkit.io.images",
-             "pbrkit.albedo.tables", "pbrkit.ibl.sh", "pbrkit.ibl.spectral", "pbrkit.ibl.irradiance",
-             "pbrkit.io.ktx2", "pbrkit.io.ktx1", "pbrkit.io.dds", "pbrkit.io.exr", "pbrkit.io.png",
-             "pbrkit.io.lut_files", "pbrkit.io.babylon_env", "imageio.v3", "imageio.plugins.pillow"),
-    "render": ("pbrkit.render.run", "pbrkit.render.scene", "pbrkit.npr.style", "pbrkit.npr.render",
-               "pbrkit.io.environment", "pbrkit.io.images", "pbrkit.io.exr", "pbrkit.io.png", "pbrkit.ibl.bake",
-               "pbrkit.io.bake_files", "pbrkit.albedo.tables", "imageio.v3", "imageio.plugins.pillow"),
-}
-
-
-def _fork_is_safe():
-    """Whether a LocalCluster may fork its workers from this process: Linux (macOS's
-    system libraries are not fork-safe, Windows cannot fork), and Numba's
-    threading layer not launched here (a forked OpenMP or workqueue pool hangs in
-    the child; the command's own process runs no kernel, a script that baked
-    before calling :func:`run_batch` has launched it)."""
-    if not sys.platform.startswith("linux") or not hasattr(os, "register_at_fork"):
-        return False
-    parallel = sys.modules.get("numba.np.ufunc.parallel")
-    return not getattr(parallel, "_is_initialized", False)
-
-
-def _signals_as_default():
-    """In a forked worker: SIGTERM and SIGINT as in a new Python process (the
-    command's handlers, which raise in its main thread, are not the worker's)."""
-    import signal
-
-    with contextlib.suppress(ValueError, OSError):
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-
-
-_AT_FORK = []
-
-
-@contextlib.contextmanager
-def dask_client(scheduler=None, workers=None, threads=None, kind="bake", dashboard=True):
-    """A ``distributed.Client``, and a line describing the cluster.
-
-    With ``scheduler`` (``tcp://HOST:PORT``): a client of that scheduler (its
-    workers as they were started).  Else a ``LocalCluster`` of ``workers``
-    processes (default :func:`default_workers`), one Dask thread each (a task
-    at a time) and ``threads`` (default 1) Numba threads for the parallel
-    kernels inside a task (the jobs carry it: :func:`run_task` calls
-    ``numba.set_num_threads``).  Its workers share this process's Numba cache
-    (``PBRKIT_CACHE_DIR``).  They are forked from this process, with the
-    modules of ``kind``'s tasks already imported (:data:`_TASK_MODULES`), when
-    that is safe (:func:`_fork_is_safe`); else spawned as fresh interpreters
-    (Dask's default), which costs each about a second more to start and to
-    import, and a second more to stop.  ``dashboard``: the scheduler's Bokeh
-    dashboard on port 8787 (another if that one is taken), about 1 s of the
-    start on the 2-core machine."""
-    import logging
-
-    import dask
-    from distributed import Client, LocalCluster
-
-    if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError) as exc:
-            raise OSError(f"{scheduler}: cannot reach the Dask scheduler ({exc})") from None
-        try:
-            n = len(client.scheduler_info().get("workers", {}))
-            if n == 0:
-                client.wait_for_workers(1, timeout=60)
-                n = len(client.scheduler_info().get("workers", {}))
-        except (OSError, TimeoutError):
-            client.close()
-            raise OSError(f"{scheduler}: the scheduler has no workers (waited 60 s)") from None
-        try:
-            yield client, f"scheduler {scheduler} ({n} worker{'s' if n != 1 else ''})"
-        finally:
-            client.close()
-        return
-    workers = default_workers() if workers is None else int(workers)
-    threads = 1 if threads is None else int(threads)
-    env = {}
-    if os.environ.get("PBRKIT_CACHE_DIR"):
-        env["PBRKIT_CACHE_DIR"] = os.environ["PBRKIT_CACHE_DIR"]
-    method = "fork" if _fork_is_safe() else "spawn"
-    if method == "spawn":  # a forked worker keeps Numba's configuration (and uses numba.set_num_threads)
-        env["NUMBA_NUM_THREADS"] = str(threads)
-    else:
-        import importlib
-
-        for name in _TASK_MODULES.get(kind, ()):
-            with contextlib.suppress(ImportError):
-                importlib.import_module(name)
-        if not _AT_FORK:
-            os.register_at_fork(after_in_child=_signals_as_default)
-            _AT_FORK.append(True)
-    with dask.config.set({"distributed.worker.multiprocessing-method": method}):  # restarts too
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")  # it picks another
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   silence_logs=logging.ERROR, env=env,
-                                   dashboard_address=":8787" if dashboard else None)
-        try:
-            client = Client(cluster)
-            try:
-                yield client, (f"LocalCluster: {workers} worker{'s' if workers != 1 else ''} x "
-                               f"{threads} Numba thread{'s' if threads != 1 else ''}")
-            finally:
-                client.close()
-        finally:
-            cluster.close()
-
-
 # ================================================================== progress
 
 
@@ -899,13 +757,15 @@ def _killed_outcome(job, exc):
 
 
 def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, scheduler=None, workers=None,
-              threads=None, dashboard=True, progress=None):
+              threads=None, dashboard=True, progress=None, scheduler_timeout=DEFAULT_SCHEDULER_TIMEOUT):
     """Run a batch (module doc) and write ``out/batch.json`` and ``out/index.html``.
 
     ``kind`` ``"bake"`` or ``"render"``; ``inputs`` from :func:`expand_inputs`;
     ``options`` from :func:`bake_jobs_options` / :func:`render_jobs_options`;
     ``targets`` the bake's engine targets.  ``progress`` a
-    :class:`BatchProgress` (or None).  Returns the summary (what batch.json
+    :class:`BatchProgress` (or None).  ``scheduler``: a ``--scheduler`` address,
+    which has ``scheduler_timeout`` seconds to answer
+    (:func:`pbrkit.app.scheduler.connect_scheduler`).  Returns the summary (what batch.json
     holds): per input, in input order, its outcome (:func:`run_task`)."""
     from .. import __version__
     from ..core.atomic import atomic_group
@@ -927,7 +787,7 @@ def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, 
     interrupted = False
     finished_all = False
     try:
-        with dask_client(scheduler, workers, threads, kind, dashboard) as (client, description):
+        with dask_client(scheduler, workers, threads, kind, dashboard, scheduler_timeout) as (client, description):
             info["cluster"] = description
             progress.note(description)
             if dashboard or scheduler is not None:
