@@ -171,10 +171,10 @@ def test_no_dask_scheduler_is_one_line_within_the_timeout(tmp_path, hdr, capfd, 
         if server is not None:
             server.close()
     line = one_error_line(result)
-    assert line == f"pbrkit: error: --scheduler {address}: no Dask scheduler answered within 1 s ({reason}" + \
-        line[len(f"pbrkit: error: --scheduler {address}: no Dask scheduler answered within 1 s ({reason}"):], line
-    assert line.endswith(")") and SECRET not in line and "Traceback" not in line
-    assert seconds < 8.0, seconds  # 1 s and the bake's option check; never Dask's default waits
+    assert line.startswith(f"pbrkit: error: --scheduler {address}: no Dask scheduler answered within 1 s "
+                           f"({reason}") and line.endswith(")"), line
+    assert SECRET not in line
+    assert seconds < 20.0, seconds  # 1 s, and the bake option check's imports; not Dask's default of 30 s
     assert not (tmp_path / "out").exists()
     captured = capfd.readouterr()
     assert SECRET not in captured.err and "Traceback" not in captured.err, captured.err  # Dask's own loggers

@@ -152,60 +152,85 @@ def _chain(exc):
 
 
 def _connect_reason(exc):
-    """Why Dask's connect gave up, in a few words, from the exceptions it chained."""
+    """Why a connection failed, in a few words, from the exceptions chained to ``exc``,
+    and whether to try again (a refused connection: the scheduler may be starting)."""
     import socket
 
     for e in reversed(_chain(exc)):  # innermost first: the socket's own error
         if isinstance(e, ConnectionRefusedError):
-            return "connection refused"
+            return "connection refused", True
         if isinstance(e, socket.gaierror):
-            return "unknown host"
-        if isinstance(e, ConnectionResetError):
-            return "connection reset"
+            return "unknown host", False
         if isinstance(e, OSError) and e.errno is not None and e.strerror:
-            return e.strerror[:1].lower() + e.strerror[1:]
-    if any(type(e).__name__ == "CommClosedError" for e in _chain(exc)):  # connected, then closed: each try
-        return "the server closed the connection: not a Dask scheduler"
-    return "could not connect"
+            return e.strerror[:1].lower() + e.strerror[1:], False
+    if any(type(e).__name__ in ("CommClosedError", "StreamClosedError") for e in _chain(exc)):
+        return "the server closed the connection: not a Dask scheduler", False
+    return f"could not connect ({type(exc).__name__})", False
 
 
-class _Silent(Exception):
-    """The server at a ``--scheduler`` address accepted the connection and then said nothing in time."""
+class _Failed(Exception):
+    """The probe of a ``--scheduler`` gave up; the message is the reason, in a few words."""
 
 
 async def _identity(address, timeout, connection_args):
-    """The scheduler's identity (a dict), asked with Dask's transport under one deadline."""
+    """The scheduler's identity (a dict), asked with Dask's transport under one
+    deadline: its connector (a refused connection tried again until the deadline, as
+    Dask's own ``connect`` does), the handshake of ``distributed.comm.core.connect``
+    and an ``identity`` request, nothing unpickled."""
     import asyncio
 
-    from distributed.comm import connect
+    from distributed.comm.addressing import parse_address
+    from distributed.comm.registry import get_backend
     from distributed.core import send_recv
 
     loop = asyncio.get_running_loop()
     deadline = loop.time() + timeout
-    # Dask's connect retries a refused connection until its timeout, then raises OSError with the cause;
-    # the outer deadline (a little later) stops a server that accepted the connection and says nothing
-    margin = min(0.25 * timeout, 1.0)
+
+    def left():
+        return max(deadline - loop.time(), 0.0)
+
+    scheme, location = parse_address(address)
+    connector = get_backend(scheme).get_connector()
+    reason, pause = "the connection was neither accepted nor refused", 0.05
+    while True:
+        try:
+            comm = await asyncio.wait_for(connector.connect(location, deserialize=False, **connection_args), left())
+            break
+        except asyncio.TimeoutError:
+            raise _Failed(reason) from None
+        except OSError as exc:  # Dask's CommClosedError included
+            reason, again = _connect_reason(exc)
+            if not again or left() <= pause:
+                raise _Failed(reason) from None
+        await asyncio.sleep(pause)
+        pause = min(2 * pause, 1.0)
     try:
-        comm = await asyncio.wait_for(connect(address, timeout=timeout - margin, deserialize=False,
-                                              **connection_args), timeout)
-    except asyncio.TimeoutError:
-        raise _Silent("the server accepted the connection but sent no Dask handshake") from None
-    try:
-        return await asyncio.wait_for(send_recv(comm, op="identity"), max(deadline - loop.time(), 0.01))
-    except asyncio.TimeoutError:
-        raise _Silent("the server accepted the connection but did not answer") from None
+        try:
+            local = comm.handshake_info()
+            await asyncio.wait_for(comm.write(local), left())
+            remote = await asyncio.wait_for(comm.read(), left())
+        except asyncio.TimeoutError:
+            raise _Failed("the server accepted the connection but sent no Dask handshake") from None
+        remote["address"], local["address"] = comm.peer_address, comm.local_address
+        comm.remote_info, comm.local_info = remote, local
+        comm.handshake_options = comm.handshake_configuration(local, remote)
+        try:
+            return await asyncio.wait_for(send_recv(comm, op="identity"), left())
+        except asyncio.TimeoutError:
+            raise _Failed("the server accepted the connection but did not answer") from None
     finally:
         comm.abort()
 
 
 def _failure_reason(exc):
     """Why the probe of a ``--scheduler`` failed, in a few words (never what the server sent)."""
-    if isinstance(exc, _Silent):
+    if isinstance(exc, _Failed):
         return str(exc)
-    if type(exc).__name__ in ("CommClosedError", "FatalCommClosedError") or isinstance(exc, EOFError):
+    if type(exc).__name__ in ("CommClosedError", "FatalCommClosedError", "StreamClosedError") \
+            or isinstance(exc, EOFError):
         return "the server closed the connection: not a Dask scheduler"
-    if isinstance(exc, OSError):  # Dask's connect gave up: the socket's error is chained
-        return _connect_reason(exc)
+    if isinstance(exc, OSError) and exc.errno is not None:
+        return _connect_reason(exc)[0]
     return f"the server's answer is not Dask's protocol: {type(exc).__name__}"
 
 
@@ -249,6 +274,7 @@ def probe_scheduler(address, timeout=DEFAULT_SCHEDULER_TIMEOUT):
     address = check_scheduler_address(address)
     timeout = check_scheduler_timeout(timeout)
     import distributed.comm  # noqa: F401 - imported here, not on the probe's clock
+    import distributed.core  # noqa: F401
 
     args = _connection_args(address)
     if args is None:
