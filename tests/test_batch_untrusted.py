@@ -32,6 +32,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
+from pbrkit.app.batch import LIST_FORMAT, _gltf_references, _scene_references, expand_inputs, list_file_entries
 from pbrkit.app.cli import app
 from pbrkit.app.scheduler import (
     SchedulerUnreachable,
@@ -66,6 +67,160 @@ def hdr(tmp_path):
     path.parent.mkdir()
     path.write_bytes(b"#?RADIANCE\n")  # never read: every test here is refused before a bake starts
     return path
+
+
+# ================================================================ --list files
+
+
+_DEVICE_SCRIPT = """
+import resource, sys
+resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))  # a regression fails with MemoryError, not the machine
+from pbrkit.app.batch import _read_json, expand_inputs
+from pbrkit.core.errors import InputError
+assert _read_json(sys.argv[1]) is None
+for path in sys.argv[1:]:
+    try:
+        expand_inputs(None, [path], "bake")
+    except InputError as exc:
+        print(exc)
+    else:
+        print("read", path)
+"""
+
+
+def test_a_device_as_list_file_is_refused_without_reading_it(tmp_path):
+    link = tmp_path / "list.txt"
+    link.symlink_to("/dev/zero")
+    t0 = time.monotonic()
+    done = subprocess.run([sys.executable, "-c", _DEVICE_SCRIPT, "/dev/zero", str(link)], capture_output=True,
+                          text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")})
+    assert done.returncode == 0, done.stderr[-2000:]
+    lines = done.stdout.splitlines()
+    assert len(lines) == 2 and time.monotonic() - t0 < 30, done.stdout
+    for line, name in zip(lines, ("/dev/zero", str(link))):
+        assert line.startswith(f"{name}: is a character device, not a regular file; expected a --list file"), line
+
+
+def test_a_list_file_is_never_quoted(tmp_path, hdr):
+    """A file that is not a list (``/etc/passwd``'s layout): the error names the
+    list file and line 1, not the line."""
+    passwd = tmp_path / "passwd"
+    passwd.write_text(f"root:x:0:0:{SECRET}:/root:/bin/bash\ndaemon:x:1:1::/usr/sbin:/usr/sbin/nologin\n")
+    line = one_error_line(invoke("batch", "bake", hdr, "--list", passwd, "-o", tmp_path / "out", *SMALL))
+    assert f"{passwd}: line 1: no such file or directory; expected {LIST_FORMAT}" in line, line
+    assert SECRET not in line and "/bin/bash" not in line and "nologin" not in line
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("content, fragment", [
+    (b"sky.hdr\n\n# comment\nmissing.hdr\n", "line 4: no such file or directory"),
+    (b"sky.hdr\nnone-*.hdr\n", "line 2: the pattern matches no"),
+    (b"sky.hdr\n" + f"x\x00{SECRET}\n".encode(), "line 2: a NUL character"),
+    (b"sky.hdr\n" + f"{SECRET}".encode() * 800 + b"\n", "line 2: not a usable path (File name too long)"),
+    (b"sky.hdr\n\xff\xfe" + SECRET.encode(), "is not UTF-8 text (byte 8 is not valid UTF-8)"),
+])
+def test_list_file_errors_name_the_line_not_its_text(hdr, content, fragment):
+    listing = hdr.parent / "list.txt"
+    listing.write_bytes(content)
+    with pytest.raises(InputError) as caught:
+        expand_inputs(None, [listing], "bake")
+    message = str(caught.value)
+    assert message.startswith(f"{listing}: ") and fragment in message and "\n" not in message, message
+    assert SECRET not in message and LIST_FORMAT in message
+
+
+def test_list_file_of_the_wrong_kind(tmp_path):
+    with pytest.raises(InputError, match="file not found; expected a --list file"):
+        list_file_entries(tmp_path / "missing.txt")
+    with pytest.raises(InputError, match="is a folder, not a regular file; expected a --list file"):
+        list_file_entries(tmp_path)
+
+
+def test_a_good_list_file_is_read_relative_to_its_folder(tmp_path, hdr):
+    (hdr.parent / "sub").mkdir()
+    (hdr.parent / "sub" / "b.exr").write_bytes(b"")
+    listing = hdr.parent / "list.txt"
+    listing.write_text("# inputs\r\n  sky.hdr  \r\n\r\nsub\r\n*.hdr\r\n")  # CRLF, spaces, a comment, a repeat
+    assert list_file_entries(listing) == [(2, "sky.hdr"), (4, "sub"), (5, "*.hdr")]
+    assert expand_inputs(None, [listing], "bake") == [hdr, hdr.parent / "sub" / "b.exr"]
+
+
+# A property: whatever a list file becomes, its parser answers with the inputs it names or one clean line.
+
+_FILES = ("a.hdr", "b.exr", "sub/c.hdr", "sub/d.pfm")
+_LIST = f"# {SECRET} inputs\na.hdr\n\nsub\n  *.hdr  \nsub/c.hdr\nb.exr\n".encode()
+_ENTRIES = {"a.hdr": ["a.hdr"], "b.exr": ["b.exr"], "sub": ["sub/c.hdr", "sub/d.pfm"], "*.hdr": ["a.hdr"],
+            "sub/c.hdr": ["sub/c.hdr"]}
+_PIECES = [b"\x00", b"\n", b"\r\n", b"\r", b"#", b" ", b"\t", b".", b"..", b"/", b"\xff", b"\xc3", b"\xe2\x80\xa8",
+           b"a", b"[", b"?", b"\\", SECRET.encode(), b"x" * 300]
+
+
+@pytest.fixture(scope="module")
+def list_folder(tmp_path_factory):
+    root = tmp_path_factory.mktemp("lists")
+    for name in _FILES:
+        (root / name).parent.mkdir(exist_ok=True)
+        (root / name).write_bytes(b"")
+    return root
+
+
+def _mutate(data, edits):
+    data = bytearray(data)
+    for op, where, piece, length in edits:
+        k = where % (len(data) + 1)
+        if op == "insert":
+            data[k:k] = piece
+        elif op == "delete":
+            del data[k:k + length]
+        elif op == "replace":
+            data[k:k + length] = piece
+        else:
+            del data[k:]
+    return bytes(data)
+
+
+def _expected(data, root):
+    """The inputs a mutated list must give when every entry is one of the original
+    list's, else None (any clean outcome is right)."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+    entries = [line.strip() for line in text.split("\n")]
+    entries = [e for e in entries if e and not e.startswith("#")]
+    if not entries or any(e not in _ENTRIES for e in entries):
+        return None
+    found = []
+    for e in entries:
+        found += [root / name for name in _ENTRIES[e] if root / name not in found]
+    return found
+
+
+_EDIT = st.tuples(st.sampled_from(["insert", "delete", "replace", "truncate"]), st.integers(0, 200),
+                  st.sampled_from(_PIECES), st.integers(1, 12))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(edits=st.lists(_EDIT, min_size=0, max_size=6))
+def test_mutated_list_files_parse_or_fail_cleanly(list_folder, edits):
+    data = _mutate(_LIST, edits)
+    listing = list_folder / "list.txt"
+    listing.write_bytes(data)
+    try:
+        found = expand_inputs(None, [listing], "bake")
+    except InputError as exc:
+        message = str(exc)
+        assert "\n" not in message and "\r" not in message and SECRET not in message, message
+        assert message.startswith(f"{listing}: ") and "expected a --list file" in message, message
+        assert _expected(data, list_folder) is None, message
+        return
+    except ValueError as exc:  # only comments and blank lines
+        assert str(exc).startswith("no inputs:"), exc
+        return
+    expected = _expected(data, list_folder)
+    if expected is not None:
+        assert found == expected
+    assert found and all(p.is_absolute() and p.is_file() for p in found)
 
 
 # ================================================================ --scheduler
@@ -279,3 +434,50 @@ def test_an_output_of_the_wrong_kind_is_refused_by_every_command(tmp_path, monke
         assert "not a" in line or (metavar == "FILE" and "is a directory" in line), line
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "folder"]
     assert (tmp_path / "file").read_text() == "mine" and not any((tmp_path / "folder").iterdir())
+
+
+# ================================================================ glTF references
+
+
+def _gltf(folder, *uris):
+    import json
+
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / "model.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "buffers": [{"uri": u, "byteLength": 4} for u in uris],
+                                "images": [{"uri": "data:image/png;base64,AAAA"}, {"bufferView": 0}]}))
+    return path
+
+
+def test_gltf_references_are_confined_to_its_folder(tmp_path):
+    (tmp_path / "secret.bin").write_bytes(b"1234")
+    (tmp_path / "m" / "tex").mkdir(parents=True)
+    (tmp_path / "m" / "tex" / "a b.bin").write_bytes(b"1234")
+    good = _gltf(tmp_path / "m", "tex/a%20b.bin", "tex/../tex/a b.bin")
+    assert _gltf_references(good) == [(tmp_path / "m" / "tex" / "a b.bin").resolve()] * 2
+    for uri in ("../secret.bin", "%2e%2e/secret.bin", str(tmp_path / "secret.bin"), "file:///etc/passwd",
+                "http://example.org/x.bin"):
+        gltf = _gltf(tmp_path / "m", "tex/a%20b.bin", uri)
+        with pytest.raises(InputError) as caught:
+            _gltf_references(gltf)
+        message = str(caught.value)
+        assert message.startswith(f"{gltf}: buffers[1].uri") and "\n" not in message, message
+    outside = _gltf(tmp_path / "m", "../secret.bin")
+    assert _gltf_references(outside, allowed_roots=[tmp_path]) == [(tmp_path / "secret.bin").resolve()]
+    (tmp_path / "m" / "link.bin").symlink_to(tmp_path / "secret.bin")
+    with pytest.raises(InputError, match="lies outside its own folder"):
+        _gltf_references(_gltf(tmp_path / "m", "link.bin"))
+
+
+def test_a_render_record_refuses_a_gltf_reaching_outside(tmp_path):
+    from pbrkit.render.scene import GltfObject
+
+    gltf = _gltf(tmp_path / "m", "../../../../../../../../etc/hostname")
+    scene = SimpleNamespace(environment=SimpleNamespace(file=None, bake=None), objects=[GltfObject(file=str(gltf))])
+    with pytest.raises(InputError, match=r"buffers\[0\]\.uri .* lies outside its own folder"):
+        _scene_references(scene, None)
+    garbage = tmp_path / "g" / "model.gltf"
+    garbage.parent.mkdir()
+    garbage.write_text("[" * 100000)  # JSON nested too deep: no references (the renderer refuses the file)
+    scene.objects = [GltfObject(file=str(garbage))]
+    assert [r[0] for r in _scene_references(scene, None)] == ["gltf"]

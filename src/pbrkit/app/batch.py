@@ -171,18 +171,46 @@ def _expand_one(text, kind, base, builtins):
     raise InputError(f"no such file or directory{hint}", text)
 
 
-def _list_file_entries(path):
-    """The entries of a list file: one input (file, folder or glob) a line;
-    blank lines and lines starting with ``#`` are skipped."""
-    from ..core.errors import InputError
+#: What a ``--list`` file holds, for its error messages.
+LIST_FORMAT = ("a --list file: UTF-8 text, one input (a file, folder or glob, relative to the list's folder) "
+               "a line, blank lines and # comments skipped")
 
+
+def list_file_entries(path):
+    """The entries of a ``--list`` file, as (line number, text): one input (file,
+    folder or glob) a line; blank lines and lines starting with ``#`` are skipped.
+    The file is read as untrusted input (:func:`pbrkit.core.inputs.read_text`: a
+    regular file, at most :data:`pbrkit.core.inputs.MAX_TEXT_BYTES`, UTF-8); a line
+    that cannot be a path (a NUL character) is refused by its number, never quoted."""
+    from ..core.errors import InputError
+    from ..core.inputs import read_text
+
+    text = read_text(path, expected=LIST_FORMAT)
+    entries = []
+    for number, line in enumerate(text.split("\n"), 1):
+        entry = line.strip()
+        if not entry or entry.startswith("#"):
+            continue
+        if "\x00" in entry:
+            raise InputError(f"line {number}: a NUL character; expected {LIST_FORMAT}", path)
+        entries.append((number, entry))
+    return entries
+
+
+def _expand_listed(path, number, entry, kind, builtins):
+    """:func:`_expand_one` for line ``number`` of the list file ``path``: its errors
+    name the list file and the line, not the line's text (the file may be any file)."""
+    from ..core.errors import InputError, one_line
+
+    base = Path(path).expanduser().absolute().parent
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("list file not found", path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the list file ({exc})", path) from None
-    return [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+        return _expand_one(entry, kind, base, builtins)
+    except InputError as exc:
+        problem = exc.problem
+    except (OSError, ValueError, RuntimeError) as exc:  # a name too long, a folder that cannot be listed, ...
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
+        problem = f"not a usable path ({one_line(reason)})"  # strerror only: the exception names the path
+    raise InputError(f"line {number}: {problem}; expected {LIST_FORMAT}", path)
 
 
 def expand_inputs(arguments, list_files=(), kind="bake"):
@@ -192,7 +220,9 @@ def expand_inputs(arguments, list_files=(), kind="bake"):
     :data:`SCENE_SUFFIXES`, sorted; not recursive) and globs (``**`` recurses;
     quote them for the shell), relative to the working directory; for
     renders also the built-in scene names.  ``list_files``: text files with
-    one such entry a line, relative to the list file's folder.  Returns
+    one such entry a line, relative to the list file's folder
+    (:func:`list_file_entries`; an error names the list file and the line
+    number, not the line).  Returns
     absolute :class:`~pathlib.Path` objects (built-in scene names stay
     strings).  A missing path, a glob without matches, a folder without
     inputs or no input at all raise a one-line ValueError before anything
@@ -200,13 +230,13 @@ def expand_inputs(arguments, list_files=(), kind="bake"):
     builtins = ()
     if kind == "render":
         from ..render.scene import BUILTIN_SCENES as builtins
-    entries = [(str(a), Path.cwd()) for a in arguments or ()]
-    for lf in list_files or ():
-        lf = Path(lf)
-        entries += [(e, lf.expanduser().absolute().parent) for e in _list_file_entries(lf)]
+    expansions = [lambda a=str(a): _expand_one(a, kind, Path.cwd(), builtins) for a in arguments or ()]
+    for lf in list_files or ():  # every list file read before any input is looked for
+        expansions += [lambda lf=lf, n=n, e=e: _expand_listed(lf, n, e, kind, builtins)
+                       for n, e in list_file_entries(lf)]
     seen, inputs = set(), []
-    for text, base in entries:
-        for item in _expand_one(text, kind, base, builtins):
+    for expand in expansions:
+        for item in expand():
             key = item if isinstance(item, str) else os.path.realpath(item)
             if key not in seen:
                 seen.add(key)
@@ -341,10 +371,16 @@ def folder_bytes(path):
     return total
 
 
-def _read_json(path):
+def _read_json(path, limit=None):
+    """The JSON object (a dict) in the file ``path``, or None: no such regular file,
+    larger than ``limit`` bytes (default :data:`pbrkit.core.inputs.MAX_TEXT_BYTES`;
+    :func:`pbrkit.core.inputs.read_text`), not UTF-8, not JSON (nested too deep
+    included) or not an object."""
+    from ..core.inputs import MAX_TEXT_BYTES, read_text
+
     try:
-        value = json.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+        value = json.loads(read_text(path, MAX_TEXT_BYTES if limit is None else limit, "a JSON file"))
+    except (OSError, ValueError, RecursionError):  # InputError is a ValueError
         return None
     return value if isinstance(value, dict) else None
 
@@ -440,26 +476,37 @@ def _bake_job(job):
 # ---------------------------------------------------------------- renders
 
 
-def _gltf_references(path):
-    """The external files (buffers, images) a ``.gltf`` names by relative URI."""
+#: The largest .gltf whose references a render record lists (the renderer's own bound,
+#: ``pbrkit.io.gltf_document``: a .gltf may embed its buffers as data: URIs).
+_GLTF_JSON_LIMIT = 2 << 30
+
+
+def _gltf_references(path, allowed_roots=()):
+    """The external files (buffers, images) a ``.gltf`` names by URI, each confined
+    as the renderer confines them (:class:`pbrkit.core.inputs.Confinement`: under
+    the glTF's own folder or one of ``allowed_roots``; ``data:`` URIs are inline);
+    InputError naming the glTF and the URI's place for one that lies elsewhere."""
+    from ..core.inputs import Confinement
+
     if Path(path).suffix.lower() != ".gltf":
         return []
-    data = _read_json(path) or {}
+    data = _read_json(path, _GLTF_JSON_LIMIT) or {}  # unreadable: the render fails on it with its own error
+    confinement = Confinement(Path(path).parent, allowed_roots)
     found = []
     for key in ("buffers", "images"):
-        for entry in data.get(key) or []:
+        entries = data.get(key)
+        for k, entry in enumerate(entries if isinstance(entries, list) else []):
             uri = entry.get("uri") if isinstance(entry, dict) else None
-            if isinstance(uri, str) and uri and not uri.startswith("data:") and "://" not in uri:
-                from urllib.parse import unquote
-
-                found.append(Path(path).parent / unquote(uri))
+            if isinstance(uri, str) and uri and not uri.startswith("data:"):
+                found.append(confinement.resolve(uri, f"{key}[{k}].uri", path))
     return found
 
 
-def _scene_references(scene, style):
+def _scene_references(scene, style, allowed_roots=()):
     """[role, file name, SHA-256 or None if missing] of every file the render
     reads besides the scene file: its environment image (or every file of its
-    bake folder), its glTF files and their buffers and images, a style file."""
+    bake folder), its glTF files and their buffers and images (confined:
+    :func:`_gltf_references` with ``allowed_roots``), a style file."""
     from ..render.scene import GltfObject
 
     files = []
@@ -472,16 +519,17 @@ def _scene_references(scene, style):
     for obj in scene.objects:
         if isinstance(obj, GltfObject):
             files.append(("gltf", Path(obj.file)))
-            files += [("gltf resource", p) for p in _gltf_references(obj.file)]
+            files += [("gltf resource", p) for p in _gltf_references(obj.file, allowed_roots)]
     if style is not None and Path(style).is_file():
         files.append(("style", Path(style)))
     return [[role, p.name, _sha256(p) if p.is_file() else None] for role, p in files]
 
 
-def render_record(scene_input, scene, options, builtin=False):
+def render_record(scene_input, scene, options, builtin=False, allowed_roots=()):
     """The record a render folder keeps in ``batch.json`` (module doc): what the
     render depends on, nothing time- or machine-dependent (file names, not
-    paths)."""
+    paths).  ``allowed_roots``: the folders besides a glTF's own its files may
+    lie in (:func:`_gltf_references`)."""
     from .. import __version__
 
     if builtin:
@@ -493,7 +541,7 @@ def render_record(scene_input, scene, options, builtin=False):
         if shown[key] is not None and os.path.isabs(shown[key]):
             shown[key] = Path(shown[key]).name
     return {"format": RECORD_FORMAT, "pbrkit_version": __version__, "scene": source,
-            "references": _scene_references(scene, options["style"]), "options": shown}
+            "references": _scene_references(scene, options["style"], allowed_roots), "options": shown}
 
 
 def render_state(out, record):
@@ -546,7 +594,8 @@ def _render_job(job):
         from ..npr.style import resolve_style
 
         style = resolve_style(options["style"])
-    record = render_record(scene_input, scene, options, job.get("builtin", False))
+    record = render_record(scene_input, scene, options, job.get("builtin", False),
+                           getattr(scene, "allow_roots", ()))  # the scene key allow_roots, where it has one
     state, reason = render_state(out, record)
     image_name = f"{name}.{options['format']}"
     preview = "thumbnail.png" if options["format"] == "exr" else image_name
