@@ -32,7 +32,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from pbrkit.app.batch import LIST_FORMAT, _gltf_references, _scene_references, expand_inputs, list_file_entries
+from pbrkit.app.batch import LIST_FORMAT, expand_inputs, list_file_entries
+from pbrkit.app.batch_tasks import _gltf_references, _scene_references
 from pbrkit.app.cli import app
 from pbrkit.app.scheduler import (
     SchedulerUnreachable,
@@ -75,7 +76,8 @@ def hdr(tmp_path):
 _DEVICE_SCRIPT = """
 import resource, sys
 resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))  # a regression fails with MemoryError, not the machine
-from pbrkit.app.batch import _read_json, expand_inputs
+from pbrkit.app.batch import expand_inputs
+from pbrkit.app.batch_tasks import _read_json
 from pbrkit.core.errors import InputError
 assert _read_json(sys.argv[1]) is None
 for path in sys.argv[1:]:
