@@ -1,10 +1,11 @@
 """Batch bakes and renders on Dask (``pbrkit batch bake|render``, issue 14).
 
-A batch runs one task per input on a Dask cluster: a ``LocalCluster`` of
-worker processes on this machine (:func:`dask_client`), or the workers of a
+A batch runs one task per input on a Dask cluster (:mod:`pbrkit.app.scheduler`):
+a ``LocalCluster`` of worker processes on this machine, or the workers of a
 ``distributed`` scheduler the user started (``--scheduler tcp://HOST:PORT``;
 the inputs and the output folder must then be on a file system the workers
-share, under the same paths).  Each task (:func:`run_task`) calls the very
+share, under the same paths).  Each task (:mod:`pbrkit.app.batch_tasks`,
+:func:`~pbrkit.app.batch_tasks.run_task`) calls the very
 functions ``pbrkit bake`` and ``pbrkit render`` call --
 :func:`pbrkit.ibl.bake.bake` with :func:`pbrkit.io.bake_files.write_bake`, or
 :func:`pbrkit.render.scene.resolve_scene` with
@@ -27,9 +28,9 @@ The rules (the README's ``pbrkit batch`` section states them for users):
   ends (:func:`remove_stale_temporaries`).
 - **Resume record**, committed inside the folder by the same rename: for a
   bake its ``manifest.json`` (the pbrkit version, the input's file name and
-  SHA-256, the options, the engine targets; :func:`bake_state`), for a render
+  SHA-256, the options, the engine targets; ``bake_state``), for a render
   ``OUT/<name>/batch.json`` (the same, with the SHA-256 of every file the
-  scene reads; :func:`render_state`).  An input whose folder records the same
+  scene reads; ``render_state``).  An input whose folder records the same
   is skipped (``--force`` redoes it); a folder recording something else (the
   input changed, other options, another pbrkit version, a file missing) is
   redone and replaced; a folder that is not a pbrkit output is left alone and
@@ -43,13 +44,14 @@ The rules (the README's ``pbrkit batch`` section states them for users):
   The re-run finds no folder (the rename never happened) or a complete one.
 - **Workers**: a ``LocalCluster``'s workers are forked from this process with
   the tasks' modules already imported, where that is safe (Linux, Numba's
-  thread pool not started here: :func:`_fork_is_safe`), else spawned (Dask's
-  default); each runs one task at a time with ``--threads`` Numba threads.
+  thread pool not started here: ``pbrkit.app.scheduler._fork_is_safe``),
+  else spawned (Dask's default); each runs one task at a time with
+  ``--threads`` Numba threads.
 - **Numba's cache** (:mod:`pbrkit.core.jit`): the workers of a
   ``LocalCluster`` share this process's ``$PBRKIT_CACHE_DIR`` (or its
   default).  When the workers find no compiled kernels there, the first input
   runs alone and the others start once it has filled the cache
-  (:func:`cache_is_cold`), so no worker compiles what another one compiled.
+  (``cache_is_cold``), so no worker compiles what another one compiled.
   Numba writes each cache file to a temporary name and renames it
   (``os.replace``), so concurrent readers never see a torn file; but its
   index of a kernel's signatures is read, extended and rewritten without a
@@ -76,11 +78,27 @@ import re
 import shutil
 import sys
 import time
-import traceback
-import warnings
 from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
+
+from .batch_tasks import (  # noqa: F401 - the tasks' names, as before they had their module
+    RECORD_FORMAT,
+    RECORD_NAME,
+    _read_json,
+    bake_state,
+    folder_bytes,
+    render_record,
+    render_state,
+    run_task,
+)
+from .scheduler import (  # noqa: F401 - the cluster's names, as before they had their module
+    DEFAULT_SCHEDULER_TIMEOUT,
+    cache_is_cold,
+    cache_state,
+    dask_client,
+    default_workers,
+)
 
 __all__ = [
     "KINDS",
@@ -113,9 +131,6 @@ BAKE_GLOB_SUFFIXES = BAKE_SUFFIXES + (".png", ".jpg", ".jpeg")
 SCENE_SUFFIXES = (".toml", ".json")
 #: Names of the batch's own files in OUT, which no input's folder may take.
 RESERVED_NAMES = ("index.html", "batch.json")
-#: The per-input record of a render folder (a bake's record is its manifest.json).
-RECORD_NAME = "batch.json"
-RECORD_FORMAT = "pbrkit batch render record"
 SUMMARY_FORMAT = "pbrkit batch summary"
 _GLOB_CHARS = re.compile(r"[*?\[]")
 _STEM_MAX = 200  # leaves room for "-<hash>" and the atomic temporaries' ".<name>.XXXXXXXX.partial" in NAME_MAX
@@ -169,18 +184,46 @@ def _expand_one(text, kind, base, builtins):
     raise InputError(f"no such file or directory{hint}", text)
 
 
-def _list_file_entries(path):
-    """The entries of a list file: one input (file, folder or glob) a line;
-    blank lines and lines starting with ``#`` are skipped."""
-    from ..core.errors import InputError
+#: What a ``--list`` file holds, for its error messages.
+LIST_FORMAT = ("a --list file: UTF-8 text, one input (a file, folder or glob, relative to the list's folder) "
+               "a line, blank lines and # comments skipped")
 
+
+def list_file_entries(path):
+    """The entries of a ``--list`` file, as (line number, text): one input (file,
+    folder or glob) a line; blank lines and lines starting with ``#`` are skipped.
+    The file is read as untrusted input (:func:`pbrkit.core.inputs.read_text`: a
+    regular file, at most :data:`pbrkit.core.inputs.MAX_TEXT_BYTES`, UTF-8); a line
+    that cannot be a path (a NUL character) is refused by its number, never quoted."""
+    from ..core.errors import InputError
+    from ..core.inputs import read_text
+
+    text = read_text(path, expected=LIST_FORMAT)
+    entries = []
+    for number, line in enumerate(text.split("\n"), 1):
+        entry = line.strip()
+        if not entry or entry.startswith("#"):
+            continue
+        if "\x00" in entry:
+            raise InputError(f"line {number}: a NUL character; expected {LIST_FORMAT}", path)
+        entries.append((number, entry))
+    return entries
+
+
+def _expand_listed(path, number, entry, kind, builtins):
+    """:func:`_expand_one` for line ``number`` of the list file ``path``: its errors
+    name the list file and the line, not the line's text (the file may be any file)."""
+    from ..core.errors import InputError, one_line
+
+    base = Path(path).expanduser().absolute().parent
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("list file not found", path) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the list file ({exc})", path) from None
-    return [line.strip() for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+        return _expand_one(entry, kind, base, builtins)
+    except InputError as exc:
+        problem = exc.problem
+    except (OSError, ValueError, RuntimeError) as exc:  # a name too long, a folder that cannot be listed, ...
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
+        problem = f"not a usable path ({one_line(reason)})"  # strerror only: the exception names the path
+    raise InputError(f"line {number}: {problem}; expected {LIST_FORMAT}", path)
 
 
 def expand_inputs(arguments, list_files=(), kind="bake"):
@@ -190,7 +233,9 @@ def expand_inputs(arguments, list_files=(), kind="bake"):
     :data:`SCENE_SUFFIXES`, sorted; not recursive) and globs (``**`` recurses;
     quote them for the shell), relative to the working directory; for
     renders also the built-in scene names.  ``list_files``: text files with
-    one such entry a line, relative to the list file's folder.  Returns
+    one such entry a line, relative to the list file's folder
+    (:func:`list_file_entries`; an error names the list file and the line
+    number, not the line).  Returns
     absolute :class:`~pathlib.Path` objects (built-in scene names stay
     strings).  A missing path, a glob without matches, a folder without
     inputs or no input at all raise a one-line ValueError before anything
@@ -198,13 +243,13 @@ def expand_inputs(arguments, list_files=(), kind="bake"):
     builtins = ()
     if kind == "render":
         from ..render.scene import BUILTIN_SCENES as builtins
-    entries = [(str(a), Path.cwd()) for a in arguments or ()]
-    for lf in list_files or ():
-        lf = Path(lf)
-        entries += [(e, lf.expanduser().absolute().parent) for e in _list_file_entries(lf)]
+    expansions = [lambda a=str(a): _expand_one(a, kind, Path.cwd(), builtins) for a in arguments or ()]
+    for lf in list_files or ():  # every list file read before any input is looked for
+        expansions += [lambda lf=lf, n=n, e=e: _expand_listed(lf, n, e, kind, builtins)
+                       for n, e in list_file_entries(lf)]
     seen, inputs = set(), []
-    for text, base in entries:
-        for item in _expand_one(text, kind, base, builtins):
+    for expand in expansions:
+        for item in expand():
             key = item if isinstance(item, str) else os.path.realpath(item)
             if key not in seen:
                 seen.add(key)
@@ -318,463 +363,6 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
             "width": width, "height": height, "env": env, "seed": seed, "diffuse": diffuse,
             "energy_compensation": bool(energy_compensation), "engine": engine, "bake_size": bake_size,
             "fix_nonfinite": bool(fix_nonfinite), "occlusion": occlusion, "style": style, "format": fmt}
-
-
-# ===================================================================== tasks
-
-
-def _sha256(path):
-    from ..ibl.bake import _sha256 as sha256
-
-    return sha256(path)
-
-
-def folder_bytes(path):
-    """Total size in bytes of the files under ``path``."""
-    total = 0
-    for root, _, files in os.walk(path):
-        for f in files:
-            with contextlib.suppress(OSError):
-                total += os.lstat(os.path.join(root, f)).st_size
-    return total
-
-
-def _read_json(path):
-    try:
-        value = json.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
-        return None
-    return value if isinstance(value, dict) else None
-
-
-def _existing(out):
-    """"absent" (no folder, or an empty one) or "present"; InputError for a file in the way."""
-    from ..core.errors import InputError
-
-    out = Path(out)
-    if not (out.exists() or out.is_symlink()):
-        return "absent"
-    if not out.is_dir():
-        raise InputError("exists and is not a directory", out)
-    return "present" if any(out.iterdir()) else "absent"
-
-
-#: Files every bake folder has (:mod:`pbrkit.io.bake_files`); one missing makes the folder stale.
-_BAKE_FILES = ("specular.ktx2", "specular.dds", "irradiance.ktx2", "irradiance.dds", "brdf_lut.npy", "preview.png")
-
-
-def bake_state(out, input_name, sha256, options, targets):
-    """What ``out`` holds for this bake: ``("absent", None)``, ``("match", None)``
-    (its manifest records this pbrkit version, this input's name and SHA-256,
-    these options and engine targets, and its files are there), ``("stale",
-    reason)`` (a pbrkit bake of something else) or ``("foreign", reason)``
-    (not a pbrkit bake)."""
-    from .. import __version__
-    from ..ibl.bake import FORMAT
-
-    out = Path(out)
-    if _existing(out) == "absent":
-        return "absent", None
-    manifest = _read_json(out / "manifest.json")
-    if manifest is None or manifest.get("format") != FORMAT:
-        return "foreign", "not a pbrkit bake (no pbrkit manifest.json)"
-    differences = []
-    if manifest.get("pbrkit_version") != __version__:
-        differences.append(f"pbrkit {manifest.get('pbrkit_version')} -> {__version__}")
-    if (manifest.get("input") or {}).get("files") != [{"name": input_name, "sha256": sha256}]:
-        differences.append("the input changed (its name or SHA-256)")
-    recorded = manifest.get("options") if isinstance(manifest.get("options"), dict) else {}
-    for key, value in options.items():
-        if key == "layout" and value is None:  # detected from the image, whose SHA-256 is compared
-            continue
-        if recorded.get(key) != value:
-            differences.append(f"{key} {recorded.get(key)!r} -> {value!r}")
-    recorded_targets = sorted(manifest.get("targets") or {})
-    wanted = sorted(t for t in targets if t != "generic")
-    if recorded_targets != wanted:
-        differences.append(f"targets {recorded_targets} -> {wanted}")
-    missing = [f for f in _BAKE_FILES + tuple(wanted) if not (out / f).exists()]
-    if missing:
-        differences.append(f"incomplete (no {missing[0]})")
-    return ("stale", "; ".join(differences)) if differences else ("match", None)
-
-
-def _outcome(status, **fields):
-    return dict({"status": status, "error": None, "notes": [], "warnings": []}, **fields)
-
-
-def _bake_job(job):
-    from ..core.errors import InputError, OutputError
-    from ..ibl.bake import bake
-    from ..io.bake_files import chains_for, write_bake
-
-    source = Path(job["input"])
-    options, targets, out = job["options"], tuple(job["targets"]), Path(job["out"])
-    if not source.is_file():
-        raise InputError("no such file" if not source.exists() else "not a file", job["display"])
-    sha = _sha256(source)
-    state, reason = bake_state(out, source.name, sha, options, targets)
-    if state == "match" and not job["force"]:
-        return _outcome("skipped", notes=["already baked with these options"], preview="preview.png")
-    if state == "foreign" and not job["force"]:
-        raise InputError(f"{reason}; not replaced (use --force to replace it)", out)
-    t0 = time.perf_counter()
-    result = bake(str(source), size=options["size"], min_size=options["min_size"],
-                  irradiance_size=options["irradiance_size"], lut_size=options["lut_size"],
-                  specular_format=options["format"], method=options["method"], sh_window=options["sh_window"],
-                  fix_nonfinite=options["fix_nonfinite"], layout=options["layout"], chains=chains_for(targets))
-    t1 = time.perf_counter()
-    try:
-        write_bake(result, out, force=job["force"] or state != "absent", targets=targets)
-    except OutputError as exc:  # filled meanwhile (another task for the same folder finished first)
-        if state == "absent" and bake_state(out, source.name, sha, options, targets)[0] == "match":
-            return _outcome("skipped", notes=["written meanwhile by another task"], preview="preview.png")
-        raise exc
-    notes = [f"replaced: {reason}"] if state == "stale" else ([f"replaced ({reason})"] if state == "foreign" else [])
-    return _outcome("done", notes=notes, bake_s=t1 - t0, write_s=time.perf_counter() - t1,
-                    preview="preview.png")
-
-
-# ---------------------------------------------------------------- renders
-
-
-def _gltf_references(path):
-    """The external files (buffers, images) a ``.gltf`` names by relative URI."""
-    if Path(path).suffix.lower() != ".gltf":
-        return []
-    data = _read_json(path) or {}
-    found = []
-    for key in ("buffers", "images"):
-        for entry in data.get(key) or []:
-            uri = entry.get("uri") if isinstance(entry, dict) else None
-            if isinstance(uri, str) and uri and not uri.startswith("data:") and "://" not in uri:
-                from urllib.parse import unquote
-
-                found.append(Path(path).parent / unquote(uri))
-    return found
-
-
-def _scene_references(scene, style):
-    """[role, file name, SHA-256 or None if missing] of every file the render
-    reads besides the scene file: its environment image (or every file of its
-    bake folder), its glTF files and their buffers and images, a style file."""
-    from ..render.scene import GltfObject
-
-    files = []
-    env = scene.environment
-    if env.file is not None:
-        files.append(("environment", Path(env.file)))
-    if env.bake is not None:
-        root = Path(env.bake)
-        files += [("environment bake", p) for p in sorted(root.rglob("*")) if p.is_file()]
-    for obj in scene.objects:
-        if isinstance(obj, GltfObject):
-            files.append(("gltf", Path(obj.file)))
-            files += [("gltf resource", p) for p in _gltf_references(obj.file)]
-    if style is not None and Path(style).is_file():
-        files.append(("style", Path(style)))
-    return [[role, p.name, _sha256(p) if p.is_file() else None] for role, p in files]
-
-
-def render_record(scene_input, scene, options, builtin=False):
-    """The record a render folder keeps in ``batch.json`` (module doc): what the
-    render depends on, nothing time- or machine-dependent (file names, not
-    paths)."""
-    from .. import __version__
-
-    if builtin:
-        source = {"builtin": scene_input}
-    else:
-        source = {"name": Path(scene_input).name, "sha256": _sha256(scene_input)}
-    shown = dict(options)
-    for key in ("env", "style"):
-        if shown[key] is not None and os.path.isabs(shown[key]):
-            shown[key] = Path(shown[key]).name
-    return {"format": RECORD_FORMAT, "pbrkit_version": __version__, "scene": source,
-            "references": _scene_references(scene, options["style"]), "options": shown}
-
-
-def render_state(out, record):
-    """As :func:`bake_state`, for a render folder and its ``batch.json`` record."""
-    out = Path(out)
-    if _existing(out) == "absent":
-        return "absent", None
-    stored = _read_json(out / RECORD_NAME)
-    if stored is None or stored.get("format") != RECORD_FORMAT:
-        return "foreign", f"not a pbrkit batch render (no {RECORD_NAME} record)"
-    differences = [k for k in ("pbrkit_version", "scene", "references", "options") if stored.get(k) != record[k]]
-    missing = [f for f in stored.get("outputs") or ["?"] if not (out / f).is_file()]
-    if missing:
-        differences.append(f"incomplete (no {missing[0]})")
-    return ("stale", "differs in " + ", ".join(differences)) if differences else ("match", None)
-
-
-def _thumbnail(image_path, thumb_path, options, width=512):
-    """An 8-bit sRGB PNG of a linear EXR render for the gallery: tone-mapped as the
-    PNG output is (:func:`pbrkit.core.color.tonemap`, the batch's --tonemap and
-    --exposure), box-filtered by an integer factor to at most ``width`` pixels
-    across."""
-    import numpy as np
-
-    from ..core.color import linear_to_srgb, tonemap
-    from ..io.images import read_image
-    from ..io.png import write_png
-
-    image = np.asarray(read_image(image_path), dtype=np.float64)[..., :3]
-    k = max(1, -(-image.shape[1] // width))
-    h, w = image.shape[0] // k * k, image.shape[1] // k * k
-    if k > 1 and h and w:
-        image = image[:h, :w].reshape(h // k, k, w // k, k, 3).mean(axis=(1, 3))
-    write_png(thumb_path, linear_to_srgb(tonemap(image, options["tonemap"], options["exposure"])), bits=8,
-              srgb=False)
-
-
-def _render_job(job):
-
-    from ..core.atomic import atomic_directory
-    from ..core.errors import InputError, OutputError
-    from ..render.run import render_scene
-    from ..render.scene import command_scene
-
-    options, out, name = job["options"], Path(job["out"]), job["name"]
-    scene_input = job["input"]
-    scene = command_scene(scene_input, options["width"], options["height"], options["env"], options["fix_nonfinite"])
-    style = None
-    if options["style"] is not None:
-        from ..npr.style import resolve_style
-
-        style = resolve_style(options["style"])
-    record = render_record(scene_input, scene, options, job.get("builtin", False))
-    state, reason = render_state(out, record)
-    image_name = f"{name}.{options['format']}"
-    preview = "thumbnail.png" if options["format"] == "exr" else image_name
-    if state == "match" and not job["force"]:
-        return _outcome("skipped", notes=["already rendered with these options"], preview=preview)
-    if state == "foreign" and not job["force"]:
-        raise InputError(f"{reason}; not replaced (use --force to replace it)", out)
-    t0 = time.perf_counter()
-    try:
-        with atomic_directory(out, job["force"] or state != "absent") as tmp:
-            summary = render_scene(scene, tmp / image_name, mode=options["mode"], spp=options["spp"],
-                                   bounces=options["bounces"], seed=options["seed"], tonemap_name=options["tonemap"],
-                                   exposure=options["exposure"], diffuse=options["diffuse"],
-                                   energy_compensation=options["energy_compensation"],
-                                   bake_size=options["bake_size"], occlusion=options["occlusion"],
-                                   engine=options["engine"], style=style)
-            outputs = [Path(p).name for p in summary["outputs"]]
-            if options["format"] == "exr":
-                _thumbnail(tmp / image_name, tmp / preview, options)
-                outputs.append(preview)
-            record["outputs"] = sorted(outputs)
-            (tmp / RECORD_NAME).write_text(json.dumps(record, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    except OutputError:
-        if state == "absent" and render_state(out, record)[0] == "match":
-            return _outcome("skipped", notes=["written meanwhile by another task"], preview=preview)
-        raise
-    notes = [str(n) for n in summary.get("notes", [])]
-    if state != "absent":
-        notes.append(f"replaced: {reason}")
-    extra = {}
-    if "errors" in summary:
-        e = summary["errors"]
-        extra["errors"] = {k: float(e[k]) for k in ("rms_relative_error_noise_removed", "mean_relative_error",
-                                                     "flip") if k in e}
-    return _outcome("done", notes=notes, render_s=time.perf_counter() - t0, preview=preview, **extra)
-
-
-def _worker_address():
-    try:
-        from distributed import get_worker
-
-        return get_worker().address
-    except (ImportError, ValueError):
-        return None
-
-
-def run_task(job):
-    """Run one input's job (a dict: ``kind``, ``input``, ``display``, ``name``,
-    ``out``, ``options``, ``targets``, ``force``) and return its outcome, a
-    dict with ``status`` ``done`` / ``skipped`` / ``failed``, ``error`` (one
-    line, as ``pbrkit bake`` / ``pbrkit render`` print it), ``seconds``,
-    ``bytes`` (of the folder), ``warnings``, ``notes`` and ``worker``.  Never
-    raises for a bad input: a batch's inputs fail alone.  Runs on a Dask
-    worker (or in this process)."""
-    from ..core.errors import one_line
-    from .cli import _is_library_error
-
-    t0 = time.perf_counter()
-    if job.get("numba_threads"):  # a LocalCluster's worker (forked workers keep this process's pool size)
-        import numba
-
-        numba.set_num_threads(min(int(job["numba_threads"]), numba.config.NUMBA_NUM_THREADS))
-    base = {"name": job["name"], "input": job["display"], "worker": _worker_address(), "pid": os.getpid()}
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", UserWarning)
-        try:
-            outcome = (_bake_job if job["kind"] == "bake" else _render_job)(job)
-        except MemoryError as exc:
-            outcome = _outcome("failed", error=f"out of memory{f' ({exc})' if str(exc) else ''}; try smaller sizes")
-        except (ValueError, OSError) as exc:
-            outcome = _outcome("failed", error=one_line(exc))
-        except Exception as exc:  # a bug, or a library's error: this input fails, the batch goes on
-            if _is_library_error(exc):
-                outcome = _outcome("failed", error=one_line(exc))
-            else:
-                outcome = _outcome("failed", error=f"internal error: {type(exc).__name__}: {one_line(exc)}",
-                                   traceback=traceback.format_exc())
-    seen = []
-    for w in caught:
-        text = one_line(w.message)
-        if issubclass(w.category, UserWarning) and not issubclass(w.category, DeprecationWarning) and text not in seen:
-            seen.append(text)
-    outcome["warnings"] = seen
-    outcome["seconds"] = time.perf_counter() - t0
-    outcome["bytes"] = folder_bytes(job["out"]) if outcome["status"] != "failed" else 0
-    return dict(base, **outcome)
-
-
-# =================================================================== cluster
-
-
-def cache_state(kind="bake"):
-    """(cache directory, whether it holds compiled kernels of the subpackage the
-    batch's tasks use: ``ibl`` for bakes, ``render`` for renders), as seen by the
-    process that calls it (a worker)."""
-    from ..core.cache import cache_directory, cached_kernels
-
-    return str(cache_directory()), cached_kernels("ibl" if kind == "bake" else "render")
-
-
-def cache_is_cold(client, kind):
-    """True when every worker reports the same Numba cache directory and it has no
-    kernels yet for ``kind`` (:func:`cache_state`): the batch then runs its first
-    input alone, so that the other workers load what it compiled."""
-    try:
-        states = client.run(cache_state, kind)
-    except Exception:  # a worker that cannot answer: no warm-up
-        return False
-    folders = {folder for folder, _ in states.values()}
-    return bool(states) and len(folders) == 1 and not any(warm for _, warm in states.values())
-
-
-def default_workers():
-    """Worker processes of a LocalCluster by default: the cores this process may use."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):
-        return max(1, os.cpu_count() or 1)
-
-
-#: Modules a task imports (at its top or inside functions), imported once in this process
-#: before a LocalCluster forks its workers, so that no worker imports them again.
-_TASK_MODULES = {
-    "bake": ("pbrkit.ibl.bake", "pbrkit.io.bake_files", "pbrkit.io.environment", "pbrkit.io.images",
-             "pbrkit.albedo.tables", "pbrkit.ibl.sh", "pbrkit.ibl.spectral", "pbrkit.ibl.irradiance",
-             "pbrkit.io.ktx2", "pbrkit.io.ktx1", "pbrkit.io.dds", "pbrkit.io.exr", "pbrkit.io.png",
-             "pbrkit.io.lut_files", "pbrkit.io.babylon_env", "imageio.v3", "imageio.plugins.pillow"),
-    "render": ("pbrkit.render.run", "pbrkit.render.scene", "pbrkit.npr.style", "pbrkit.npr.render",
-               "pbrkit.io.environment", "pbrkit.io.images", "pbrkit.io.exr", "pbrkit.io.png", "pbrkit.ibl.bake",
-               "pbrkit.io.bake_files", "pbrkit.albedo.tables", "imageio.v3", "imageio.plugins.pillow"),
-}
-
-
-def _fork_is_safe():
-    """Whether a LocalCluster may fork its workers from this process: Linux (macOS's
-    system libraries are not fork-safe, Windows cannot fork), and Numba's
-    threading layer not launched here (a forked OpenMP or workqueue pool hangs in
-    the child; the command's own process runs no kernel, a script that baked
-    before calling :func:`run_batch` has launched it)."""
-    if not sys.platform.startswith("linux") or not hasattr(os, "register_at_fork"):
-        return False
-    parallel = sys.modules.get("numba.np.ufunc.parallel")
-    return not getattr(parallel, "_is_initialized", False)
-
-
-def _signals_as_default():
-    """In a forked worker: SIGTERM and SIGINT as in a new Python process (the
-    command's handlers, which raise in its main thread, are not the worker's)."""
-    import signal
-
-    with contextlib.suppress(ValueError, OSError):
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-
-
-_AT_FORK = []
-
-
-@contextlib.contextmanager
-def dask_client(scheduler=None, workers=None, threads=None, kind="bake", dashboard=True):
-    """A ``distributed.Client``, and a line describing the cluster.
-
-    With ``scheduler`` (``tcp://HOST:PORT``): a client of that scheduler (its
-    workers as they were started).  Else a ``LocalCluster`` of ``workers``
-    processes (default :func:`default_workers`), one Dask thread each (a task
-    at a time) and ``threads`` (default 1) Numba threads for the parallel
-    kernels inside a task (the jobs carry it: :func:`run_task` calls
-    ``numba.set_num_threads``).  Its workers share this process's Numba cache
-    (``PBRKIT_CACHE_DIR``).  They are forked from this process, with the
-    modules of ``kind``'s tasks already imported (:data:`_TASK_MODULES`), when
-    that is safe (:func:`_fork_is_safe`); else spawned as fresh interpreters
-    (Dask's default), which costs each about a second more to start and to
-    import, and a second more to stop.  ``dashboard``: the scheduler's Bokeh
-    dashboard on port 8787 (another if that one is taken), about 1 s of the
-    start on the 2-core machine."""
-    import logging
-
-    import dask
-    from distributed import Client, LocalCluster
-
-    if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError) as exc:
-            raise OSError(f"{scheduler}: cannot reach the Dask scheduler ({exc})") from None
-        try:
-            n = len(client.scheduler_info().get("workers", {}))
-            if n == 0:
-                client.wait_for_workers(1, timeout=60)
-                n = len(client.scheduler_info().get("workers", {}))
-        except (OSError, TimeoutError):
-            client.close()
-            raise OSError(f"{scheduler}: the scheduler has no workers (waited 60 s)") from None
-        try:
-            yield client, f"scheduler {scheduler} ({n} worker{'s' if n != 1 else ''})"
-        finally:
-            client.close()
-        return
-    workers = default_workers() if workers is None else int(workers)
-    threads = 1 if threads is None else int(threads)
-    env = {}
-    if os.environ.get("PBRKIT_CACHE_DIR"):
-        env["PBRKIT_CACHE_DIR"] = os.environ["PBRKIT_CACHE_DIR"]
-    method = "fork" if _fork_is_safe() else "spawn"
-    if method == "spawn":  # a forked worker keeps Numba's configuration (and uses numba.set_num_threads)
-        env["NUMBA_NUM_THREADS"] = str(threads)
-    else:
-        import importlib
-
-        for name in _TASK_MODULES.get(kind, ()):
-            with contextlib.suppress(ImportError):
-                importlib.import_module(name)
-        if not _AT_FORK:
-            os.register_at_fork(after_in_child=_signals_as_default)
-            _AT_FORK.append(True)
-    with dask.config.set({"distributed.worker.multiprocessing-method": method}):  # restarts too
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message=r"Port \d+ is already in use")  # it picks another
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   silence_logs=logging.ERROR, env=env,
-                                   dashboard_address=":8787" if dashboard else None)
-        try:
-            client = Client(cluster)
-            try:
-                yield client, (f"LocalCluster: {workers} worker{'s' if workers != 1 else ''} x "
-                               f"{threads} Numba thread{'s' if threads != 1 else ''}")
-            finally:
-                client.close()
-        finally:
-            cluster.close()
 
 
 # ================================================================== progress
@@ -899,13 +487,15 @@ def _killed_outcome(job, exc):
 
 
 def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, scheduler=None, workers=None,
-              threads=None, dashboard=True, progress=None):
+              threads=None, dashboard=True, progress=None, scheduler_timeout=DEFAULT_SCHEDULER_TIMEOUT):
     """Run a batch (module doc) and write ``out/batch.json`` and ``out/index.html``.
 
     ``kind`` ``"bake"`` or ``"render"``; ``inputs`` from :func:`expand_inputs`;
     ``options`` from :func:`bake_jobs_options` / :func:`render_jobs_options`;
     ``targets`` the bake's engine targets.  ``progress`` a
-    :class:`BatchProgress` (or None).  Returns the summary (what batch.json
+    :class:`BatchProgress` (or None).  ``scheduler``: a ``--scheduler`` address,
+    which has ``scheduler_timeout`` seconds to answer
+    (:func:`pbrkit.app.scheduler.connect_scheduler`).  Returns the summary (what batch.json
     holds): per input, in input order, its outcome (:func:`run_task`)."""
     from .. import __version__
     from ..core.atomic import atomic_group
@@ -927,7 +517,7 @@ def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, 
     interrupted = False
     finished_all = False
     try:
-        with dask_client(scheduler, workers, threads, kind, dashboard) as (client, description):
+        with dask_client(scheduler, workers, threads, kind, dashboard, scheduler_timeout) as (client, description):
             info["cluster"] = description
             progress.note(description)
             if dashboard or scheduler is not None:

@@ -19,6 +19,7 @@ from .cli import (
     EXPOSURE_LIMIT,
     LAYOUTS,
     MODES,
+    OUT_DIR,
     RENDER_ENGINES,
     TONEMAPS,
     _check_exposure,
@@ -54,7 +55,7 @@ def _list_option():
 
 
 def _out_option():
-    return typer.Option(..., "-o", "--out", metavar="DIR",
+    return typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
                         help="Output folder: OUT/<name>/ per input, OUT/index.html, OUT/batch.json.")
 
 
@@ -65,8 +66,15 @@ def _force_option():
 
 def _scheduler_option():
     return typer.Option(None, "--scheduler", metavar="ADDRESS",
-                        help="Run on the workers of a running distributed scheduler (tcp://HOST:PORT; inputs and "
-                             "OUT on a file system the workers share).  Default: a LocalCluster on this machine.")
+                        help="Run on the workers of a running distributed scheduler (tcp://HOST:PORT, or tls://, "
+                             "ws://, wss://; inputs and OUT on a file system the workers share).  Default: a "
+                             "LocalCluster on this machine.")
+
+
+def _scheduler_timeout_option():
+    return typer.Option(None, "--scheduler-timeout", metavar="SECONDS",
+                        help="With --scheduler: give up when no Dask scheduler has answered within this time "
+                             "(default 30).")
 
 
 def _workers_option():
@@ -86,19 +94,25 @@ def _dashboard_option():
                  "LocalCluster: serve Dask's dashboard (its address is printed; about 1 s of the start).")
 
 
-def _cluster_checks(scheduler, workers, threads, dashboard=True):
+def _cluster_checks(scheduler, workers, threads, dashboard=True, scheduler_timeout=None):
+    """The cluster options checked together, before any work: the ``--scheduler``
+    address (:func:`pbrkit.app.scheduler.check_scheduler_address`) and its timeout,
+    or the LocalCluster's.  Returns (scheduler address, timeout in seconds)."""
     from ..core import checks
+    from .scheduler import DEFAULT_SCHEDULER_TIMEOUT, check_scheduler_address, check_scheduler_timeout
 
-    if scheduler is not None:
-        if workers is not None or threads is not None or not dashboard:
-            raise ValueError("--workers, --threads and --no-dashboard set up a LocalCluster; with --scheduler "
-                             "the workers and the dashboard are those started for that scheduler")
-        if "://" not in scheduler or not scheduler.split("://", 1)[1]:
-            raise ValueError(f"--scheduler: expected an address such as tcp://HOST:PORT; got {scheduler!r}")
+    if scheduler is None:
+        if scheduler_timeout is not None:
+            raise ValueError("--scheduler-timeout is for --scheduler (a LocalCluster starts on this machine)")
+    elif workers is not None or threads is not None or not dashboard:
+        raise ValueError("--workers, --threads and --no-dashboard set up a LocalCluster; with --scheduler "
+                         "the workers and the dashboard are those started for that scheduler")
     if workers is not None:
         checks.integer(workers, "--workers", 1, 1024)
     if threads is not None:
         checks.integer(threads, "--threads", 1, 1024)
+    timeout = DEFAULT_SCHEDULER_TIMEOUT if scheduler_timeout is None else check_scheduler_timeout(scheduler_timeout)
+    return (None if scheduler is None else check_scheduler_address(scheduler)), timeout
 
 
 def _finish(summary, out, quiet):
@@ -150,6 +164,7 @@ def batch_bake(
              "or a comma-separated list)."),
     force: bool = _force_option(),
     scheduler: Optional[str] = _scheduler_option(),
+    scheduler_timeout: Optional[float] = _scheduler_timeout_option(),
     workers: Optional[int] = _workers_option(),
     threads: Optional[int] = _threads_option(),
     dashboard: bool = _dashboard_option(),
@@ -170,13 +185,12 @@ def batch_bake(
     options = bake_jobs_options(size, min_size, irradiance_size, lut_size, fmt, method, sh_window, layout,
                                 fix_nonfinite)
     targets = check_bake_options(options, target)
-    _cluster_checks(scheduler, workers, threads, dashboard)
+    scheduler, timeout = _cluster_checks(scheduler, workers, threads, dashboard, scheduler_timeout)
     found = expand_inputs(inputs, list_file, "bake")
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"{out}: exists and is not a directory")
     with BatchProgress("batch bake", len(found), quiet) as progress:
         summary = run_batch("bake", found, out, options, targets, force=force, scheduler=scheduler,
-                            workers=workers, threads=threads, dashboard=dashboard, progress=progress)
+                            workers=workers, threads=threads, dashboard=dashboard, progress=progress,
+                            scheduler_timeout=timeout)
     _finish(summary, out, quiet)
 
 
@@ -222,6 +236,7 @@ def batch_render(
                                         help="Real time in a non-photorealistic style (as pbrkit render --style)."),
     force: bool = _force_option(),
     scheduler: Optional[str] = _scheduler_option(),
+    scheduler_timeout: Optional[float] = _scheduler_timeout_option(),
     workers: Optional[int] = _workers_option(),
     threads: Optional[int] = _threads_option(),
     dashboard: bool = _dashboard_option(),
@@ -237,13 +252,11 @@ def batch_render(
     options = render_jobs_options(mode, spp, bounces, tonemap_name, exposure, width, height,
                                   None if env is None else str(env), seed, diffuse, energy_compensation, engine,
                                   bake_size, fix_nonfinite, occlusion, style, image_format)
-    _cluster_checks(scheduler, workers, threads, dashboard)
+    scheduler, timeout = _cluster_checks(scheduler, workers, threads, dashboard, scheduler_timeout)
     found = expand_inputs(scenes, list_file, "render")
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"{out}: exists and is not a directory")
     with BatchProgress("batch render", len(found), quiet) as progress:
         summary = run_batch("render", found, out, options, force=force, scheduler=scheduler, workers=workers,
-                            threads=threads, dashboard=dashboard, progress=progress)
+                            threads=threads, dashboard=dashboard, progress=progress, scheduler_timeout=timeout)
     _finish(summary, out, quiet)
 
 

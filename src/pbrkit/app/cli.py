@@ -309,6 +309,51 @@ def _flag(default, decls, help_text, **kwargs):
     return typer.Option(default, *decls, metavar="", help=help_text, **kwargs)
 
 
+def _output_path(kind):
+    """The ``parser`` of every ``-o/--out`` option (``kind``: ``"DIR"`` or ``"FILE"``,
+    as its metavar): refused as the command line is read, before any work, are an
+    empty path (``-o ""``), an existing file where a folder is wanted, an existing
+    folder or device where a file is, and a path under a file (its nearest existing
+    parent is not a folder).  Typer's errors name the option (``--out: empty path``)."""
+    import os
+    import stat
+
+    wanted = "a folder (DIR)" if kind == "DIR" else "a file (FILE)"
+
+    def parse(value):
+        text = str(value)
+        if not text.strip():
+            raise typer.BadParameter(f"empty path; expected {wanted}")
+        if "\x00" in text:
+            raise typer.BadParameter(f"a path with a NUL character; expected {wanted}")
+        path = Path(text)
+        try:
+            mode = os.stat(path).st_mode
+        except (FileNotFoundError, NotADirectoryError):
+            mode = None
+        except OSError as exc:  # a name too long, a loop of links, no permission
+            raise typer.BadParameter(f"{path}: cannot use it ({exc.strerror or type(exc).__name__}); "
+                                     f"expected {wanted}") from None
+        if mode is not None and kind == "DIR" and not stat.S_ISDIR(mode):
+            raise typer.BadParameter(f"{path}: exists and is not a directory; expected {wanted}")
+        if mode is not None and kind != "DIR" and not stat.S_ISREG(mode):
+            what = "a directory" if stat.S_ISDIR(mode) else "not a regular file"
+            raise typer.BadParameter(f"{path}: exists and is {what}; expected {wanted}")
+        parent = path.absolute().parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+        if not parent.is_dir():
+            raise typer.BadParameter(f"{path}: its parent {parent} is not a directory; expected {wanted}")
+        return path
+
+    parse.__name__ = kind.lower()
+    return parse
+
+
+#: The ``parser`` of the ``-o/--out`` options naming a folder, and a file (:func:`_output_path`).
+OUT_DIR, OUT_FILE = _output_path("DIR"), _output_path("FILE")
+
+
 # ------------------------------------------------------------- progress
 
 
@@ -424,7 +469,7 @@ class _Stages:
 @app.command(cls=_Command)
 @user_errors
 def furnace(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR, help="Output folder."),
     mu_count: int = typer.Option(32, "--mu", metavar="N", help="Number of mu = n.v values (texel centres)."),
     roughness_count: int = typer.Option(11, "--roughness", metavar="N", help="Number of roughness values in [0, 1]."),
     samples: int = typer.Option(256, "--samples", metavar="N", help="Monte Carlo samples per (mu, roughness) cell."),
@@ -490,7 +535,7 @@ def furnace(
 @app.command(cls=_Command)
 @user_errors
 def lut(
-    out: Path = typer.Option(..., "-o", "--out", metavar="FILE",
+    out: Path = typer.Option(..., "-o", "--out", metavar="FILE", parser=OUT_FILE,
                              help="Output file: .npy, .exr, .png (16-bit), .h (C header, float16) or .ktx2; "
                                   "FILE.json beside it describes the table."),
     kind: str = _choice("dfg", "--kind", LUT_KINDS, "table kind",
@@ -535,7 +580,7 @@ def lut(
 @app.command(cls=_Command, short_help="Error heat maps of real-time approximations as directional-albedo differences.")
 @user_errors
 def approximations(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR, help="Output folder."),
     size: int = typer.Option(32, "--size", metavar="N", help="Grid size N over (n.v, roughness)."),
     quiet: bool = _quiet_option(),
 ):
@@ -567,7 +612,7 @@ def approximations(
 def render(
     scene: str = typer.Argument(..., metavar="SCENE",
                                 help="Scene file (.toml or .json) or a built-in scene: spheres, sphere, area."),
-    out: Path = typer.Option(..., "-o", "--out", metavar="FILE",
+    out: Path = typer.Option(..., "-o", "--out", metavar="FILE", parser=OUT_FILE,
                              help="Output image: .exr (linear float32) or .png (tone-mapped, sRGB)."),
     mode: str = _choice("realtime", "--mode", MODES, "mode",
                         "realtime (split-sum IBL), reference (Monte Carlo ground truth) or compare (both)."),
@@ -659,7 +704,8 @@ def render(
 @app.command(cls=_Command, short_help="Bake, render, compare and plot the bundled scene into OUT/index.html.")
 @user_errors
 def demo(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder (index.html and its images)."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
+                             help="Output folder (index.html and its images)."),
     size: int = typer.Option(384, "--size", metavar="PIXELS", help="Side of the sphere-grid images in pixels."),
     spp: int = typer.Option(192, "--spp", metavar="N",
                             help="Ground-truth samples per pixel (more than render's 64: the page shows the "
@@ -716,7 +762,7 @@ def bake(
     env: list[Path] = typer.Argument(..., metavar="ENV",
                                      help="Environment: one equirect (.hdr, .exr, .pfm, .png, .jpg) or cube-cross "
                                           "image, or six face files in the order +X -X +Y -Y +Z -Z."),
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
                              help="Output folder (must be absent or empty unless --force)."),
     size: int = BAKE_OPTIONS["size"](),
     min_size: int = BAKE_OPTIONS["min_size"](),
@@ -773,7 +819,7 @@ def bake(
 @app.command(cls=_Command, short_help="Fit LTC tables for polygonal area lights, in the layout engines load.")
 @user_errors
 def ltc(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
                              help="Output folder (must be absent or empty unless --force)."),
     size: int = typer.Option(64, "--size", metavar="N",
                              help="Cells per side (64: the published layout engines load)."),
@@ -891,7 +937,8 @@ SHADER_TARGETS = ("glsl",)  # pbrkit.shaders.TARGETS
 @app.command(cls=_Command, short_help="Write a tonal art map for hatching (Praun et al. 2001) as images.")
 @user_errors
 def hatching(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", help="Output folder (absent or empty unless --force)."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
+                             help="Output folder (absent or empty unless --force)."),
     tones: int = typer.Option(6, "--tones", metavar="N", help="Tones, light to dark (2-16)."),
     size: int = typer.Option(256, "--size", metavar="N", help="Side of the finest level (a power of two)."),
     seed: int = _seed_option("Seed of the strokes' placement; the same seed gives the same bytes."),
@@ -919,7 +966,7 @@ def hatching(
 @app.command(cls=_Command, short_help="Write shader functions that match pbrkit's models and bakes.")
 @user_errors
 def shaders(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR",
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
                              help="Output folder (must be absent or empty unless --force)."),
     target: str = _choice("glsl", "--target", SHADER_TARGETS, "shader target",
                           "Shading language: glsl (GLSL ES 3.00 / WebGL2 and GLSL 3.30+)."),

@@ -112,6 +112,7 @@ def register(app):
     """Add ``pbrkit explore`` to ``app`` (the helpers of :mod:`pbrkit.app.cli` are
     imported here: ``cli`` imports this module at its end)."""
     from .cli import (
+        OUT_DIR,
         _check_exposure,
         _choice,
         _Command,
@@ -182,7 +183,7 @@ def register(app):
         port: int = typer.Option(0, "--port", metavar="N", help="Port on 127.0.0.1 (0: a free one)."),
         no_browser: bool = _flag(False, ("--no-browser",), "Do not open a browser (print the URL only)."),
         static: bool = _flag(False, ("--static",), "Write every view as PNG and SVG into -o DIR instead of serving."),
-        out: Optional[Path] = typer.Option(None, "-o", "--out", metavar="DIR",
+        out: Optional[Path] = typer.Option(None, "-o", "--out", metavar="DIR", parser=OUT_DIR,
                                            help="With --static: the output folder (absent or empty unless --force)."),
         force: bool = _flag(False, ("--force",), "With --static: replace a non-empty output folder."),
         quiet: bool = _quiet_option(),
