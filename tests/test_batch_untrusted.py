@@ -483,3 +483,20 @@ def test_a_render_record_refuses_a_gltf_reaching_outside(tmp_path):
     garbage.write_text("[" * 100000)  # JSON nested too deep: no references (the renderer refuses the file)
     scene.objects = [GltfObject(file=str(garbage))]
     assert [r[0] for r in _scene_references(scene, None)] == ["gltf"]
+
+
+def test_batch_render_takes_allow_roots_as_pbrkit_render_does(tmp_path, monkeypatch):
+    """--allow-root of a render batch: each folder made absolute in the job options (which
+    reach command_scene and the record's references); a path that is not a folder is
+    refused with one line naming the flag before any work."""
+    from pbrkit.app.batch import render_jobs_options
+
+    (tmp_path / "shared").mkdir()
+    monkeypatch.chdir(tmp_path)
+    assert render_jobs_options(allow_roots=["shared"])["allow_roots"] == [str(tmp_path / "shared")]
+    assert render_jobs_options()["allow_roots"] == []
+    with pytest.raises(ValueError, match="--allow-root .*missing.* is not a folder"):
+        render_jobs_options(allow_roots=["missing"])
+    result = invoke("batch", "render", "spheres", "-o", str(tmp_path / "out"), "--allow-root", "missing")
+    assert result.exit_code != 0
+    assert "--allow-root" in one_error_line(result) and not (tmp_path / "out").exists()

@@ -328,10 +328,11 @@ def check_bake_options(options, targets):
 
 def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", exposure=0.0, width=None, height=None,
                         env=None, seed=0, diffuse="sh", energy_compensation=False, engine="pbrkit", bake_size=256,
-                        fix_nonfinite=False, occlusion=None, style=None, fmt="png"):
+                        fix_nonfinite=False, occlusion=None, style=None, fmt="png", allow_roots=()):
     """The canonical options of a render batch (those of ``pbrkit render``, and the
     image format ``fmt``, png or exr), checked as ``pbrkit render`` checks them
-    before it loads a scene; ``env`` (a file or bake folder) becomes absolute."""
+    before it loads a scene; ``env`` (a file or bake folder) and the folders of
+    ``allow_roots`` (``--allow-root``) become absolute."""
     from ..core import checks
     from ..core.color import TONEMAPS
     from ..render.run import MODES
@@ -359,10 +360,14 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
         if str(style) not in STYLE_PRESETS:
             style = os.path.abspath(style)
         resolve_style(style)
+    from ..io.gltf_resources import allowed_root
+
+    roots = [os.path.abspath(allowed_root(root, None, "--allow-root")) for root in allow_roots]
     return {"mode": mode, "spp": spp, "bounces": bounces, "tonemap": tonemap, "exposure": float(exposure),
             "width": width, "height": height, "env": env, "seed": seed, "diffuse": diffuse,
             "energy_compensation": bool(energy_compensation), "engine": engine, "bake_size": bake_size,
-            "fix_nonfinite": bool(fix_nonfinite), "occlusion": occlusion, "style": style, "format": fmt}
+            "fix_nonfinite": bool(fix_nonfinite), "occlusion": occlusion, "style": style, "format": fmt,
+            "allow_roots": roots}
 
 
 # ================================================================== progress

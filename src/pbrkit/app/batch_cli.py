@@ -234,6 +234,10 @@ def batch_render(
              "reference, off for compare)."),
     style: Optional[str] = typer.Option(None, "--style", metavar="NAME|FILE",
                                         help="Real time in a non-photorealistic style (as pbrkit render --style)."),
+    allow_root: Optional[list[Path]] = typer.Option(
+        None, "--allow-root", metavar="DIR",
+        help="A folder besides a glTF model's own that its buffer and image URIs may name (repeatable; as "
+             "pbrkit render --allow-root)."),
     force: bool = _force_option(),
     scheduler: Optional[str] = _scheduler_option(),
     scheduler_timeout: Optional[float] = _scheduler_timeout_option(),
@@ -251,7 +255,7 @@ def batch_render(
 
     options = render_jobs_options(mode, spp, bounces, tonemap_name, exposure, width, height,
                                   None if env is None else str(env), seed, diffuse, energy_compensation, engine,
-                                  bake_size, fix_nonfinite, occlusion, style, image_format)
+                                  bake_size, fix_nonfinite, occlusion, style, image_format, allow_root or ())
     scheduler, timeout = _cluster_checks(scheduler, workers, threads, dashboard, scheduler_timeout)
     found = expand_inputs(scenes, list_file, "render")
     with BatchProgress("batch render", len(found), quiet) as progress:

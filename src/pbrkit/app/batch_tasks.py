@@ -262,14 +262,15 @@ def _render_job(job):
 
     options, out, name = job["options"], Path(job["out"]), job["name"]
     scene_input = job["input"]
-    scene = command_scene(scene_input, options["width"], options["height"], options["env"], options["fix_nonfinite"])
+    scene = command_scene(scene_input, options["width"], options["height"], options["env"], options["fix_nonfinite"],
+                          options.get("allow_roots", ()))
     style = None
     if options["style"] is not None:
         from ..npr.style import resolve_style
 
         style = resolve_style(options["style"])
     record = render_record(scene_input, scene, options, job.get("builtin", False),
-                           getattr(scene, "allow_roots", ()))  # the scene key allow_roots, where it has one
+                           getattr(scene, "allow_roots", ()))  # the scene key and --allow-root
     state, reason = render_state(out, record)
     image_name = f"{name}.{options['format']}"
     preview = "thumbnail.png" if options["format"] == "exr" else image_name
