@@ -341,3 +341,19 @@ def test_published_table_scores_in_expected_range():
     near = (result.reference > 0.1 * result.albedo) & (lights.nov > 0.5)
     assert np.count_nonzero(near) >= 5
     assert np.nanmedian(result.relative[near]) < 0.1
+
+
+def test_published_table_reads_its_file_as_untrusted_input(tmp_path):
+    """A path given for the published tables: a device is refused without being read,
+    numbers that are not numbers are refused naming the array, never quoting the file."""
+    from pbrkit.core.errors import InputError
+
+    link = tmp_path / "RectAreaLightTexturesLib.js"
+    link.symlink_to("/dev/zero")
+    with pytest.raises(InputError, match="not a regular file"):
+        score.published_table(link)
+    bad = tmp_path / "lib.js"
+    bad.write_text("const LTC_MAT_1 = [ 1, SECRET, 3 ]; const LTC_MAT_2 = [1];")
+    with pytest.raises(ValueError, match="LTC_MAT_1 holds something other than numbers") as caught:
+        score.published_table(bad)
+    assert "SECRET" not in str(caught.value)

@@ -30,6 +30,7 @@ import numpy as np
 from ..core import checks
 from ..core.atomic import atomic_directory, write_text
 from ..core.color import linear_to_srgb
+from ..core.inputs import read_text
 from ..io.exr import write_exr
 from ..io.png import write_png
 from .figures import error_scale, new_figure, plot_error_map, save_figure
@@ -295,7 +296,7 @@ def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progr
 
 
     manifest_path = out / "bake" / "manifest.json"
-    manifest = json.loads(manifest_path.read_text()) if manifest_path.exists() else dict(baked.manifest)
+    manifest = json.loads(read_text(manifest_path)) if manifest_path.exists() else dict(baked.manifest)
     timings["total"] = time.perf_counter() - t_start
     if warm is not None:  # a first run: the worker compiled the later steps' kernels meanwhile
         timings["waited for the warm-up process"] = warm.waited

@@ -57,6 +57,7 @@ import numpy as np
 from ..albedo.tables import VISIBILITIES, specular_integrals
 from ..brdf.bxdf import isotropic_cosines
 from ..brdf.dispatch import make_bxdf, specular_lobe
+from ..core.inputs import check_regular, read_bytes, read_text
 from ..brdf.fresnel import f_schlick
 from ..brdf.models import model_codes
 from ..brdf.shading.registry import LAYOUT
@@ -1166,6 +1167,8 @@ def score_table(ltc1, ltc2, lights, f0=1.0, reference=None, threshold=RELATIVE_T
 #: Where :func:`published_table` looks for three.js's npm package, relative to
 #: the repository root (the pinned engines of ``tests/engines``) and to the
 #: working directory.
+#: Largest JavaScript file searched for the published tables (three.js's are about 80 KiB).
+_MAX_JS_BYTES = 16 << 20
 _THREE_FILES = ("examples/jsm/lights/RectAreaLightTexturesLib.js", "examples/jsm/lights/RectAreaLightUniformsLib.js")
 _REPOSITORY = Path(__file__).resolve().parents[min(3, len(Path(__file__).resolve().parents) - 1)]
 
@@ -1181,6 +1184,8 @@ def published_table_path(path=None):
     looked."""
     if path is not None:
         p = Path(path)
+        if p.exists() and not p.is_dir():
+            check_regular(p, "three.js's LTC data (a JavaScript file, or the three package's folder)")
         candidates = [p] if p.is_file() else [p / "three", p]
     else:
         candidates = [_REPOSITORY / "tests/engines/node_modules/three", Path.cwd() / "node_modules/three"]
@@ -1189,7 +1194,8 @@ def published_table_path(path=None):
         files = [base] if base.is_file() else [base / f for f in _THREE_FILES]
         for f in files:
             looked.append(str(f))
-            if f.is_file() and "LTC_MAT_1" in f.read_text(encoding="utf-8", errors="replace"):
+            if f.is_file() and "LTC_MAT_1" in read_bytes(f, _MAX_JS_BYTES, "a JavaScript file").decode(
+                    "utf-8", errors="replace"):
                 return f
     raise FileNotFoundError("the published LTC tables (three.js's LTC_MAT_1 / LTC_MAT_2) were not found; install "
                             "three (npm ci --prefix tests/engines) or pass its path; looked in: " + ", ".join(looked))
@@ -1204,13 +1210,17 @@ def published_table(path=None):
     uploads them in (a ``DataTexture`` 64 wide: row t, column a).  Values
     are rounded to float32 as three's ``Float32Array`` does."""
     f = published_table_path(path)
-    text = f.read_text(encoding="utf-8")
+    text = read_text(f, _MAX_JS_BYTES, "three.js's LTC data (a JavaScript file with LTC_MAT_1 and LTC_MAT_2)")
     out = []
     for name in ("LTC_MAT_1", "LTC_MAT_2"):
         match = re.search(name + r"\s*=\s*\[([^\]]*)\]", text)
         if match is None:
             raise ValueError(f"{f}: no {name} array")
-        values = np.array([float(x.replace(" ", "")) for x in match.group(1).split(",") if x.strip()], dtype=np.float64)
+        try:
+            values = np.array([float(x.replace(" ", "")) for x in match.group(1).split(",") if x.strip()],
+                              dtype=np.float64)
+        except ValueError:
+            raise ValueError(f"{f}: {name} holds something other than numbers") from None
         if values.size != LUT_SIZE * LUT_SIZE * 4:
             raise ValueError(f"{f}: {name} has {values.size} values, expected {LUT_SIZE * LUT_SIZE * 4}")
         out.append(values.astype(np.float32).reshape(LUT_SIZE, LUT_SIZE, 4))
