@@ -497,8 +497,12 @@ _MATERIAL_KEYS = {p.name for p in NUMBERS + CHOICES} | set(SURFACE_KEYS) - {"dou
 _OBJECT_KEYS = {"sphere": {"type", "center", "radius", "material"},
                 "plane": {"type", "point", "normal", "material"},
                 "gltf": {"type", "file", "translation", "rotation", "scale"}}
-_LIGHT_KEYS = {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
-               "outer_cone_angle", "falloff"}
+#: A punctual light's keys by type: those another type needs would change nothing
+#: (KHR_lights_punctual: a directional light has no position or range, only a spot a cone).
+_LIGHT_KEYS = {"directional": {"type", "color", "intensity", "direction"},
+               "point": {"type", "color", "intensity", "position", "range", "falloff"},
+               "spot": {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
+                        "outer_cone_angle", "falloff"}}
 _AREA_COMMON = {"type", "color", "intensity", "unit"}
 _AREA_LIGHT_KEYS = {"rect": _AREA_COMMON | {"position", "normal", "up", "width", "height", "two_sided"},
                     "polygon": _AREA_COMMON | {"vertices", "two_sided"},
@@ -624,7 +628,7 @@ def _lights_from(items):
         if kind not in types:
             raise ValueError(f"{where}: unknown light type {_show(kind)}; choose one of {', '.join(types)}")
         area_light = kind in AREA_LIGHT_TYPES
-        _check_keys(where, light, _AREA_LIGHT_KEYS[kind] if area_light else _LIGHT_KEYS)
+        _check_keys(f"{where} ({kind})", light, _AREA_LIGHT_KEYS[kind] if area_light else _LIGHT_KEYS[kind])
         _check_values(light, _AREA_LIGHT_VALUES if area_light else _LIGHT_VALUES,
                       lambda key, where=where: f"{where}: {key}")
         try:
