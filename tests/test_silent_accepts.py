@@ -64,6 +64,129 @@ def assert_refused(result, *fragments, out=None):
     return lines[0]
 
 
+# ------------------------------------------------------------------ styles
+
+STYLE_CASES = [
+    ({"thresholds": [True, 0.5]}, "style thresholds must increase within [0, 1]"),
+    ({"thresholds": ["0.2", "0.6"]}, "style thresholds must increase within [0, 1]"),
+    ({"thresholds": [0.2, NAN]}, "style thresholds must increase within [0, 1]"),
+    ({"softness": True}, "style softness must be a number in [0, 1]; got true"),
+    ({"specular": False}, "style specular must be a number in [0, 100]; got false"),
+    ({"rim_power": "5"}, "style rim_power must be a number in [0, 100]; got '5'"),
+    ({"shading_toony": NAN}, "style shading_toony must be a number in [0, 0.999]"),
+    ({"outline_width": INF}, "style outline_width must be a number in [0, 64]"),
+    ({"shadow_color": ["0.3", "0.3", "0.4"]}, "style shadow_color must be a list of 3 non-negative numbers"),
+    ({"shadow_color": "dark blue"}, "style shadow_color must be a list of 3 non-negative numbers; got 'dark blue'"),
+    ({"rim_color": [True, 0, 0]}, "style rim_color must be a list of 3 non-negative numbers"),
+    ({"outline_color": [0, 0, -1]}, "style outline_color must be a list of 3 non-negative numbers"),
+    ({"tones": True}, "style tones must be an integer; got true"),
+    ({"environment": 1}, "style environment must be true or false; got 1"),
+    ({"ramp": 3}, "style ramp must be a non-empty string; got 3"),
+    ({"shading": "x" * 5000}, "style shading must be one of pbr, toon, mtoon, hatching"),
+    ({"tones": 4, "thresholds": [0.3]}, "style: tones and thresholds are alternatives"),
+    ({"shadow_color": [0, 0, 0], "ramp": "ramp.png"}, "style: shadow_color and ramp are alternatives"),
+]
+
+
+@pytest.mark.parametrize("table, fragment", STYLE_CASES, ids=[str(t)[:40] for t, _ in STYLE_CASES])
+def test_style_values_of_the_wrong_type_range_or_combination_are_refused(table, fragment):
+    with pytest.raises(ValueError) as info:
+        style_from_dict(table)
+    message = str(info.value)
+    assert fragment in message and "\n" not in message, message
+    assert "x" * 80 not in message  # a value is quoted short
+
+
+def test_the_same_style_values_pass_as_numbers():
+    """The refusals above are of the types, not the keys: numbers pass."""
+    style = style_from_dict({"thresholds": [0.2, 0.6], "softness": 0.1, "shadow_color": [0.3, 0.3, 0.4],
+                             "rim_color": [1, 0, 0], "environment": False, "hatching_tones": 4, "shading": "toon"})
+    assert style.thresholds == (0.2, 0.6) and style.shadow_color == (0.3, 0.3, 0.4) and style.hatching_tones == 4
+
+
+@pytest.mark.parametrize("value", [1.5, -0.1, True, "0.9", [0.9], NAN, INF])
+def test_mtoon_toony_outside_zero_one_is_refused(value):
+    """VRMC_materials_mtoon.schema.json: shadingToonyFactor in [0, 1] (it was clamped to
+    0.999 from any value above, and a list raised a TypeError)."""
+    with pytest.raises(ValueError, match=r"shadingToonyFactor must be a number in \[0, 1\]"):
+        mtoon_style({"shadingToonyFactor": value})
+
+
+def test_mtoon_factors_in_range_are_taken():
+    assert mtoon_style({"shadingToonyFactor": 1.0}).shading_toony == 0.999  # the step's width stays positive
+    assert mtoon_style({"shadingToonyFactor": 0}).shading_toony == 0.0
+    with pytest.raises(ValueError, match="shadeColorFactor must be a list of 3 numbers in"):
+        mtoon_style({"shadeColorFactor": [1, True, 0]})
+    with pytest.raises(ValueError, match="giEqualizationFactor must be a number in"):
+        mtoon_style({"giEqualizationFactor": 2.0})
+
+
+def test_a_style_file_of_bad_json_names_the_file(tmp_path):
+    path = tmp_path / "m.json"
+    path.write_text(json.dumps({"VRMC_materials_mtoon": {"shadingToonyFactor": 3}}))
+    with pytest.raises(InputError) as info:
+        resolve_style(path)
+    assert str(info.value).startswith(f"{path}: ") and "shadingToonyFactor" in str(info.value)
+
+
+BAD_TEXT = {  # file name: content whose parser message would quote it
+    "dup.toml": f"[style]\n{SECRET} = 1\n{SECRET} = 2\n",
+    "char.toml": f'[style]\nshading = "{SECRET}\x01"\n',
+    "key.toml": f"[style]\n{SECRET} {SECRET}\n",
+    "bad.json": f'{{"{SECRET}": {SECRET}}}',
+    "latin1.toml": f'[style]\nshading = "{SECRET}\xe9"\n'.encode("latin-1"),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD_TEXT))
+def test_style_and_scene_files_that_do_not_parse_are_not_quoted(tmp_path, name):
+    """tomllib names the key it cannot declare twice and the character it cannot take;
+    a refusal gives the position and what was expected instead."""
+    content = BAD_TEXT[name]
+    path = tmp_path / name
+    path.write_bytes(content if isinstance(content, bytes) else content.encode())
+    for load in (resolve_style, load_scene):
+        with pytest.raises(InputError) as info:
+            load(path)
+        message = str(info.value)
+        assert message.startswith(f"{path}: ") and "\n" not in message
+        assert SECRET not in message, message
+        assert "expected" in message and ("line" in message or "byte" in message or "the end" in message), message
+
+
+def test_unreadable_files_are_refused_at_once(tmp_path):
+    """A scene or style that is /dev/zero behind a symbolic link, or a named pipe, and a
+    ramp that is a pipe: refused as not regular files (a plain read would never end, or
+    block), in a child process with a time limit so that a regression fails, not hangs."""
+    (tmp_path / "zero.toml").symlink_to("/dev/zero")
+    (tmp_path / "zero.json").symlink_to("/dev/zero")
+    os.mkfifo(tmp_path / "pipe.toml")
+    os.mkfifo(tmp_path / "ramp.png")
+    script = textwrap.dedent(f"""
+        from pbrkit.npr.style import resolve_style, style_from_dict
+        from pbrkit.render.scene import command_scene
+        root = {str(tmp_path)!r}
+        for load, name in ((command_scene, "zero.toml"), (command_scene, "pipe.toml"),
+                           (resolve_style, "zero.json"), (resolve_style, "pipe.toml")):
+            try:
+                load(root + "/" + name)
+            except ValueError as exc:
+                print(exc)
+        try:
+            style_from_dict({{"shading": "toon", "ramp": "ramp.png"}}, root)
+        except ValueError as exc:
+            print(exc)
+    """)
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "src")}
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, env=env)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert len(lines) == 5, done.stdout
+    for line, name, kind in zip(lines, ("zero.toml", "pipe.toml", "zero.json", "pipe.toml", "ramp.png"),
+                                ("character device", "named pipe", "character device", "named pipe", "named pipe")):
+        assert name in line and f"is a {kind}, not a regular file" in line, line
+
+
 # ------------------------------------------------------------------ lights
 
 

@@ -108,7 +108,7 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -116,7 +116,9 @@ import numpy as np
 
 from ..brdf.shading.registry import MODELS
 from ..core import checks
+from ..core.documents import FORMATS, parse_document
 from ..core.errors import InputError
+from ..core.inputs import describe, read_text
 from .area_lights import AREA_LIGHT_TYPES, AreaLight
 from .lights import LIGHT_TYPES, Light
 from .material_spec import CHOICES, NUMBERS, SURFACE_KEYS, MaterialSpec
@@ -141,6 +143,8 @@ __all__ = [
 #: Shading models a scene material may name (those of :mod:`pbrkit.brdf.models`).
 SHADING_MODELS = MODELS
 BUILTIN_SCENES = ("spheres", "sphere", "area")
+#: What a scene file must be, for messages.
+SCENE_EXPECTED = "a .toml or .json scene file (pbrkit.render.scene)"
 
 
 # ---------------------------------------------------------------- camera
@@ -380,8 +384,10 @@ class Scene:
             raise ValueError("scene has no objects")
         for obj in self.objects:
             if isinstance(obj, (Sphere, Plane)) and obj.material not in self.materials:
-                raise ValueError(f"{type(obj).__name__.lower()} uses material {obj.material!r}, which is not "
-                                 f"defined (defined: {', '.join(sorted(self.materials)) or 'none'})")
+                defined = ", ".join(_name(m) for m in sorted(self.materials)[:20])
+                raise ValueError(f"{type(obj).__name__.lower()} uses material {describe(obj.material)}, which is "
+                                 f"not defined (defined: {defined or 'none'}"
+                                 f"{', ...' if len(self.materials) > 20 else ''})")
 
     def with_camera(self, **changes):
         """A copy with some camera fields changed (e.g. width, height)."""
@@ -476,9 +482,15 @@ _LIGHT_VALUES = {"type": _STRING, "falloff": _STRING, "color": _numbers(3, 0.0, 
 
 
 def _show(value):
-    """A value as the file wrote it, kept short: true, '0.5' (a string), [1, 2]."""
-    text = json.dumps(value) if isinstance(value, bool) or value is None else repr(value)
+    """A value as the file wrote it, kept short and escaped: true, '0.5' (a string), [1, 2]."""
+    text = json.dumps(value) if isinstance(value, bool) or value is None else ascii(value)
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _name(name):
+    """A material name from the file for a message: as it is if short and plain, else
+    escaped and cut (:func:`pbrkit.core.inputs.describe`)."""
+    return name if isinstance(name, str) and re.fullmatch(r"[\w.+-]{1,40}", name, re.ASCII) else describe(name)
 
 
 def _check_values(table, checks, label):
@@ -524,7 +536,7 @@ def _check_keys(where, table, allowed):
         raise ValueError(f"{where} must be a table/object; got {type(table).__name__}")
     unknown = sorted(set(table) - allowed)
     if unknown:
-        raise ValueError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(allowed))}")
+        raise ValueError(f"{where}: unknown key {describe(unknown[0])}; allowed: {', '.join(sorted(allowed))}")
 
 
 def _resolve(base_dir, path, what):
@@ -577,8 +589,8 @@ def _materials_from(table):
         raise ValueError("materials must be a table of named materials")
     materials = {"default": MaterialSpec()}
     for name, spec in table.items():
-        _check_keys(f"materials.{name}", spec, _MATERIAL_KEYS)
-        _check_values(spec, _MATERIAL_VALUES, lambda key, name=name: f"material {name!r}: {key}")
+        _check_keys(f"materials.{_name(name)}", spec, _MATERIAL_KEYS)
+        _check_values(spec, _MATERIAL_VALUES, lambda key, name=name: f"material {describe(name)}: {key}")
         materials[name] = MaterialSpec(name=name, **spec)
     return materials
 
@@ -647,14 +659,10 @@ def load_scene(path):
         hint = (" (a glTF file is placed by a scene file: [[objects]] type = \"gltf\", file = ...)"
                 if suffix in (".gltf", ".glb") else "")
         raise InputError(f"scene files must be .toml or .json; got {suffix or 'no suffix'!r}{hint}", path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read scene file: {exc}", path) from None
-    try:
-        data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
-    except (ValueError, RecursionError) as exc:  # decode errors, huge integers, deep nesting
-        raise InputError(f"invalid {suffix[1:].upper()}: {exc}", path) from None
+    # a regular file of bounded size (not /dev/zero, a pipe, or a link to one); errors
+    # give the position, never the text (pbrkit.core.documents)
+    text = read_text(path, expected=SCENE_EXPECTED)
+    data = parse_document(text, FORMATS[suffix], path, SCENE_EXPECTED)
     try:
         return scene_from_dict(data, base_dir=path.parent, source=str(path))
     except (TypeError, ValueError) as exc:
