@@ -187,6 +187,31 @@ def test_unreadable_files_are_refused_at_once(tmp_path):
         assert name in line and f"is a {kind}, not a regular file" in line, line
 
 
+# ------------------------------------------------- styles and the render mode
+
+
+@pytest.fixture
+def styled_scene(tmp_path):
+    path = tmp_path / "styled.toml"
+    path.write_text('[camera]\nwidth = 16\nheight = 16\n[style]\nshading = "toon"\n[[objects]]\ntype = "sphere"\n')
+    return path
+
+
+@pytest.mark.parametrize("mode", ["reference", "compare"])
+def test_a_style_flag_outside_realtime_is_refused_naming_the_flag(tmp_path, mode):
+    out = tmp_path / "out.exr"
+    result = invoke("render", "sphere", "-o", out, "--mode", mode, "--style", "toon", "--spp", "1", "-q",
+                    "--width", "16", "--height", "16")
+    assert_refused(result, "--style toon", "--mode realtime only", f"--mode {mode}", out=out)
+
+
+@pytest.mark.parametrize("mode", ["reference", "compare"])
+def test_a_scene_style_outside_realtime_is_refused_naming_the_key(tmp_path, styled_scene, mode):
+    out = tmp_path / "out.exr"
+    result = invoke("render", styled_scene, "-o", out, "--mode", mode, "--spp", "1", "-q")
+    assert_refused(result, f"{styled_scene}: [style] (toon", "--mode realtime only", "--style pbr", out=out)
+
+
 # ------------------------------------------------------------------ lights
 
 
