@@ -317,3 +317,33 @@ def test_punctual_light_keys_of_another_type_are_refused(light, key):
 def test_lights_built_in_python_refuse_bools_strings_and_overflow(kwargs, fragment):
     with pytest.raises(ValueError, match=fragment):
         Light(**{"type": "point", **kwargs})
+
+
+# ------------------------------------------------------------------ materials
+
+
+@pytest.mark.parametrize("kwargs, fragment", [
+    ({"roughness": "0.5"}, "roughness must be a number; got '0.5'"),
+    ({"metallic": True}, "metallic must be a number; got true"),
+    ({"base_color": [1, "1", 1]}, "base_color must be a list of 3 numbers"),
+    ({"emissive": [True, 0, 0]}, "emissive must be 3 finite non-negative numbers"),
+    ({"double_sided": "no"}, "double_sided must be true or false; got 'no'"),
+    ({"model": 3}, "unknown model '3'"),
+])
+def test_material_specs_refuse_bools_and_strings(kwargs, fragment):
+    with pytest.raises(ValueError) as info:
+        MaterialSpec(**kwargs)
+    assert fragment in str(info.value), info.value
+
+
+def test_names_from_the_file_are_quoted_short():
+    name = "m" * 5000
+    with pytest.raises(ValueError) as info:
+        scene_from_dict({"materials": {name: {"model": "phong"}}, "objects": [{"type": "sphere"}]})
+    assert "unknown model 'phong'" in str(info.value) and len(str(info.value)) < 300
+    with pytest.raises(ValueError) as info:
+        scene_from_dict({"objects": [{"type": "sphere", "material": name}]})
+    assert "which is not defined" in str(info.value) and len(str(info.value)) < 300
+    with pytest.raises(ValueError) as info:
+        scene_from_dict({"camera": {name: 1}, "objects": [{"type": "sphere"}]})
+    assert "unknown key 'mmm" in str(info.value) and name not in str(info.value)
