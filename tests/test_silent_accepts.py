@@ -347,3 +347,22 @@ def test_names_from_the_file_are_quoted_short():
     with pytest.raises(ValueError) as info:
         scene_from_dict({"camera": {name: 1}, "objects": [{"type": "sphere"}]})
     assert "unknown key 'mmm" in str(info.value) and name not in str(info.value)
+
+
+# ------------------------------------------------------------------ ltc
+
+
+def test_ltc_published_without_report_is_refused_before_any_work(tmp_path):
+    out = tmp_path / "tables"
+    result = invoke("ltc", "-o", out, "--size", "4", "--published", tmp_path / "absent.js")
+    assert_refused(result, "--published", "--report", out=out)
+
+
+def test_ltc_flag_contradictions_come_before_reading_the_published_table(tmp_path):
+    """--fresnel without --clipping exact is refused before the (absent) published file
+    is looked at: the message names --fresnel, not the file."""
+    out = tmp_path / "tables"
+    absent = tmp_path / "absent.js"
+    result = invoke("ltc", "-o", out, "--size", "4", "--report", "--published", absent, "--fresnel")
+    message = assert_refused(result, "--fresnel", "--clipping exact", out=out)
+    assert str(absent) not in message
