@@ -366,3 +366,262 @@ def test_ltc_flag_contradictions_come_before_reading_the_published_table(tmp_pat
     result = invoke("ltc", "-o", out, "--size", "4", "--report", "--published", absent, "--fresnel")
     message = assert_refused(result, "--fresnel", "--clipping exact", out=out)
     assert str(absent) not in message
+
+
+# ------------------------------------------------ property: mutated scene files
+
+BASE_SCENE = {
+    "camera": {"position": [0.0, 1.0, 5.0], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1.0, 0.0], "fov": 40.0,
+               "width": 16, "height": 16, "supersample": 1},
+    "environment": {"color": [0.2, 0.2, 0.2], "intensity": 1.0, "rotation": 30.0},
+    "materials": {"gold": {"model": "gltf", "base_color": [1.0, 0.78, 0.34], "metallic": 1.0, "roughness": 0.3},
+                  "clay": {"model": "cook_torrance", "distribution": "ggx", "diffuse": "lambert",
+                           "base_color": [0.6, 0.35, 0.25], "roughness": 0.8, "emissive": [0.0, 0.0, 0.0]}},
+    "objects": [{"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": 1.0, "material": "gold"},
+                {"type": "plane", "point": [0.0, -1.0, 0.0], "normal": [0.0, 1.0, 0.0], "material": "clay"}],
+    "lights": [{"type": "spot", "position": [0.0, 3.0, 0.0], "direction": [0.0, -1.0, 0.0], "intensity": 5.0,
+                "range": 10.0, "inner_cone_angle": 0.2, "outer_cone_angle": 0.5, "falloff": "ue4"},
+               {"type": "point", "position": [2.0, 2.0, 2.0], "intensity": 3.0, "color": [1.0, 0.9, 0.8]},
+               {"type": "directional", "direction": [0.3, -1.0, -0.5], "intensity": 2.0},
+               {"type": "rect", "position": [0.0, 3.0, 0.0], "normal": [0.0, -1.0, 0.0], "up": [0.0, 0.0, 1.0],
+                "width": 2.0, "height": 1.0, "intensity": 100.0, "unit": "power", "two_sided": False},
+               {"type": "polygon", "vertices": pentagon(), "intensity": 4.0},
+               {"type": "disk", "position": [1.0, 3.0, 0.0], "normal": [0.0, -1.0, 0.0], "radius": 0.25},
+               {"type": "sphere", "position": [-2.0, 2.0, 0.0], "radius": 0.3, "color": [1.0, 0.5, 0.25]}],
+    "style": {"shading": "toon", "tones": 3, "softness": 0.1, "shadow_color": [0.3, 0.3, 0.4], "outline": "image",
+              "rim_color": [0.1, 0.1, 0.1], "specular": 0.5},
+}
+#: Key names a renamed key may take: the scene's own, and ones of other tables.
+KEY_NAMES = sorted({"file", "bake", "ramp", "vertices", "type", "unit", "two_sided", "radius", "model", "color",
+                    "intensity", "thresholds", "tones", "conductor", "eta", "k", "lights", "objects", "style",
+                    "scale", "rotation", "translation", "range", "falloff", "environment", "up", "normal"})
+LONG = "Z" * 500
+SCALARS = st.one_of(
+    st.booleans(),
+    st.integers(-10**6, 10**6),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([NAN, INF, -INF, 1e308, -1e308, 5e-324, 1e-320, 0, -1, -1.0, 10**30, -10**30, 10**400, 1e6,
+                     1e12, 1e13, 0.0, 2.0, 0.5]),
+    st.text(alphabet="abcxyz.-_ /0123456789", max_size=8),
+    st.sampled_from(["", ".", "..", "toon", "power", "ggx", "sphere", "polygon", "gold", LONG]),
+)
+VALUES = st.one_of(SCALARS, st.lists(SCALARS, max_size=5), st.just([]), st.just({}),
+                   st.lists(st.lists(SCALARS, min_size=3, max_size=3), min_size=1, max_size=4),
+                   st.dictionaries(st.sampled_from(KEY_NAMES), SCALARS, max_size=3))
+
+
+NAMES = ["toon", "mtoon", "pbr", "image", "none", "power", "radiance", "ggx", "beckmann", "ue4", "khr", "gold", "clay",
+         "sphere", "polygon", "rect", "disk", "point", "spot", "directional", "lambert", "per_light", "summed"]
+
+
+def _like(old):
+    """Values close to ``old``: other numbers (in range or just out of it), a list of the
+    same length with one item changed (to a bool, a string, NaN, ...), other names:
+    mutations that often still load, where a silent accept would show."""
+    if isinstance(old, bool):
+        return st.booleans()
+    if isinstance(old, (int, float)):
+        return st.one_of(st.integers(-3, 40), st.floats(-2.0, 2.0), st.floats(-1e3, 1e3),
+                         st.sampled_from([0.0, 1.0, 1e-310, 1e-300, 1e-12, 1e12, 179.9]))
+    if isinstance(old, str):
+        return st.sampled_from(NAMES)
+    if isinstance(old, list) and old and all(_is_number(x) for x in old):
+        return st.tuples(st.integers(0, len(old) - 1), SCALARS, st.floats(-2.0, 2.0)).map(
+            lambda t: [t[1] if i == t[0] else (x if isinstance(t[1], (bool, str)) else x * t[2])
+                       for i, x in enumerate(old)])
+    if isinstance(old, list) and old and all(isinstance(x, list) for x in old):  # a polygon's vertices
+        return st.permutations(old).map(list)
+    return VALUES
+
+
+def _slots(value, path=()):
+    """Every (path) to a dict entry or list element of ``value``."""
+    found = []
+    if isinstance(value, dict):
+        for key, item in value.items():
+            found.append(path + (key,))
+            found.extend(_slots(item, path + (key,)))
+    elif isinstance(value, list):
+        for index, item in enumerate(value):
+            found.append(path + (index,))
+            found.extend(_slots(item, path + (index,)))
+    return found
+
+
+def _parent(doc, path):
+    for part in path[:-1]:
+        doc = doc[part]
+    return doc
+
+
+def _mutate(doc, data):
+    """One random mutation of ``doc`` in place (module docstring)."""
+    slots = _slots(doc)
+    keyed = [p for p in slots if isinstance(p[-1], str)]  # whole values, more often than list items
+    path = data.draw(st.sampled_from(keyed if keyed and data.draw(st.integers(0, 3), label="keyed") else slots),
+                     label="where")
+    parent, last = _parent(doc, path), path[-1]
+    action = data.draw(st.sampled_from(["replace", "replace", "replace", "remove", "rename", "duplicate"]),
+                       label="action")
+    if action == "replace":
+        parent[last] = data.draw(st.one_of(_like(parent[last]), VALUES), label="value")
+    elif action == "remove":
+        del parent[last]
+    elif action == "rename" and isinstance(parent, dict):
+        new = data.draw(st.one_of(st.sampled_from(KEY_NAMES), st.text(alphabet="abz_", min_size=1, max_size=5)),
+                        label="new key")
+        parent[new] = parent.pop(last)
+    elif isinstance(parent, list):
+        parent.insert(last, copy.deepcopy(parent[last]))
+
+
+def _toml_key(key):
+    return json.dumps(str(key))
+
+
+def _toml_value(value):
+    """A value as TOML (inline tables and arrays; TOML has nan and inf)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf") if math.isinf(value) else repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(x) for x in value) + "]"
+    return "{" + ", ".join(f"{_toml_key(k)} = {_toml_value(v)}" for k, v in value.items()) + "}"
+
+
+def toml_text(doc):
+    return "".join(f"{_toml_key(k)} = {_toml_value(v)}\n" for k, v in doc.items())
+
+
+def _finite_everywhere(value, where="scene"):
+    """Every number a loaded scene holds is finite (no NaN or infinity slipped through)."""
+    if isinstance(value, (bool, str)) or value is None:
+        return
+    if isinstance(value, (int, float, np.number)):
+        assert math.isfinite(float(value)), f"{where} = {value!r}"
+    elif isinstance(value, np.ndarray):
+        assert np.all(np.isfinite(value)), where
+    elif isinstance(value, (tuple, list)):
+        for i, item in enumerate(value):
+            _finite_everywhere(item, f"{where}[{i}]")
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            _finite_everywhere(item, f"{where}.{key}")
+    elif dataclasses.is_dataclass(value):
+        for f in dataclasses.fields(value):
+            _finite_everywhere(getattr(value, f.name), f"{where}.{f.name}")
+
+
+#: The keys whose values are strings, and those that are true or false (scene files, styles);
+#: every other value a loaded scene took is a number or a list of numbers.
+STRING_KEYS = {"type", "model", "material", "unit", "falloff", "shading", "lighting", "outline",
+               "outline_width_mode", "hatching_space", "file", "bake", "ramp", "distribution", "masking",
+               "fresnel", "diffuse", "conductor"}
+BOOL_KEYS = {"two_sided", "environment"}
+#: KHR_lights_punctual: the keys each punctual light type uses.
+PUNCTUAL_KEYS = {"directional": {"type", "color", "intensity", "direction"},
+                 "point": {"type", "color", "intensity", "position", "range", "falloff"},
+                 "spot": {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
+                          "outer_cone_angle", "falloff"}}
+
+
+def _is_number(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _typed_as_expected(doc):
+    """What a scene that loaded must have held (the oracle of the property test, from
+    the documented keys, not from the code's checks): strings where strings are
+    expected, true / false where those are, numbers (or lists of them) everywhere
+    else, and punctual lights with their own type's keys only."""
+    def leaves(table, where):
+        for key, value in table.items():
+            if key in ("materials",) and where == "":
+                for name, material in value.items():
+                    leaves(material, f"materials.{name}.")
+            elif key in ("objects", "lights") and where == "":
+                for item in value:
+                    leaves(item, f"{key}[].")
+            elif key in ("camera", "environment", "style") and where == "":
+                leaves(value, f"{key}.")
+            elif key in STRING_KEYS:
+                assert isinstance(value, str), f"{where}{key} = {value!r}"
+            elif key in BOOL_KEYS:
+                assert isinstance(value, bool), f"{where}{key} = {value!r}"
+            else:
+                flat = np.ravel(np.asarray(value, dtype=object)) if isinstance(value, list) else [value]
+                assert all(_is_number(x) for x in flat), f"{where}{key} = {value!r}"
+
+    leaves(doc, "")
+    for light in doc.get("lights", []):
+        if light["type"] in PUNCTUAL_KEYS:
+            assert set(light) <= PUNCTUAL_KEYS[light["type"]], light
+
+
+def _faithful(scene):
+    """A loaded scene renders what its file says: finite numbers everywhere, area
+    lights that emit a radiance a double holds (not rounded to zero, at most 1e12 cd /
+    m^2) and polygons once around (their turning angles sum to 2 pi)."""
+    _finite_everywhere(scene)
+    for light in scene.area_lights:
+        radiance = np.asarray(light.radiance)
+        emission = np.asarray(light.color) * light.intensity
+        assert np.all(np.isfinite(radiance)) and np.all(radiance <= 1e12), light
+        assert not np.any((emission > 0) & (radiance < np.finfo(float).tiny)), light
+        assert math.isfinite(light.area) and light.area > 0.0, light
+        if light.type == "polygon":
+            v = np.asarray(light.vertices)
+            edges = np.roll(v, -1, axis=0) - v
+            prev = np.roll(edges, 1, axis=0)
+            cross = np.cross(prev, edges) @ (np.asarray(light.normal))
+            total = np.sum(np.arctan2(cross, np.einsum("ij,ij->i", prev, edges)))
+            assert total == pytest.approx(2 * math.pi, abs=1e-6), light
+    assert np.all(np.isfinite(light_arrays(scene.lights)[1]))
+    assert np.all(np.isfinite(area_light_arrays(scene.area_lights).values))
+
+
+@pytest.fixture(scope="module")
+def scene_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("mutated")
+
+
+def test_the_base_scene_loads(scene_dir):
+    path = scene_dir / "base.toml"
+    path.write_text(toml_text(BASE_SCENE))
+    scene = command_scene(str(path))
+    assert len(scene.lights) == 3 and len(scene.area_lights) == 4 and scene.style.shading == "toon"
+
+
+@settings(max_examples=150, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_mutated_scene_files_load_or_are_refused_in_one_line(scene_dir, data):
+    doc = copy.deepcopy(BASE_SCENE)
+    for _ in range(data.draw(st.sampled_from([1, 1, 2, 3]), label="mutations")):
+        if _slots(doc):
+            _mutate(doc, data)
+    raw = bytearray(toml_text(doc).encode("utf-8"))
+    for _ in range(data.draw(st.sampled_from([0, 0, 0, 0, 1, 2]), label="byte flips")):
+        at = data.draw(st.integers(0, len(raw) - 1), label="at")
+        raw[at] ^= data.draw(st.integers(1, 255), label="xor")
+    path = scene_dir / "scene.toml"
+    path.write_bytes(bytes(raw))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            scene = command_scene(str(path))
+        except InputError as exc:
+            message = str(exc)
+            assert message.startswith(f"{path}: ") and "\n" not in message, message
+            assert LONG[:80] not in message, message
+            scene = None
+    event("refused" if scene is None else "loaded")
+    assert not caught, [str(w.message) for w in caught]
+    if scene is not None:
+        _faithful(scene)
+        _typed_as_expected(tomllib.loads(bytes(raw).decode("utf-8")))
