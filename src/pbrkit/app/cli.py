@@ -869,15 +869,22 @@ def ltc(
     from ..ltc.report import score_fit, write_fit
     from ..ltc.score import lobe_codes
 
+    # flags that contradict each other or would change nothing: refused before any work
+    if published is not None and not report:
+        raise ValueError("--published: the published table is read only to score against with --report; "
+                         "add --report, or drop --published")
+    if fresnel and clipping != "exact":
+        raise ValueError("--fresnel: the Fresnel-aware LTC is evaluated with the exact horizon clipping; "
+                         "add --clipping exact")
     lobe_codes(distribution, masking)  # a pair the fit has no lobe for: one line naming the choices
     size = checks.integer(size, "--size", 2, 256)
     polygons = checks.integer(polygons, "--polygons", 4, 4096)
     try:
         f0s = tuple(float(x) for x in fit_f0.split(","))
     except ValueError:
-        raise ValueError(f"--fit-f0: a comma-separated list of numbers in [0, 1], got {fit_f0!r}") from None
-    if not all(0.0 <= f <= 1.0 for f in f0s):
-        raise ValueError(f"--fit-f0: normal reflectances must be in [0, 1], got {fit_f0!r}")
+        raise ValueError(f"--fit-f0: a comma-separated list of numbers in [0, 1], got {fit_f0[:60]!r}") from None
+    if not all(0.0 <= f <= 1.0 for f in f0s):  # NaN fails too
+        raise ValueError(f"--fit-f0: normal reflectances must be in [0, 1], got {fit_f0[:60]!r}")
     check_output_directory(out, force)
     table = None
     if report:
@@ -890,9 +897,6 @@ def ltc(
                 raise ValueError(f"{published}: not three.js's LTC tables ({exc})") from None
             print(f"pbrkit ltc: note: the published table is not installed ({exc}); the report scores pbrkit's "
                   "table alone", file=sys.stderr)
-    if fresnel and clipping != "exact":
-        raise ValueError("--fresnel: the Fresnel-aware LTC is evaluated with the exact horizon clipping; "
-                         "add --clipping exact")
     with _Stages("ltc", quiet, 2 * size + 2 if fresnel else size + 2) as stages:
         stages.start(f"fit roughness column 1/{size}")
 

@@ -30,17 +30,33 @@ with their parameters (:class:`Style`; every key optional)::
     hatching_tones = 6            # hatching: tones of the tonal art map
     hatching_scale = 1.0          # repeats of the map per unit (object space) or per UV unit (texture space)
     hatching_space = "object"     # object (world position, box-mapped) or texture (the mesh's TEXCOORD_0)
+
+Values are checked as they are read, each refusal one line naming the key: a
+number is a number (not a bool or a string, which Python would convert), within
+its range; a colour is a list of 3 non-negative numbers; ``tones`` and
+``thresholds``, ``shadow_color`` and ``ramp`` are alternatives, refused together
+(:data:`EXCLUSIVE`); a ``VRMC_materials_mtoon`` object's factors are in the
+ranges of its schema (:data:`MTOON_RANGES`).  Style files and ramp images are
+read only if they are regular files (:mod:`pbrkit.core.inputs`), and an error
+never quotes a file (:func:`pbrkit.core.documents.parse_document`).  A style is
+real-time shading: ``pbrkit render`` refuses one that changes the image in the
+reference and compare modes (:func:`pbrkit.render.run.render_scene`).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import tomllib
+import warnings
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
+import numpy as np
+
 from ..core import checks
 from ..core.errors import InputError
+from ..core.inputs import check_regular, describe, read_text
 
 __all__ = ["SHADINGS", "LIGHTINGS", "OUTLINES", "HATCHING_SPACES", "OUTLINE_WIDTH_MODES",
            "mtoon_style", "Style", "STYLE_PRESETS", "style_from_dict", "resolve_style"]
@@ -50,6 +66,36 @@ LIGHTINGS = ("per_light", "summed")
 OUTLINES = ("none", "image", "geometry", "both", "hull")
 HATCHING_SPACES = ("object", "texture")
 OUTLINE_WIDTH_MODES = ("pixels", "screen", "world")
+
+
+def _is_real(value):
+    """A finite real number: an int or float (NumPy's too), not a bool (Python counts
+    ``True`` as 1), not NaN or Inf, not an integer beyond the float range."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
+def _show(value):
+    """A value taken from a style, as a short escaped quotation (never more than 60
+    characters of a file): true, null, 'toon', (1, 2, 3)."""
+    if isinstance(value, (bool, np.bool_)) or value is None:
+        return json.dumps(None if value is None else bool(value))
+    return describe(value) if isinstance(value, str) else describe(value).strip("'\"")
+
+
+def _colour(value, name, hi=None):
+    """``value`` as a tuple of 3 finite non-negative floats (at most ``hi``): a list or
+    tuple of numbers, not strings or bools; else ValueError naming ``name``."""
+    ok = isinstance(value, (list, tuple, np.ndarray)) and len(value) == 3 \
+        and all(_is_real(x) and x >= 0.0 and (hi is None or x <= hi) for x in value)
+    if not ok:
+        what = "3 non-negative numbers" if hi is None else f"3 numbers in [0, {hi:g}]"
+        raise ValueError(f"{name} must be a list of {what}; got {_show(value)}")
+    return tuple(float(x) for x in value)
 
 
 @dataclass(frozen=True)
@@ -90,20 +136,20 @@ class Style:
         set_ = object.__setattr__
         for name, choices in (("shading", SHADINGS), ("lighting", LIGHTINGS), ("outline", OUTLINES),
                               ("hatching_space", HATCHING_SPACES), ("outline_width_mode", OUTLINE_WIDTH_MODES)):
-            if getattr(self, name) not in choices:
-                raise ValueError(f"style {name} must be one of {', '.join(choices)}; got {getattr(self, name)!r}")
+            if not isinstance(getattr(self, name), str) or getattr(self, name) not in choices:
+                raise ValueError(f"style {name} must be one of {', '.join(choices)}; got {_show(getattr(self, name))}")
         set_(self, "tones", checks.integer(self.tones, "style tones", 2, 64))
         set_(self, "hatching_tones", checks.integer(self.hatching_tones, "style hatching_tones", 2, 16))
         if self.thresholds is not None:
-            t = [float(x) for x in self.thresholds]
-            if not t or any(not 0.0 <= x <= 1.0 for x in t) or any(b <= a for a, b in zip(t, t[1:])):
-                raise ValueError(f"style thresholds must increase within [0, 1]; got {self.thresholds!r}")
-            set_(self, "thresholds", tuple(t))
+            t = self.thresholds
+            if not isinstance(t, (list, tuple, np.ndarray)) or not 1 <= len(t) <= 63 \
+                    or not all(_is_real(x) and 0.0 <= x <= 1.0 for x in t) \
+                    or any(b <= a for a, b in zip(t[:-1], t[1:])):
+                raise ValueError("style thresholds must increase within [0, 1] (a list of 1 to 63 numbers); "
+                                 f"got {_show(t)}")
+            set_(self, "thresholds", tuple(float(x) for x in t))
         for name in ("shadow_color", "rim_color", "shade_color", "outline_color"):
-            c = checks.vector(getattr(self, name), f"style {name}")
-            if (c < 0.0).any():
-                raise ValueError(f"style {name} must be non-negative; got {getattr(self, name)!r}")
-            set_(self, name, tuple(float(x) for x in c))
+            set_(self, name, _colour(getattr(self, name), f"style {name}"))
         bounds = {"softness": (0.0, 1.0), "specular": (0.0, 100.0), "specular_threshold": (0.0, 1.0),
                   "specular_softness": (0.0, 1.0), "rim_power": (0.0, 100.0), "rim_lift": (-1.0, 1.0),
                   "rim_mix": (0.0, 1.0), "shading_shift": (-1.0, 1.0), "shading_toony": (0.0, 0.999),
@@ -111,16 +157,20 @@ class Style:
                   "outline_normal": (0.1, 180.0), "hatching_scale": (1e-3, 1e3)}
         for name, (lo, hi) in bounds.items():
             v = getattr(self, name)
-            if not checks.is_finite_number(v) or not lo <= v <= hi:
-                raise ValueError(f"style {name} must be a number in [{lo:g}, {hi:g}]; got {v!r}")
+            if not _is_real(v) or not lo <= v <= hi:
+                raise ValueError(f"style {name} must be a number in [{lo:g}, {hi:g}]; got {_show(v)}")
             set_(self, name, float(v))
+        if not isinstance(self.environment, (bool, np.bool_)):
+            raise ValueError(f"style environment must be true or false; got {_show(self.environment)}")
         set_(self, "environment", bool(self.environment))
+        if self.ramp is not None and (not isinstance(self.ramp, (str, Path)) or str(self.ramp) == ""):
+            raise ValueError(f"style ramp must be the path of an image file; got {_show(self.ramp)}")
         if self.outline_width_mode == "world" and self.outline not in ("hull", "none"):
             raise ValueError("style outline_width_mode 'world' needs outline 'hull' (lines of the image and the "
-                             f"meshes have a width on screen); got outline {self.outline!r}")
+                             f"meshes have a width on screen); got outline {_show(self.outline)}")
         if self.outline_width_mode == "screen" and self.outline_width > 0.25:
             raise ValueError("style outline_width must be at most 0.25 (of the image height) with "
-                             f"outline_width_mode 'screen'; got {self.outline_width!r}")
+                             f"outline_width_mode 'screen'; got {_show(self.outline_width)}")
         if self.ramp is not None and self.ramp_colors is None:
             set_(self, "ramp_colors", _load_ramp(self.ramp))
 
@@ -134,8 +184,6 @@ class Style:
     @property
     def threshold_values(self):
         """The toon thresholds: given, or k / tones (:func:`pbrkit.npr.toon.default_thresholds`)."""
-        import numpy as np
-
         from .toon import default_thresholds
 
         if self.thresholds is not None:
@@ -152,6 +200,13 @@ MTOON_KEYS = {
     "parametricRimLiftFactor": "rim_lift", "rimLightingMixFactor": "rim_mix",
     "outlineWidthFactor": "outline_width", "outlineColorFactor": "outline_color",
 }
+#: The ranges of VRMC_materials_mtoon 1.0's number properties, from the specification's
+#: schema (VRMC_materials_mtoon.schema.json: minimum, maximum); its colour factors'
+#: items are in [0, 1].  shadingShiftFactor and parametricRimLiftFactor have none
+#: there: :class:`Style` bounds them.
+MTOON_RANGES = {"shadingToonyFactor": (0.0, 1.0), "giEqualizationFactor": (0.0, 1.0),
+                "rimLightingMixFactor": (0.0, 1.0), "parametricRimFresnelPowerFactor": (0.0, None),
+                "outlineWidthFactor": (0.0, None)}
 #: Properties of VRMC_materials_mtoon 1.0 that pbrkit reads but does not render (textures,
 #: UV animation, render order, matcap): accepted and ignored, as their absence is.
 MTOON_IGNORED = {"specVersion", "transparentWithZWrite", "renderQueueOffsetNumber", "shadeMultiplyTexture",
@@ -173,42 +228,61 @@ def mtoon_style(table):
         raise ValueError("VRMC_materials_mtoon must be a JSON object")
     unknown = sorted(set(table) - set(MTOON_KEYS) - MTOON_IGNORED - {"outlineWidthMode"})
     if unknown:
-        raise ValueError(f"VRMC_materials_mtoon: unknown property {unknown[0]!r}")
+        raise ValueError(f"VRMC_materials_mtoon: unknown property {describe(unknown[0])}")
     args = {"shading": "mtoon", "shade_color": (0.0, 0.0, 0.0), "shading_shift": 0.0, "shading_toony": 0.9,
             "gi_equalization": 0.9, "rim_color": (0.0, 0.0, 0.0), "rim_power": 5.0, "rim_lift": 0.0,
             "rim_mix": 1.0, "outline_width": 0.0, "outline_color": (0.0, 0.0, 0.0), "specular": 0.0}
     for key, name in MTOON_KEYS.items():
-        if key in table:
-            value = table[key]
-            if isinstance(value, bool) or not isinstance(value, (int, float, list)):
-                raise ValueError(f"VRMC_materials_mtoon {key} must be a number or a list of numbers; got {value!r}")
-            args[name] = tuple(value) if isinstance(value, list) else value
+        if key not in table:
+            continue
+        value = table[key]
+        if name.endswith("_color"):
+            args[name] = _colour(value, f"VRMC_materials_mtoon {key}", 1.0)
+            continue
+        lo, hi = MTOON_RANGES.get(key, (None, None))
+        if not _is_real(value) or (lo is not None and value < lo) or (hi is not None and value > hi):
+            bounds = f" in [{lo:g}, {hi:g}]" if hi is not None else (f" >= {lo:g}" if lo is not None else "")
+            raise ValueError(f"VRMC_materials_mtoon {key} must be a number{bounds}; got {_show(value)}")
+        args[name] = float(value)
     mode = table.get("outlineWidthMode", "none")
     modes = {"none": None, "worldCoordinates": "world", "screenCoordinates": "screen"}
-    if mode not in modes:
-        raise ValueError(f"VRMC_materials_mtoon outlineWidthMode must be one of {', '.join(modes)}; got {mode!r}")
+    if not isinstance(mode, str) or mode not in modes:
+        raise ValueError(f"VRMC_materials_mtoon outlineWidthMode must be one of {', '.join(modes)}; "
+                         f"got {_show(mode)}")
     if modes[mode] is None or args["outline_width"] == 0.0:
         args["outline"] = "none"
     else:
         args.update(outline="hull", outline_width_mode=modes[mode])
-    args["shading_toony"] = min(float(args["shading_toony"]), 0.999)
+    # 1 (the hardest step) is in the specification's range; the step's width 2 (1 - toony)
+    # must stay positive, so it becomes 0.999 (Style.shading_toony).
+    args["shading_toony"] = min(args["shading_toony"], 0.999)
     try:
         return Style(**args)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"VRMC_materials_mtoon: {exc}") from None
 
 
+#: What a ramp file must be, for messages.
+RAMP_EXPECTED = "a ramp image (.png, .jpg, .hdr, .exr or .pfm; its middle row, left = tone 0)"
+
+
 def _load_ramp(path):
     """A ramp image's middle row as linear RGB (M, 3) (:func:`pbrkit.io.images.read_image`:
-    8-bit images are sRGB-decoded)."""
-    import numpy as np
-
+    8-bit images are sRGB-decoded).  Only a regular file is opened
+    (:func:`pbrkit.core.inputs.check_regular`: not a pipe or a device); the
+    reader's low-dynamic-range warning is not given (a ramp is a colour table,
+    not lighting)."""
+    from ..io.image_checks import LDRInputWarning
     from ..io.images import read_image
 
+    check_regular(path, RAMP_EXPECTED)
     try:
-        image = np.asarray(read_image(path), dtype=np.float64)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", LDRInputWarning)
+            image = np.asarray(read_image(path), dtype=np.float64)
     except (OSError, ValueError) as exc:
-        raise ValueError(f"style ramp {path}: {exc}") from None
+        problem = exc.problem if isinstance(exc, InputError) else type(exc).__name__
+        raise ValueError(f"style ramp {path}: {problem}; expected {RAMP_EXPECTED}") from None
     if image.ndim == 2:
         image = image[..., None]
     row = image[image.shape[0] // 2, :, :3]
@@ -233,24 +307,37 @@ STYLE_PRESETS = {
 _KEYS = {f.name for f in fields(Style)} - {"ramp_colors"}
 
 
+#: Keys of a style table that are alternatives: given together, the first would be ignored.
+EXCLUSIVE = (("tones", "thresholds"), ("shadow_color", "ramp"))
+#: What a style file must hold, for messages.
+STYLE_EXPECTED = "a .toml / .json file with a [style] table (pbrkit.npr.style) or a VRMC_materials_mtoon object"
+
+
 def style_from_dict(table, base_dir=None):
-    """A :class:`Style` from a scene file's ``[style]`` table: unknown keys and bad
-    values raise ValueError naming the key; ``ramp`` is relative to ``base_dir``."""
+    """A :class:`Style` from a scene file's ``[style]`` table: unknown keys, bad
+    values and alternatives given together (:data:`EXCLUSIVE`) raise ValueError
+    naming the key; ``ramp`` is relative to ``base_dir``."""
     if not isinstance(table, dict):
-        raise ValueError("style must be a table")
+        raise ValueError(f"style must be a table; got {type(table).__name__}")
     unknown = sorted(set(table) - _KEYS)
     if unknown:
-        raise ValueError(f"style: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(_KEYS))}")
+        raise ValueError(f"style: unknown key {describe(unknown[0])}; allowed: {', '.join(sorted(_KEYS))}")
+    for first, second in EXCLUSIVE:
+        if first in table and second in table:
+            raise ValueError(f"style: {first} and {second} are alternatives (with {second} the {first} would be "
+                             f"ignored); give one of them")
     args = dict(table)
     for key in ("tones", "hatching_tones"):
         if key in args and (isinstance(args[key], bool) or not isinstance(args[key], int)):
-            raise ValueError(f"style {key} must be an integer; got {args[key]!r}")
+            raise ValueError(f"style {key} must be an integer; got {_show(args[key])}")
     if "environment" in args and not isinstance(args["environment"], bool):
-        raise ValueError(f"style environment must be true or false; got {args['environment']!r}")
+        raise ValueError(f"style environment must be true or false; got {_show(args['environment'])}")
     for key in ("shading", "lighting", "outline", "ramp", "hatching_space", "outline_width_mode"):
-        if key in args and not isinstance(args[key], str):
-            raise ValueError(f"style {key} must be a string; got {args[key]!r}")
+        if key in args and (not isinstance(args[key], str) or not args[key]):
+            raise ValueError(f"style {key} must be a non-empty string; got {_show(args[key])}")
     if "ramp" in args:
+        if "\x00" in args["ramp"]:
+            raise ValueError("style ramp: a path with a NUL character; expected the path of an image file")
         p = Path(args["ramp"])
         args["ramp"] = str(p if p.is_absolute() or base_dir is None else Path(base_dir) / p)
     try:
@@ -261,18 +348,21 @@ def style_from_dict(table, base_dir=None):
 
 def resolve_style(name_or_path, base=None):
     """A preset name (:data:`STYLE_PRESETS`) or a ``.toml`` / ``.json`` file holding a
-    ``[style]`` table (or the table itself); ``base`` (a :class:`Style`, e.g. the
-    scene's) is what a file's keys change."""
+    ``[style]`` table (or the table itself) or a glTF material's
+    ``VRMC_materials_mtoon`` object; ``base`` (a :class:`Style`, e.g. the scene's) is
+    what a file's keys change.  The file is read with
+    :func:`pbrkit.core.inputs.read_text` (a regular file, bounded); no error quotes
+    it (:func:`pbrkit.core.documents.parse_document`)."""
+    from ..core.documents import FORMATS, parse_document
+
     text = str(name_or_path)
     if text in STYLE_PRESETS:
         return STYLE_PRESETS[text]
     path = Path(text)
-    if path.suffix.lower() not in (".toml", ".json"):
+    fmt = FORMATS.get(path.suffix.lower())
+    if fmt is None:
         raise InputError(f"no such style (presets: {', '.join(STYLE_PRESETS)}; or a .toml / .json file)", path)
-    try:
-        data = (tomllib.loads if path.suffix.lower() == ".toml" else json.loads)(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"cannot read the style: {exc}", path) from None
+    data = parse_document(read_text(path, expected=STYLE_EXPECTED), fmt, path, STYLE_EXPECTED)
     if isinstance(data, dict) and "VRMC_materials_mtoon" in data:  # a glTF material's extension, as it is
         try:
             return mtoon_style(data["VRMC_materials_mtoon"])
@@ -284,5 +374,14 @@ def resolve_style(name_or_path, base=None):
     except ValueError as exc:
         raise InputError(str(exc), path) from None
     if base is not None:
-        style = replace(base, **{k: getattr(style, k) for k in table})
+        changes = {k: getattr(style, k) for k in table}
+        for first, second in EXCLUSIVE:  # the file's choice replaces the base's alternative
+            if first in table or second in table:
+                changes.setdefault(second, getattr(style, second))
+        if "ramp" in changes:
+            changes["ramp_colors"] = style.ramp_colors
+        try:
+            style = replace(base, **changes)
+        except ValueError as exc:
+            raise InputError(str(exc), path) from None
     return style

@@ -10,9 +10,9 @@ Shapes (scene files: ``[[lights]]`` with ``type`` = ``rect``, ``polygon``,
   +Y, or +Z when the normal is along Y) and its ``width`` edge along
   up x normal, so the corners c -+ w/2 -+ h/2 run counter-clockwise seen from
   the lit side (as three.js's ``RectAreaLight`` faces its -Z).
-- ``polygon``: 3 to :data:`MAX_POLYGON_VERTICES` ``vertices``, planar and
-  convex, counter-clockwise seen from the lit side (the right-hand rule gives
-  the normal).
+- ``polygon``: 3 to :data:`MAX_POLYGON_VERTICES` ``vertices``, planar, simple
+  and convex, counter-clockwise seen from the lit side (the right-hand rule gives
+  the normal; the tests: :mod:`pbrkit.render.light_checks`).
 - ``disk``: centre ``position``, ``normal``, ``radius``.
 - ``sphere``: centre ``position``, ``radius``; emits outwards everywhere.
 
@@ -25,7 +25,9 @@ luminance in cd / m^2 (the environment's scale, :mod:`pbrkit.render.lights`);
 (``color`` multiplies it), L = Phi / (pi A) for a one-sided planar light of
 area A, Phi / (2 pi A) two-sided, Phi / (4 pi^2 r^2) for a sphere (e.g.
 Pharr, Jakob and Humphreys 2023, pbrt-v4 sec. 12.5 ``DiffuseAreaLight``:
-L = Phi / (pi A) per side).
+L = Phi / (pi A) per side).  A radiance that overflows, exceeds 1e12 cd / m^2 or
+rounds to zero from a non-zero power is refused
+(:func:`pbrkit.render.light_checks.checked_radiance`).
 
 In the reference renderer (:mod:`pbrkit.render.reference`) an area light is
 an opaque black emitter: camera and BRDF rays that hit it see its radiance
@@ -75,6 +77,8 @@ from ..sampling.spherical import (
     sphere_cone_pdf,
     triangle_solid_angle,
 )
+from .light_checks import MAX_POLYGON_VERTICES, checked_radiance, polygon_vertices
+from .light_checks import newell_normal as _newell_normal
 from .lights import checked_emission
 from .primitives import _ray_sphere
 
@@ -103,14 +107,10 @@ AREA_LIGHT_TYPES = ("rect", "polygon", "disk", "sphere")
 AREA_UNITS = ("radiance", "power")
 _TYPE_CODE = {"rect": 0, "polygon": 1, "disk": 2, "sphere": 3}
 RECT, POLYGON, DISK, SPHERE = 0, 1, 2, 3
-#: Most vertices of a polygon light.
-MAX_POLYGON_VERTICES = 32
 #: Sides of the regular polygon a disk or sphere light is integrated as in real time:
 #: its form factor is within 2e-5 (median), 1.7e-4 (95th percentile) and 1.1e-3
 #: (largest) of the disk's over 300 random placements, horizon crossings included.
 DISK_POLYGON_SIDES = 16
-#: Relative tolerance of a polygon light's planarity (distance / size).
-PLANARITY_TOLERANCE = 1e-6
 _INF = np.inf
 
 
@@ -172,31 +172,13 @@ class AreaLight:
             if abs(float(np.dot(up, self.normal))) > 0.999:
                 raise ValueError("light up must not be parallel to its normal")
             set_(self, "up", tuple(up))
+        with np.errstate(all="ignore"):  # overflow and underflow are refused below, with the figures
+            radiance = self.radiance
+        checked_radiance(np.asarray(self.color) * self.intensity, radiance, self.unit, self.area)
 
     def _polygon_vertices(self):
-        try:
-            v = np.asarray(self.vertices, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError("polygon light vertices must be a list of [x, y, z] points") from None
-        if v.ndim != 2 or v.shape[1] != 3 or not 3 <= v.shape[0] <= MAX_POLYGON_VERTICES:
-            raise ValueError(f"a polygon light needs 3 to {MAX_POLYGON_VERTICES} vertices of 3 numbers; "
-                             f"got shape {v.shape}")
-        if not np.all(np.isfinite(v)):
-            raise ValueError("polygon light vertices must be finite")
-        n = _newell_normal(v, raw=True)
-        length = float(np.linalg.norm(n))
-        size = float(np.max(np.ptp(v, axis=0)))
-        if length <= 1e-12 * max(size, 1e-300) ** 2:
-            raise ValueError("polygon light has zero area (collinear or repeated vertices)")
-        n = n / length
-        centre = v.mean(axis=0)
-        if np.max(np.abs((v - centre) @ n)) > PLANARITY_TOLERANCE * size:
-            raise ValueError("polygon light vertices must lie in one plane")
-        k = v.shape[0]
-        turns = np.array([np.dot(np.cross(v[i] - v[i - 1], v[(i + 1) % k] - v[i]), n) for i in range(k)])
-        if np.any(turns < -1e-12 * size * size):
-            raise ValueError("polygon light must be convex, its vertices counter-clockwise seen from the lit side")
-        return v
+        """The vertices of a simple convex planar polygon (:func:`pbrkit.render.light_checks.polygon_vertices`)."""
+        return polygon_vertices(self.vertices)
 
     # ------------------------------------------------------------ derived
 
@@ -219,9 +201,9 @@ class AreaLight:
         if self.type == "rect":
             return self.width * self.height
         if self.type == "disk":
-            return math.pi * self.radius ** 2
+            return math.pi * self.radius * self.radius
         if self.type == "sphere":
-            return 4.0 * math.pi * self.radius ** 2
+            return 4.0 * math.pi * self.radius * self.radius
         v = np.asarray(self.vertices)
         return 0.5 * float(np.linalg.norm(_newell_normal(v, raw=True)))
 
@@ -233,16 +215,6 @@ class AreaLight:
             sides = 2.0 if self.two_sided else 1.0
             value = value / (math.pi * self.area * sides)
         return tuple(float(x) for x in value)
-
-
-def _newell_normal(v, raw=False):
-    """Newell's normal of a polygon (K, 3): twice its vector area (``raw``) or unit."""
-    n = np.zeros(3)
-    k = v.shape[0]
-    for i in range(k):
-        a, b = v[i], v[(i + 1) % k]
-        n += np.cross(a, b)
-    return n if raw else n / np.linalg.norm(n)
 
 
 # --------------------------------------------------------------- packing

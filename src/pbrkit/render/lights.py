@@ -37,6 +37,7 @@ o = -cos(outer) * s; angles in radians, 0 <= inner < outer <= pi / 2.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -100,16 +101,38 @@ def spot_attenuation(cos_angle, cos_inner, cos_outer):
     return a * a
 
 
+def _is_number(value):
+    """A real number (Python's or NumPy's), not a bool or a string."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
 def checked_emission(color, intensity):
     """A light's (color as a tuple of 3 non-negative floats, intensity as a finite
-    float >= 0), or ValueError naming the one that is not (punctual and area lights)."""
+    float >= 0), or ValueError naming the one that is not (punctual and area lights):
+    numbers only (not bools or strings, which ``float`` would take), and their
+    product ``color * intensity`` (what the kernels use) finite and not rounded to
+    zero where neither factor is zero."""
+    if isinstance(color, (str, bytes)) or not all(_is_number(x) for x in np.ravel(np.asarray(color, dtype=object))):
+        raise ValueError(f"light color must be 3 finite numbers; got {str(color)[:60]}")
     c = checks.vector(color, "light color")
     if np.any(c < 0.0):
-        raise ValueError(f"light color must be non-negative; got {color!r}")
-    value = float(intensity)
+        raise ValueError(f"light color must be non-negative; got {str(color)[:60]}")
+    if not _is_number(intensity):
+        raise ValueError(f"light intensity must be a finite number >= 0; got {str(intensity)[:60]}")
+    try:
+        value = float(intensity)
+    except OverflowError:  # an integer beyond the float range
+        value = math.inf
     if not np.isfinite(value) or value < 0.0:
-        raise ValueError(f"light intensity must be finite and >= 0; got {intensity!r}")
-    return tuple(c), value
+        raise ValueError(f"light intensity must be finite and >= 0; got {str(intensity)[:60]}")
+    with np.errstate(over="ignore", under="ignore"):
+        product = c * value
+    if not np.all(np.isfinite(product)):
+        raise ValueError(f"light color * intensity overflows ({value:.3g} times {float(np.max(c)):.3g})")
+    if np.any((c > 0.0) & (value > 0.0) & (product < np.finfo(np.float64).tiny)):  # zero or subnormal
+        raise ValueError(f"light color * intensity rounds to zero ({value:.3g} times {float(np.min(c[c > 0])):.3g})"
+                         "; expected a light that emits (or intensity 0 for none)")
+    return tuple(float(x) for x in c), value
 
 
 @dataclass(frozen=True)
@@ -128,21 +151,22 @@ class Light:
 
     def __post_init__(self):
         set_ = object.__setattr__
-        if self.type not in LIGHT_TYPES:
-            raise ValueError(f"unknown light type {self.type!r}; choose one of {', '.join(LIGHT_TYPES)}")
-        if self.falloff not in FALLOFFS:
-            raise ValueError(f"unknown light falloff {self.falloff!r}; choose one of {', '.join(FALLOFFS)}")
+        if not isinstance(self.type, str) or self.type not in LIGHT_TYPES:
+            raise ValueError(f"unknown light type {str(self.type)[:40]!r}; choose one of {', '.join(LIGHT_TYPES)}")
+        if not isinstance(self.falloff, str) or self.falloff not in FALLOFFS:
+            raise ValueError(f"unknown light falloff {str(self.falloff)[:40]!r}; choose one of {', '.join(FALLOFFS)}")
         color, intensity = checked_emission(self.color, self.intensity)
         set_(self, "color", color)
         set_(self, "intensity", intensity)
         set_(self, "position", tuple(checks.vector(self.position, "light position")))
         set_(self, "direction", tuple(checks.vector(self.direction, "light direction", unit=True)))
         if self.range is not None:
-            r = float(self.range)
+            r = float(self.range) if _is_number(self.range) and abs(self.range) < 1e308 else math.nan
             if not np.isfinite(r) or r <= 0.0:
                 raise ValueError(f"light range must be a positive number; got {self.range!r}")
             set_(self, "range", r)
-        inner, outer = float(self.inner_cone_angle), float(self.outer_cone_angle)
+        inner, outer = (float(a) if _is_number(a) and abs(a) < 10.0 else math.nan
+                        for a in (self.inner_cone_angle, self.outer_cone_angle))
         if not (0.0 <= inner < outer <= np.pi / 2.0):
             raise ValueError("spot cone angles must satisfy 0 <= inner_cone_angle < outer_cone_angle <= pi/2 "
                              f"(radians); got inner {inner!r}, outer {outer!r}")

@@ -24,6 +24,7 @@ from ..brdf.fresnel import CONDUCTORS, f0_conductor
 from ..brdf.material import FIELDS, Material
 from ..brdf.shading.registry import MODELS, PARAMETERS, REGISTERED, model
 from ..brdf.parameters import Choice, is_default
+from ..core.inputs import describe
 
 __all__ = ["MaterialSpec", "NUMBERS", "CHOICES", "SURFACE_KEYS", "models_with"]
 
@@ -47,16 +48,36 @@ def _spec_default(p):
     return dataclasses.field(default=p.default)
 
 
+def _show(value):
+    """A value for a message, short and escaped: true, null, 'red', [1, '1', 1]."""
+    if isinstance(value, (bool, np.bool_)) or value is None:
+        return "null" if value is None else str(bool(value)).lower()
+    text = describe(value) if isinstance(value, str) else ascii(value)
+    return text if len(text) <= 60 else text[:56] + " ..."
+
+
+def _numeric(value):
+    """Whether ``value`` (a number or an array of them) holds numbers only: not bools
+    or strings, which ``numpy.asarray(..., dtype=float)`` would take as 1.0 or 0.5."""
+    try:
+        items = np.asarray(value, dtype=object).ravel()
+    except (TypeError, ValueError):
+        return False
+    return all(isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
+               for x in items)
+
+
 def _post_init(self):
     set_ = object.__setattr__
-    where = f"material {self.name!r}: "
-    if self.model not in MODELS:
-        raise ValueError(f"{where}unknown model {self.model!r}; choose one of {', '.join(MODELS)}")
+    where = f"material {describe(self.name)}: "
+    if not isinstance(self.model, str) or self.model not in MODELS:
+        raise ValueError(f"{where}unknown model {describe(self.model)}; choose one of {', '.join(MODELS)}")
     m = model(self.model)
     for choice in CHOICES:
         value = getattr(self, choice.name)
-        if value not in choice.choices:
-            raise ValueError(f"{where}unknown {choice.name} {value!r}; choose one of {', '.join(choice.choices)}")
+        if not isinstance(value, str) or value not in choice.choices:
+            raise ValueError(f"{where}unknown {choice.name} {describe(value)}; choose one of "
+                             f"{', '.join(choice.choices)}")
         own = m.choices.get(choice.name)
         if own is not None:
             if value not in own.choices:
@@ -72,11 +93,15 @@ def _post_init(self):
         if implied is not None:
             set_(self, choice.name, implied)
     for p in NUMBERS:
+        if getattr(self, p.name) is not None and not _numeric(getattr(self, p.name)):
+            raise ValueError(f"{where}{p.name} must be {'a list of 3 numbers' if p.channels == 3 else 'a number'}; "
+                             f"got {_show(getattr(self, p.name))}")
         if m.declaration(p.name) is None and not is_default(p, getattr(self, p.name)):
             raise ValueError(f"{where}{p.name} needs model {models_with(p.name)}")
     if self.conductor is not None:
-        if self.conductor not in CONDUCTORS:
-            raise ValueError(f"{where}unknown conductor {self.conductor!r}; known: {', '.join(sorted(CONDUCTORS))}")
+        if not isinstance(self.conductor, str) or self.conductor not in CONDUCTORS:
+            raise ValueError(f"{where}unknown conductor {describe(self.conductor)}; known: "
+                             f"{', '.join(sorted(CONDUCTORS))}")
         if self.eta is not None or self.k is not None:
             raise ValueError(f"{where}give either conductor or eta and k, not both")
         eta, k = (np.asarray(x) for x in CONDUCTORS[self.conductor])
@@ -99,10 +124,13 @@ def _post_init(self):
     if m.check is not None:
         m.check({name: getattr(self, name) for name in (c.name for c in CHOICES)} |
                 {p.name: getattr(self, p.name) for p in NUMBERS}, where)
-    e = np.asarray(self.emissive, dtype=float)
+    e = np.asarray(self.emissive, dtype=float) if _numeric(self.emissive) else np.full(3, np.nan)
     if e.shape != (3,) or not np.all(np.isfinite(e)) or np.any(e < 0):
-        raise ValueError(f"{where}emissive must be 3 finite non-negative numbers; got {self.emissive!r}")
+        raise ValueError(f"{where}emissive must be 3 finite non-negative numbers; got {_show(self.emissive)}")
     set_(self, "emissive", tuple(float(x) for x in e))
+    if not isinstance(self.double_sided, (bool, np.bool_)):
+        raise ValueError(f"{where}double_sided must be true or false; got {_show(self.double_sided)}")
+    set_(self, "double_sided", bool(self.double_sided))
 
 
 def _material(self):

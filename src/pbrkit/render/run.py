@@ -10,6 +10,7 @@ import numpy as np
 
 from ..core import checks
 from ..core.color import TONEMAPS, tonemap
+from ..core.errors import InputError
 from ..io.engine_targets import TARGET_CHAINS
 from .budget import check_render_memory
 from .compare import compare_images, error_heatmap
@@ -108,6 +109,31 @@ def approximation_split(scene, geometry, env, bake, full, reference, stderr, mas
     return {name: {"rms_relative_error": value, "description": APPROXIMATIONS[name]} for name, value in split.items()}
 
 
+def _styled(style):
+    """Whether ``style`` changes the real-time image (not ``pbr`` without outlines)."""
+    return style is not None and (style.shading != "pbr" or style.outline != "none")
+
+
+def _check_style_mode(scene, mode, style):
+    """Styles are real-time shading: in ``reference`` and ``compare`` modes a style
+    that changes the image (``--style``, else the scene's ``[style]``) is refused
+    before any work, naming the flag or the key (the ground truth renders the
+    scene's materials as they are: a styled reference does not exist, and compare
+    would set a styled image against the unstyled truth).  ``--style pbr`` (no
+    style) is what renders a styled scene's materials in those modes."""
+    if mode == "realtime":
+        return
+    if style is not None and _styled(style):
+        raise ValueError(f"--style {style.shading} (outline {style.outline}) applies to --mode realtime only "
+                         f"(styles are real-time shading); --mode {mode} renders the scene's materials as they "
+                         "are: drop --style, or use --mode realtime")
+    if style is None and _styled(scene.style):
+        raise InputError(f"[style] ({scene.style.shading}, outline {scene.style.outline}) applies to --mode "
+                         f"realtime only (styles are real-time shading); --mode {mode} renders the scene's "
+                         "materials as they are: give --style pbr to render them without the style, or use "
+                         "--mode realtime", scene.source)
+
+
 def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
                  diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=None,
                  split=True, progress=None, engine="pbrkit", style=None):
@@ -126,7 +152,8 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     (:data:`pbrkit.render.realtime.ENGINES`) picks whose IBL evaluation the real-time
     image follows.  ``style`` (a :class:`pbrkit.npr.style.Style`; default the scene's
     ``[style]``) renders the real-time image in that style
-    (:func:`pbrkit.npr.render.render_styled`; real-time mode only).  ``progress(stage)``
+    (:func:`pbrkit.npr.render.render_styled`; real-time mode only: a style that changes
+    the image is refused in the other modes, :func:`_check_style_mode`).  ``progress(stage)``
     is called with each stage's name as it starts."""
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
@@ -135,6 +162,7 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     if not math.isfinite(float(exposure)):
         raise ValueError(f"exposure must be finite; got {exposure!r}")
     output_suffix_ok(out)
+    _check_style_mode(scene, mode, style)
     spp = checks.integer(spp, "--spp", 1, 1 << 20)
     bounces = checks.integer(bounces, "--bounces", 0, 64)
     check_render_memory(scene, mode, spp, bounces, bake_size)
@@ -158,10 +186,7 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
         bake = env.bake(size=bake_size, **({"chains": (curve,)} if curve else {}))
         stage("realtime")
         style = style or scene.style
-        if style is not None and (style.shading != "pbr" or style.outline != "none"):
-            if mode != "realtime":
-                raise ValueError(f"a style ({style.shading}, outline {style.outline}) applies to --mode realtime; "
-                                 "compare and reference render the scene's materials as they are")
+        if _styled(style):
             from ..npr.render import render_styled
 
             rt = render_styled(scene, style, geometry, env, bake=bake)

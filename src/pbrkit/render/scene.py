@@ -111,7 +111,7 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -119,7 +119,9 @@ import numpy as np
 
 from ..brdf.shading.registry import MODELS
 from ..core import checks
+from ..core.documents import FORMATS, parse_document
 from ..core.errors import InputError
+from ..core.inputs import describe, read_text
 from ..io.gltf_resources import allowed_root
 from .area_lights import AREA_LIGHT_TYPES, AreaLight
 from .lights import LIGHT_TYPES, Light
@@ -145,6 +147,8 @@ __all__ = [
 #: Shading models a scene material may name (those of :mod:`pbrkit.brdf.models`).
 SHADING_MODELS = MODELS
 BUILTIN_SCENES = ("spheres", "sphere", "area")
+#: What a scene file must be, for messages.
+SCENE_EXPECTED = "a .toml or .json scene file (pbrkit.render.scene)"
 
 
 # ---------------------------------------------------------------- camera
@@ -385,8 +389,10 @@ class Scene:
             raise ValueError("scene has no objects")
         for obj in self.objects:
             if isinstance(obj, (Sphere, Plane)) and obj.material not in self.materials:
-                raise ValueError(f"{type(obj).__name__.lower()} uses material {obj.material!r}, which is not "
-                                 f"defined (defined: {', '.join(sorted(self.materials)) or 'none'})")
+                defined = ", ".join(_name(m) for m in sorted(self.materials)[:20])
+                raise ValueError(f"{type(obj).__name__.lower()} uses material {describe(obj.material)}, which is "
+                                 f"not defined (defined: {defined or 'none'}"
+                                 f"{', ...' if len(self.materials) > 20 else ''})")
 
     def with_camera(self, **changes):
         """A copy with some camera fields changed (e.g. width, height)."""
@@ -481,9 +487,15 @@ _LIGHT_VALUES = {"type": _STRING, "falloff": _STRING, "color": _numbers(3, 0.0, 
 
 
 def _show(value):
-    """A value as the file wrote it, kept short: true, '0.5' (a string), [1, 2]."""
-    text = json.dumps(value) if isinstance(value, bool) or value is None else repr(value)
+    """A value as the file wrote it, kept short and escaped: true, '0.5' (a string), [1, 2]."""
+    text = json.dumps(value) if isinstance(value, bool) or value is None else ascii(value)
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _name(name):
+    """A material name from the file for a message: as it is if short and plain, else
+    escaped and cut (:func:`pbrkit.core.inputs.describe`)."""
+    return name if isinstance(name, str) and re.fullmatch(r"[\w.+-]{1,40}", name, re.ASCII) else describe(name)
 
 
 def _check_values(table, checks, label):
@@ -502,8 +514,12 @@ _MATERIAL_KEYS = {p.name for p in NUMBERS + CHOICES} | set(SURFACE_KEYS) - {"dou
 _OBJECT_KEYS = {"sphere": {"type", "center", "radius", "material"},
                 "plane": {"type", "point", "normal", "material"},
                 "gltf": {"type", "file", "translation", "rotation", "scale"}}
-_LIGHT_KEYS = {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
-               "outer_cone_angle", "falloff"}
+#: A punctual light's keys by type: those another type needs would change nothing
+#: (KHR_lights_punctual: a directional light has no position or range, only a spot a cone).
+_LIGHT_KEYS = {"directional": {"type", "color", "intensity", "direction"},
+               "point": {"type", "color", "intensity", "position", "range", "falloff"},
+               "spot": {"type", "color", "intensity", "position", "direction", "range", "inner_cone_angle",
+                        "outer_cone_angle", "falloff"}}
 _AREA_COMMON = {"type", "color", "intensity", "unit"}
 _AREA_LIGHT_KEYS = {"rect": _AREA_COMMON | {"position", "normal", "up", "width", "height", "two_sided"},
                     "polygon": _AREA_COMMON | {"vertices", "two_sided"},
@@ -525,7 +541,7 @@ def _check_keys(where, table, allowed):
         raise ValueError(f"{where} must be a table/object; got {type(table).__name__}")
     unknown = sorted(set(table) - allowed)
     if unknown:
-        raise ValueError(f"{where}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(allowed))}")
+        raise ValueError(f"{where}: unknown key {describe(unknown[0])}; allowed: {', '.join(sorted(allowed))}")
 
 
 def _resolve(base_dir, path, what):
@@ -587,8 +603,8 @@ def _materials_from(table):
         raise ValueError("materials must be a table of named materials")
     materials = {"default": MaterialSpec()}
     for name, spec in table.items():
-        _check_keys(f"materials.{name}", spec, _MATERIAL_KEYS)
-        _check_values(spec, _MATERIAL_VALUES, lambda key, name=name: f"material {name!r}: {key}")
+        _check_keys(f"materials.{_name(name)}", spec, _MATERIAL_KEYS)
+        _check_values(spec, _MATERIAL_VALUES, lambda key, name=name: f"material {describe(name)}: {key}")
         materials[name] = MaterialSpec(name=name, **spec)
     return materials
 
@@ -638,7 +654,7 @@ def _lights_from(items):
         if kind not in types:
             raise ValueError(f"{where}: unknown light type {_show(kind)}; choose one of {', '.join(types)}")
         area_light = kind in AREA_LIGHT_TYPES
-        _check_keys(where, light, _AREA_LIGHT_KEYS[kind] if area_light else _LIGHT_KEYS)
+        _check_keys(f"{where} ({kind})", light, _AREA_LIGHT_KEYS[kind] if area_light else _LIGHT_KEYS[kind])
         _check_values(light, _AREA_LIGHT_VALUES if area_light else _LIGHT_VALUES,
                       lambda key, where=where: f"{where}: {key}")
         try:
@@ -657,14 +673,10 @@ def load_scene(path):
         hint = (" (a glTF file is placed by a scene file: [[objects]] type = \"gltf\", file = ...)"
                 if suffix in (".gltf", ".glb") else "")
         raise InputError(f"scene files must be .toml or .json; got {suffix or 'no suffix'!r}{hint}", path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read scene file: {exc}", path) from None
-    try:
-        data = tomllib.loads(text) if suffix == ".toml" else json.loads(text)
-    except (ValueError, RecursionError) as exc:  # decode errors, huge integers, deep nesting
-        raise InputError(f"invalid {suffix[1:].upper()}: {exc}", path) from None
+    # a regular file of bounded size (not /dev/zero, a pipe, or a link to one); errors
+    # give the position, never the text (pbrkit.core.documents)
+    text = read_text(path, expected=SCENE_EXPECTED)
+    data = parse_document(text, FORMATS[suffix], path, SCENE_EXPECTED)
     try:
         return scene_from_dict(data, base_dir=path.parent, source=str(path))
     except (TypeError, ValueError) as exc:
