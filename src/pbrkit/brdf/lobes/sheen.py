@@ -26,6 +26,13 @@ Its parameters travel in the BxDF's ``extra`` slots: the sheen colour at
   max3(sheenColor) E(VdotN)`` (its "Albedo-scaling technique", the simplified
   n.v-only form), is :func:`pbrkit.brdf.operators.layer` with :data:`SHEEN` as
   the top (its largest albedo channel is max3(sheenColor) E).
+
+Noted: with the fitted Lambda the white lobe's E exceeds 1 near grazing for
+small sheen roughness (1.15 at n.v = 0.01, sheenRoughness = 0.2; the fit is not
+the Smith Lambda of D there), so the scaling goes negative there; and E is
+steep towards n.v = 0, where the 33-point table is coarse (the lookup is
+within 0.02 of E for n.v >= 0.1).  Neither is corrected here: both are the
+specification's.
 """
 
 from __future__ import annotations
