@@ -6,6 +6,10 @@ is the reflectance at normal incidence (scalar or RGB in the last axis) and
 ``f90`` the reflectance at grazing incidence.  Exact forms take the index of
 refraction eta (outside medium / inside medium relative: eta = n_inside /
 n_outside) and, for conductors, the extinction coefficient k.
+
+The thin-film iridescence Fresnel of ``KHR_materials_iridescence``
+(:func:`f_iridescence`, Belcour and Barla 2017) returns RGB (linear Rec.709)
+from the film's IOR and thickness (nm) and the base's f0.
 """
 
 from __future__ import annotations
