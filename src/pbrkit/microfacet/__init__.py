@@ -18,7 +18,10 @@ distribution of normals (and of visible normals) and the pdf of each sampler.
 - :mod:`~pbrkit.microfacet.blinn_phong`: normalised Blinn-Phong, its masking
   through its Beckmann equivalent, exact NDF sampling;
 - :mod:`~pbrkit.microfacet.gtr`: Burley's GTR family and GTR1 (Berry), the
-  Disney clear coat, with NDF sampling (no closed-form Smith Lambda).
+  Disney clear coat, with NDF sampling (no closed-form Smith Lambda);
+- :mod:`~pbrkit.microfacet.charlie`: Estevez and Kulla's "Charlie" sheen
+  (KHR_materials_sheen): D, the fitted Lambda and the sheen visibilities, NDF
+  sampling (not a model distribution: not in :data:`UNITS`).
 
 Every term takes the distribution's alpha (or the Blinn-Phong exponent), never
 perceptual roughness.  The package sits between :mod:`pbrkit.sampling` (whose
@@ -32,9 +35,9 @@ and nothing here imports :mod:`pbrkit.brdf`.
 their units; :func:`unit` looks one up.
 """
 
-from . import beckmann, blinn_phong, ggx, gtr, roughness, smith
+from . import beckmann, blinn_phong, charlie, ggx, gtr, roughness, smith
 
-__all__ = ["UNITS", "unit", "roughness", "smith", "ggx", "beckmann", "blinn_phong", "gtr"]
+__all__ = ["UNITS", "unit", "roughness", "smith", "ggx", "beckmann", "blinn_phong", "gtr", "charlie"]
 
 #: Distribution name -> the unit module that holds its D, masking and sampling.
 UNITS = {

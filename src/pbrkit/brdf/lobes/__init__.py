@@ -25,7 +25,8 @@ A :class:`Lobe` holds compiled functions of a :class:`pbrkit.brdf.bxdf.BxDF`
 The lobes themselves: :mod:`.microfacet` (reflection from a microfacet
 distribution with a Fresnel factor), :mod:`.diffuse` (Lambert, Burley, the
 choice of cook_torrance), :mod:`.disney` (Disney's diffuse with subsurface,
-sheen and clear coat), :mod:`.eon` (OpenPBR's energy-preserving Oren-Nayar).
+sheen and clear coat), :mod:`.eon` (OpenPBR's energy-preserving Oren-Nayar),
+:mod:`.sheen` (KHR_materials_sheen's Charlie sheen with its albedo table).
 """
 
 from __future__ import annotations
