@@ -500,3 +500,18 @@ def test_batch_render_takes_allow_roots_as_pbrkit_render_does(tmp_path, monkeypa
     result = invoke("batch", "render", "spheres", "-o", str(tmp_path / "out"), "--allow-root", "missing")
     assert result.exit_code != 0
     assert "--allow-root" in one_error_line(result) and not (tmp_path / "out").exists()
+
+
+def test_batch_render_refuses_a_style_outside_real_time_before_any_work(tmp_path):
+    """--style with --mode reference or compare is refused with the other options (as
+    pbrkit render refuses it), not job by job; --style pbr (no style) passes."""
+    from pbrkit.app.batch import render_jobs_options
+
+    for mode in ("reference", "compare"):
+        with pytest.raises(ValueError, match="--style toon .*applies to --mode realtime only"):
+            render_jobs_options(mode=mode, style="toon")
+        assert render_jobs_options(mode=mode, style="pbr")["style"] == "pbr"
+    assert render_jobs_options(style="toon")["style"] == "toon"
+    result = invoke("batch", "render", "spheres", "-o", str(tmp_path / "out"), "--mode", "reference", "--style",
+                    "toon")
+    assert "--style" in one_error_line(result) and not (tmp_path / "out").exists()

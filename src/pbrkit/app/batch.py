@@ -357,9 +357,11 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
     if style is not None:
         from ..npr.style import STYLE_PRESETS, resolve_style
 
+        from ..render.run import check_style_flag
+
         if str(style) not in STYLE_PRESETS:
             style = os.path.abspath(style)
-        resolve_style(style)
+        check_style_flag(mode, resolve_style(style))
     from ..io.gltf_resources import allowed_root
 
     roots = [os.path.abspath(allowed_root(root, None, "--allow-root")) for root in allow_roots]

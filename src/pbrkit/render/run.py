@@ -23,6 +23,7 @@ __all__ = [
     "MODES",
     "STAGES",
     "render_scene",
+    "check_style_flag",
     "approximation_split",
     "comparison_lines",
 ]
@@ -114,6 +115,16 @@ def _styled(style):
     return style is not None and (style.shading != "pbr" or style.outline != "none")
 
 
+def check_style_flag(mode, style):
+    """Refuse ``--style`` (a resolved style that changes the image) in a mode other than
+    ``realtime``, naming the flag (:func:`_check_style_mode`; also ``pbrkit batch render``'s
+    check before any scene is loaded)."""
+    if mode != "realtime" and style is not None and _styled(style):
+        raise ValueError(f"--style {style.shading} (outline {style.outline}) applies to --mode realtime only "
+                         f"(styles are real-time shading); --mode {mode} renders the scene's materials as they "
+                         "are: drop --style, or use --mode realtime")
+
+
 def _check_style_mode(scene, mode, style):
     """Styles are real-time shading: in ``reference`` and ``compare`` modes a style
     that changes the image (``--style``, else the scene's ``[style]``) is refused
@@ -123,10 +134,7 @@ def _check_style_mode(scene, mode, style):
     style) is what renders a styled scene's materials in those modes."""
     if mode == "realtime":
         return
-    if style is not None and _styled(style):
-        raise ValueError(f"--style {style.shading} (outline {style.outline}) applies to --mode realtime only "
-                         f"(styles are real-time shading); --mode {mode} renders the scene's materials as they "
-                         "are: drop --style, or use --mode realtime")
+    check_style_flag(mode, style)
     if style is None and _styled(scene.style):
         raise InputError(f"[style] ({scene.style.shading}, outline {scene.style.outline}) applies to --mode "
                          f"realtime only (styles are real-time shading); --mode {mode} renders the scene's "
