@@ -100,6 +100,7 @@ def test_library_logs_are_off_while_serving_and_restored_after(caplog):
     own = logging.getLogger("pbrkit.explore.test")
     child = logging.getLogger("tornado.access")
     child.setLevel(logging.INFO)
+    parent_before = logging.getLogger("tornado").level  # (other tests may have set it)
     try:
         with S.quiet_library_logs():
             for name in ("bokeh.server.views.ws", "tornado.access", "tornado.application", "panel.io.server",
@@ -107,7 +108,7 @@ def test_library_logs_are_off_while_serving_and_restored_after(caplog):
                 logging.getLogger(name).error("library chatter from %s", name)
             own.error("pbrkit's own line")
         assert child.level == logging.INFO
-        assert logging.getLogger("tornado").level == logging.NOTSET
+        assert logging.getLogger("tornado").level == parent_before
     finally:
         child.setLevel(logging.NOTSET)
     assert [r.getMessage() for r in caplog.records] == ["pbrkit's own line"]

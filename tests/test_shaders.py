@@ -88,7 +88,7 @@ def test_cli_shaders(tmp_path):
     blocker.write_text("x")
     bad = _cli("-o", str(blocker / "sub"), "--force")
     assert bad.returncode == 1 and len(bad.stderr.strip().splitlines()) == 1
-    assert bad.stderr.startswith(f"pbrkit: error: {blocker / 'sub'}")
+    assert bad.stderr.startswith(f"pbrkit: error: --out: {blocker / 'sub'}: its parent")
     target = _cli("--target", "hlsl", "-o", str(tmp_path / "x"))
     assert target.returncode == 1 and "choose one of glsl" in target.stderr
     assert not (tmp_path / "x").exists()
