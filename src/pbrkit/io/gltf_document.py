@@ -455,6 +455,12 @@ def _check_texture_info(info, where, index):
     index.required(info, "index", where, "textures")
     if info.get("texCoord") is not None:
         _integer(info["texCoord"], f"{where}.texCoord")
+    if info.get("extensions") is not None:
+        from .gltf_extensions import TEXTURE_TRANSFORM, check_texture_transform  # it imports this module
+
+        ext = _object(info["extensions"], f"{where}.extensions").get(TEXTURE_TRANSFORM)
+        if ext is not None:
+            check_texture_transform(ext, f"{where}.extensions.{TEXTURE_TRANSFORM}")
 
 
 def _check_material(material, where, index):
