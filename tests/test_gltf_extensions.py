@@ -95,8 +95,8 @@ QUAD_UV = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], dtype=np.float32)
 
 
 def quad_glb(path, transform=None, slot="baseColorTexture", tex_coord=None, uv1=None, used=(TT,), required=(),
-             sampler=None):
-    """The quad with CHECKER as ``slot`` (nearest filtering, REPEAT) and ``transform`` as
+             sampler=None, image=CHECKER):
+    """The quad with ``image`` (CHECKER) as ``slot`` (nearest filtering, REPEAT) and ``transform`` as
     its textureInfo's KHR_texture_transform object (None: no extension)."""
     b = Builder()
     attributes = {"POSITION": b.accessor(QUAD, FLOAT, "VEC3"),
@@ -105,7 +105,7 @@ def quad_glb(path, transform=None, slot="baseColorTexture", tex_coord=None, uv1=
     if uv1 is not None:
         attributes["TEXCOORD_1"] = b.accessor(np.asarray(uv1, np.float32), FLOAT, "VEC2")
     indices = b.accessor(np.uint16([0, 1, 2, 0, 2, 3]), USHORT, "SCALAR")
-    image = b.view(png_bytes(CHECKER))
+    image = b.view(png_bytes(image))
     info = {"index": 0}
     if tex_coord is not None:
         info["texCoord"] = tex_coord
@@ -245,6 +245,23 @@ def test_a_render_shows_the_turned_checker(tmp_path):
     image = render_realtime(scene, bake_size=8).image
     quadrants = [image[4, 4, :3], image[4, 11, :3], image[11, 4, :3], image[11, 11, :3]]
     np.testing.assert_allclose(quadrants, [[0, 0, 1], [1, 0, 0], [1, 1, 1], [0, 1, 0]], atol=0.02)
+
+
+@pytest.mark.parametrize("ext, tangent, bitangent", [
+    (None, [1, 0, 0], [0, 1, 0]),
+    ({"rotation": math.pi / 2}, [0, -1, 0], [1, 0, 0]),
+    ({"scale": [-1.0, 1.0]}, [-1, 0, 0], [0, 1, 0]),
+])
+def test_generated_tangents_follow_the_transformed_uvs(tmp_path, ext, tangent, bitangent):
+    """Without TANGENT, the normal map's tangent frame is MikkTSpace's of the UVs the normal
+    texture is read at: tangent-space +X along increasing u', +Y along decreasing v' (the
+    image's up).  A quarter turn (u' = v, v' = -u) sends +X to world -y and +Y to +x."""
+    texel = np.array([[[220, 100, 200]]], dtype=np.uint8)
+    ts = texel[0, 0] / 255.0 * 2.0 - 1.0
+    surface = surface_at(quad_glb(tmp_path / "n.glb", ext, slot="normalTexture", image=texel),
+                         np.array([[0.1, 0.2, -1.0]]))
+    expected = ts[0] * np.array(tangent) + ts[1] * np.array(bitangent) + ts[2] * np.array([0, 0, 1])
+    np.testing.assert_allclose(surface.n[0], expected / np.linalg.norm(expected), atol=3e-3)
 
 
 def test_tex_coord_override_uses_the_second_set(tmp_path):

@@ -631,7 +631,10 @@ def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
                 reader.fail(f"{where}: materials[{mat_index}].{name} uses TEXCOORD_{ref.texcoord}, which the "
                             "primitive lacks")
         if material.normal_texture is not None and p.tangents is None:
-            p.tangents = mikktspace_tangents(p.positions, p.normals, p.texcoords[material.normal_texture.texcoord],
+            # tangents along the UVs the normal texture is looked up at (its KHR_texture_transform
+            # applied: an affine map, exact per vertex), as the Khronos sample viewer derives them
+            ref = material.normal_texture
+            p.tangents = mikktspace_tangents(p.positions, p.normals, ref.lookup_uv(p.texcoords[ref.texcoord]),
                                              p.triangles)
         mesh = _world_mesh(p, world, mat_index)
         if not np.all(np.isfinite(mesh.positions)) or np.abs(mesh.positions).max() > np.finfo(np.float32).max:
