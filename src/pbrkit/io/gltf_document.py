@@ -7,9 +7,11 @@ lights from a checked document).
 its magic: header, JSON chunk, optional BIN chunk; glTF 2.0 sec. 4.4) and the
 JSON; :func:`validate_gltf_document` checks every index (an integer, not a
 bool or float, within its array), the node hierarchy (a forest), the
-enumerations and numeric ranges, and that every accessor and sparse part lies
-inside its bufferView and every bufferView inside its buffer; each problem is a
-ValueError naming its JSON location (the caller adds the file name).
+enumerations and numeric ranges, each textureInfo's ``KHR_texture_transform``
+(:func:`pbrkit.io.gltf_extensions.check_texture_transform`), and that every
+accessor and sparse part lies inside its bufferView and every bufferView inside
+its buffer; each problem is a ValueError naming its JSON location (the caller
+adds the file name).
 """
 
 from __future__ import annotations
