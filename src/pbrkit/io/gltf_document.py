@@ -7,9 +7,11 @@ lights from a checked document).
 its magic: header, JSON chunk, optional BIN chunk; glTF 2.0 sec. 4.4) and the
 JSON; :func:`validate_gltf_document` checks every index (an integer, not a
 bool or float, within its array), the node hierarchy (a forest), the
-enumerations and numeric ranges, and that every accessor and sparse part lies
-inside its bufferView and every bufferView inside its buffer; each problem is a
-ValueError naming its JSON location (the caller adds the file name).
+enumerations and numeric ranges, each textureInfo's ``KHR_texture_transform``
+(:func:`pbrkit.io.gltf_extensions.check_texture_transform`), and that every
+accessor and sparse part lies inside its bufferView and every bufferView inside
+its buffer; each problem is a ValueError naming its JSON location (the caller
+adds the file name).
 """
 
 from __future__ import annotations
@@ -455,6 +457,12 @@ def _check_texture_info(info, where, index):
     index.required(info, "index", where, "textures")
     if info.get("texCoord") is not None:
         _integer(info["texCoord"], f"{where}.texCoord")
+    if info.get("extensions") is not None:
+        from .gltf_extensions import TEXTURE_TRANSFORM, check_texture_transform  # it imports this module
+
+        ext = _object(info["extensions"], f"{where}.extensions").get(TEXTURE_TRANSFORM)
+        if ext is not None:
+            check_texture_transform(ext, f"{where}.extensions.{TEXTURE_TRANSFORM}")
 
 
 def _check_material(material, where, index):

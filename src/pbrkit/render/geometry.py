@@ -269,7 +269,7 @@ class Geometry:
                 uv = uv_sets.get(ref.texcoord)
                 if uv is None:
                     raise ValueError(f"material {spec.name!r} uses TEXCOORD_{ref.texcoord}, which its mesh lacks")
-                return m.textures[ref.texture].sample(uv[sel])
+                return m.textures[ref.texture].sample(ref.lookup_uv(uv[sel]))
 
             if m.base_color_texture is not None:
                 base[sel] *= lookup(m.base_color_texture)[:, :3]

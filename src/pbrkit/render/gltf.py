@@ -12,7 +12,10 @@ times the factors), normal (tangent space, +X right, +Y up, scaled by
 ``normalTexture.scale``), occlusion (R, applied as 1 + strength (R - 1))
 and emissive (sRGB, times emissiveFactor and
 ``KHR_materials_emissive_strength``).  ``KHR_lights_punctual`` lights are
-read too.  Texture sampling follows the glTF sampler: bilinear (or
+read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
+scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
+are honoured (:mod:`pbrkit.io.gltf_extensions`, after the Khronos
+specifications).  Texture sampling follows the glTF sampler: bilinear (or
 nearest) filtering of linear texel values at texel centres (sRGB texels are
 decoded before filtering, as GPUs do), REPEAT / CLAMP_TO_EDGE /
 MIRRORED_REPEAT wrapping, UV (0, 0) at the first (top-left) texel.
@@ -37,7 +40,8 @@ warning or an empty image:
   bufferView and buffer;
 - the attributes pbrkit reads must have the specification's formats
   (POSITION and NORMAL VEC3 FLOAT, TANGENT VEC4 FLOAT, TEXCOORD_n VEC2 FLOAT
-  or normalised UNSIGNED_BYTE / UNSIGNED_SHORT, indices SCALAR unsigned),
+  or normalised UNSIGNED_BYTE / UNSIGNED_SHORT, indices SCALAR unsigned; with
+  ``KHR_mesh_quantization`` in ``extensionsUsed`` also the extension's table),
   finite values, one count per primitive, and indices below that count;
 - a file whose default scene holds no triangle mesh (and no light) is
   refused: there is nothing to render.
@@ -66,13 +70,17 @@ from ..core.inputs import Confinement, check_allocation, describe, size_text
 from ..io.gltf_document import (
     _COMPONENT,
     _COMPONENT_NAMES,
-    _FLOAT,
     _NCOMP,
-    _UBYTE,
-    _UINT,
-    _USHORT,
     read_gltf_document,
     validate_gltf_document,
+)
+from ..io.gltf_extensions import (
+    MESH_QUANTIZATION,
+    TEXTURE_TRANSFORM,
+    attribute_formats,
+    format_key,
+    format_text,
+    texture_transform,
 )
 from ..io.gltf_resources import MAX_IMAGE_BYTES, buffer_file_bytes, decode_image, uri_bytes
 from .lights import Light
@@ -114,17 +122,8 @@ class GltfAsset:
     notes: list
 
 
-_SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength"}
-
-#: Formats of the attributes pbrkit reads (glTF 2.0 sec. 3.7.2.1; "indices": sec. 3.7.2.2):
-#: (accessor types, component types, whether integer components must be normalised).
-_FORMATS = {
-    "POSITION": (("VEC3",), (_FLOAT,), False),
-    "NORMAL": (("VEC3",), (_FLOAT,), False),
-    "TANGENT": (("VEC4",), (_FLOAT,), False),
-    "TEXCOORD": (("VEC2",), (_FLOAT, _UBYTE, _USHORT), True),
-    "indices": (("SCALAR",), (_UBYTE, _USHORT, _UINT), False),
-}
+_SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength", TEXTURE_TRANSFORM,
+                       MESH_QUANTIZATION}
 #: Largest texture coordinate accepted (beyond it texel addressing loses all precision).
 _MAX_TEXCOORD = 1e6
 #: Peak bytes per vertex and per triangle of the meshes built from a glTF file and handed
@@ -176,6 +175,9 @@ class _GltfReader:
         unsupported = sorted(required - _SUPPORTED_REQUIRED)
         if unsupported:
             raise InputError(f"requires unsupported glTF extension(s): {', '.join(map(describe, unsupported))}", path)
+        listed = set(self.doc.get("extensionsUsed") or []) | required
+        #: KHR_mesh_quantization's attribute formats are accepted (pbrkit.io.gltf_extensions)
+        self.quantized = MESH_QUANTIZATION in listed
         used = sorted(set(self.doc.get("extensionsUsed") or []) - _SUPPORTED_REQUIRED)
         if used:
             self.notes.append(f"ignored optional extension(s): {', '.join(map(describe, used))}")
@@ -281,15 +283,21 @@ class _GltfReader:
         return data
 
     def attribute(self, index, semantic, where):
-        """Accessor ``index`` used as ``semantic`` (a key of ``_FORMATS``): format, count and values checked."""
+        """Accessor ``index`` used as ``semantic`` (a key of
+        :data:`pbrkit.io.gltf_extensions.CORE_FORMATS`): format (with
+        ``KHR_mesh_quantization``'s when the file uses it), count and values checked."""
         a = self.items("accessors")[index]
-        types, components, normalized = _FORMATS[semantic]
-        component = a["componentType"]
-        if a["type"] not in types or component not in components or (
-                normalized and component != _FLOAT and not a.get("normalized")):
-            want = " or ".join(f"{types[0]} {_COMPONENT_NAMES[c]}" + (" (normalized)" if normalized and c != _FLOAT
-                                                                        else "") for c in components)
-            self.fail(f"{where} (accessors[{index}]) must be {want}; it is {a['type']} {_COMPONENT_NAMES[component]}")
+        kind, pairs = attribute_formats(semantic, self.quantized)
+        key = format_key(a)
+        if semantic == "indices":
+            key = (key[0], False)  # the flag means nothing for indices
+        if a["type"] != kind or key not in pairs:
+            it = f"{a['type']} {_COMPONENT_NAMES[key[0]]}" + (" (normalized)" if key[1] else "")
+            hint = ""
+            if not self.quantized and a["type"] == kind and key in attribute_formats(semantic, True)[1]:
+                hint = f" (a {MESH_QUANTIZATION} format, but the file does not list that extension in extensionsUsed)"
+            self.fail(f"{where} (accessors[{index}]) must be {format_text(kind, pairs, semantic != 'indices')}; "
+                      f"it is {it}{hint}")
         if semantic == "indices":
             return self.accessor(index, normalize_ints=False)[:, 0]
         data = self.accessor(index)
@@ -347,11 +355,10 @@ def _texture_ref(reader, info, srgb, cache, strength_key=None):
     """A :class:`TextureRef` for a glTF textureInfo (None when absent)."""
     if info is None:
         return None
-    ref = TextureRef(reader.texture(info["index"], srgb, cache), info.get("texCoord") or 0)
-    if strength_key is not None:
-        value = info.get(strength_key)
-        ref = TextureRef(ref.texture, ref.texcoord, 1.0 if value is None else float(value))
-    return ref
+    transform, texcoord = texture_transform(info)  # KHR_texture_transform (pbrkit.io.gltf_extensions)
+    value = info.get(strength_key) if strength_key is not None else None
+    return TextureRef(reader.texture(info["index"], srgb, cache), texcoord, 1.0 if value is None else float(value),
+                      transform)
 
 
 def _gltf_material(reader, index, cache):
@@ -624,7 +631,10 @@ def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
                 reader.fail(f"{where}: materials[{mat_index}].{name} uses TEXCOORD_{ref.texcoord}, which the "
                             "primitive lacks")
         if material.normal_texture is not None and p.tangents is None:
-            p.tangents = mikktspace_tangents(p.positions, p.normals, p.texcoords[material.normal_texture.texcoord],
+            # tangents along the UVs the normal texture is looked up at (its KHR_texture_transform
+            # applied: an affine map, exact per vertex), as the Khronos sample viewer derives them
+            ref = material.normal_texture
+            p.tangents = mikktspace_tangents(p.positions, p.normals, ref.lookup_uv(p.texcoords[ref.texcoord]),
                                              p.triangles)
         mesh = _world_mesh(p, world, mat_index)
         if not np.all(np.isfinite(mesh.positions)) or np.abs(mesh.positions).max() > np.finfo(np.float32).max:

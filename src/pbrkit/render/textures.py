@@ -73,12 +73,20 @@ class Texture:
 
 @dataclass(frozen=True)
 class TextureRef:
-    """A material's use of a texture: which one, which TEXCOORD set, and the
-    scale (normal) or strength (occlusion)."""
+    """A material's use of a texture: which one, which TEXCOORD set, the scale
+    (normal) or strength (occlusion), and its ``KHR_texture_transform``
+    (:class:`pbrkit.io.gltf_extensions.TextureTransform`; None: the UVs as they are)."""
 
     texture: int
     texcoord: int = 0
     scale: float = 1.0
+    transform: object | None = None
+
+    def lookup_uv(self, uv):
+        """The texture coordinates at which to sample this texture for the
+        interpolated coordinates ``uv`` (N, 2) of its TEXCOORD set: ``uv`` itself
+        (the same array) without a transform."""
+        return uv if self.transform is None else self.transform.apply(uv)
 
 
 @dataclass
