@@ -515,3 +515,18 @@ def test_batch_render_refuses_a_style_outside_real_time_before_any_work(tmp_path
     result = invoke("batch", "render", "spheres", "-o", str(tmp_path / "out"), "--mode", "reference", "--style",
                     "toon")
     assert "--style" in one_error_line(result) and not (tmp_path / "out").exists()
+
+
+def test_a_glob_is_bounded_by_the_paths_it_may_match(tmp_path, monkeypatch):
+    """A pattern (on the command line or in a --list file) that matches more than
+    MAX_GLOB_PATHS paths is refused naming the pattern, without collecting them all
+    (``/**`` would name every path of the machine)."""
+    from pbrkit.app import batch
+
+    for i in range(6):
+        (tmp_path / f"m{i}.hdr").write_bytes(b"")
+    monkeypatch.setattr(batch, "MAX_GLOB_PATHS", 5)
+    with pytest.raises(InputError, match=r"the pattern matches more than 5 paths; narrow it"):
+        expand_inputs([str(tmp_path / "*.hdr")], [], "bake")
+    monkeypatch.setattr(batch, "MAX_GLOB_PATHS", 6)
+    assert [p.name for p in expand_inputs([str(tmp_path / "*.hdr")], [], "bake")] == [f"m{i}.hdr" for i in range(6)]

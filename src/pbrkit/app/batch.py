@@ -132,6 +132,8 @@ SCENE_SUFFIXES = (".toml", ".json")
 #: Names of the batch's own files in OUT, which no input's folder may take.
 RESERVED_NAMES = ("index.html", "batch.json")
 SUMMARY_FORMAT = "pbrkit batch summary"
+#: Most paths one glob may match (a pattern such as ``/**`` names every path on the machine).
+MAX_GLOB_PATHS = 100_000
 _GLOB_CHARS = re.compile(r"[*?\[]")
 _STEM_MAX = 200  # leaves room for "-<hash>" and the atomic temporaries' ".<name>.XXXXXXXX.partial" in NAME_MAX
 
@@ -151,7 +153,7 @@ def _expand_one(text, kind, base, builtins):
     """The inputs one INPUT argument (or list-file line) stands for; ValueError
     for a path that does not exist, a glob that matches nothing, a folder
     without inputs."""
-    from glob import glob
+    from glob import iglob
 
     from ..core.errors import InputError
 
@@ -170,8 +172,12 @@ def _expand_one(text, kind, base, builtins):
         return [path]
     if _is_glob(text):
         suffixes = BAKE_GLOB_SUFFIXES if kind == "bake" else SCENE_SUFFIXES
-        matches = []
-        for match in sorted(glob(str(path), recursive=True)):
+        matches, found = [], []
+        for match in iglob(str(path), recursive=True):  # bounded: a pattern such as /** names every path
+            if len(found) == MAX_GLOB_PATHS:
+                raise InputError(f"the pattern matches more than {MAX_GLOB_PATHS:,} paths; narrow it", text)
+            found.append(match)
+        for match in sorted(found):
             m = Path(match)
             if m.is_dir():
                 matches += _folder_inputs(m, BAKE_SUFFIXES if kind == "bake" else SCENE_SUFFIXES)
