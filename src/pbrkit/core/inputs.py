@@ -113,15 +113,20 @@ def open_regular(path, limit=None, expected="a file"):
 
 
 def read_bytes(path, limit, expected="a file"):
-    """The bytes of the regular file ``path``, at most ``limit`` (:func:`open_regular`);
-    a file that grows past ``limit`` while it is read is refused too."""
+    """The bytes of the regular file ``path``, at most ``limit`` (:func:`open_regular`),
+    with the memory to hold them checked before reading (:func:`check_allocation`); a
+    file whose length changes while it is read is refused too."""
     with open_regular(path, limit, expected) as f:
+        size = os.fstat(f.fileno()).st_size
+        check_allocation(size, f"reading the file ({size_text(size)})", path)
         try:
-            data = f.read(limit + 1 if limit is not None else -1)
+            data = f.read(size + 1)
         except OSError as exc:
             raise InputError(f"cannot read file ({exc.strerror or exc}); expected {expected}", path) from None
-    if limit is not None and len(data) > limit:
+    if len(data) != size:
         _check_size(path, len(data), limit, expected)
+        raise InputError(f"changed while it was read ({len(data)} bytes read, {size} expected); expected {expected}",
+                         path)
     return data
 
 

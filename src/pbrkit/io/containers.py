@@ -16,7 +16,7 @@ import os
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.inputs import check_allocation, open_regular, size_text
+from ..core.inputs import check_allocation, read_bytes
 from .float_packing import pack_b10g11r11, to_float16, unpack_b10g11r11
 
 #: Largest texture container file read (a float32 RGBA cube map chain of 16384^2 faces is 8.6 GB).
@@ -93,19 +93,9 @@ def max_mip_levels(width, height):
 
 
 def read_file(path, expected, limit=MAX_CONTAINER_BYTES):
-    """The bytes of the regular file ``path`` (:func:`pbrkit.core.inputs.open_regular`:
-    a device, pipe, socket or folder is refused, also behind a symbolic link) of at
-    most ``limit`` bytes, with the memory to hold them checked before reading."""
-    with open_regular(path, limit, expected) as f:
-        size = os.fstat(f.fileno()).st_size
-        check_allocation(size, f"reading the file ({size_text(size)})", path)
-        try:
-            data = f.read(size + 1)
-        except OSError as exc:
-            raise InputError(f"cannot read file ({exc.strerror or exc}); expected {expected}", path) from None
-    if len(data) != size:
-        raise InputError(f"changed while it was read; expected {expected}", path)
-    return data
+    """The bytes of the regular file ``path`` of at most ``limit`` bytes, with the
+    memory to hold them checked before reading (:func:`pbrkit.core.inputs.read_bytes`)."""
+    return read_bytes(path, limit, expected)
 
 
 def read_container(path, parse, expected="a texture container file"):

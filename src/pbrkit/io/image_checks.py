@@ -12,14 +12,13 @@ library's exception).
 
 from __future__ import annotations
 
-import os
 import re
 from pathlib import Path
 
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.inputs import check_allocation, open_regular, size_text
+from ..core.inputs import check_allocation, open_regular, read_bytes
 
 __all__ = [
     "MAX_SIDE",
@@ -81,18 +80,8 @@ def _check_pixels(path, height, width, bytes_per_pixel, what="image"):
 
 def _read_bytes(path, expected=IMAGE_EXPECTED):
     """The bytes of the regular file ``path`` (at most :data:`MAX_IMAGE_BYTES`), with
-    the memory to hold them checked before reading."""
-    with open_or_fail(path, expected) as f:
-        size = os.fstat(f.fileno()).st_size
-        check_allocation(size, f"reading the file ({size_text(size)})", path)
-        try:
-            data = f.read(size + 1)
-        except OSError as exc:
-            raise InputError(f"cannot read file ({exc.strerror or exc}); expected {expected}", path) from None
-    if len(data) != size:
-        raise InputError(f"changed while it was read ({len(data)} bytes read, {size} expected); expected {expected}",
-                         path)
-    return data
+    the memory to hold them checked before reading (:func:`pbrkit.core.inputs.read_bytes`)."""
+    return read_bytes(path, MAX_IMAGE_BYTES, expected)
 
 
 def image_format(path):
