@@ -20,6 +20,7 @@ import warnings
 
 import numpy as np
 import pytest
+from gltf_files import glb_bytes
 from typer.testing import CliRunner
 
 from pbrkit.app.cli import app
@@ -88,17 +89,6 @@ def good_gltf():
         "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 2.0}]}},
     }
     return doc, bytearray(blob)
-
-
-def glb_bytes(doc, blob):
-    """A binary glTF container (glTF 2.0 sec. 4.4) of a document and its buffer."""
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text
-    if blob is not None:
-        blob = bytes(blob) + b"\0" * (-len(blob) % 4)
-        chunks += struct.pack("<II", len(blob), 0x004E4942) + blob
-    return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
 
 
 def write_gltf(path, doc, blob):

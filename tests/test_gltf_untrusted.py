@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gltf_files import glb_bytes
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
@@ -66,17 +67,6 @@ def triangle():
         "bufferViews": views, "buffers": [{"byteLength": len(blob)}],
     }
     return doc, blob
-
-
-def glb_bytes(doc, blob):
-    """A binary glTF (glTF 2.0 sec. 4.4) of ``doc`` with ``blob`` as its BIN chunk."""
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text
-    if blob is not None:
-        blob = bytes(blob) + b"\0" * (-len(blob) % 4)
-        chunks += struct.pack("<II", len(blob), 0x004E4942) + blob
-    return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
 
 
 def gltf_bytes(doc, blob):
