@@ -207,3 +207,72 @@ def test_the_transcription_with_its_own_table_agrees(case):
     core = ref.gltf_brdf(l[pick], v[pick], sub["base"], sub["metallic"], sub["roughness"])
     # the difference is max3(sheenColor) (E_table - E_own) times the core model's value
     assert np.all(np.abs(actual - expected) <= 5e-4 * np.abs(core) + 1e-12)
+
+
+# ------------------------------------------------------------------ glTF files and scene files
+
+
+def test_khr_materials_sheen_is_read_from_gltf_files(tmp_path):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    sheen = {"sheenColorFactor": [0.9, 0.5, 0.25], "sheenRoughnessFactor": 0.4}
+    path = write_quad_glb(tmp_path / "s.glb", material_extras={"KHR_materials_sheen": sheen},
+                          extensions_required=("KHR_materials_sheen",))
+    asset = load_gltf(path)
+    spec = asset.materials[0].spec
+    assert spec.model == "gltf" and spec.sheen_color == (0.9, 0.5, 0.25) and spec.sheen_roughness == 0.4
+    assert not any("sheen" in note for note in asset.notes)
+    # absent factors take the extension's defaults (black, 0); without the extension: no sheen
+    asset = load_gltf(write_quad_glb(tmp_path / "d.glb", material_extras={"KHR_materials_sheen": {}}))
+    assert asset.materials[0].spec.sheen_color == (0.0, 0.0, 0.0) and asset.materials[0].spec.sheen_roughness == 0.0
+    assert load_gltf(write_quad_glb(tmp_path / "n.glb")).materials[0].spec.sheen_color == (0.0, 0.0, 0.0)
+
+
+def test_a_sheen_texture_is_noted_as_not_supported_yet(tmp_path):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    texture = np.full((2, 2, 3), 200, dtype=np.uint8)
+    sheen = {"sheenColorFactor": [1.0, 1.0, 1.0], "sheenColorTexture": {"index": 0}}
+    asset = load_gltf(write_quad_glb(tmp_path / "t.glb", texture=texture,
+                                     material_extras={"KHR_materials_sheen": sheen}))
+    assert asset.materials[0].spec.sheen_color == (1.0, 1.0, 1.0)
+    assert any("sheenColorTexture is not supported yet" in note for note in asset.notes)
+
+
+@pytest.mark.parametrize("sheen, fragment", [
+    ({"sheenColorFactor": [1.0, 2.0, 0.0]}, "KHR_materials_sheen.sheenColorFactor"),
+    ({"sheenColorFactor": [1.0, 1.0]}, "KHR_materials_sheen.sheenColorFactor"),
+    ({"sheenRoughnessFactor": -0.1}, "KHR_materials_sheen.sheenRoughnessFactor"),
+    ({"sheenRoughnessFactor": "rough"}, "KHR_materials_sheen.sheenRoughnessFactor"),
+    ({"sheenColorTexture": {"index": 7}}, "KHR_materials_sheen.sheenColorTexture"),
+    ([1, 2], "KHR_materials_sheen"),
+])
+def test_bad_sheen_values_are_refused_naming_the_field(tmp_path, sheen, fragment):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.core.errors import InputError
+    from pbrkit.render.gltf import load_gltf
+
+    path = write_quad_glb(tmp_path / "b.glb", material_extras={"KHR_materials_sheen": sheen})
+    with pytest.raises(InputError, match=fragment) as info:
+        load_gltf(path)
+    assert "\n" not in str(info.value)
+
+
+def test_a_scene_with_sheen_loads(tmp_path):
+    from pbrkit.render.scene import load_scene
+
+    path = tmp_path / "s.toml"
+    path.write_text('[materials.velvet]\nmodel = "gltf"\nbase_color = [0.2, 0.05, 0.1]\nsheen_color = [1, 1, 1]\n'
+                    'sheen_roughness = 0.5\n[[objects]]\ntype = "sphere"\nmaterial = "velvet"\n')
+    velvet = load_scene(path).materials["velvet"]
+    assert velvet.sheen_color == (1.0, 1.0, 1.0) and velvet.sheen_roughness == 0.5
+    path.write_text('[materials.velvet]\nmodel = "gltf"\nsheen_color = [1, 1, 2]\n[[objects]]\ntype = "sphere"\n'
+                    'material = "velvet"\n')
+    with pytest.raises(ValueError, match="sheen_color"):
+        load_scene(path)
+
