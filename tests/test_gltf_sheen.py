@@ -276,3 +276,34 @@ def test_a_scene_with_sheen_loads(tmp_path):
     with pytest.raises(ValueError, match="sheen_color"):
         load_scene(path)
 
+
+# ------------------------------------------------------------------ real time
+
+
+def test_realtime_ibl_has_the_sheen_over_the_scaled_base():
+    """Real time under a constant white environment (the prefiltered chain constant, 1):
+    with a white sheen, each pixel is base (1 - E) + E, E = E_sheen(n.v, sheenRoughness)
+    (KHR_materials_sheen's albedo scaling of the base's split sum plus the Sample
+    Viewer's sheenColor E times the prefiltered radiance); a black sheen is the
+    core model's render bitwise."""
+    from test_render import pixel_geometry, sphere_scene
+
+    from pbrkit.brdf.lobes.sheen import sheen_albedo_lookup
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+
+    env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
+    core = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1))
+    plain = render_realtime(sphere_scene(core, env, size=16), bake_size=16)
+    black = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1), sheen_roughness=0.5)
+    assert np.array_equal(render_realtime(sphere_scene(black, env, size=16), bake_size=16).image, plain.image)
+    velvet = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1),
+                          sheen_color=(1.0, 1.0, 1.0), sheen_roughness=0.5)
+    scene = sphere_scene(velvet, env, size=16)
+    sheen = render_realtime(scene, bake_size=16)
+    mask, n, v = pixel_geometry(scene)
+    nov = np.sum(n * v, axis=-1)
+    sel = mask & plain.mask & sheen.mask & (nov > 0.2)
+    assert sel.sum() > 50
+    e = np.vectorize(sheen_albedo_lookup)(nov[sel], 0.5)[:, None]
+    np.testing.assert_allclose(sheen.image[sel], plain.image[sel] * (1.0 - e) + e, rtol=2e-3, atol=1e-4)

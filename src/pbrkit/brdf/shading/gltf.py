@@ -25,7 +25,11 @@ technique") layers a Charlie sheen over that material:
 :func:`pbrkit.brdf.operators.layer` with :data:`pbrkit.brdf.lobes.sheen.SHEEN` on
 top (its albedo sheenColor E, whose largest channel is max3(sheenColor) E).
 With ``sheen_color`` 0 (the default) the lobe's value is 0 and the scaling 1
-exactly, so the material's values are bitwise the core model's.
+exactly, so the material's values are bitwise the core model's.  In real time
+the sheen's IBL is the Khronos Sample Viewer's simplification, sheenColor E
+times the prefiltered radiance at the sheen roughness (here the GGX chain; the
+Charlie-prefiltered chain is a later step), over the base's IBL scaled by the
+same albedo scaling (:func:`ibl_sheen_extras`, :func:`ibl_sheen_base_scale`).
 """
 
 from __future__ import annotations
@@ -39,14 +43,16 @@ from ..fresnel import f0_from_ior, f0_metallic, f_schlick
 from ..lobes import Lobe
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet
-from ..lobes.sheen import SHEEN
+from ..lobes.sheen import (SHEEN, SHEEN_COLOR_SLOT, SHEEN_ROUGHNESS_SLOT, sheen_albedo_lookup,
+                           sheen_albedo_scaling)
 from ..operators import add, fresnel_mix, layer, mix, weighted
 from ..parameters import BASE_COLOR, METALLIC, ROUGHNESS, Parameter
 from ..terms import GGX, SCHLICK, SEPARABLE
 from .model import Model, RealTime
 
 __all__ = ["MODEL", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION", "COMPOSITION",
-           "SHEEN_COLOR", "SHEEN_ROUGHNESS", "SHEEN_COMPOSITION", "ibl_diffuse_weight"]
+           "SHEEN_COLOR", "SHEEN_ROUGHNESS", "SHEEN_COMPOSITION", "ibl_diffuse_weight", "ibl_sheen_roughness",
+           "ibl_sheen_extras", "ibl_sheen_base_scale"]
 
 #: The glTF 2.0 dielectric's IOR (Appendix B.3.4) and its normal reflectance
 #: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
@@ -149,6 +155,52 @@ def ibl_diffuse_weight(b, nov, exact, table):
     return kd_ibl(nov, GLTF_DIELECTRIC_F0, b.roughness, 0.0)
 
 
+@dual_use(inline=True)
+def _sheen_on(b):
+    s = SHEEN_COLOR_SLOT
+    return b.extra[s] > 0.0 or b.extra[s + 1] > 0.0 or b.extra[s + 2] > 0.0
+
+
+@dual_use(inline=True)
+def ibl_sheen_roughness(b):
+    """The roughness of the sheen's prefiltered lookup in real time: the sheen roughness
+    (-1 without a sheen, so no second lookup).  The lookup is the GGX-prefiltered chain
+    at that roughness, standing in for the Charlie-prefiltered chain the Khronos Sample
+    Viewer samples (a later step)."""
+    if _sheen_on(b):
+        return b.extra[SHEEN_ROUGHNESS_SLOT]
+    return -1.0
+
+
+@dual_use(inline=True)
+def ibl_sheen_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered):
+    """The sheen's image-based lighting, the Sample Viewer's simplification of
+    KHR_materials_sheen: sheenColor E_sheen(n.v, sheenRoughness) times the
+    prefiltered radiance at the sheen roughness (:func:`ibl_sheen_roughness`).
+    Returns (specular RGB, diffuse RGB) to add to the scaled base."""
+    if not _sheen_on(b):
+        z = (0.0, 0.0, 0.0)
+        return z, z
+    e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT])
+    s = SHEEN_COLOR_SLOT
+    return ((b.extra[s] * e * coat_prefiltered[0], b.extra[s + 1] * e * coat_prefiltered[1],
+             b.extra[s + 2] * e * coat_prefiltered[2]), (0.0, 0.0, 0.0))
+
+
+@dual_use(inline=True)
+def ibl_sheen_base_scale(b, nov):
+    """KHR_materials_sheen's sheen_albedo_scaling 1 - max3(sheenColor) E(n.v) on the base's
+    IBL terms (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_scaling`); 1.0 without a sheen."""
+    if not _sheen_on(b):
+        return 1.0
+    s = SHEEN_COLOR_SLOT
+    return sheen_albedo_scaling(max(b.extra[s], max(b.extra[s + 1], b.extra[s + 2])), nov,
+                                b.extra[SHEEN_ROUGHNESS_SLOT])
+
+
 MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with KHR_materials_sheen",
-              (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS), setup, SHEEN_COMPOSITION, ("ggx", "separable", "schlick", "lambert"),
-              RealTime(diffuse_weight=ibl_diffuse_weight), variants=(("ggx", "separable", "schlick", "lambert"),))
+              (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS), setup, SHEEN_COMPOSITION,
+              ("ggx", "separable", "schlick", "lambert"),
+              RealTime(diffuse_weight=ibl_diffuse_weight, coat_roughness=ibl_sheen_roughness,
+                       extras=ibl_sheen_extras, base_scale=ibl_sheen_base_scale),
+              variants=(("ggx", "separable", "schlick", "lambert"),))
