@@ -18,7 +18,8 @@ The second half holds full-model transcriptions of pbrkit's shading models,
 each written from its published source (glTF 2.0 Appendix B, Karis 2013, the
 Filament documentation, Unity URP's ``BRDF.hlsl``, Burley 2012 and the BRDF
 Explorer's ``disney.brdf``, a Cook-Torrance with every D / G / F / diffuse
-choice, EON of Portsmouth, Kutz & Hill 2025): vectorised NumPy functions of
+choice, EON of Portsmouth, Kutz & Hill 2025, glTF under KHR_materials_sheen's
+Charlie sheen and albedo scaling): vectorised NumPy functions of
 light and view directions l, v (N, 3) in the local frame (normal +z, tangent +x,
 bitangent +y) and per-element material values, returning the BRDF value f
 (N, 3) -- not f cos -- and 0 unless n.l > 0 and n.v > 0.
@@ -43,6 +44,10 @@ __all__ = [
     "albedo_terms",
     "alpha_of",
     "burley_diffuse",
+    "charlie_albedo",
+    "charlie_d",
+    "charlie_lambda",
+    "charlie_v",
     "comparison_values",
     "cook_torrance_brdf",
     "d_beckmann_anisotropic",
@@ -64,9 +69,11 @@ __all__ = [
     "g1_schlick",
     "ggx_albedo",
     "gltf_brdf",
+    "gltf_sheen_brdf",
     "lambda_beckmann_anisotropic",
     "lambda_ggx",
     "lambda_ggx_anisotropic",
+    "sheen_albedo_bilinear",
     "texel_grid",
     "ue4_brdf",
     "urp_mobile_brdf",
@@ -826,3 +833,109 @@ def cook_torrance_brdf(l, v, base, metallic, roughness, reflectance, anisotropy,
             raise ValueError(diffuse)
         out = fd + f * (d * vis)[..., None]
     return g.only_above(out)
+
+
+# ------------------------------------------------------------- KHR_materials_sheen
+
+#: The Charlie alpha's floor (the spec's alpha_g = sheenRoughness^2 is 0 at sheenRoughness 0,
+#: where 1 / alpha_g is infinite; pbrkit and this transcription floor it at 1e-12).
+SHEEN_ALPHA_MIN = 1e-12
+
+
+def _sheen_alpha(sheen_roughness):
+    return np.maximum(np.asarray(sheen_roughness, dtype=float) ** 2, SHEEN_ALPHA_MIN)
+
+
+def charlie_d(cos_h, sin2_h, alpha_g):
+    """KHR_materials_sheen, "Sheen distribution" (Estevez and Kulla 2017, eq. 2):
+    D(m) = (2 + 1 / alpha_g) sin(theta)^(1 / alpha_g) / (2 pi), sin^2 from the half
+    vector's components; 0 below the horizon."""
+    inv_r = 1.0 / alpha_g
+    return np.where(cos_h >= 0.0, (2.0 + inv_r) * np.power(sin2_h, 0.5 * inv_r) / (2.0 * np.pi), 0.0)
+
+
+def _sheen_l(x, alpha_g):
+    # KHR_materials_sheen "Sheen visibility": l(x, alpha_g), the coefficients mixed by
+    # (1 - alpha_g)^2 between their alpha_g = 1 and alpha_g = 0 fits (Estevez and Kulla 2017, Table 1)
+    t = (1.0 - alpha_g) * (1.0 - alpha_g)
+    a = _mix(21.5473, 25.3245, t)
+    b = _mix(3.82987, 3.32435, t)
+    c = _mix(0.19823, 0.16801, t)
+    d = _mix(-1.97760, -1.27393, t)
+    e = _mix(-4.32054, -4.85967, t)
+    return a / (1.0 + b * np.power(np.maximum(x, 0.0), c)) + d * x + e
+
+
+def charlie_lambda(cos_theta, alpha_g):
+    """KHR_materials_sheen "Sheen visibility": lambda_sheen(cos_theta, alpha_g) =
+    exp(l(cos_theta)) below 0.5, exp(2 l(0.5) - l(1 - cos_theta)) above."""
+    return np.where(np.abs(cos_theta) < 0.5, np.exp(_sheen_l(np.abs(cos_theta), alpha_g)),
+                    np.exp(2.0 * _sheen_l(0.5, alpha_g) - _sheen_l(1.0 - np.abs(cos_theta), alpha_g)))
+
+
+def charlie_v(nol, nov, alpha_g):
+    """KHR_materials_sheen "Sheen visibility": V = 1 / ((1 + lambda(n.v) + lambda(n.l)) 4 n.l n.v)."""
+    return 1.0 / ((1.0 + charlie_lambda(nov, alpha_g) + charlie_lambda(nol, alpha_g)) * (4.0 * nol * nov))
+
+
+def charlie_albedo(mu, sheen_roughness, n_u=512, n_phi=128):
+    """E_sheen(mu) = integral of D V (n.l) over the hemisphere of l, the white sheen's
+    directional albedo (KHR_materials_sheen, "Albedo-scaling technique").  Written here:
+    with k = 2 + 1 / alpha_g, D sin(theta_h) cos(theta_h) d theta_h = du / (2 pi) for
+    u = sin(theta_h)^k, and dl = 4 (v.h) dh, so E = (1 / (2 pi)) integral over u in [0, 1],
+    phi in [0, 2 pi) of V (n.l) 4 (v.h) / cos(theta_h) du dphi (D cancels); Gauss-Legendre
+    in u and phi (phi on [0, pi], doubled: v in the xz plane).  mu floored at 1e-4."""
+    mu = max(float(mu), 1e-4)
+    alpha_g = float(_sheen_alpha(sheen_roughness))
+    k = 2.0 + 1.0 / alpha_g
+    xu, wu = np.polynomial.legendre.leggauss(n_u)
+    xp, wp = np.polynomial.legendre.leggauss(n_phi)
+    u = 0.5 * (xu + 1.0)
+    phi = 0.5 * np.pi * (xp + 1.0)
+    sin_h = u[:, None] ** (1.0 / k)
+    cos_h = np.sqrt(np.maximum(1.0 - sin_h * sin_h, 0.0))
+    sv = np.sqrt(1.0 - mu * mu)
+    voh = sv * sin_h * np.cos(phi)[None, :] + mu * cos_h
+    lz = 2.0 * voh * cos_h - mu
+    ok = (lz > 0.0) & (voh > 0.0) & (cos_h > 0.0)
+    with np.errstate(all="ignore"):
+        g = np.where(ok, charlie_v(lz, mu, alpha_g) * lz * 4.0 * voh / cos_h, 0.0)
+    weights = (0.5 * wu)[:, None] * (0.5 * np.pi * wp)[None, :]
+    return 2.0 * float(np.sum(g * weights)) / (2.0 * np.pi)
+
+
+def sheen_albedo_bilinear(table, mu, sheen_roughness):
+    """The spec's lookup of E "with x = VdotN and y = sheenRoughness" in ``table`` (rows:
+    sheenRoughness i / (n_r - 1), columns: n.v j / (n_mu - 1)), bilinear, clamped."""
+    table = np.asarray(table, dtype=float)
+    n_r, n_mu = table.shape
+    x = np.clip(mu, 0.0, 1.0) * (n_mu - 1)
+    y = np.clip(sheen_roughness, 0.0, 1.0) * (n_r - 1)
+    j = np.minimum(x.astype(int), n_mu - 2)
+    i = np.minimum(y.astype(int), n_r - 2)
+    fx, fy = x - j, y - i
+    top = table[i, j] * (1.0 - fx) + table[i, j + 1] * fx
+    bottom = table[i + 1, j] * (1.0 - fx) + table[i + 1, j + 1] * fx
+    return top * (1.0 - fy) + bottom * fy
+
+
+def gltf_sheen_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughness, e_table):
+    """glTF 2.0 (:func:`gltf_brdf`) under KHR_materials_sheen's layering (its README,
+    "Sheen" and "Albedo-scaling technique"):
+
+        sheen_material = sheenColor sheen_brdf + material sheen_albedo_scaling,
+        sheen_brdf = D_Charlie V_sheen (:func:`charlie_d`, :func:`charlie_v`), no Fresnel,
+        sheen_albedo_scaling = 1 - max3(sheenColor) E(VdotN),
+
+    E read bilinearly from ``e_table`` (:func:`sheen_albedo_bilinear`; e.g. a table of
+    :func:`charlie_albedo`)."""
+    g = Geometry(l, v)
+    material = gltf_brdf(l, v, base, metallic, roughness)
+    color = np.asarray(sheen_color, dtype=float)
+    alpha_g = _sheen_alpha(sheen_roughness)
+    with np.errstate(all="ignore"):
+        sheen_brdf = charlie_d(g.noh, g.sin2h, alpha_g) * charlie_v(g.nol, g.nov, alpha_g)
+        e = sheen_albedo_bilinear(e_table, g.nov, sheen_roughness)
+        scaling = 1.0 - np.max(color, axis=-1) * e
+        f = color * sheen_brdf[..., None] + material * scaling[..., None]
+    return g.only_above(f)

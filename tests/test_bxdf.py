@@ -47,6 +47,10 @@ CASES = [
      0.5, 0.8),
     ("gltf", "gltf", {}, dict(roughness=0.4, metallic=0.35), 0.45, 0.6),
     ("gltf-smooth-grazing", "gltf", {}, dict(roughness=0.15, metallic=0.0), 0.15, 2.2),
+    ("gltf-sheen", "gltf", {}, dict(roughness=0.4, metallic=0.0, sheen_color=np.ones(3), sheen_roughness=0.5), 0.45,
+     0.6),
+    ("gltf-sheen-metal", "gltf", {}, dict(roughness=0.3, metallic=1.0, sheen_color=np.array([0.9, 0.6, 0.3]),
+                                          sheen_roughness=0.25), 0.3, 1.3),
 ]
 N_SAMPLES = 200_000
 ALPHA_TEST = chi2.sidak_alpha(FAMILY_ALPHA, len(CASES))
@@ -125,6 +129,38 @@ def test_white_furnace_with_the_models_own_sampler(model, terms, roughness, anis
     reference = float(np.sum(f[:, 0] * w))  # the weights carry n.l
     assert 0.2 < reference < 1.01
     assert abs(estimate - reference) < 4.0 * stderr + 1e-3, (estimate, stderr, reference)
+
+
+@pytest.mark.parametrize("metallic", [0.0, 1.0])
+@pytest.mark.parametrize("sheen_roughness", [0.3, 0.6, 1.0])
+def test_white_furnace_of_gltf_with_sheen(metallic, sheen_roughness):
+    """A white glTF material under a white sheen (sheen_color 1; KHR_materials_sheen's
+    albedo scaling): E(mu) = E_sheen + (1 - E_sheen) E_base <= max(1, E_base), by the
+    independent quadrature of the model's value and by the mean of its own sampler's
+    weights (which agree); + 0.01 for the E table's interpolation error.  The core
+    model's white dielectric itself exceeds 1 (1.056 at n.v = 0.25, roughness 0.5:
+    glTF's fresnel_mix weights the diffuse by 1 - F(v.h), not by the specular
+    albedo); the sheen layer brings it towards 1, never above it or 1."""
+    material = Material(base_color=np.ones(3), metallic=metallic, roughness=0.5, sheen_color=np.ones(3),
+                        sheen_roughness=sheen_roughness)
+    n = 100_000
+    for mu in (0.25, 0.7):
+        wo = view_direction(mu, 0.4)
+        _, _, weight = models.sample("gltf", material, wo, _u(f"sheen-{metallic}-{sheen_roughness}-{mu}", n))
+        estimate = weight[:, 0].mean()
+        stderr = weight[:, 0].std(ddof=1) / math.sqrt(n)
+        l, w = albedo_nodes(wo, 0.25)
+        f = models.evaluate("gltf", l, np.broadcast_to(wo, l.shape), np.array([0.0, 0.0, 1.0]), material)
+        reference = float(np.sum(f[:, 0] * w))
+        core = Material(base_color=np.ones(3), metallic=metallic, roughness=0.5)
+        base = float(np.sum(models.evaluate("gltf", l, np.broadcast_to(wo, l.shape), np.array([0.0, 0.0, 1.0]),
+                                            core)[:, 0] * w))
+        bound = max(1.0, base) + 0.01
+        assert reference <= bound, (mu, base, reference)
+        # E - 1 = (1 - E_sheen)(E_base - 1): the sheen takes the albedo towards 1
+        assert abs(reference - 1.0) <= abs(base - 1.0) + 0.01, (mu, base, reference)
+        assert abs(estimate - reference) < 4.0 * stderr + 2e-3, (mu, estimate, stderr, reference)
+        assert estimate <= bound + 4.0 * stderr
 
 
 def test_the_chi2_test_rejects_a_wrong_pdf():

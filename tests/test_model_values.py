@@ -169,15 +169,15 @@ def _alpha_min(values, model):
     return np.maximum(alpha * (1.0 - np.abs(values["anisotropy"])), ref.ALPHA_MIN)
 
 
-def assert_matches(actual, expected, alpha_min, what, lobe=None):
-    """|actual - expected| <= (RTOL + CONDITION / alpha_min^2) |expected| + F_ABS lobe + ATOL
+def assert_matches(actual, expected, alpha_min, what, lobe=None, rtol=RTOL):
+    """|actual - expected| <= (rtol + CONDITION / alpha_min^2) |expected| + F_ABS lobe + ATOL
     for every element and channel (module docstring), and every value finite; ``lobe``:
     the specular lobe without its Fresnel factor, D V (N,), for an F that can vanish."""
     actual = np.asarray(actual)
     assert actual.shape == expected.shape, what
     assert np.all(np.isfinite(actual)), f"{what}: non-finite values at {np.argwhere(~np.isfinite(actual))[:5]}"
     assert np.all(np.isfinite(expected)), f"{what}: the transcription is not finite"
-    rtol = (RTOL + CONDITION / np.asarray(alpha_min) ** 2)[..., None]
+    rtol = (rtol + CONDITION / np.asarray(alpha_min) ** 2)[..., None]
     error = np.abs(actual - expected)
     bound = rtol * np.abs(expected) + ATOL
     if lobe is not None:

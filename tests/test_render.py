@@ -658,7 +658,8 @@ def test_disney_with_clear_coat_sheen_and_anisotropy_renders_in_both_modes():
 
 @pytest.mark.parametrize("model, extra", [("disney", {"clearcoat": 0.7, "sheen": 0.5}),
                                           ("cook_torrance", {"anisotropy": -0.5, "distribution": "beckmann"}),
-                                          ("filament", {"anisotropy": 0.6, "diffuse": "burley"})])
+                                          ("filament", {"anisotropy": 0.6, "diffuse": "burley"}),
+                                          ("gltf", {"sheen_color": [1.0, 0.8, 0.6], "sheen_roughness": 0.5})])
 def test_scene_file_materials_of_every_model_render(tmp_path, model, extra):
     import json
 

@@ -16,7 +16,7 @@ per-sample code has no model branches.  The generated text is each function's
   :func:`split_sum_f0` (RGB), :func:`fresnel_constant`;
 - the real-time treatment of the model's other lobes (:class:`pbrkit.brdf.shading.model.RealTime`):
   :func:`ibl_has_diffuse`, :func:`ibl_diffuse_weight`, :func:`ibl_coat_roughness`,
-  :func:`ibl_has_extras`, :func:`ibl_extras`.
+  :func:`ibl_base_scale`, :func:`ibl_has_extras`, :func:`ibl_extras`.
 """
 
 from __future__ import annotations
@@ -31,7 +31,8 @@ from .shading.registry import COLUMNS, REGISTERED
 
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "fresnel_constant",
-           "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_has_extras", "ibl_extras",
+           "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_base_scale", "ibl_has_extras",
+           "ibl_extras",
            "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL"]
 
 #: The generated source of every dispatch, by name.
@@ -139,6 +140,8 @@ ibl_diffuse_weight = _dispatch(
     lambda i, m, ns: f"{_put(ns, f'w{i}', m.realtime.diffuse_weight)}(b, nov, exact, table)")
 ibl_coat_roughness = _dispatch("ibl_coat_roughness", ("b",),
                                lambda i, m, ns: f"{_put(ns, f'c{i}', m.realtime.coat_roughness)}(b)")
+ibl_base_scale = _dispatch("ibl_base_scale", ("b", "nov"),
+                           lambda i, m, ns: f"{_put(ns, f's{i}', m.realtime.base_scale)}(b, nov)")
 ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
                            lambda i, m, ns: f"{_put(ns, f'x{i}', always if m.realtime.extras else never)}(b)")
 

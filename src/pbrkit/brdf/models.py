@@ -318,6 +318,9 @@ def gltf(l, v, n, material):
     (Appendix B.3.2), Schlick's F of v.h, alpha = r^2 (B.2.2), and the
     dielectric f0 0.04 of IOR 1.5 (``material.reflectance`` is not used).
     :func:`pbrkit.brdf.shading.gltf.gltf_fresnel_mix_weight` is the diffuse weight.
+    ``material.sheen_color`` / ``sheen_roughness`` layer KHR_materials_sheen's Charlie
+    sheen on top, sheenColor f_sheen + f sheen_albedo_scaling (the extension's README,
+    "Albedo-scaling technique"; :data:`pbrkit.brdf.shading.gltf.SHEEN_COMPOSITION`).
     """
     return evaluate("gltf", l, v, n, material)
 

@@ -11,8 +11,9 @@ times baseColorFactor), metallicRoughness (G = roughness, B = metallic,
 times the factors), normal (tangent space, +X right, +Y up, scaled by
 ``normalTexture.scale``), occlusion (R, applied as 1 + strength (R - 1))
 and emissive (sRGB, times emissiveFactor and
-``KHR_materials_emissive_strength``).  ``KHR_lights_punctual`` lights are
-read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
+``KHR_materials_emissive_strength``), with ``KHR_materials_sheen``'s factors
+(sheenColorFactor, sheenRoughnessFactor; its textures are noted as not
+supported yet).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
 scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
 are honoured (:mod:`pbrkit.io.gltf_extensions`, after the Khronos
 specifications).  Texture sampling follows the glTF sampler: bilinear (or
@@ -122,8 +123,8 @@ class GltfAsset:
     notes: list
 
 
-_SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength", TEXTURE_TRANSFORM,
-                       MESH_QUANTIZATION}
+_SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_sheen",
+                       TEXTURE_TRANSFORM, MESH_QUANTIZATION}
 #: Largest texture coordinate accepted (beyond it texel addressing loses all precision).
 _MAX_TEXCOORD = 1e6
 #: Peak bytes per vertex and per triangle of the meshes built from a glTF file and handed
@@ -378,6 +379,7 @@ def _gltf_material(reader, index, cache):
     emissive = np.asarray(m.get("emissiveFactor") or (0.0, 0.0, 0.0), dtype=float)
     strength = ((m.get("extensions") or {}).get("KHR_materials_emissive_strength") or {}).get("emissiveStrength")
     strength = 1.0 if strength is None else float(strength)
+    sheen = _sheen(reader, index, m)
     if (m.get("alphaMode") or "OPAQUE") != "OPAQUE":
         reader.notes.append(f"material {index}: alphaMode {m['alphaMode']} rendered as OPAQUE")
     name = m.get("name")  # shown in messages: a short printable one only
@@ -386,10 +388,30 @@ def _gltf_material(reader, index, cache):
     try:
         spec = MaterialSpec(name=name, base_color=tuple(float(x) for x in bc[:3]), metallic=float(metallic),
                             roughness=float(roughness), emissive=tuple(emissive * strength),
-                            double_sided=bool(m.get("doubleSided")))
+                            double_sided=bool(m.get("doubleSided")), **sheen)
     except ValueError as exc:
         reader.fail(f"materials[{index}]: {exc}")
     return SurfaceMaterial(spec, bct, mrt, nt, ot, et)
+
+
+def _sheen(reader, index, m):
+    """The ``gltf`` model's sheen_color and sheen_roughness of a material's
+    ``KHR_materials_sheen`` (its README, "Properties": sheenColorFactor, default
+    black, and sheenRoughnessFactor, default 0; checked by
+    :func:`pbrkit.io.gltf_document.validate_gltf_document`).  Its textures are not
+    read yet (the renderer textures only base colour, metallic and roughness per
+    shading point): a note says so and the factors apply alone."""
+    sheen = (m.get("extensions") or {}).get("KHR_materials_sheen")
+    if sheen is None:
+        return {}
+    for key in ("sheenColorTexture", "sheenRoughnessTexture"):
+        if sheen.get(key) is not None:
+            reader.notes.append(f"material {index}: KHR_materials_sheen {key} is not supported yet; "
+                                f"its factor is used alone")
+    color = sheen.get("sheenColorFactor")
+    roughness = sheen.get("sheenRoughnessFactor")
+    return {"sheen_color": (0.0, 0.0, 0.0) if color is None else tuple(float(x) for x in color),
+            "sheen_roughness": 0.0 if roughness is None else float(roughness)}
 
 
 def _texture_refs(material):

@@ -47,6 +47,7 @@ import numpy as np
 from ..albedo.tables import filament_energy_compensation, table_bilinear
 from ..brdf.dispatch import (
     fresnel_constant,
+    ibl_base_scale,
     ibl_coat_roughness,
     ibl_diffuse_weight,
     ibl_extras,
@@ -375,6 +376,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         constant_f = fresnel_constant(b)
         f0s = split_sum_f0(b)
         extras = ibl_has_extras(b)
+        base_scale = ibl_base_scale(b, nov)
         spec_add = (0.0, 0.0, 0.0)
         diff_add = (0.0, 0.0, 0.0)
         if extras:  # the model's other lobes (Disney's clear coat and sheen)
@@ -401,9 +403,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             if diffuse_on:
                 w = (1.0 - albedo) * _INV_PI if engine == _ENGINE_FILAMENT else diffuse_weight
                 diff = b.diffuse_color[c] * w * irradiance[i, c]
-            if extras:
-                spec += spec_add[c]
-                diff += diff_add[c]
+            if extras:  # the model's base under its other lobes (glTF's sheen albedo scaling; 1 for Disney)
+                spec = spec * base_scale + spec_add[c]
+                diff = diff * base_scale + diff_add[c]
             out[i, c] = (spec + diff) * occlusion[i]
 
 

@@ -12,8 +12,9 @@ Its parameters travel in the BxDF's ``extra`` slots: the sheen colour at
 :data:`SHEEN_COLOR_SLOT` (3 values) and the sheen roughness at
 :data:`SHEEN_ROUGHNESS_SLOT` (a model that wires the lobe in fills them).
 
-- Sampling: by cosine-weighted directions, riding on the diffuse lobe's
-  technique as Disney's sheen does (no estimate of its own); the Charlie NDF
+- Sampling: by cosine-weighted directions, the diffuse lobes' technique, with
+  an estimate of its own (luminance(sheenColor) E_sheen(n.v), so that a sheen
+  over a metal, whose diffuse estimate is 0, is still sampled); the Charlie NDF
   sampler (:func:`pbrkit.microfacet.charlie.warp_charlie_ndf`) is there for
   the IBL prefiltering, which samples D as the Sample Viewer's does.
 - Directional albedo: E_sheen(n.v, sheenRoughness) of the white lobe by a
@@ -42,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...core.color import rec709_luminance
 from ...core.jit import dual_use
 from ...core.quadrature import gauss_legendre_01, horizon_limits, horizon_phi_max, split_node
 from ...microfacet.charlie import charlie_alpha, d_charlie, g2_charlie, v_charlie
@@ -159,9 +161,18 @@ def sheen_albedo_lookup(mu, sheen_roughness):
 
 
 @dual_use(inline=True)
+def _black(b):
+    return b.extra[SHEEN_COLOR_SLOT] == 0.0 and b.extra[SHEEN_COLOR_SLOT + 1] == 0.0 and \
+        b.extra[SHEEN_COLOR_SLOT + 2] == 0.0
+
+
+@dual_use(inline=True)
 def sheen_value(b, c, ec, w):
     """sheenColor D_Charlie(n.h) V_sheen(n.l, n.v) (KHR_materials_sheen), times the
-    operators' weight ``w``; alpha = sheenRoughness^2."""
+    operators' weight ``w``; alpha = sheenRoughness^2.  A black sheen colour (the
+    extension absent) is 0 without evaluating D and V."""
+    if _black(b):
+        return 0.0, 0.0, 0.0
     alpha = charlie_alpha(b.extra[SHEEN_ROUGHNESS_SLOT])
     k = d_charlie(c.noh, alpha) * v_charlie(c.nol, c.nov, alpha) * w
     return (b.extra[SHEEN_COLOR_SLOT] * k, b.extra[SHEEN_COLOR_SLOT + 1] * k, b.extra[SHEEN_COLOR_SLOT + 2] * k)
@@ -169,6 +180,9 @@ def sheen_value(b, c, ec, w):
 
 @dual_use(inline=True)
 def _sheen_lobe_albedo(b, nov):
+    # 0 exactly for a black sheen colour, so that layer()'s scaling of the base is 1.0
+    if _black(b):
+        return 0.0, 0.0, 0.0
     e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT])
     return (b.extra[SHEEN_COLOR_SLOT] * e, b.extra[SHEEN_COLOR_SLOT + 1] * e, b.extra[SHEEN_COLOR_SLOT + 2] * e)
 
@@ -183,6 +197,18 @@ def sheen_albedo_scaling(sheen_color_max, nov, sheen_roughness):
     return 1.0 - sheen_color_max * sheen_albedo_lookup(nov, sheen_roughness)
 
 
-#: The KHR_materials_sheen lobe: riding on the diffuse lobe's cosine samples (no
-#: estimate of its own), its albedo the sheen colour times the E_sheen table.
-SHEEN = Lobe("khr-sheen", sheen_value, COSINE, None, None, _sheen_lobe_albedo)
+@dual_use(inline=True)
+def _sheen_estimate(b, nov):
+    # luminance(sheenColor) E_sheen(n.v): its share of the cosine technique (0 exactly
+    # for a black sheen, leaving the mixture's probabilities as they were)
+    if _black(b):
+        return 0.0
+    e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT])
+    return rec709_luminance(b.extra[SHEEN_COLOR_SLOT], b.extra[SHEEN_COLOR_SLOT + 1],
+                            b.extra[SHEEN_COLOR_SLOT + 2]) * e
+
+
+#: The KHR_materials_sheen lobe: sampled by the cosine technique of the diffuse
+#: lobes (its estimate :func:`_sheen_estimate` added to theirs), its albedo the
+#: sheen colour times the E_sheen table.
+SHEEN = Lobe("khr-sheen", sheen_value, COSINE, "diffuse", _sheen_estimate, _sheen_lobe_albedo)

@@ -26,6 +26,11 @@ def _no_coat(b):
     return -1.0
 
 
+@dual_use(inline=True)
+def _unscaled(b, nov):
+    return 1.0
+
+
 @dataclass(frozen=True, eq=False)
 class RealTime:
     """A model's real-time image-based lighting beyond the split sum of its specular
@@ -35,11 +40,14 @@ class RealTime:
     prefiltered lookup for a coat (-1: none); ``extras(b, nov, coat_dfg1, coat_dfg2,
     sheen_table, irradiance, coat_prefiltered)`` -> (specular RGB, diffuse RGB)
     added for the model's other lobes (``None``: there are none), with the DFG
-    table at the coat's roughness and the RGB irradiance and coat lookup."""
+    table at the coat's roughness and the RGB irradiance and coat lookup;
+    ``base_scale(b, nov)``, the factor on the specular and diffuse IBL terms before
+    the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling)."""
 
     diffuse_weight: object = _one
     coat_roughness: object = _no_coat
     extras: object = None
+    base_scale: object = _unscaled
 
 
 @dataclass(frozen=True, eq=False)
