@@ -154,6 +154,29 @@ def test_a_black_sheen_is_bitwise_the_core_composition():
         assert np.array_equal(np.signbit(a), np.signbit(e))
 
 
+def test_a_material_without_sheen_compiles_as_the_core_model():
+    """The code row of a gltf material names the core model (the composition without
+    the sheen, today's code) unless a sheen parameter is not at its default, and the
+    extended form otherwise; the dispatch runs each one's own composition."""
+    from pbrkit.brdf.dispatch import SAMPLING_BY_MODEL
+    from pbrkit.brdf.shading.registry import COMPILED, EXTENDED_CODES, MODELS
+    from pbrkit.render.materials import material_tables
+    from pbrkit.render.scene import MaterialSpec
+    from pbrkit.render.textures import SurfaceMaterial
+
+    core, extended = MODELS.index("gltf"), EXTENDED_CODES["gltf"]
+    assert COMPILED[core] is gltf_model.CORE and COMPILED[extended] is gltf_model.MODEL
+    assert core != extended and len(SAMPLING_BY_MODEL) == len(COMPILED)
+    specs = [MaterialSpec(name="a", base_color=(0.5, 0.4, 0.3)),
+             MaterialSpec(name="b", sheen_roughness=0.7),
+             MaterialSpec(name="c", sheen_color=(0.0, 0.1, 0.0)),
+             MaterialSpec(name="d", model="disney")]
+    codes, _ = material_tables([SurfaceMaterial(spec=s) for s in specs])
+    assert list(codes[:, 0]) == [core, extended, extended, MODELS.index("disney")]
+    assert models.model_codes("gltf")[0, 0] == core
+    assert models.model_codes("gltf", material=Material(sheen_color=(1.0, 1.0, 1.0)))[0, 0] == extended
+
+
 def test_sampled_weights_match_the_transcription(case):
     """models.sample with sheen: pdf = models.pdf, weight = f cos / pdf of models.evaluate,
     and the weight against the transcription's f cos / pdf."""

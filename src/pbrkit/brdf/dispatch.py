@@ -27,7 +27,7 @@ from ..core.codegen import generate, if_chain
 from ..core.jit import dual_use
 from .bxdf import BxDF
 from .lobes.microfacet import always, never
-from .shading.registry import COLUMNS, REGISTERED
+from .shading.registry import COLUMNS, COMPILED
 
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "fresnel_constant",
@@ -39,7 +39,7 @@ __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf",
 SOURCES = {}
 
 
-def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), namespace=None, models=REGISTERED):
+def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), namespace=None, models=COMPILED):
     """``def name(arguments): <head> if selector == i: return call(i) ...`` over the
     registered models (or just ``return call(0)`` for one model in ``models``);
     ``call(i, model)`` gives the expression and registers what it calls in the
@@ -79,7 +79,7 @@ class Sampling(NamedTuple):
     bxdf_pdf: object
 
 
-def sampling(models=REGISTERED, suffix=""):
+def sampling(models=COMPILED, suffix=""):
     """:class:`Sampling` dispatching over ``models`` (one model: its own functions,
     without a branch, for a kernel compiled for that model alone)."""
     return Sampling(
@@ -97,8 +97,8 @@ def sampling(models=REGISTERED, suffix=""):
 
 
 bxdf_f, lobe_probabilities, sample_wi, bxdf_pdf = sampling()
-#: Each registered model's own :class:`Sampling` (no branch on the model), by model code.
-SAMPLING_BY_MODEL = tuple(sampling((m,), f"_{m.name}") for m in REGISTERED)
+#: Each compiled model's own :class:`Sampling` (no branch on the model), by model code.
+SAMPLING_BY_MODEL = tuple(sampling((m,), f"_{i}_{m.name}") for i, m in enumerate(COMPILED))
 
 
 def _part(attribute, arguments):

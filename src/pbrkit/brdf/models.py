@@ -93,11 +93,16 @@ def frame_cosines(l, v, n, t=None, tangent_frame=False):
 # ------------------------------------------------------------------ packing
 
 
-def model_codes(model_name, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert"):
+def model_codes(model_name, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert",
+                material=None):
     """The integer codes (1, :data:`pbrkit.brdf.bxdf.CODE_COLUMNS`) of a model and its
     terms by name; a fixed model's own terms replace the ones given
-    (:func:`pbrkit.brdf.shading.registry.model_codes`)."""
-    codes = _registry_codes(model_name, distribution, masking, fresnel, diffuse)
+    (:func:`pbrkit.brdf.shading.registry.model_codes`); the model's extended form
+    when ``material`` (a :class:`pbrkit.Material`) uses one of its extensions."""
+    values = None
+    if material is not None:
+        values = {p.name: getattr(material, p.name, None) for p in model(model_name).extensions}
+    codes = _registry_codes(model_name, distribution, masking, fresnel, diffuse, values)
     return np.asarray([codes], dtype=np.int64).reshape(1, CODE_COLUMNS)
 
 
@@ -256,7 +261,7 @@ def evaluate(model, l, v, n, material, t=None, **terms):
     filament's ``diffuse``) for unit directions l, v, n (..., 3) and tangent
     ``t`` (default: :func:`pbrkit.core.vec.orthonormal_basis`).  Values outside the
     model's own ranges, or a combination it does not have, raise ``ValueError``."""
-    codes = model_codes(model, **terms)
+    codes = model_codes(model, material=material, **terms)
     _check_for_model(model, material, terms)
     l, v, n = (np.asarray(x, dtype=np.float64) for x in (l, v, n))
     shapes = [l.shape[:-1], v.shape[:-1], n.shape[:-1], _material_shape(material)]
@@ -423,7 +428,7 @@ def _pdf_kernel(start, stop, codes, table, index, base, metallic, roughness, wo,
 
 
 def _local_setup(model, material, wo, other, terms):
-    codes = model_codes(model, **terms)
+    codes = model_codes(model, material=material, **terms)
     _check_for_model(model, material, terms)
     wo = np.asarray(wo, dtype=np.float64)
     other = np.asarray(other, dtype=np.float64)

@@ -613,7 +613,7 @@ def _lobe_terms(brdf, l, v):
     from ..brdf.models import model_codes, parameter_rows
 
     m = brdf.material
-    codes = model_codes(brdf.spec.model, **brdf.term_names)
+    codes = model_codes(brdf.spec.model, material=m, **brdf.term_names)
     params = parameter_rows(m)
     out = np.empty((l.shape[0], 5))
     _terms_kernel(codes, params, float(m.roughness), float(m.metallic), np.ascontiguousarray(m.base_color, float),

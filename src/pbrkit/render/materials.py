@@ -28,9 +28,9 @@ def material_tables(materials):
     params = np.zeros((m, LAYOUT.size), dtype=np.float64)
     for i, sm in enumerate(materials):
         s = sm.spec
-        codes[i] = model_codes(s.model, s.distribution, s.masking, s.fresnel, s.diffuse)
         material = s.material()
         values = {p.name: getattr(material, p.name) for p in FIELDS}
+        codes[i] = model_codes(s.model, s.distribution, s.masking, s.fresnel, s.diffuse, values)
         values.update(specular_color=s.specular_color, emissive=s.emissive,
                       double_sided=1.0 if s.double_sided else 0.0)
         params[i] = LAYOUT.row(values)[0]

@@ -30,13 +30,18 @@ the sheen's IBL is the Khronos Sample Viewer's simplification, sheenColor E
 times the prefiltered radiance at the sheen roughness (here the GGX chain; the
 Charlie-prefiltered chain is a later step), over the base's IBL scaled by the
 same albedo scaling (:func:`ibl_sheen_extras`, :func:`ibl_sheen_base_scale`).
+
+A material that uses no extension (every extension parameter at its default)
+compiles as :data:`CORE`, the composition above without the sheen
+(:attr:`pbrkit.brdf.shading.model.Model.core`): its code, and so its speed, is
+the core model's; :data:`MODEL`, with the extensions, runs for the others.
 """
 
 from __future__ import annotations
 
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use
-from ..bxdf import BxDF
+from ..bxdf import BxDF, metallic_workflow
 from ..diffuse import kd_ibl, lambert
 from ...microfacet.roughness import alpha_from_roughness
 from ..fresnel import f0_from_ior, f0_metallic, f_schlick
@@ -50,7 +55,7 @@ from ..parameters import BASE_COLOR, METALLIC, ROUGHNESS, Parameter
 from ..terms import GGX, SCHLICK, SEPARABLE
 from .model import Model, RealTime
 
-__all__ = ["MODEL", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION", "COMPOSITION",
+__all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION", "COMPOSITION",
            "SHEEN_COLOR", "SHEEN_ROUGHNESS", "SHEEN_COMPOSITION", "ibl_diffuse_weight", "ibl_sheen_roughness",
            "ibl_sheen_extras", "ibl_sheen_base_scale"]
 
@@ -78,6 +83,13 @@ def gltf_fresnel_mix_weight(voh):
 @dual_use(inline=True)
 def _fresnel_mix_weight(b, c):
     return gltf_fresnel_mix_weight(c.voh)
+
+
+@dual_use(inline="llvm")
+def core_setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
+    # pbrkit.brdf.bxdf.metallic_workflow at the glTF dielectric's f0
+    return metallic_workflow(codes, row, roughness, alpha_from_roughness(roughness), metallic, b0, b1, b2,
+                             GLTF_DIELECTRIC_F0, 1.0 - metallic)
 
 
 @dual_use(inline="llvm")
@@ -198,9 +210,13 @@ def ibl_sheen_base_scale(b, nov):
                                 b.extra[SHEEN_ROUGHNESS_SLOT])
 
 
+#: The core model: a material without KHR_materials extensions compiles as this
+#: (:attr:`pbrkit.brdf.shading.model.Model.core`), the code it ran before them.
+CORE = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_COLOR, METALLIC, ROUGHNESS),
+             core_setup, COMPOSITION, ("ggx", "separable", "schlick", "lambert"),
+             RealTime(diffuse_weight=ibl_diffuse_weight), variants=(("ggx", "separable", "schlick", "lambert"),))
 MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with KHR_materials_sheen",
               (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS), setup, SHEEN_COMPOSITION,
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_diffuse_weight, coat_roughness=ibl_sheen_roughness,
-                       extras=ibl_sheen_extras, base_scale=ibl_sheen_base_scale),
-              variants=(("ggx", "separable", "schlick", "lambert"),))
+                       extras=ibl_sheen_extras, base_scale=ibl_sheen_base_scale), core=CORE)

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ...core.jit import dual_use
 from ..operators import compose
 from ..parameters import Choice, Parameter
@@ -67,6 +69,13 @@ class Model:
     - ``realtime``: :class:`RealTime`.
     - ``variants``: term tuples the direct-lighting kernel compiles specialised.
     - ``check(values, where)``: cross-parameter rules (one-line ``ValueError``).
+    - ``core``: for a model with extensions (glTF's ``KHR_materials_*``), the
+      :class:`Model` of a material that uses none of them (its parameters a prefix
+      of this one's, its values on such a material equal to this one's).  The
+      kernels compile both (:data:`pbrkit.brdf.shading.registry.COMPILED`) and a
+      material's code row names the core unless it uses an extension
+      (:meth:`uses_extensions`), so that a material without extensions runs the
+      code it ran before the extensions existed, at the same speed.
     """
 
     name: str
@@ -78,6 +87,7 @@ class Model:
     realtime: RealTime = field(default_factory=RealTime)
     variants: tuple = ()
     check: object = None
+    core: object = None
     compiled: object = field(init=False)
 
     def __post_init__(self):
@@ -88,6 +98,26 @@ class Model:
         for p in self.parameters:
             if not isinstance(p, (Parameter, Choice)):
                 raise TypeError(f"model {self.name!r}: {p!r} is not a parameter declaration")
+        if self.core is not None and tuple(self.core.parameters) != tuple(self.parameters[:len(self.core.parameters)]):
+            raise ValueError(f"model {self.name!r}: its core's parameters must begin its own")
+
+    @property
+    def extensions(self):
+        """The parameters beyond the core's (none without a core)."""
+        if self.core is None:
+            return ()
+        return tuple(self.parameters[len(self.core.parameters):])
+
+    def uses_extensions(self, values):
+        """Whether a material with parameter ``values`` (a mapping by name; scalars,
+        tuples or arrays of per-element values; missing names are at their defaults)
+        uses any of the extensions: a value of an extension parameter other than its
+        default."""
+        for p in self.extensions:
+            value = values.get(p.name)
+            if value is not None and np.any(np.asarray(value, dtype=np.float64) != np.asarray(p.default)):
+                return True
+        return False
 
     @property
     def numbers(self):

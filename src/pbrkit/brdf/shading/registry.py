@@ -17,7 +17,7 @@ from ..parameters import Choice, Layout, Parameter, markdown_table, union
 from ..terms import DISTRIBUTIONS, FRESNELS, MASKINGS
 from . import cook_torrance, disney, filament, gltf, ue4, urp_mobile
 
-__all__ = ["REGISTERED", "MODELS", "BY_NAME", "MODEL_TERMS", "PARAMETERS", "SURFACE", "LAYOUT", "COLUMNS",
+__all__ = ["REGISTERED", "MODELS", "COMPILED", "EXTENDED_CODES", "BY_NAME", "MODEL_TERMS", "PARAMETERS", "SURFACE", "LAYOUT", "COLUMNS",
            "VARIANTS", "TERM_NAMES", "model_codes", "model",
            "parameters_markdown"]
 
@@ -33,6 +33,12 @@ REGISTERED = (
 
 #: Model names in code order (the scene files' ``model`` key).
 MODELS = tuple(m.name for m in REGISTERED)
+#: What the kernels compile, in code order: each registered model (its core where it
+#: declares one, :attr:`pbrkit.brdf.shading.model.Model.core`: the code of a material
+#: without extensions), then the extended forms of the models with a core.
+COMPILED = tuple(m.core or m for m in REGISTERED) + tuple(m for m in REGISTERED if m.core is not None)
+#: The code of each model's extended form, by name.
+EXTENDED_CODES = {m.name: len(REGISTERED) + i for i, m in enumerate(m for m in REGISTERED if m.core is not None)}
 BY_NAME = {m.name: m for m in REGISTERED}
 #: The term name tuples of cook_torrance's choices, in code order.
 TERM_NAMES = {"distribution": DISTRIBUTIONS, "masking": MASKINGS, "fresnel": FRESNELS, "diffuse": DIFFUSES}
@@ -70,21 +76,26 @@ def _term_codes(m, terms):
     return tuple(codes)
 
 
-def model_codes(name, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert"):
+def model_codes(name, distribution="ggx", masking="height-correlated", fresnel="schlick", diffuse="lambert",
+                values=None):
     """The code row (model, distribution, masking, fresnel, diffuse) of a model and
-    its terms by name; a model's fixed terms replace the ones given."""
+    its terms by name; a model's fixed terms replace the ones given.  The model code
+    is its extended form's (:data:`EXTENDED_CODES`) when the parameter ``values`` (a
+    mapping by name) use one of its extensions
+    (:meth:`pbrkit.brdf.shading.model.Model.uses_extensions`), else its core's."""
     m = model(name)
     given = (distribution, masking, fresnel, diffuse)
     for kind, value in zip(TERM_NAMES, given):
         if value not in TERM_NAMES[kind]:
             raise ValueError(f"unknown {kind} {value!r}; choose one of {', '.join(TERM_NAMES[kind])}")
-    return (MODELS.index(name),) + _term_codes(m, given)
+    code = EXTENDED_CODES[name] if values is not None and m.uses_extensions(values) else MODELS.index(name)
+    return (code,) + _term_codes(m, given)
 
 
 #: The code rows the direct-lighting kernel compiles specialised, with whether the
 #: model samples a coat (then its p_coat stays a variable).
-VARIANTS = tuple((model_codes(m.name, *terms), m.compiled.coat is not None) for m in REGISTERED
-                 for terms in m.variants)
+VARIANTS = tuple((model_codes(m.name, *terms), (m.core or m).compiled.coat is not None) for m in REGISTERED
+                 for terms in (m.core or m).variants)
 
 
 def _check_declarations():
