@@ -939,3 +939,46 @@ def gltf_sheen_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughnes
         scaling = 1.0 - np.max(color, axis=-1) * e
         f = color * sheen_brdf[..., None] + material * scaling[..., None]
     return g.only_above(f)
+
+
+def gltf_khr_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughness, clearcoat, clearcoat_roughness,
+                  specular, specular_color, ior, e_table):
+    """glTF 2.0 with KHR_materials_ior, KHR_materials_specular, KHR_materials_sheen and
+    KHR_materials_clearcoat, written from the extensions' READMEs:
+
+        dielectric_f0 = min(((ior - 1) / (ior + 1))^2 specularColor, 1) specular  (specular, ior)
+        dielectric_f90 = specular
+        dielectric_fresnel = mix(dielectric_f0, dielectric_f90, (1 - |V.H|)^5)
+        dielectric_brdf = dielectric_fresnel specular_brdf + (1 - max3(dielectric_fresnel)) diffuse_brdf
+        metal_brdf = specular_brdf (baseColor + (1 - baseColor)(1 - |V.H|)^5)
+        material = mix(dielectric_brdf, metal_brdf, metallic)
+        sheen_material = sheenColor sheen_brdf + material (1 - max3(sheenColor) E(VdotN))   (sheen)
+        coated = mix(sheen_material, clearcoat_brdf, clearcoat (0.04 + 0.96 (1 - |V.N|)^5))  (clearcoat)
+        clearcoat_brdf = D(clearcoatRoughness^2) G / (4 |V.N| |L.N|)
+
+    the metal and the dielectric mixed literally (not folded into one F0)."""
+    g = Geometry(l, v)
+    alpha = _alpha(roughness)
+    base = np.asarray(base, dtype=float)
+    with np.errstate(all="ignore"):
+        spec = (d_ggx(g.noh, g.sin2h, alpha) * _smith_ggx_visibility_separable(g.nol, g.nov, alpha))[..., None]
+        fc = ((1.0 - np.abs(g.voh)) ** 5)[..., None]
+        s = _rgb(specular)
+        f0_ior = ((np.asarray(ior, dtype=float) - 1.0) / (np.asarray(ior, dtype=float) + 1.0)) ** 2
+        d_f0 = np.minimum(_rgb(f0_ior) * np.asarray(specular_color, dtype=float), 1.0) * s
+        d_fresnel = d_f0 + (s - d_f0) * fc
+        dielectric = d_fresnel * spec + (1.0 - np.max(d_fresnel, axis=-1, keepdims=True)) * base / np.pi
+        metal = spec * (base + (1.0 - base) * fc)
+        material = _mix(dielectric, metal, _rgb(metallic))
+        color = np.asarray(sheen_color, dtype=float)
+        alpha_g = _sheen_alpha(sheen_roughness)
+        sheen_brdf = charlie_d(g.noh, g.sin2h, alpha_g) * charlie_v(g.nol, g.nov, alpha_g)
+        black = np.all(color == 0.0, axis=-1)
+        sheen_brdf = np.where(black, 0.0, sheen_brdf)
+        e = sheen_albedo_bilinear(e_table, g.nov, sheen_roughness)
+        sheen_material = color * sheen_brdf[..., None] + material * (1.0 - np.max(color, axis=-1) * e)[..., None]
+        alpha_c = _alpha(clearcoat_roughness)
+        coat = d_ggx(g.noh, g.sin2h, alpha_c) * _smith_ggx_visibility_separable(g.nol, g.nov, alpha_c)
+        coat_weight = np.asarray(clearcoat, dtype=float) * (0.04 + 0.96 * (1.0 - np.abs(g.nov)) ** 5)
+        f = _mix(sheen_material, coat[..., None], _rgb(coat_weight))
+    return g.only_above(f)

@@ -51,6 +51,10 @@ CASES = [
      0.6),
     ("gltf-sheen-metal", "gltf", {}, dict(roughness=0.3, metallic=1.0, sheen_color=np.array([0.9, 0.6, 0.3]),
                                           sheen_roughness=0.25), 0.3, 1.3),
+    ("gltf-coat", "gltf", {}, dict(roughness=0.5, metallic=0.2, clearcoat=1.0, clearcoat_roughness=0.1), 0.6, 0.4),
+    ("gltf-coat-sheen-specular", "gltf", {}, dict(roughness=0.35, metallic=0.5, clearcoat=0.4,
+                                                  clearcoat_roughness=0.3, sheen_color=np.array([0.5, 0.4, 0.3]),
+                                                  sheen_roughness=0.6, specular=0.5, ior=1.8), 0.3, 1.0),
 ]
 N_SAMPLES = 200_000
 ALPHA_TEST = chi2.sidak_alpha(FAMILY_ALPHA, len(CASES))

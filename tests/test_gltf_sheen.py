@@ -111,10 +111,12 @@ def test_a_black_sheen_is_the_core_model(case):
 def _bxdf(base, metallic, roughness, sheen_color, sheen_roughness):
     z3 = (0.0, 0.0, 0.0)
     alpha = max(roughness * roughness, 1e-3)
-    f0 = tuple(0.04 + (c - 0.04) * metallic for c in base)
-    extra = tuple(sheen_color) + (sheen_roughness,) + (0.0,) * (EXTRA_SLOTS - 4)
+    d = gltf_model.GLTF_DIELECTRIC_F0  # ((1.5 - 1) / (1.5 + 1))^2, not the literal 0.04
+    f0 = tuple(d + (c - d) * metallic for c in base)
+    # the extended model's slots: sheen (0-3), no clear coat (4-5), specular factor 1 (6)
+    extra = tuple(sheen_color) + (sheen_roughness, 0.0, 1e-3, 1.0) + (0.0,) * (EXTRA_SLOTS - 7)
     return BxDF(5, 0, 1, 0, 0, roughness, alpha, alpha, alpha, False, metallic, tuple(base),
-                tuple(c * (1.0 - metallic) for c in base), f0, 1.0, z3, z3, 0.04, z3, extra)
+                tuple(c * (1.0 - metallic) for c in base), f0, 1.0, z3, z3, d, z3, extra)
 
 
 def _loop(composition):

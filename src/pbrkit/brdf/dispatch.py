@@ -13,9 +13,10 @@ per-sample code has no model branches.  The generated text is each function's
 - the main specular lobe's pieces, for the tables, the explorer and the real-time
   split sum: :func:`specular_lobe` (D V), :func:`specular_distribution` (D),
   :func:`specular_visibility` (V), :func:`bxdf_fresnel` (F, RGB),
-  :func:`split_sum_f0` (RGB), :func:`fresnel_constant`;
+  :func:`split_sum_f0` (RGB), :func:`split_sum_f90`, :func:`fresnel_constant`;
 - the real-time treatment of the model's other lobes (:class:`pbrkit.brdf.shading.model.RealTime`):
   :func:`ibl_has_diffuse`, :func:`ibl_diffuse_weight`, :func:`ibl_coat_roughness`,
+  :func:`ibl_sheen_roughness`,
   :func:`ibl_base_scale`, :func:`ibl_has_extras`, :func:`ibl_extras`.
 """
 
@@ -30,8 +31,9 @@ from .lobes.microfacet import always, never
 from .shading.registry import COLUMNS, COMPILED
 
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
-           "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "fresnel_constant",
-           "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_base_scale", "ibl_has_extras",
+           "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "split_sum_f90",
+           "fresnel_constant", "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_sheen_roughness",
+           "ibl_base_scale", "ibl_has_extras",
            "ibl_extras",
            "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL"]
 
@@ -111,6 +113,7 @@ specular_distribution = _dispatch("specular_distribution", ("b", "c"), _part("d"
 specular_visibility = _dispatch("specular_visibility", ("b", "c"), _part("v", ("b", "c")))
 bxdf_fresnel = _dispatch("bxdf_fresnel", ("b", "voh"), _part("fresnel", ("b", "voh")))
 split_sum_f0 = _dispatch("split_sum_f0", ("b",), _part("split_sum_f0", ("b",)))
+split_sum_f90 = _dispatch("split_sum_f90", ("b",), _part("split_sum_f90", ("b",)))
 fresnel_constant = _dispatch("fresnel_constant", ("b",), _part("constant", ("b",)))
 
 
@@ -142,20 +145,23 @@ ibl_coat_roughness = _dispatch("ibl_coat_roughness", ("b",),
                                lambda i, m, ns: f"{_put(ns, f'c{i}', m.realtime.coat_roughness)}(b)")
 ibl_base_scale = _dispatch("ibl_base_scale", ("b", "nov"),
                            lambda i, m, ns: f"{_put(ns, f's{i}', m.realtime.base_scale)}(b, nov)")
+ibl_sheen_roughness = _dispatch("ibl_sheen_roughness", ("b",),
+                                lambda i, m, ns: f"{_put(ns, f'r{i}', m.realtime.sheen_roughness)}(b)")
 ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
                            lambda i, m, ns: f"{_put(ns, f'x{i}', always if m.realtime.extras else never)}(b)")
 
 
 @dual_use(inline=True)
-def _no_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered):
+def _no_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered):
     z = (0.0, 0.0, 0.0)
     return z, z
 
 
 ibl_extras = _dispatch(
-    "ibl_extras", ("b", "nov", "coat_dfg1", "coat_dfg2", "sheen_table", "irradiance", "coat_prefiltered"),
+    "ibl_extras", ("b", "nov", "coat_dfg1", "coat_dfg2", "sheen_table", "irradiance", "coat_prefiltered",
+                   "sheen_prefiltered"),
     lambda i, m, ns: f"{_put(ns, f'e{i}', m.realtime.extras or _no_extras)}(b, nov, coat_dfg1, coat_dfg2, "
-                     "sheen_table, irradiance, coat_prefiltered)")
+                     "sheen_table, irradiance, coat_prefiltered, sheen_prefiltered)")
 
 
 # ----------------------------------------------------------------- specialised

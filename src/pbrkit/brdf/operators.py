@@ -14,6 +14,9 @@ factor):
   ``mix(dielectric_brdf, metal_brdf, metallic)``, OpenPBR's ``mix``;
 - :func:`fresnel_mix` ((1 - F(v.h)) base + F(v.h) layer, F Schlick's of an IOR):
   glTF's ``fresnel_mix(ior, base, layer)`` (Appendix B.3.4);
+- :func:`fresnel_coat` ((1 - t) base + t layer, t = weight(b) F(n.v), F Schlick's
+  of an IOR at the view's cosine): ``KHR_materials_clearcoat``'s
+  ``fresnel_coat(normal, ior, weight, base, layer)``;
 - :func:`layer` (top + (1 - E_top(n.v)) base, E_top the top's directional albedo,
   its largest channel): the albedo-scaled layering of ``KHR_materials_sheen``
   and OpenPBR's ``layer``, which keeps a white furnace at or below 1.
@@ -47,7 +50,7 @@ from ..core.jit import dual_use
 from .fresnel import f0_from_ior, f_schlick
 from .lobes import Lobe, broad_width, half_vector_albedo, lobe_width
 
-__all__ = ["Node", "add", "weighted", "mix", "fresnel_mix", "layer", "compose", "Composition"]
+__all__ = ["Node", "add", "weighted", "mix", "fresnel_mix", "fresnel_coat", "layer", "compose", "Composition"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,6 +156,38 @@ def fresnel_mix(ior, base, layer_):
 
     return Node(f"fresnel_mix({ior:g}, {base.name}, {layer_.name})", value,
                 _scaled(base.leaves, weight_base) + _scaled(layer_.leaves, weight_layer))
+
+
+def fresnel_coat(ior, weight, base, layer_):
+    """f = (1 - t) f_base + t f_layer with t = weight(b) F(n.v), F = f0 + (1 - f0)(1 -
+    |n.v|)^5, f0 = ((1 - ior) / (1 + ior))^2: ``KHR_materials_clearcoat``'s
+    ``fresnel_coat(normal, ior, weight, base, layer)`` (its README, "Layering"; the
+    Fresnel of the view's cosine to the coat's normal, not of v.h, which keeps the
+    layering energy conserving).  ``weight(b)`` is a material parameter in [0, 1]
+    (clearcoatFactor); the coat's normal is the shading normal.  Estimates scale by
+    1 - t(n.v) and t(n.v)."""
+    base = _as_node(base)
+    layer_ = _as_node(layer_)
+    fb, fl = base.value, layer_.value
+    f0 = f0_from_ior(ior)
+
+    @dual_use(inline=True)
+    def coat(bx, nov):
+        return weight(bx) * f_schlick(nov, f0, 1.0)
+
+    @dual_use(inline=True)
+    def value(bx, c, ec, w):
+        t = coat(bx, c.nov)
+        x = fb(bx, c, ec, w * (1.0 - t))
+        y = fl(bx, c, ec, w * t)
+        return x[0] + y[0], x[1] + y[1], x[2] + y[2]
+
+    @dual_use(inline=True)
+    def weight_base(bx, nov):
+        return 1.0 - coat(bx, nov)
+
+    return Node(f"fresnel_coat({ior:g}, {base.name}, {layer_.name})", value,
+                _scaled(base.leaves, weight_base) + _scaled(layer_.leaves, coat))
 
 
 def layer(top, base):

@@ -56,6 +56,7 @@ __all__ = [
     "HEIGHT_CORRELATED_DIVISION_FREE",
     "SCHLICK",
     "SCHLICK_F90",
+    "SCHLICK_SPECULAR",
     "SCHLICK_POW4",
     "UE4_SG",
     "EXACT_CONDUCTOR",
@@ -107,13 +108,16 @@ class Masking:
 @dataclass(frozen=True)
 class Fresnel:
     """A Fresnel factor of one channel; ``constant``: F does not depend on v.h (the
-    split sum then uses s DFG2 instead of DFG1 + F0 (DFG2 - DFG1))."""
+    split sum then uses s DFG2 instead of DFG1 + F0 (DFG2 - DFG1));
+    ``split_sum_f90(b)``: the F90 of the split sum, F90 DFG1 + F0 (DFG2 - DFG1)
+    (None: 1)."""
 
     name: str
     f: object
     estimate: object
     split_sum_f0: object
     constant: bool = False
+    split_sum_f90: object = None
 
 
 @dataclass(frozen=True)
@@ -322,6 +326,21 @@ CONSTANT = Fresnel("none", _f_constant, _constant_estimate, _f0_constant, consta
 FRESNEL_TABLE = Table("fresnel", (SCHLICK, SCHLICK_POW4, UE4_SG, EXACT_CONDUCTOR, EXACT_DIELECTRIC, CONSTANT))
 #: Filament's Schlick with its f90 (the BxDF's ``f90``, specular occlusion of f0 below 2 %).
 SCHLICK_F90 = Fresnel("schlick", _f_schlick_f90, _schlick_estimate, _f0_of_workflow)
+@dual_use(inline=True)
+def _schlick_f90_estimate(b, f0, s, nov):
+    return f_schlick(nov, f0, b.f90)
+
+
+@dual_use(inline=True)
+def _f90_of_bxdf(b):
+    return b.f90
+
+
+#: Schlick's F with the BxDF's f90 in the value, the sampling estimate and the split
+#: sum: glTF's KHR_materials_specular, whose F90 mix(specular, 1, metallic) is below 1
+#: when the specular factor is (its README, "Implementation": dielectric_f90 = specular).
+SCHLICK_SPECULAR = Fresnel("schlick", _f_schlick_f90, _schlick_f90_estimate, _f0_of_workflow,
+                           split_sum_f90=_f90_of_bxdf)
 #: Unity URP's specular colour lerp(0.04, base, metallic) as F, no angular dependence
 #: (its albedo estimate for sampling is Schlick's at n.v, as for the others).
 CONSTANT_F0 = Fresnel("schlick", _f_constant_f0, _schlick_estimate, _f0_of_workflow)

@@ -47,8 +47,10 @@ import numpy as np
 from ..albedo.tables import filament_energy_compensation, table_bilinear
 from ..brdf.dispatch import (
     fresnel_constant,
+    split_sum_f90,
     ibl_base_scale,
     ibl_coat_roughness,
+    ibl_sheen_roughness,
     ibl_diffuse_weight,
     ibl_extras,
     ibl_has_diffuse,
@@ -245,11 +247,36 @@ def specular_dominant_direction(n, r, roughness):
     return np.asarray(r) * (1.0 - w) + np.asarray(n) * w
 
 
+def _sheen_lookups(bake, env, sampler, n, v, sheen_roughness, levels):
+    """The sheen's prefiltered radiance of the pixels with a sheen (roughness >= 0,
+    :func:`pbrkit.brdf.dispatch.ibl_sheen_roughness`; 0 elsewhere), about the mirror
+    direction of the unbent normal as the Khronos Sample Viewer's getIBLRadianceCharlie
+    looks it up: in the bake's Charlie-prefiltered chain (``bake.charlie``, level
+    sheenRoughness (levels - 1)) when it has one, else in the GGX chain at that
+    roughness (the stand-in of bakes without one)."""
+    from ..ibl.cubemap import CubeSampler
+    from ..ibl.prefilter import level_of_roughness
+
+    out = np.zeros((n.shape[0], 3))
+    rows = np.flatnonzero(sheen_roughness >= 0.0)
+    if not rows.size:
+        return out
+    nov = np.sum(n[rows] * v[rows], axis=1, keepdims=True)
+    direction = env.to_env_frame(2.0 * nov * n[rows] - v[rows])
+    charlie = getattr(bake, "charlie", None)
+    if charlie is not None:
+        chain = CubeSampler([np.asarray(x) for x in charlie])
+        out[rows] = chain(direction, sheen_roughness[rows] * (len(charlie) - 1.0)) * env.intensity
+    else:
+        out[rows] = sampler(direction, level_of_roughness(sheen_roughness[rows], levels)) * env.intensity
+    return out
+
+
 @row_kernel(3)
-def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, out, coat_out):
+def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, out, coat_out, sheen_out):
     """The lookup direction (:func:`reflection_direction`) of every pixel, and the
-    perceptual roughness of its model's coat lookup (-1 without one,
-    :func:`pbrkit.brdf.dispatch.ibl_coat_roughness`)."""
+    perceptual roughness of its model's coat and sheen lookups (-1 without one,
+    :func:`pbrkit.brdf.dispatch.ibl_coat_roughness`, :func:`~pbrkit.brdf.dispatch.ibl_sheen_roughness`)."""
     for i in range(start, stop):
         m = mat[i]
         b, t, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
@@ -260,6 +287,7 @@ def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, out, 
         out[i, 1] = r[1]
         out[i, 2] = r[2]
         coat_out[i] = ibl_coat_roughness(b)
+        sheen_out[i] = ibl_sheen_roughness(b)
 
 
 def _view_albedo_table(weight_of_loh, size, nodes):
@@ -348,8 +376,8 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
 
 @row_kernel(5)
 def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
-                coat_prefiltered, coat_roughness, sheen_table, diffuse_table, exact_diffuse, energy_compensation,
-                engine, out, ec_out):
+                coat_prefiltered, coat_roughness, sheen_prefiltered, sheen_table, diffuse_table, exact_diffuse,
+                energy_compensation, engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
     energy-compensation factor (for the punctual lights).  ``engine`` (:data:`ENGINES`
     index) 1 is Filament's evaluation (``evaluateIBL``): the diffuse colour weighted
@@ -375,6 +403,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         diffuse_weight = ibl_diffuse_weight(b, nov, exact_diffuse, diffuse_table) * _INV_PI
         constant_f = fresnel_constant(b)
         f0s = split_sum_f0(b)
+        f90 = split_sum_f90(b)
         extras = ibl_has_extras(b)
         base_scale = ibl_base_scale(b, nov)
         spec_add = (0.0, 0.0, 0.0)
@@ -387,13 +416,14 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
                 c2 = table_bilinear(tables, t, nov, coat_roughness[i], 1)
             spec_add, diff_add = ibl_extras(b, nov, c1, c2, sheen_table,
                                             (irradiance[i, 0], irradiance[i, 1], irradiance[i, 2]),
-                                            (coat_prefiltered[i, 0], coat_prefiltered[i, 1], coat_prefiltered[i, 2]))
+                                            (coat_prefiltered[i, 0], coat_prefiltered[i, 1], coat_prefiltered[i, 2]),
+                                            (sheen_prefiltered[i, 0], sheen_prefiltered[i, 1], sheen_prefiltered[i, 2]))
         for c in range(3):
             f0 = f0s[c]
             if constant_f:
                 albedo = f0 * dfg2
             else:
-                albedo = dfg1 + f0 * (dfg2 - dfg1)
+                albedo = dfg1 * f90 + f0 * (dfg2 - dfg1)
             ec = 1.0
             if energy_compensation:
                 ec = filament_energy_compensation(f0, max(dfg2, 1e-6))
@@ -520,8 +550,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         base_rows = np.ascontiguousarray(s.base_color)
         refl = np.empty((count, 3))
         coat_roughness = np.empty(count)
+        sheen_roughness = np.empty(count)
         _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
-                           coat_roughness)
+                           coat_roughness, sheen_roughness)
         chain = _engine_chain(bake, env, engine) if curve is not None else bake.specular
         levels = len(chain)
         key = (id(bake), engine)
@@ -551,6 +582,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             coat_dir = 2.0 * nov * s.n[coated] - v[coated]
             coat_prefiltered[coated] = sampler(env.to_env_frame(coat_dir),
                                                level_of_roughness(coat_roughness[coated], levels)) * env.intensity
+        sheen_prefiltered = _sheen_lookups(bake, env, sampler, s.n, v, sheen_roughness, levels)
         if engine == "three":  # getIBLIrradiance: pi x the last (r = 1) level in the normal's direction
             irradiance = math.pi * sampler(env.to_env_frame(s.n), np.full(count, levels - 1.0)) * env.intensity
         elif diffuse == "sh":
@@ -564,7 +596,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                     np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                    sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
+                    sheen_prefiltered, sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
                     bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
@@ -576,7 +608,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             irr, coat = lt.irradiance, lt.coat
             area = np.empty((count, 3))
             _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
-                        np.ones(count), spec, irr, coat, coat_roughness, sheen_albedo_table(),
+                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count, 3)), sheen_albedo_table(),
                         fresnel_mix_albedo_table(), diffuse_weight == "exact", bool(energy_compensation), 0, area,
                         np.empty((count, 3)))
             out += area

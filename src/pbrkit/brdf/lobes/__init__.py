@@ -26,7 +26,8 @@ The lobes themselves: :mod:`.microfacet` (reflection from a microfacet
 distribution with a Fresnel factor), :mod:`.diffuse` (Lambert, Burley, the
 choice of cook_torrance), :mod:`.disney` (Disney's diffuse with subsurface,
 sheen and clear coat), :mod:`.eon` (OpenPBR's energy-preserving Oren-Nayar),
-:mod:`.sheen` (KHR_materials_sheen's Charlie sheen with its albedo table).
+:mod:`.sheen` (KHR_materials_sheen's Charlie sheen with its albedo table),
+:mod:`.clearcoat` (KHR_materials_clearcoat's coat lobe).
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ from ...microfacet.ggx import d_ggx, pdf_ggx_vndf, pdf_ggx_vndf_anisotropic, war
 from ...microfacet.gtr import pdf_gtr1_ndf, warp_gtr1_ndf
 from ...sampling.warps import pdf_cosine_hemisphere, pdf_light_from_half, reflect_xyz, warp_cosine_hemisphere
 
-__all__ = ["Lobe", "Technique", "GGX_VISIBLE_NORMALS", "COSINE", "gtr1_normals", "quadrature_albedo",
+__all__ = ["Lobe", "Technique", "GGX_VISIBLE_NORMALS", "COSINE", "ggx_normals", "gtr1_normals", "quadrature_albedo",
            "half_vector_albedo", "lobe_width", "broad_width", "ROLES", "diffuse_estimate"]
 
 #: How the mixture samples a lobe: the specular lobe against the diffuse ones, coats
@@ -124,6 +125,23 @@ def _pdf_cosine(b, c):
 GGX_VISIBLE_NORMALS = Technique("ggx-visible-normals", _sample_ggx_visible_normals, _pdf_ggx_visible_normals)
 #: Cosine-weighted directions (Malley's method): the diffuse lobes' proposal.
 COSINE = Technique("cosine", _sample_cosine, _pdf_cosine)
+
+
+def ggx_normals(alpha):
+    """GGX visible normals (Heitz 2018) of the isotropic width ``alpha(b)`` (a lobe of
+    its own roughness, such as glTF's clear coat), reflected: sample and pdf
+    D_v(h) / (4 v.h) (Heitz 2018, eq. 17)."""
+
+    @dual_use
+    def sample(b, wox, woy, woz, u1, u2):
+        hx, hy, hz = warp_ggx_vndf(u1, u2, wox, woy, woz, alpha(b))
+        return reflect_xyz(wox, woy, woz, hx, hy, hz)
+
+    @dual_use
+    def pdf(b, c):
+        return pdf_light_from_half(pdf_ggx_vndf(c.nov, c.noh, c.voh, alpha(b)), c.voh)
+
+    return Technique("ggx-normals", sample, pdf)
 
 
 def gtr1_normals(alpha):

@@ -26,7 +26,8 @@ __all__ = ["Microfacet", "microfacet", "always", "never"]
 class Microfacet:
     """The pieces of a microfacet lobe, compiled: ``d(b, c)``, ``v(b, c)``, ``dv(b, c)``
     (D V, or the model's own combined term), ``fresnel(b, voh)`` (RGB),
-    ``split_sum_f0(b)`` (RGB, the F0 of the real-time split sum), ``constant(b)``
+    ``split_sum_f0(b)`` (RGB, the F0 of the real-time split sum), ``split_sum_f90(b)``
+    (its F90, 1 unless the Fresnel term says), ``constant(b)``
     (whether F is the constant colour), and the term declarations themselves."""
 
     distribution: object
@@ -38,6 +39,7 @@ class Microfacet:
     fresnel: object
     split_sum_f0: object
     constant: object
+    split_sum_f90: object = None
 
     def table_name(self, masking_name=None):
         """The DFG table whose visibility is this lobe's: its masking's, or for a
@@ -132,9 +134,16 @@ def _microfacet(distribution, masking, fresnel, dv, name, role):
                                 estimate(b, b.f0[1], b.specular_color[1], nov),
                                 estimate(b, b.f0[2], b.specular_color[2], nov))
 
-    parts = Microfacet(distribution, masking, fresnel, d, v, dv, fresnel_rgb, split_sum_f0, constant)
+    f90_of = None if isinstance(fresnel, Table) else fresnel.split_sum_f90
+    split_sum_f90 = _one if f90_of is None else f90_of
+    parts = Microfacet(distribution, masking, fresnel, d, v, dv, fresnel_rgb, split_sum_f0, constant, split_sum_f90)
     return Lobe(name, value, GGX_VISIBLE_NORMALS, role, lobe_estimate,
                 quadrature_albedo(value, lobe_width), parts)
+
+
+@dual_use(inline=True)
+def _one(b):
+    return 1.0
 
 
 @dual_use(inline=True)

@@ -39,6 +39,10 @@ the core model's; :data:`MODEL`, with the extensions, runs for the others.
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use
 from ..bxdf import BxDF, metallic_workflow
@@ -46,18 +50,22 @@ from ..diffuse import kd_ibl, lambert
 from ...microfacet.roughness import alpha_from_roughness
 from ..fresnel import f0_from_ior, f0_metallic, f_schlick
 from ..lobes import Lobe
+from ..lobes.clearcoat import CLEARCOAT as CLEARCOAT_LOBE
+from ..lobes.clearcoat import CLEARCOAT_ALPHA_SLOT, CLEARCOAT_SLOT, clearcoat_weight
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet
 from ..lobes.sheen import (SHEEN, SHEEN_COLOR_SLOT, SHEEN_ROUGHNESS_SLOT, sheen_albedo_lookup,
                            sheen_albedo_scaling)
-from ..operators import add, fresnel_mix, layer, mix, weighted
+from ..operators import add, fresnel_coat, fresnel_mix, layer, mix, weighted
 from ..parameters import BASE_COLOR, METALLIC, ROUGHNESS, Parameter
-from ..terms import GGX, SCHLICK, SEPARABLE
+from ..terms import GGX, SCHLICK, SCHLICK_SPECULAR, SEPARABLE
 from .model import Model, RealTime
 
-__all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION", "COMPOSITION",
-           "SHEEN_COLOR", "SHEEN_ROUGHNESS", "SHEEN_COMPOSITION", "ibl_diffuse_weight", "ibl_sheen_roughness",
-           "ibl_sheen_extras", "ibl_sheen_base_scale"]
+__all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION",
+           "COMPOSITION", "SHEEN_COLOR", "SHEEN_ROUGHNESS", "CLEARCOAT", "CLEARCOAT_ROUGHNESS", "SPECULAR",
+           "SPECULAR_COLOR", "IOR", "SPECULAR_SLOT", "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
+           "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
+           "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale", "check"]
 
 #: The glTF 2.0 dielectric's IOR (Appendix B.3.4) and its normal reflectance
 #: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
@@ -69,6 +77,22 @@ SHEEN_COLOR = Parameter("sheen_color", (0.0, 0.0, 0.0), 0.0, 1.0, "linear Rec.70
                         "sheen colour, KHR_materials_sheen sheenColorFactor", channels=3)
 SHEEN_ROUGHNESS = Parameter("sheen_roughness", 0.0, 0.0, 1.0, "",
                             "Charlie sheen roughness (alpha = r^2), KHR_materials_sheen sheenRoughnessFactor")
+#: KHR_materials_clearcoat's factors (its README, "Properties"; default 0: no coat).
+CLEARCOAT = Parameter("clearcoat", 0.0, 0.0, 1.0, "", "clear coat weight, KHR_materials_clearcoat clearcoatFactor")
+CLEARCOAT_ROUGHNESS = Parameter("clearcoat_roughness", 0.0, 0.0, 1.0, "",
+                                "clear coat roughness (alpha = r^2), KHR_materials_clearcoat "
+                                "clearcoatRoughnessFactor")
+#: KHR_materials_specular's factors (its README, "Properties"; defaults 1: the core's F).
+SPECULAR = Parameter("specular", 1.0, 0.0, 1.0, "", "dielectric specular weight (F90 too), "
+                     "KHR_materials_specular specularFactor")
+SPECULAR_COLOR = Parameter("specular_color", (1.0, 1.0, 1.0), 0.0, math.inf, "linear Rec.709",
+                           "dielectric F0 colour (f0 = min(f0(ior) colour, 1) specular), KHR_materials_specular "
+                           "specularColorFactor", channels=3)
+#: KHR_materials_ior's ior (its README; 1.5 the core's, 0 or at least 1).
+IOR = Parameter("ior", GLTF_IOR, 0.0, math.inf, "", "dielectric index of refraction (f0 = ((ior - 1) / (ior + "
+                "1))^2; 0 or >= 1), KHR_materials_ior ior")
+#: The BxDF ``extra`` slot of the specular factor (sheen: 0-3, clear coat: 4-5).
+SPECULAR_SLOT = 6
 
 
 @dual_use
@@ -94,19 +118,30 @@ def core_setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
 
 @dual_use(inline="llvm")
 def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
-    # pbrkit.brdf.bxdf.metallic_workflow with the sheen's colour and roughness in the
-    # extra slots of pbrkit.brdf.lobes.sheen (SHEEN_COLOR_SLOT = 0, SHEEN_ROUGHNESS_SLOT = 3)
+    # the metallic workflow with KHR_materials_ior and KHR_materials_specular's dielectric
+    # F0 and F90 (the specular README, "Implementation" and "Interaction with other
+    # extensions": dielectric_f0 = min(((ior - 1) / (ior + 1))^2 specularColor, 1) specular,
+    # dielectric_f90 = specular), mixed with the metal's (base colour, 1) by metallic;
+    # dielectric_f0 holds max3 of the dielectric F0 (the diffuse weight's); the sheen's colour
+    # and roughness, the coat's weight and alpha and the specular factor in the extra slots
+    # (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT)
     z3 = (0.0, 0.0, 0.0)
     alpha = alpha_from_roughness(roughness)
     kd = 1.0 - metallic
-    f0 = (f0_metallic(b0, metallic, GLTF_DIELECTRIC_F0), f0_metallic(b1, metallic, GLTF_DIELECTRIC_F0),
-          f0_metallic(b2, metallic, GLTF_DIELECTRIC_F0))
-    s = columns.sheen_color
-    extra = (params[q, s], params[q, s + 1], params[q, s + 2], params[q, columns.sheen_roughness], 0.0, 0.0, 0.0,
-             0.0)
+    s = params[q, columns.specular]
+    f0_ior = f0_from_ior(params[q, columns.ior])
+    sc = columns.specular_color
+    d0 = min(f0_ior * params[q, sc], 1.0) * s
+    d1 = min(f0_ior * params[q, sc + 1], 1.0) * s
+    d2 = min(f0_ior * params[q, sc + 2], 1.0) * s
+    f0 = (f0_metallic(b0, metallic, d0), f0_metallic(b1, metallic, d1), f0_metallic(b2, metallic, d2))
+    f90 = s + (1.0 - s) * metallic
+    h = columns.sheen_color
+    extra = (params[q, h], params[q, h + 1], params[q, h + 2], params[q, columns.sheen_roughness],
+             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s, 0.0)
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
-                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, z3, z3,
-                GLTF_DIELECTRIC_F0, z3, extra)
+                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, z3, z3,
+                max(d0, max(d1, d2)), z3, extra)
 
 
 _SPECULAR = microfacet(GGX, SEPARABLE, SCHLICK)
@@ -149,11 +184,31 @@ SPECIFICATION = mix(fresnel_mix(GLTF_IOR, Lobe("diffuse_brdf", _diffuse_brdf, No
 #: What the model evaluates: the specification with the metallic mix folded into f0
 #: (Schlick's F is linear in f0) and the dielectric's Fresnel kept on its diffuse.
 COMPOSITION = add(weighted(_fresnel_mix_weight, LAMBERT), _SPECULAR)
+
+
+@dual_use(inline=True)
+def _specular_mix_weight(b, c):
+    # 1 - max3(dielectric_fresnel), dielectric_fresnel = mix(dielectric_f0, specular, (1 - |v.h|)^5)
+    # per channel (KHR_materials_specular's README, "Implementation"): its largest channel is
+    # the one of the largest f0, b.dielectric_f0
+    return 1.0 - f_schlick(c.voh, b.dielectric_f0, b.extra[SPECULAR_SLOT])
+
+
+#: The specular lobe with KHR_materials_specular's F90 (:data:`pbrkit.brdf.terms.SCHLICK_SPECULAR`).
+_SPECULAR_KHR = microfacet(GGX, SEPARABLE, SCHLICK_SPECULAR)
+#: The material with KHR_materials_ior and KHR_materials_specular:
+#: ``dielectric_fresnel specular_brdf + (1 - max3(dielectric_fresnel)) diffuse_brdf`` mixed
+#: with the metal by metallic (the specular README), folded as :data:`COMPOSITION` is.
+SPECULAR_COMPOSITION = add(weighted(_specular_mix_weight, LAMBERT), _SPECULAR_KHR)
 #: With KHR_materials_sheen: ``sheenColor sheen_brdf + material sheen_albedo_scaling``
 #: (the extension's README, "Albedo-scaling technique"), the scaling 1 - max3(sheenColor)
 #: E(n.v) of the lobe's tabulated albedo (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_lookup`).
 #: The sheen rides on the diffuse lobe's cosine samples.
-SHEEN_COMPOSITION = layer(SHEEN, COMPOSITION)
+SHEEN_COMPOSITION = layer(SHEEN, SPECULAR_COMPOSITION)
+#: With KHR_materials_clearcoat on top of the sheen (the sheen README: "clearcoat is layered
+#: on top of sheen"): ``mix(material, clearcoat_brdf, clearcoat clearcoat_fresnel(n.v))``
+#: (:func:`pbrkit.brdf.operators.fresnel_coat` at IOR 1.5, :data:`pbrkit.brdf.lobes.clearcoat.CLEARCOAT`).
+EXTENDED_COMPOSITION = fresnel_coat(GLTF_IOR, clearcoat_weight, SHEEN_COMPOSITION, CLEARCOAT_LOBE)
 
 
 @dual_use(inline=True)
@@ -168,46 +223,89 @@ def ibl_diffuse_weight(b, nov, exact, table):
 
 
 @dual_use(inline=True)
+def ibl_specular_diffuse_weight(b, nov, exact, table):
+    """:func:`ibl_diffuse_weight` with KHR_materials_specular and KHR_materials_ior: 1 -
+    F* of Lagarde's roughness-aware Schlick with the dielectric's largest F0
+    (``b.dielectric_f0``) and F90 scaled by the specular factor s, f0 + (max(s (1 - r),
+    f0) - f0)(1 - n.v)^5; the ``exact`` table only for the core's F (f0 0.04, s = 1),
+    the only one it holds."""
+    s = b.extra[SPECULAR_SLOT]
+    f0 = b.dielectric_f0
+    if exact and f0 == GLTF_DIELECTRIC_F0 and s == 1.0:
+        return linear_1d(table, nov)
+    return 1.0 - f_schlick(nov, f0, max(s * (1.0 - b.roughness), f0))
+
+
+@dual_use(inline=True)
 def _sheen_on(b):
     s = SHEEN_COLOR_SLOT
     return b.extra[s] > 0.0 or b.extra[s + 1] > 0.0 or b.extra[s + 2] > 0.0
 
 
 @dual_use(inline=True)
+def _coat(b, nov):
+    # KHR_materials_clearcoat's weight of the coat over the material: clearcoat clearcoat_fresnel(n.v)
+    return b.extra[CLEARCOAT_SLOT] * f_schlick(nov, GLTF_DIELECTRIC_F0, 1.0)
+
+
+@dual_use(inline=True)
+def ibl_coat_roughness(b):
+    """The perceptual roughness of the clear coat's prefiltered lookup in real time
+    (sqrt of its alpha; -1 without a coat, so no lookup)."""
+    if b.extra[CLEARCOAT_SLOT] > 0.0:
+        return math.sqrt(b.extra[CLEARCOAT_ALPHA_SLOT])
+    return -1.0
+
+
+@dual_use(inline=True)
 def ibl_sheen_roughness(b):
     """The roughness of the sheen's prefiltered lookup in real time: the sheen roughness
-    (-1 without a sheen, so no second lookup).  The lookup is the GGX-prefiltered chain
-    at that roughness, standing in for the Charlie-prefiltered chain the Khronos Sample
-    Viewer samples (a later step)."""
+    (-1 without a sheen, so no lookup).  The lookup is the Charlie-prefiltered chain when
+    the bake has one, else the GGX chain at that roughness (:mod:`pbrkit.render.realtime`)."""
     if _sheen_on(b):
         return b.extra[SHEEN_ROUGHNESS_SLOT]
     return -1.0
 
 
 @dual_use(inline=True)
-def ibl_sheen_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered):
-    """The sheen's image-based lighting, the Sample Viewer's simplification of
-    KHR_materials_sheen: sheenColor E_sheen(n.v, sheenRoughness) times the
-    prefiltered radiance at the sheen roughness (:func:`ibl_sheen_roughness`).
-    Returns (specular RGB, diffuse RGB) to add to the scaled base."""
-    if not _sheen_on(b):
-        z = (0.0, 0.0, 0.0)
-        return z, z
-    e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT])
+def ibl_extensions_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered,
+                          sheen_prefiltered):
+    """The extensions' image-based lighting, as the Khronos Sample Viewer evaluates
+    them: the sheen, sheenColor E_sheen(n.v, sheenRoughness) times the sheen's
+    prefiltered radiance; the clear coat, clearcoat clearcoat_fresnel(n.v) times its
+    prefiltered radiance times the white lobe's split-sum albedo DFG2 at its roughness;
+    the sheen under the coat's 1 - clearcoat clearcoat_fresnel.  Returns (specular RGB,
+    diffuse RGB) to add to the base scaled by :func:`ibl_extensions_base_scale`."""
+    t = _coat(b, nov)
+    e = 0.0
+    if _sheen_on(b):
+        e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT]) * (1.0 - t)
     s = SHEEN_COLOR_SLOT
-    return ((b.extra[s] * e * coat_prefiltered[0], b.extra[s + 1] * e * coat_prefiltered[1],
-             b.extra[s + 2] * e * coat_prefiltered[2]), (0.0, 0.0, 0.0))
+    k = t * coat_dfg2
+    return ((b.extra[s] * e * sheen_prefiltered[0] + k * coat_prefiltered[0],
+             b.extra[s + 1] * e * sheen_prefiltered[1] + k * coat_prefiltered[1],
+             b.extra[s + 2] * e * sheen_prefiltered[2] + k * coat_prefiltered[2]), (0.0, 0.0, 0.0))
 
 
 @dual_use(inline=True)
-def ibl_sheen_base_scale(b, nov):
-    """KHR_materials_sheen's sheen_albedo_scaling 1 - max3(sheenColor) E(n.v) on the base's
-    IBL terms (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_scaling`); 1.0 without a sheen."""
-    if not _sheen_on(b):
-        return 1.0
-    s = SHEEN_COLOR_SLOT
-    return sheen_albedo_scaling(max(b.extra[s], max(b.extra[s + 1], b.extra[s + 2])), nov,
-                                b.extra[SHEEN_ROUGHNESS_SLOT])
+def ibl_extensions_base_scale(b, nov):
+    """The factor on the base's IBL terms: KHR_materials_sheen's sheen_albedo_scaling 1 -
+    max3(sheenColor) E(n.v) (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_scaling`) times
+    KHR_materials_clearcoat's 1 - clearcoat clearcoat_fresnel(n.v); 1.0 without either."""
+    scale = 1.0 - _coat(b, nov)
+    if _sheen_on(b):
+        s = SHEEN_COLOR_SLOT
+        scale *= sheen_albedo_scaling(max(b.extra[s], max(b.extra[s + 1], b.extra[s + 2])), nov,
+                                      b.extra[SHEEN_ROUGHNESS_SLOT])
+    return scale
+
+
+def check(values, where):
+    """The extensions' cross-field rules: KHR_materials_ior's ior is 0 or at least 1
+    (its README's schema)."""
+    ior = values.get("ior")
+    if ior is not None and np.any((np.asarray(ior) != 0.0) & (np.asarray(ior) < 1.0)):
+        raise ValueError(f"{where}ior must be 0 or at least 1 (KHR_materials_ior)")
 
 
 #: The core model: a material without KHR_materials extensions compiles as this
@@ -215,8 +313,10 @@ def ibl_sheen_base_scale(b, nov):
 CORE = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_COLOR, METALLIC, ROUGHNESS),
              core_setup, COMPOSITION, ("ggx", "separable", "schlick", "lambert"),
              RealTime(diffuse_weight=ibl_diffuse_weight), variants=(("ggx", "separable", "schlick", "lambert"),))
-MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with KHR_materials_sheen",
-              (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS), setup, SHEEN_COMPOSITION,
+MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with its KHR_materials extensions",
+              (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS, CLEARCOAT, CLEARCOAT_ROUGHNESS, SPECULAR,
+               SPECULAR_COLOR, IOR), setup, EXTENDED_COMPOSITION,
               ("ggx", "separable", "schlick", "lambert"),
-              RealTime(diffuse_weight=ibl_diffuse_weight, coat_roughness=ibl_sheen_roughness,
-                       extras=ibl_sheen_extras, base_scale=ibl_sheen_base_scale), core=CORE)
+              RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
+                       sheen_roughness=ibl_sheen_roughness, extras=ibl_extensions_extras,
+                       base_scale=ibl_extensions_base_scale), check=check, core=CORE)

@@ -39,15 +39,17 @@ class RealTime:
     lobe (:mod:`pbrkit.render.realtime`): ``diffuse_weight(b, nov, exact, table)``,
     the weight on diffuse_color E(n) / pi (1 unless the diffuse lobe is weighted,
     glTF's 1 - F(v.h)); ``coat_roughness(b)``, the perceptual roughness of a second
-    prefiltered lookup for a coat (-1: none); ``extras(b, nov, coat_dfg1, coat_dfg2,
-    sheen_table, irradiance, coat_prefiltered)`` -> (specular RGB, diffuse RGB)
-    added for the model's other lobes (``None``: there are none), with the DFG
-    table at the coat's roughness and the RGB irradiance and coat lookup;
+    prefiltered lookup for a coat (-1: none); ``sheen_roughness(b)``, that of a third,
+    in the sheen's (Charlie) chain (-1: none); ``extras(b, nov, coat_dfg1, coat_dfg2,
+    sheen_table, irradiance, coat_prefiltered, sheen_prefiltered)`` -> (specular RGB,
+    diffuse RGB) added for the model's other lobes (``None``: there are none), with
+    the DFG table at the coat's roughness and the RGB irradiance, coat and sheen lookups;
     ``base_scale(b, nov)``, the factor on the specular and diffuse IBL terms before
     the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling)."""
 
     diffuse_weight: object = _one
     coat_roughness: object = _no_coat
+    sheen_roughness: object = _no_coat
     extras: object = None
     base_scale: object = _unscaled
 
