@@ -146,3 +146,84 @@ def test_white_furnace_of_the_coated_material(metallic, mu):
     f_bare = models.gltf(l, np.broadcast_to(wo, l.shape), np.array([0.0, 0.0, 1.0]), bare)
     e_bare = np.sum(f_bare * w[:, None], axis=0)
     assert np.all(reference <= np.maximum(1.0, e_bare) + 1e-3), (reference, e_bare)
+
+
+# ------------------------------------------------------------------ glTF files
+
+
+def test_the_extensions_are_read_from_gltf_files(tmp_path):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 0.8, "clearcoatRoughnessFactor": 0.2},
+           "KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [2.0, 1.0, 0.5]},
+           "KHR_materials_ior": {"ior": 1.8}}
+    path = write_quad_glb(tmp_path / "k.glb", material_extras=ext, extensions_required=tuple(ext))
+    asset = load_gltf(path)
+    spec = asset.materials[0].spec
+    assert (spec.clearcoat, spec.clearcoat_roughness, spec.specular, spec.specular_color, spec.ior) == \
+        (0.8, 0.2, 0.5, (2.0, 1.0, 0.5), 1.8)
+    assert not asset.notes
+    # an extension without its factors: the README's defaults
+    asset = load_gltf(write_quad_glb(tmp_path / "d.glb", material_extras={k: {} for k in ext}))
+    spec = asset.materials[0].spec
+    assert (spec.clearcoat, spec.clearcoat_roughness, spec.specular, spec.specular_color, spec.ior) == \
+        (0.0, 0.0, 1.0, (1.0, 1.0, 1.0), 1.5)
+    # the ior 0 of the specular-glossiness conversion is accepted
+    asset = load_gltf(write_quad_glb(tmp_path / "z.glb", material_extras={"KHR_materials_ior": {"ior": 0}}))
+    assert asset.materials[0].spec.ior == 0.0
+
+
+def test_a_clearcoat_texture_is_noted_as_not_supported_yet(tmp_path):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    texture = np.full((2, 2, 3), 200, dtype=np.uint8)
+    ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}}
+    asset = load_gltf(write_quad_glb(tmp_path / "t.glb", texture=texture, material_extras=ext))
+    assert asset.materials[0].spec.clearcoat == 1.0
+    assert any("clearcoatNormalTexture is not supported yet" in note for note in asset.notes)
+
+
+@pytest.mark.parametrize("ext, fragment", [
+    ({"KHR_materials_clearcoat": {"clearcoatFactor": 1.5}}, "KHR_materials_clearcoat.clearcoatFactor"),
+    ({"KHR_materials_clearcoat": {"clearcoatRoughnessFactor": "x"}},
+     "KHR_materials_clearcoat.clearcoatRoughnessFactor"),
+    ({"KHR_materials_clearcoat": {"clearcoatTexture": {"index": 7}}}, "KHR_materials_clearcoat.clearcoatTexture"),
+    ({"KHR_materials_clearcoat": []}, "KHR_materials_clearcoat"),
+    ({"KHR_materials_specular": {"specularFactor": -1}}, "KHR_materials_specular.specularFactor"),
+    ({"KHR_materials_specular": {"specularColorFactor": [1, -1, 1]}}, "KHR_materials_specular.specularColorFactor"),
+    ({"KHR_materials_specular": {"specularColorFactor": [1, 1]}}, "KHR_materials_specular.specularColorFactor"),
+    ({"KHR_materials_ior": {"ior": 0.5}}, "KHR_materials_ior.ior"),
+    ({"KHR_materials_ior": {"ior": True}}, "KHR_materials_ior.ior"),
+    ({"KHR_materials_unlit": 3}, "KHR_materials_unlit"),
+])
+def test_bad_extension_fields_are_refused_naming_the_field(tmp_path, ext, fragment):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.core.errors import InputError
+    from pbrkit.render.gltf import load_gltf
+
+    path = write_quad_glb(tmp_path / "b.glb", material_extras=ext)
+    with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as info:
+        load_gltf(path)
+    assert "\n" not in str(info.value)
+
+
+def test_an_unlit_material_is_its_base_colour_as_emission(tmp_path):
+    """KHR_materials_unlit: the base colour as emission over a surface that reflects
+    nothing (a zero BRDF: no light changes it)."""
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    path = write_quad_glb(tmp_path / "u.glb", material_extras={"KHR_materials_unlit": {}},
+                          extensions_required=("KHR_materials_unlit",))
+    asset = load_gltf(path)
+    spec = asset.materials[0].spec
+    assert spec.base_color == (0.0, 0.0, 0.0) and spec.specular == 0.0 and spec.metallic == 0.0
+    assert max(spec.emissive) > 0.0
+    l = _unit(np.array([[0.3, 0.2, 0.9], [0.0, 0.0, 1.0]]))
+    assert np.all(models.gltf(l, l[::-1], N_DIR, spec.material()) == 0.0)

@@ -499,21 +499,10 @@ def _check_material(material, where, index):
         strength = _object(ext["KHR_materials_emissive_strength"], w).get("emissiveStrength")
         if strength is not None:
             _number(strength, f"{w}.emissiveStrength", 0.0)
-    if ext is not None and ext.get("KHR_materials_sheen") is not None:
-        _check_sheen(_object(ext["KHR_materials_sheen"], f"{where}.extensions.KHR_materials_sheen"),
-                     f"{where}.extensions.KHR_materials_sheen", index)
+    if ext is not None:
+        from .gltf_materials import check_material_extensions  # it imports this module
 
-
-def _check_sheen(sheen, where, index):
-    # KHR_materials_sheen (its README, "Properties"): sheenColorFactor 3 numbers in [0, 1],
-    # sheenRoughnessFactor a number in [0, 1], two textureInfos
-    if sheen.get("sheenColorFactor") is not None:
-        _numbers(sheen["sheenColorFactor"], f"{where}.sheenColorFactor", 3, 0.0, 1.0)
-    if sheen.get("sheenRoughnessFactor") is not None:
-        _number(sheen["sheenRoughnessFactor"], f"{where}.sheenRoughnessFactor", 0.0, 1.0)
-    for key in ("sheenColorTexture", "sheenRoughnessTexture"):
-        if sheen.get(key) is not None:
-            _check_texture_info(sheen[key], f"{where}.{key}", index)
+        check_material_extensions(ext, f"{where}.extensions", index)
 
 
 def _check_skin(skin, where, index):

@@ -11,9 +11,11 @@ times baseColorFactor), metallicRoughness (G = roughness, B = metallic,
 times the factors), normal (tangent space, +X right, +Y up, scaled by
 ``normalTexture.scale``), occlusion (R, applied as 1 + strength (R - 1))
 and emissive (sRGB, times emissiveFactor and
-``KHR_materials_emissive_strength``), with ``KHR_materials_sheen``'s factors
-(sheenColorFactor, sheenRoughnessFactor; its textures are noted as not
-supported yet).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
+``KHR_materials_emissive_strength``), with the factors of
+``KHR_materials_sheen``, ``_clearcoat``, ``_specular`` and ``_ior`` as the
+``gltf`` model's parameters (:mod:`pbrkit.io.gltf_materials`; their textures
+are noted as not supported yet) and ``KHR_materials_unlit`` as emission of the
+base colour.  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
 scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
 are honoured (:mod:`pbrkit.io.gltf_extensions`, after the Khronos
 specifications).  Texture sampling follows the glTF sampler: bilinear (or
@@ -83,6 +85,7 @@ from ..io.gltf_extensions import (
     format_text,
     texture_transform,
 )
+from ..io.gltf_materials import MATERIAL_EXTENSIONS, UNLIT, material_extension_values, unlit_material
 from ..io.gltf_resources import MAX_IMAGE_BYTES, buffer_file_bytes, decode_image, uri_bytes
 from .lights import Light
 from .scene import MaterialSpec, trs_matrix
@@ -123,7 +126,7 @@ class GltfAsset:
     notes: list
 
 
-_SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_sheen",
+_SUPPORTED_REQUIRED = {"KHR_lights_punctual", "KHR_materials_emissive_strength", *MATERIAL_EXTENSIONS,
                        TEXTURE_TRANSFORM, MESH_QUANTIZATION}
 #: Largest texture coordinate accepted (beyond it texel addressing loses all precision).
 _MAX_TEXCOORD = 1e6
@@ -379,39 +382,26 @@ def _gltf_material(reader, index, cache):
     emissive = np.asarray(m.get("emissiveFactor") or (0.0, 0.0, 0.0), dtype=float)
     strength = ((m.get("extensions") or {}).get("KHR_materials_emissive_strength") or {}).get("emissiveStrength")
     strength = 1.0 if strength is None else float(strength)
-    sheen = _sheen(reader, index, m)
+    ext = m.get("extensions") or {}
+    khr = material_extension_values(ext, reader.notes, index)  # KHR_materials_* (pbrkit.io.gltf_materials)
+    if ext.get(UNLIT) is not None:  # the base colour as emission over a black, non-reflecting surface
+        khr.update(unlit_material(bc))
+        et, bct, mrt, emissive, strength = bct, None, None, np.ones(3), 1.0
     if (m.get("alphaMode") or "OPAQUE") != "OPAQUE":
         reader.notes.append(f"material {index}: alphaMode {m['alphaMode']} rendered as OPAQUE")
     name = m.get("name")  # shown in messages: a short printable one only
     if not (isinstance(name, str) and name and name.isprintable() and len(name) <= 64):
         name = f"gltf-material-{index}"
+    values = dict(base_color=tuple(float(x) for x in bc[:3]), metallic=float(metallic), roughness=float(roughness),
+                  emissive=tuple(emissive * strength), double_sided=bool(m.get("doubleSided")))
+    if ext.get(UNLIT) is not None:
+        values.update(emissive=khr.pop("emissive"))
+    values.update(khr)
     try:
-        spec = MaterialSpec(name=name, base_color=tuple(float(x) for x in bc[:3]), metallic=float(metallic),
-                            roughness=float(roughness), emissive=tuple(emissive * strength),
-                            double_sided=bool(m.get("doubleSided")), **sheen)
+        spec = MaterialSpec(name=name, **values)
     except ValueError as exc:
         reader.fail(f"materials[{index}]: {exc}")
     return SurfaceMaterial(spec, bct, mrt, nt, ot, et)
-
-
-def _sheen(reader, index, m):
-    """The ``gltf`` model's sheen_color and sheen_roughness of a material's
-    ``KHR_materials_sheen`` (its README, "Properties": sheenColorFactor, default
-    black, and sheenRoughnessFactor, default 0; checked by
-    :func:`pbrkit.io.gltf_document.validate_gltf_document`).  Its textures are not
-    read yet (the renderer textures only base colour, metallic and roughness per
-    shading point): a note says so and the factors apply alone."""
-    sheen = (m.get("extensions") or {}).get("KHR_materials_sheen")
-    if sheen is None:
-        return {}
-    for key in ("sheenColorTexture", "sheenRoughnessTexture"):
-        if sheen.get(key) is not None:
-            reader.notes.append(f"material {index}: KHR_materials_sheen {key} is not supported yet; "
-                                f"its factor is used alone")
-    color = sheen.get("sheenColorFactor")
-    roughness = sheen.get("sheenRoughnessFactor")
-    return {"sheen_color": (0.0, 0.0, 0.0) if color is None else tuple(float(x) for x in color),
-            "sheen_roughness": 0.0 if roughness is None else float(roughness)}
 
 
 def _texture_refs(material):

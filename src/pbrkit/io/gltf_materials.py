@@ -1,0 +1,111 @@
+"""The ``KHR_materials_*`` extensions of a glTF 2.0 material as the ``gltf``
+model's parameters (:mod:`pbrkit.brdf.shading.gltf`): one table row per factor,
+read from the extensions' READMEs in the Khronos glTF repository
+(``extensions/2.0/Khronos/KHR_materials_<name>/README.md``, "Properties"):
+
+======================  ==========================  =================  ===========  =========
+extension               property                    parameter          range        default
+======================  ==========================  =================  ===========  =========
+KHR_materials_sheen     sheenColorFactor            sheen_color        [0, 1]^3     0
+KHR_materials_sheen     sheenRoughnessFactor        sheen_roughness    [0, 1]       0
+KHR_materials_clearcoat clearcoatFactor             clearcoat          [0, 1]       0
+KHR_materials_clearcoat clearcoatRoughnessFactor    clearcoat_roughness [0, 1]      0
+KHR_materials_specular  specularFactor              specular           [0, 1]       1
+KHR_materials_specular  specularColorFactor         specular_color     [0, inf)^3   1
+KHR_materials_ior       ior                         ior                0 or >= 1    1.5
+======================  ==========================  =================  ===========  =========
+
+(:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
+checked like every textureInfo but not applied yet (the renderer textures base
+colour, metallic, roughness, normal, occlusion and emission per shading point):
+a note says so and the factor applies alone.  ``KHR_materials_unlit`` (its README,
+"Implementation") renders the base colour as emission and no reflection
+(:func:`unlit_material`).
+"""
+
+from __future__ import annotations
+
+from .gltf_document import _check_texture_info, _number, _numbers, _object
+
+__all__ = ["FACTORS", "TEXTURES", "UNLIT", "MATERIAL_EXTENSIONS", "check_material_extensions",
+           "material_extension_values", "unlit_material"]
+
+#: (extension, property, parameter, components, low, high, default) of every factor.
+FACTORS = (
+    ("KHR_materials_sheen", "sheenColorFactor", "sheen_color", 3, 0.0, 1.0, (0.0, 0.0, 0.0)),
+    ("KHR_materials_sheen", "sheenRoughnessFactor", "sheen_roughness", 1, 0.0, 1.0, 0.0),
+    ("KHR_materials_clearcoat", "clearcoatFactor", "clearcoat", 1, 0.0, 1.0, 0.0),
+    ("KHR_materials_clearcoat", "clearcoatRoughnessFactor", "clearcoat_roughness", 1, 0.0, 1.0, 0.0),
+    ("KHR_materials_specular", "specularFactor", "specular", 1, 0.0, 1.0, 1.0),
+    ("KHR_materials_specular", "specularColorFactor", "specular_color", 3, 0.0, None, (1.0, 1.0, 1.0)),
+    ("KHR_materials_ior", "ior", "ior", 1, 0.0, None, 1.5),
+)
+#: The textureInfos of each extension (checked; not applied yet).
+TEXTURES = {
+    "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture"),
+    "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
+    "KHR_materials_specular": ("specularTexture", "specularColorTexture"),
+    "KHR_materials_ior": (),
+}
+UNLIT = "KHR_materials_unlit"
+#: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).
+MATERIAL_EXTENSIONS = tuple(TEXTURES) + (UNLIT,)
+
+
+def check_material_extensions(ext, where, index):
+    """Check the ``KHR_materials_*`` objects of a material's ``extensions`` (``where``
+    its JSON location): each an object, every factor a finite number (or array) in its
+    range, KHR_materials_ior's ior 0 or at least 1, every texture a textureInfo.
+    ``ValueError`` of one line naming the field."""
+    for name, textures in TEXTURES.items():
+        if ext.get(name) is None:
+            continue
+        w = f"{where}.{name}"
+        obj = _object(ext[name], w)
+        for extension, key, _, n, lo, hi, _ in FACTORS:
+            if extension != name or obj.get(key) is None:
+                continue
+            if n == 1:
+                _number(obj[key], f"{w}.{key}", lo, hi)
+            else:
+                _numbers(obj[key], f"{w}.{key}", n, lo, hi)
+        if name == "KHR_materials_ior" and obj.get("ior") is not None and 0.0 < obj["ior"] < 1.0:
+            raise ValueError(f"{w}.ior must be 0 or at least 1; got {obj['ior']}")
+        for key in textures:
+            if obj.get(key) is not None:
+                _check_texture_info(obj[key], f"{w}.{key}", index)
+    if ext.get(UNLIT) is not None:
+        _object(ext[UNLIT], f"{where}.{UNLIT}")
+
+
+def material_extension_values(ext, notes, index):
+    """The ``gltf`` model's parameters of a (checked) material's ``extensions``: each
+    factor present, or its default where its extension is present (:data:`FACTORS`);
+    a note in ``notes`` per texture not applied."""
+    values = {}
+    for extension, key, parameter, n, _, _, default in FACTORS:
+        obj = ext.get(extension)
+        if obj is None:
+            continue
+        value = obj.get(key)
+        if value is None:
+            values[parameter] = default
+        else:
+            values[parameter] = float(value) if n == 1 else tuple(float(x) for x in value)
+    for name, textures in TEXTURES.items():
+        obj = ext.get(name) or {}
+        for key in textures:
+            if obj.get(key) is not None:
+                notes.append(f"material {index}: {name} {key} is not supported yet; its factor is used alone")
+    return values
+
+
+def unlit_material(base_color):
+    """``KHR_materials_unlit``: the material's colour is its base colour, unlit (the
+    README, "Implementation": ``color = baseColor``): in the ``gltf`` model, emission of
+    the base colour (factor, and texture in the emissive slot) over a surface that
+    reflects nothing (base colour black, metallic 0, specular 0).  Returns the
+    MaterialSpec keywords."""
+    return {"emissive": tuple(float(x) for x in base_color[:3]), "base_color": (0.0, 0.0, 0.0), "metallic": 0.0,
+            "specular": 0.0}
+
