@@ -594,7 +594,8 @@ def _measured(case, values):
 def test_every_function_is_tested_in_webgl2(webgl_results):
     cases, result = webgl_results
     covered = {name for c in cases for name in c.covers}
-    assert covered == {f["name"] for f in shaders.functions()}
+    # pbrkit_khr.glsl's functions are tested in tests/test_shaders_khr.py (with the E_sheen table as u_lut)
+    assert covered == {f["name"] for f in shaders.functions() if f["file"] != "pbrkit_khr.glsl"}
     assert set(result["results"]) == {c.name for c in cases}
 
 

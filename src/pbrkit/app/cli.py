@@ -978,9 +978,12 @@ def shaders(
     quiet: bool = _quiet_option(),
 ):
     """Write shader functions for pbrkit's BRDF terms and models (D, G/V, F, diffuse;
-    UE4, Filament, glTF) and for sampling a pbrkit bake (lod from roughness, the DFG
-    table lookup, SH irradiance), with the bake's conventions built in, and
-    manifest.json listing each function with its source and roughness remap."""
+    UE4, Filament, glTF), for sampling a pbrkit bake (lod from roughness, the DFG
+    table lookup, SH irradiance), for LTC area lights, the NPR terms, and
+    KHR_materials_sheen / KHR_materials_iridescence (Charlie D and V, the E_sheen
+    lookup and albedo scaling, the sheen IBL, the thin-film Fresnel), with the
+    bake's conventions built in, and manifest.json listing each function with its
+    source and roughness remap."""
     from ..shaders import write_shaders
 
     names = write_shaders(out, target=target, force=force)

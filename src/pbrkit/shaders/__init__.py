@@ -26,14 +26,24 @@ group:
   highlight, MToon 1.0's ``linearstep``, shading, parametric rim and GI
   equalisation) and of :func:`pbrkit.npr.hatching.hatch` (the blend of a tonal
   art map's tones, sampled by the engine, for a continuous tone, and the mip
-  level log2(footprint) clamped to [0, L - 1]).
+  level log2(footprint) clamped to [0, L - 1]);
+- ``pbrkit_khr.glsl``: the terms of the glTF extensions ``KHR_materials_sheen``
+  (:mod:`pbrkit.microfacet.charlie`, :mod:`pbrkit.brdf.lobes.sheen`: Charlie
+  ``D_Charlie``, the fitted ``Lambda_Charlie`` and ``V_Charlie``,
+  ``V_Ashikhmin``, the lobe ``pbrkit_sheenBRDF``, the E_sheen table's lookup
+  (grid points) from ``texelFetch`` or the GPU's filter, the albedo scaling
+  1 - max3(sheenColor) E, and the split-sum sheen IBL at lod = sheenRoughness
+  (M - 1)) and ``KHR_materials_iridescence`` (:func:`pbrkit.brdf.fresnel.
+  f_iridescence`: ``F_Iridescence``, ``F_IridescenceDielectric`` and the
+  spectral sensitivity); needs ``pbrkit_brdf.glsl`` before it.
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each
 function is preceded by a comment whose ``source:``, ``roughness:`` and
 ``pbrkit:`` lines give its citation, its roughness remap and the pbrkit
 function it transcribes; :func:`functions` reads them back, and the
 ``manifest.json`` written beside the files lists them.  tests/test_shaders.py
-compiles every function in WebGL2 and compares it with pbrkit's own.
+and tests/test_shaders_khr.py compile every function in WebGL2 and compare it
+with pbrkit's own.
 """
 
 from __future__ import annotations
@@ -47,7 +57,7 @@ __all__ = ["TARGETS", "GLSL_FILES", "glsl_sources", "functions", "shader_manifes
 #: Shader languages ``pbrkit shaders --target`` writes.
 TARGETS = ("glsl",)
 #: The GLSL files, in the order they may be concatenated.
-GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_npr.glsl")
+GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_npr.glsl", "pbrkit_khr.glsl")
 #: Version of the manifest's layout.
 MANIFEST_VERSION = 1
 
@@ -160,6 +170,9 @@ def shader_manifest(target="glsl", sources=None):
                   "orthonormal SH on world (x, y, z), no Condon-Shortley phase; E = sum A_l L_lm Y_lm(n), "
                   "A = (pi, 2 pi / 3, pi / 4)",
             "irradiance": "E, not E / pi: Lambertian radiance is diffuse colour / pi * E",
+            "sheen_albedo": "E_sheen table (pbrkit/data/sheen_albedo.npy) indexed [i, j]: row i at sheenRoughness = "
+                            "i / (M - 1), column j at n.v = j / (N - 1) (grid points, not texel centres), row 0 "
+                            "first; Charlie alpha = sheenRoughness^2",
             "cube_map": "faces +X -X +Y -Y +Z -Z in OpenGL orientation (table 8.19), row 0 first, not mirrored",
         },
         "functions": functions(sources),
