@@ -359,7 +359,7 @@ def test_smooth_limit_tends_to_fresnel(theta, inside, alpha):
     through = ~tir & (t[:, 2] < 0)
     f = dl.f_dielectric_ggx(*wo, *(t * flip).T, eta, alpha, alpha, False)
     transmittance = np.sum(np.where(through, wh * f * np.abs(t[:, 2]) / np.where(through, jacobian, 1.0), 0.0))
-    tol = 4e-3 if alpha > 5e-3 else 1e-3
+    tol = 2e-3 if alpha > 5e-3 else 2e-4  # measured: 1.0e-3 and 7e-5
     assert reflectance == pytest.approx(fresnel, abs=tol)
     assert transmittance == pytest.approx(1.0 - fresnel, abs=tol)
 
@@ -390,6 +390,29 @@ def test_smooth_interface_is_a_delta_pair(alpha, theta, inside):
         # f and pdf of the delta pair are not functions: 0 everywhere
         assert np.all(dl.f_dielectric_ggx(*wo, *wi.T, eta, alpha, alpha) == 0.0)
         assert np.all(dl.pdf_dielectric_ggx(*wo, *wi.T, eta, alpha, alpha) == 0.0)
+
+
+def test_degenerate_inputs_stay_finite():
+    """Grazing and polar views, the edges of the unit square, index-matched and extreme
+    interfaces, huge and tiny alphas: finite samples, f and pdf, nothing below 0."""
+    views = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.6, 0.8, 0.0],
+                      [math.sqrt(1 - 1e-16), 0.0, 1e-8], [math.sqrt(1 - 1e-16), 0.0, -1e-8]])
+    edges = np.array([0.0, 1e-12, 0.5, 1.0 - 1e-12, 1.0])
+    u1, u2, uc, k = np.meshgrid(edges, edges, edges, np.arange(len(views)), indexing="ij")
+    wo = views[k.ravel()]
+    for eta in (1.0, 1.5, 1.0 / 1.5, 1e3):
+        for ax, ay in ((1e-3, 1e-3), (1.0001e-3, 1e-3), (0.3, 0.3), (1.0, 1e-3), (1e3, 1e3)):
+            with np.errstate(all="ignore"):  # unselected branches (ggx.d_ggx_anisotropic at n.h = 0) may warn
+                sample = dl.warp_dielectric_ggx(u1.ravel(), u2.ravel(), np.minimum(uc.ravel(), 1.0 - 1e-16),
+                                                *wo.T, eta, ax, ay, True)
+                wi = np.stack(sample[:3], axis=-1)
+                values = [dl.f_dielectric_ggx(*wo.T, *wi.T, eta, ax, ay),
+                          dl.pdf_dielectric_ggx(*wo.T, *wi.T, eta, ax, ay)]
+            for part in [*sample[3:5], *values]:
+                assert np.all(np.isfinite(part)) and np.all(part >= 0.0), (eta, ax, ay)
+            assert np.all(np.isfinite(wi))
+            # a direction in the tangent plane scatters nothing
+            assert np.all(dl.f_dielectric_ggx(*wo.T, 1.0, 0.0, 0.0, eta, ax, ay) == 0.0)
 
 
 # ---------------------------------------------------------------------- Numba
