@@ -415,6 +415,17 @@ def test_degenerate_inputs_stay_finite():
             assert np.all(dl.f_dielectric_ggx(*wo.T, 1.0, 0.0, 0.0, eta, ax, ay) == 0.0)
 
 
+def test_wrapper_validates():
+    wo = _direction(30)
+    u, uc = _u("validate", 4)
+    for bad in (dict(uc=uc + 1.0), dict(eta=0.0), dict(eta=np.nan), dict(alpha_x=-0.1), dict(alpha_y=np.inf)):
+        args = dict(u=u, uc=uc, wo=wo, eta=1.5, alpha_x=0.3, alpha_y=0.3) | bad
+        with pytest.raises(ValueError):
+            dl.sample_dielectric_ggx(**args)
+    with pytest.raises(ValueError):
+        dl.sample_dielectric_ggx(u * 2.0, uc, wo, 1.5, 0.3, 0.3)
+
+
 # ---------------------------------------------------------------------- Numba
 
 

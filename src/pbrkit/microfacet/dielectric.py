@@ -177,7 +177,8 @@ def _rough_pair(wox, woy, woz, wix, wiy, wiz, eta, alpha_x, alpha_y, radiance):
     hx, hy, hz, etap, ok = half_vector_dielectric(wox, woy, woz, wix, wiy, wiz, eta)
     woh = wox * hx + woy * hy + woz * hz
     wih = wix * hx + wiy * hy + wiz * hz
-    # microfacets seen from behind by either direction scatter nothing (Walter 2007, sec. 5.1)
+    # microfacets seen from behind by either direction scatter nothing (the chi+ factors of
+    # Walter 2007's G1, eq. 34)
     front = (woh * woz > 0.0) & (wih * wiz > 0.0)
     rough = (np.maximum(alpha_x, alpha_y) > SMOOTH_ALPHA) & (eta != 1.0)
     valid = ok & front & rough
@@ -221,7 +222,7 @@ def pdf_dielectric_ggx(wox, woy, woz, wix, wiy, wiz, eta, alpha_x, alpha_y):
 def warp_dielectric_ggx(u1, u2, uc, wox, woy, woz, eta, alpha_x, alpha_y, radiance=True):
     """Sample wi for the view wo: (wix, wiy, wiz, f, pdf, flag).
 
-    pbrt-v4's DielectricBxDF::Sample_f (Pharr, Jakob & Humphreys 2023, sec. 9.7.5):
+    pbrt-v4's DielectricBxDF::Sample_f (Pharr, Jakob & Humphreys 2023, sec. 9.7):
     h from the GGX visible normals of wo with (u1, u2) (Heitz 2018; a view from
     inside is mirrored), R = F(wo.h) (Walter 2007, eq. 22); if uc < R (always under
     total internal reflection), wi = 2 (wo.h) h - wo (reflection, eq. 39 of Walter
@@ -276,10 +277,17 @@ def warp_dielectric_ggx(u1, u2, uc, wox, woy, woz, eta, alpha_x, alpha_y, radian
 
 
 def sample_dielectric_ggx(u, uc, wo, eta, alpha_x, alpha_y, radiance=True):
-    """NumPy wrapper of :func:`warp_dielectric_ggx`: ``u`` (..., 2), ``uc`` (...) in [0, 1),
-    ``wo`` (..., 3) unit.  Returns (wi (..., 3), f, pdf, flag)."""
+    """NumPy wrapper of :func:`warp_dielectric_ggx`: ``u`` (..., 2) and ``uc`` (...) in [0, 1],
+    ``wo`` (..., 3) unit, scalar ``eta`` > 0 and alphas >= 0 (0: smooth).  Returns
+    (wi (..., 3), f, pdf, flag)."""
     u1, u2 = _square(u)
     uc = np.asarray(uc, dtype=np.float64)
+    if not np.all((uc >= 0.0) & (uc <= 1.0)):
+        raise ValueError("uc must lie in [0, 1]")
+    if not (np.isfinite(eta) and eta > 0.0):
+        raise ValueError("eta must be positive and finite")
+    if not all(np.isfinite(a) and a >= 0.0 for a in (alpha_x, alpha_y)):
+        raise ValueError("alpha_x and alpha_y must be finite and >= 0")
     wix, wiy, wiz, f, pdf, flag = warp_dielectric_ggx(u1, u2, uc, *_vector3(wo, "wo"), np.float64(eta),
                                                       np.float64(alpha_x), np.float64(alpha_y), bool(radiance))
     return _stack(wix, wiy, wiz), f, pdf, np.asarray(flag)
