@@ -35,9 +35,9 @@ and nothing here imports :mod:`pbrkit.brdf`.
 their units; :func:`unit` looks one up.
 """
 
-from . import beckmann, blinn_phong, charlie, ggx, gtr, roughness, smith
+from . import beckmann, blinn_phong, charlie, dielectric, ggx, gtr, roughness, smith
 
-__all__ = ["UNITS", "unit", "roughness", "smith", "ggx", "beckmann", "blinn_phong", "gtr", "charlie"]
+__all__ = ["UNITS", "unit", "roughness", "smith", "ggx", "beckmann", "blinn_phong", "gtr", "charlie", "dielectric"]
 
 #: Distribution name -> the unit module that holds its D, masking and sampling.
 UNITS = {
