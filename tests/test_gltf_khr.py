@@ -227,3 +227,52 @@ def test_an_unlit_material_is_its_base_colour_as_emission(tmp_path):
     assert max(spec.emissive) > 0.0
     l = _unit(np.array([[0.3, 0.2, 0.9], [0.0, 0.0, 1.0]]))
     assert np.all(models.gltf(l, l[::-1], N_DIR, spec.material()) == 0.0)
+
+
+# ------------------------------------------------------------------ real time
+
+
+def _separable_albedo(mu, r, f0, f90):
+    """integral of D V_separable F_Schlick(f0, f90) cos over the hemisphere at n.v = mu
+    (alpha = r^2), by tests/quadrature.py's nodes (the split sum's table, computed here
+    independently)."""
+    alpha, v, l, w, h = ref._lobe_nodes(mu, r, None)
+    nol = l[:, 2]
+    voh = np.clip(h @ v, 0.0, 1.0)
+    fcos = w * ref.d_ggx(h[:, 2], h[:, 0] ** 2 + h[:, 1] ** 2, alpha) * ref._smith_ggx_visibility_separable(
+        nol, mu, alpha)
+    return float(np.sum(fcos * (f0 + (f90 - f0) * (1.0 - voh) ** 5)))
+
+
+def test_realtime_clear_coat_and_specular_under_a_constant_environment():
+    """Real time under a constant white environment (every prefiltered lookup 1): a clear
+    coat gives base (1 - t) + t E_coat, t = clearcoat (0.04 + 0.96 (1 - n.v)^5) and
+    E_coat the white coat lobe's albedo; a black dielectric with KHR_materials_specular's
+    specular 0.5 reflects the split sum with F0 = 0.02 and F90 = 0.5 (each albedo from
+    an independent quadrature)."""
+    from test_render import pixel_geometry, sphere_scene
+
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+
+    env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
+    plain_spec = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1))
+    coat_spec = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1), clearcoat=1.0,
+                             clearcoat_roughness=0.3)
+    plain = render_realtime(sphere_scene(plain_spec, env, size=16), bake_size=16)
+    scene = sphere_scene(coat_spec, env, size=16)
+    coat = render_realtime(scene, bake_size=16)
+    mask, n, v = pixel_geometry(scene)
+    nov = np.sum(n * v, axis=-1)
+    sel = np.flatnonzero((mask & plain.mask & coat.mask & (nov > 0.2)).ravel())[::3]
+    assert sel.size > 15
+    mu = nov.ravel()[sel]
+    t = 0.04 + 0.96 * (1.0 - mu) ** 5
+    e = np.array([_separable_albedo(m, 0.3, 1.0, 1.0) for m in mu])
+    expected = plain.image.reshape(-1, 3)[sel] * (1.0 - t)[:, None] + (t * e)[:, None]
+    np.testing.assert_allclose(coat.image.reshape(-1, 3)[sel], expected, rtol=1e-2, atol=2e-3)
+    black = MaterialSpec(name="m", metallic=0.0, roughness=0.4, base_color=(0.0, 0.0, 0.0), specular=0.5)
+    scene = sphere_scene(black, env, size=16)
+    image = render_realtime(scene, bake_size=16, diffuse_weight="exact").image.reshape(-1, 3)[sel]
+    expected = np.array([_separable_albedo(m, 0.4, 0.02, 0.5) for m in mu])
+    np.testing.assert_allclose(image, np.repeat(expected[:, None], 3, axis=1), rtol=1e-2, atol=2e-3)
