@@ -276,3 +276,39 @@ def test_realtime_clear_coat_and_specular_under_a_constant_environment():
     image = render_realtime(scene, bake_size=16, diffuse_weight="exact").image.reshape(-1, 3)[sel]
     expected = np.array([_separable_albedo(m, 0.4, 0.02, 0.5) for m in mu])
     np.testing.assert_allclose(image, np.repeat(expected[:, None], 3, axis=1), rtol=1e-2, atol=2e-3)
+
+
+def test_the_khronos_engine_evaluates_the_extensions_as_the_sample_viewer():
+    """``engine="khronos"`` with extensions (the Sample Viewer's pbr.frag): with the
+    extensions at neutral values the extended evaluation is the core one (which the
+    engine tests compare with the Sample Viewer itself); under a constant white
+    environment a clear coat mixes towards the coat's radiance 1 by clearcoat
+    F_Schlick(F0 of the material's ior, n.v); a black dielectric with specular 0
+    reflects nothing."""
+    from test_render import pixel_geometry, sphere_scene
+
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+
+    env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
+    core = MaterialSpec(name="m", metallic=0.3, roughness=0.5, base_color=(0.6, 0.3, 0.1))
+    neutral = MaterialSpec(name="m", metallic=0.3, roughness=0.5, base_color=(0.6, 0.3, 0.1), sheen_roughness=0.5)
+    scene = sphere_scene(core, env, size=16)
+    plain = render_realtime(scene, bake_size=16, engine="khronos")
+    ext = render_realtime(sphere_scene(neutral, env, size=16), bake_size=16, engine="khronos")
+    np.testing.assert_allclose(ext.image, plain.image, rtol=1e-12, atol=1e-12)
+    coated = MaterialSpec(name="m", metallic=0.3, roughness=0.5, base_color=(0.6, 0.3, 0.1), clearcoat=0.8,
+                          clearcoat_roughness=0.2, ior=1.8)
+    with_ior = MaterialSpec(name="m", metallic=0.3, roughness=0.5, base_color=(0.6, 0.3, 0.1), ior=1.8)
+    coat = render_realtime(sphere_scene(coated, env, size=16), bake_size=16, engine="khronos")
+    under = render_realtime(sphere_scene(with_ior, env, size=16), bake_size=16, engine="khronos")
+    mask, n, v = pixel_geometry(scene)
+    nov = np.clip(np.sum(n * v, axis=-1), 1e-4, 1.0)
+    sel = mask & coat.mask & under.mask & (nov > 0.1)
+    f0 = ((1.8 - 1.0) / (1.8 + 1.0)) ** 2
+    t = (0.8 * (f0 + (1.0 - f0) * (1.0 - nov) ** 5))[sel][:, None]
+    np.testing.assert_allclose(coat.image[sel], under.image[sel] * (1.0 - t) + t, rtol=1e-9, atol=1e-12)
+    assert np.mean(np.abs(under.image[sel] - plain.image[sel])) > 1e-3  # the ior changes the dielectric's F0
+    black = MaterialSpec(name="m", metallic=0.0, roughness=0.5, base_color=(0.0, 0.0, 0.0), specular=0.0)
+    dark = render_realtime(sphere_scene(black, env, size=16), bake_size=16, engine="khronos")
+    assert np.all(dark.image[mask & dark.mask] == 0.0)

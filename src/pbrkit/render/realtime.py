@@ -57,14 +57,17 @@ from ..brdf.dispatch import (
     ibl_has_extras,
     split_sum_f0,
 )
-from ..brdf.fresnel import f_schlick, f_schlick_roughness
+from ..brdf.fresnel import f_schlick
 from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0, gltf_fresnel_mix_weight
 from ..brdf.shading.registry import COLUMNS, model
 from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
+from ..brdf.lobes.sheen import sheen_albedo_lookups
+from ..brdf.shading.registry import EXTENDED_CODES
 from .area_lights import area_light_ltc
+from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 from .environment import EnvironmentLight
 from .geometry import Geometry
 from .materials import hit_bxdf, material_tables
@@ -114,6 +117,8 @@ APPROXIMATIONS = {
 }
 
 _INV_PI = 1.0 / math.pi
+#: The code of the glTF model's extended form (its KHR_materials extensions).
+_GLTF_EXTENDED = EXTENDED_CODES["gltf"]
 
 # ================================================================ real time
 
@@ -247,6 +252,27 @@ def specular_dominant_direction(n, r, roughness):
     return np.asarray(r) * (1.0 - w) + np.asarray(n) * w
 
 
+def _charlie_rows(bake, n, v, sheen_roughness, engine):
+    """Per pixel, the Charlie LUT (the Khronos IBL sampler's ``lut_charlie``, its blue
+    channel: the sheen lobe's split-sum albedo) at (n.v, sheenRoughness) for the Sample
+    Viewer's sheen (``engine="khronos"``; 0 elsewhere): the bake's ``charlie_lut``
+    (rows sheenRoughness, columns n.v, texel centres) when it has one, else the sheen
+    lobe's own albedo E(n.v, sheenRoughness) (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_lookup`)."""
+    out = np.zeros(n.shape[0])
+    rows = np.flatnonzero(sheen_roughness >= 0.0)
+    if engine != "khronos" or not rows.size:
+        return out
+    nov = np.clip(np.sum(n[rows] * v[rows], axis=1), 1e-4, 1.0)
+    lut = getattr(bake, "charlie_lut", None)
+    if lut is None:
+        out[rows] = sheen_albedo_lookups(nov, sheen_roughness[rows])
+    else:
+        from ..albedo.tables import sample_table
+
+        out[rows] = sample_table(np.asarray(lut, dtype=np.float64)[..., None], nov, sheen_roughness[rows])[..., 0]
+    return out
+
+
 def _sheen_lookups(bake, env, sampler, n, v, sheen_roughness, levels):
     """The sheen's prefiltered radiance of the pixels with a sheen (roughness >= 0,
     :func:`pbrkit.brdf.dispatch.ibl_sheen_roughness`; 0 elsewhere), about the mirror
@@ -336,11 +362,11 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
     ``irradiance`` E it uses and Karis' (A, B) = (``a``, ``b``) of the DFG table:
 
     - Khronos glTF Sample Viewer 1.1 (``getIBLGGXFresnel`` and the pbr shader's
-      mixes; KhronosGroup/glTF-Sample-Renderer): W(f0) = FssEss + FmsEms of
-      :func:`multiple_scattering_fdez_aguera` with the roughness-dependent Fresnel
-      F*(n.v, f0, r) (:func:`pbrkit.brdf.fresnel.f_schlick_roughness`) in place of
-      f0; dielectric = base E / pi (1 - W(0.04)) + radiance W(0.04), metal =
-      radiance W(base), mixed by metallic;
+      mixes; KhronosGroup/glTF-Sample-Renderer): W(f0) = FssEss + FmsEms with the
+      roughness-dependent Fresnel F*(n.v, f0, r) in FssEss and f0 itself in F_avg
+      (:func:`pbrkit.render.khronos_ibl.sample_viewer_fresnel`); dielectric = base E /
+      pi (1 - W(0.04)) + radiance W(0.04), metal = radiance W(base), mixed by metallic
+      (:func:`pbrkit.render.khronos_ibl.sample_viewer_base`);
     - three.js r187 ``RE_IndirectSpecular_Physical``: single and multiple
       scattering (the same model, f0 = 0.04 and base, f90 = 1) mixed by metallic,
       the multiple-scattering part lit by the irradiance (E / pi), not the
@@ -359,13 +385,7 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
         diffuse = base * (1.0 - GLTF_DIELECTRIC_F0) * (1.0 - metallic)
         return mixed * (f0 * a + b) * ec + diffuse * irradiance * _INV_PI
     if engine == _ENGINE_KHRONOS:
-        fd = f_schlick_roughness(nov, GLTF_DIELECTRIC_F0, r)
-        ss_d, ms_d = multiple_scattering_fdez_aguera(fd, a, b)
-        fm = f_schlick_roughness(nov, base, r)
-        ss_m, ms_m = multiple_scattering_fdez_aguera(fm, a, b)
-        w_d = ss_d + ms_d
-        dielectric = base * irradiance * _INV_PI * (1.0 - w_d) + radiance * w_d
-        return dielectric * (1.0 - metallic) + radiance * (ss_m + ms_m) * metallic
+        return sample_viewer_base(nov, r, base, metallic, GLTF_DIELECTRIC_F0, 1.0, a, b, radiance, irradiance)
     ss_d, ms_d = multiple_scattering_fdez_aguera(GLTF_DIELECTRIC_F0, a, b)
     ss_m, ms_m = multiple_scattering_fdez_aguera(base, a, b)
     single = ss_d + (ss_m - ss_d) * metallic
@@ -376,8 +396,8 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
 
 @row_kernel(5)
 def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
-                coat_prefiltered, coat_roughness, sheen_prefiltered, sheen_table, diffuse_table, exact_diffuse,
-                energy_compensation, engine, out, ec_out):
+                coat_prefiltered, coat_roughness, sheen_prefiltered, charlie, sheen_table, diffuse_table,
+                exact_diffuse, energy_compensation, engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
     energy-compensation factor (for the punctual lights).  ``engine`` (:data:`ENGINES`
     index) 1 is Filament's evaluation (``evaluateIBL``): the diffuse colour weighted
@@ -393,6 +413,13 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
+        if engine == _ENGINE_KHRONOS and b.model == _GLTF_EXTENDED:  # the Sample Viewer's extensions
+            for c in range(3):
+                out[i, c] = sample_viewer_extensions_ibl(mf, m, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1,
+                                                         prefiltered[i, c], irradiance[i, c], coat_prefiltered[i, c],
+                                                         sheen_prefiltered[i, c], charlie[i], c) * occlusion[i]
+                ec_out[i, c] = 1.0
+            continue
         if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE or engine == _ENGINE_BABYLON:
             for c in range(3):
                 out[i, c] = _engine_ibl(engine, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1, prefiltered[i, c],
@@ -596,7 +623,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                     np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                    sheen_prefiltered, sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
+                    sheen_prefiltered, _charlie_rows(bake, n_rows, v_rows, sheen_roughness, engine),
+                    sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
                     bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
@@ -608,7 +636,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             irr, coat = lt.irradiance, lt.coat
             area = np.empty((count, 3))
             _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
-                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count, 3)), sheen_albedo_table(),
+                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count, 3)), np.zeros(count),
+                        sheen_albedo_table(),
                         fresnel_mix_albedo_table(), diffuse_weight == "exact", bool(energy_compensation), 0, area,
                         np.empty((count, 3)))
             out += area

@@ -50,7 +50,7 @@ from ...microfacet.charlie import charlie_alpha, d_charlie, g2_charlie, v_charli
 from . import COSINE, Lobe
 
 __all__ = ["SHEEN_COLOR_SLOT", "SHEEN_ROUGHNESS_SLOT", "SHEEN", "sheen_value", "sheen_albedo", "sheen_albedo_table",
-           "sheen_albedo_lookup", "SHEEN_TABLE_SIZE", "SHEEN_TABLE_FILE", "write_sheen_albedo_table",
+           "sheen_albedo_lookup", "sheen_albedo_lookups", "SHEEN_TABLE_SIZE", "SHEEN_TABLE_FILE", "write_sheen_albedo_table",
            "sheen_albedo_scaling"]
 
 #: The BxDF ``extra`` slots of the sheen lobe: its colour (3) and its roughness.
@@ -153,6 +153,22 @@ def sheen_albedo_lookup(mu, sheen_roughness):
     y = min(max(sheen_roughness, 0.0), 1.0) * (n_r - 1)
     j = min(int(x), n_mu - 2)
     i = min(int(y), n_r - 2)
+    fx = x - j
+    fy = y - i
+    top = _TABLE[i, j] * (1.0 - fx) + _TABLE[i, j + 1] * fx
+    bottom = _TABLE[i + 1, j] * (1.0 - fx) + _TABLE[i + 1, j + 1] * fx
+    return top * (1.0 - fy) + bottom * fy
+
+
+def sheen_albedo_lookups(mu, sheen_roughness):
+    """:func:`sheen_albedo_lookup` of arrays (broadcast), with NumPy: the same bilinear
+    reading of the table's grid points."""
+    mu, r = np.broadcast_arrays(np.asarray(mu, dtype=np.float64), np.asarray(sheen_roughness, dtype=np.float64))
+    n_r, n_mu = _TABLE.shape
+    x = np.clip(mu, 0.0, 1.0) * (n_mu - 1)
+    y = np.clip(r, 0.0, 1.0) * (n_r - 1)
+    j = np.minimum(x.astype(np.int64), n_mu - 2)
+    i = np.minimum(y.astype(np.int64), n_r - 2)
     fx = x - j
     fy = y - i
     top = _TABLE[i, j] * (1.0 - fx) + _TABLE[i, j + 1] * fx

@@ -1,0 +1,87 @@
+"""The image-based lighting of glTF's ``KHR_materials_*`` extensions as the Khronos
+glTF Sample Viewer evaluates them (KhronosGroup/glTF-Sample-Renderer,
+``source/Renderer/shaders/pbr.frag``, ``material_info.glsl`` and ``ibl.glsl``),
+for :func:`pbrkit.render.realtime.render_realtime` with ``engine="khronos"``:
+
+- KHR_materials_ior and KHR_materials_specular: the dielectric's F0 =
+  min(((ior - 1) / (ior + 1))^2 specularColor, 1) and its weight specularWeight =
+  specularFactor enter ``getIBLGGXFresnel``: FssEss = w (k_S A + B), k_S = F0 +
+  (max(1 - r, F0) - F0)(1 - n.v)^5, E_ms = 1 - (A + B), F_avg = w (F0 + (1 - F0) / 21),
+  FmsEms = E_ms FssEss F_avg / (1 - F_avg E_ms) (Fdez-Agüera 2019), and the
+  dielectric is mix(diffuse, radiance, FssEss + FmsEms) per channel; the metal
+  radiance (FssEss + FmsEms) of F0 = baseColor, w = 1;
+- KHR_materials_sheen: ``color = f_sheen + color albedoSheenScaling`` with f_sheen =
+  sheenColor x the Charlie LUT (its blue channel, the Khronos IBL sampler's
+  ``lut_charlie``) at (n.v, sheenRoughness) x the Charlie-prefiltered radiance
+  (``getIBLRadianceCharlie``), albedoSheenScaling = 1 - max3(sheenColor) E(n.v,
+  sheenRoughness) (``albedoSheenScalingLUT``);
+- KHR_materials_clearcoat: ``color = mix(color, clearcoat_brdf, clearcoat
+  clearcoatFresnel)`` with clearcoat_brdf the GGX-prefiltered radiance at the coat's
+  roughness alone (``getIBLRadianceGGX``: no split-sum albedo) and clearcoatFresnel =
+  F_Schlick(F0_c, 1, n.v), F0_c of the *material's* ior (``getClearCoatInfo``; the
+  extension's README says 1.5).
+
+What the Sample Viewer does differently from the specification (and from pbrkit's own
+engine, :func:`pbrkit.brdf.shading.gltf.ibl_extensions_extras`) is kept on purpose:
+this is the engine's evaluation, for comparing pbrkit with the engine's pixels.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..brdf.fresnel import f_schlick
+from ..brdf.lobes.sheen import sheen_albedo_lookup
+from ..brdf.shading.registry import COLUMNS
+from ..core.jit import dual_use
+
+__all__ = ["sample_viewer_fresnel", "sample_viewer_base", "sample_viewer_extensions_ibl"]
+
+_INV_PI = 1.0 / math.pi
+_IOR, _SPECULAR, _SPECULAR_COLOR = COLUMNS.ior, COLUMNS.specular, COLUMNS.specular_color
+_SHEEN_COLOR, _SHEEN_ROUGHNESS = COLUMNS.sheen_color, COLUMNS.sheen_roughness
+_CLEARCOAT = COLUMNS.clearcoat
+
+
+@dual_use(inline=True)
+def sample_viewer_fresnel(nov, r, f0, weight, a, b):
+    """The Sample Viewer's ``getIBLGGXFresnel`` of one channel (module docstring):
+    FssEss + FmsEms of F0 ``f0`` and specular weight ``weight`` at perceptual
+    roughness r, Karis' (A, B) = (``a``, ``b``)."""
+    k_s = f0 + (max(1.0 - r, f0) - f0) * (1.0 - nov) ** 5
+    fss_ess = weight * (k_s * a + b)
+    e_ms = 1.0 - (a + b)
+    f_avg = weight * (f0 + (1.0 - f0) / 21.0)
+    return fss_ess + e_ms * fss_ess * f_avg / (1.0 - f_avg * e_ms)
+
+
+@dual_use(inline=True)
+def sample_viewer_base(nov, r, base, metallic, f0, weight, a, b, radiance, irradiance):
+    """One channel of the Sample Viewer's metallic-roughness IBL (pbr.frag): the
+    dielectric mix(base E / pi, radiance, W(F0, weight)), the metal radiance W(base, 1),
+    mixed by metallic (W :func:`sample_viewer_fresnel`)."""
+    w_d = sample_viewer_fresnel(nov, r, f0, weight, a, b)
+    dielectric = base * irradiance * _INV_PI * (1.0 - w_d) + radiance * w_d
+    metal = radiance * sample_viewer_fresnel(nov, r, base, 1.0, a, b)
+    return dielectric + (metal - dielectric) * metallic
+
+
+@dual_use(inline=True)
+def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radiance, irradiance, coat_radiance,
+                                 sheen_radiance, charlie_lut, c):
+    """Channel ``c`` of the Sample Viewer's IBL of a glTF material with extensions
+    (module docstring): parameters from row ``q`` of the packed table ``params``,
+    ``base`` the channel's base colour, the prefiltered ``radiance`` (GGX at r),
+    ``irradiance`` E (the diffuse is base E / pi), the coat's and the sheen's
+    prefiltered radiance, and ``charlie_lut`` the Charlie LUT's value at (n.v,
+    sheenRoughness)."""
+    ior = params[q, _IOR]
+    f0_ior = ((ior - 1.0) / (ior + 1.0)) ** 2
+    f0 = min(f0_ior * params[q, _SPECULAR_COLOR + c], 1.0)
+    color = sample_viewer_base(nov, r, base, metallic, f0, params[q, _SPECULAR], a, b, radiance, irradiance)
+    s0, s1, s2 = params[q, _SHEEN_COLOR], params[q, _SHEEN_COLOR + 1], params[q, _SHEEN_COLOR + 2]
+    if s0 > 0.0 or s1 > 0.0 or s2 > 0.0:
+        e = sheen_albedo_lookup(nov, params[q, _SHEEN_ROUGHNESS])
+        color = params[q, _SHEEN_COLOR + c] * charlie_lut * sheen_radiance + color * (1.0 - max(s0, max(s1, s2)) * e)
+    t = params[q, _CLEARCOAT] * f_schlick(nov, f0_ior, 1.0)
+    return color + (coat_radiance - color) * t
