@@ -26,6 +26,8 @@ def _inside(p):
     """A value inside the declaration's range other than its default."""
     value = p.low + 0.37 * (p.high - p.low) if np.isfinite(p.high) else p.low + 0.5
     value = min(value, 0.9) if p.high <= 1.0 else value
+    if np.isscalar(p.default) and value == p.default:  # (glTF's ior: 1.5 = 1 + 0.5)
+        value = p.low + 0.25
     return (value, value * 0.9, value * 0.8) if p.channels == 3 else value
 
 

@@ -16,7 +16,7 @@ per-sample code has no model branches.  The generated text is each function's
   :func:`split_sum_f0` (RGB), :func:`split_sum_f90`, :func:`fresnel_constant`;
 - the real-time treatment of the model's other lobes (:class:`pbrkit.brdf.shading.model.RealTime`):
   :func:`ibl_has_diffuse`, :func:`ibl_diffuse_weight`, :func:`ibl_coat_roughness`,
-  :func:`ibl_sheen_roughness`,
+  :func:`ibl_sheen_roughness`, :func:`ibl_base_scale`, :func:`ibl_khronos_extensions`,
   :func:`ibl_base_scale`, :func:`ibl_has_extras`, :func:`ibl_extras`.
 """
 
@@ -33,7 +33,7 @@ from .shading.registry import COLUMNS, COMPILED
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "split_sum_f90",
            "fresnel_constant", "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_sheen_roughness",
-           "ibl_base_scale", "ibl_has_extras",
+           "ibl_base_scale", "ibl_khronos_extensions", "ibl_has_extras",
            "ibl_extras",
            "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL"]
 
@@ -147,6 +147,9 @@ ibl_base_scale = _dispatch("ibl_base_scale", ("b", "nov"),
                            lambda i, m, ns: f"{_put(ns, f's{i}', m.realtime.base_scale)}(b, nov)")
 ibl_sheen_roughness = _dispatch("ibl_sheen_roughness", ("b",),
                                 lambda i, m, ns: f"{_put(ns, f'r{i}', m.realtime.sheen_roughness)}(b)")
+ibl_khronos_extensions = _dispatch(
+    "ibl_khronos_extensions", ("b",),
+    lambda i, m, ns: f"{_put(ns, f'k{i}', always if m.realtime.khronos_extensions else never)}(b)")
 ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
                            lambda i, m, ns: f"{_put(ns, f'x{i}', always if m.realtime.extras else never)}(b)")
 

@@ -48,9 +48,9 @@ __all__ = [
 @dataclass(frozen=True)
 class Parameter:
     """A number (``channels`` = 1) or an RGB triple (3) a model reads.  ``low``,
-    ``high``: the closed range every value must lie in; ``optional``: None is
-    allowed (and packed as zeros; e.g. the complex IOR, which only the exact
-    conductor Fresnel reads)."""
+    ``high``: the closed range every value must lie in, ``also``: values allowed
+    outside it (glTF's ior 0); ``optional``: None is allowed (and packed as zeros;
+    e.g. the complex IOR, which only the exact conductor Fresnel reads)."""
 
     name: str
     default: float | tuple | None
@@ -60,6 +60,7 @@ class Parameter:
     doc: str
     channels: int = 1
     optional: bool = False
+    also: tuple = ()
 
     def check(self, value, where):
         """``value`` as a float64 array, or ``ValueError`` with one line that starts
@@ -74,21 +75,21 @@ class Parameter:
         bad = ~np.isfinite(array)
         if np.any(bad):
             raise ValueError(f"{where} has {int(bad.sum())} non-finite value(s)")
-        out = (array < self.low) | (array > self.high)
+        out = ((array < self.low) | (array > self.high)) & ~np.isin(array, self.also)
         if np.any(out):
-            raise ValueError(f"{where} must be in [{self.low}, {self.high}]; {int(out.sum())} value(s) "
+            raise ValueError(f"{where} must be in {self.range_text}; {int(out.sum())} value(s) "
                              f"outside, e.g. {array[out].flat[0]!r}")
         return array
 
     @property
     def phrase(self):
         """What a scene file's value must be, for one-line errors: "a number in [0, 1]"."""
-        span = f" in [{self.low:g}, {self.high:g}]"
+        span = f" in {self.range_text}"
         return f"a list of 3 numbers{span}" if self.channels == 3 else f"a number{span}"
 
     @property
     def range_text(self):
-        return f"[{self.low:g}, {self.high:g}]"
+        return f"[{self.low:g}, {self.high:g}]" + "".join(f" or {x:g}" for x in self.also)
 
 
 @dataclass(frozen=True)

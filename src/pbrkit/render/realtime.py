@@ -50,6 +50,7 @@ from ..brdf.dispatch import (
     split_sum_f90,
     ibl_base_scale,
     ibl_coat_roughness,
+    ibl_khronos_extensions,
     ibl_sheen_roughness,
     ibl_diffuse_weight,
     ibl_extras,
@@ -65,7 +66,6 @@ from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
 from ..brdf.lobes.sheen import sheen_albedo_lookups
-from ..brdf.shading.registry import EXTENDED_CODES
 from .area_lights import area_light_ltc
 from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 from .environment import EnvironmentLight
@@ -117,8 +117,6 @@ APPROXIMATIONS = {
 }
 
 _INV_PI = 1.0 / math.pi
-#: The code of the glTF model's extended form (its KHR_materials extensions).
-_GLTF_EXTENDED = EXTENDED_CODES["gltf"]
 
 # ================================================================ real time
 
@@ -413,7 +411,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
-        if engine == _ENGINE_KHRONOS and b.model == _GLTF_EXTENDED:  # the Sample Viewer's extensions
+        if engine == _ENGINE_KHRONOS and ibl_khronos_extensions(b):  # the Sample Viewer's extensions
             for c in range(3):
                 out[i, c] = sample_viewer_extensions_ibl(mf, m, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1,
                                                          prefiltered[i, c], irradiance[i, c], coat_prefiltered[i, c],

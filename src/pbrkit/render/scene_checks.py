@@ -89,8 +89,18 @@ _ENV_VALUES = {"file": _STRING, "bake": _STRING, "color": _RADIANCE, "intensity"
                "rotation": _number()}
 #: The material keys' checks, from the models' declarations: numbers in their ranges
 #: (RGB ones as lists of 3), term names as strings (their tables check the names).
-_MATERIAL_VALUES = {**{p.name: _numbers(3, p.low, p.high) if p.channels == 3 else _number(p.low, p.high)
-                       for p in NUMBERS},
+def _declared(p):
+    """The check of a declared parameter's scene value: its range (and the values it
+    allows beside it, :attr:`pbrkit.brdf.parameters.Parameter.also`)."""
+    if p.channels == 3:
+        return _numbers(3, p.low, p.high)
+    if not p.also:
+        return _number(p.low, p.high)
+    inside = _number(p.low, p.high)
+    return _Check(lambda v: inside.ok(v) or (checks.is_finite_number(v) and v in p.also), p.phrase)
+
+
+_MATERIAL_VALUES = {**{p.name: _declared(p) for p in NUMBERS},
                     **{c.name: _STRING for c in CHOICES},
                     "emissive": _RADIANCE, "model": _STRING, "conductor": _STRING}
 _OBJECT_VALUES = {"type": _STRING, "material": _STRING, "center": _POINT, "radius": _number(0.0, MAX_COORDINATE, True),

@@ -65,7 +65,7 @@ __all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_
            "COMPOSITION", "SHEEN_COLOR", "SHEEN_ROUGHNESS", "CLEARCOAT", "CLEARCOAT_ROUGHNESS", "SPECULAR",
            "SPECULAR_COLOR", "IOR", "SPECULAR_SLOT", "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
            "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
-           "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale", "check"]
+           "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale"]
 
 #: The glTF 2.0 dielectric's IOR (Appendix B.3.4) and its normal reflectance
 #: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
@@ -85,12 +85,12 @@ CLEARCOAT_ROUGHNESS = Parameter("clearcoat_roughness", 0.0, 0.0, 1.0, "",
 #: KHR_materials_specular's factors (its README, "Properties"; defaults 1: the core's F).
 SPECULAR = Parameter("specular", 1.0, 0.0, 1.0, "", "dielectric specular weight (F90 too), "
                      "KHR_materials_specular specularFactor")
-SPECULAR_COLOR = Parameter("specular_color", (1.0, 1.0, 1.0), 0.0, math.inf, "linear Rec.709",
+SPECULAR_COLOR = Parameter("specular_color_factor", (1.0, 1.0, 1.0), 0.0, math.inf, "linear Rec.709",
                            "dielectric F0 colour (f0 = min(f0(ior) colour, 1) specular), KHR_materials_specular "
                            "specularColorFactor", channels=3)
 #: KHR_materials_ior's ior (its README; 1.5 the core's, 0 or at least 1).
-IOR = Parameter("ior", GLTF_IOR, 0.0, math.inf, "", "dielectric index of refraction (f0 = ((ior - 1) / (ior + "
-                "1))^2; 0 or >= 1), KHR_materials_ior ior")
+IOR = Parameter("ior", GLTF_IOR, 1.0, math.inf, "", "dielectric index of refraction (f0 = ((ior - 1) / (ior + "
+                "1))^2; 0: f0 = 1), KHR_materials_ior ior", also=(0.0,))
 #: The BxDF ``extra`` slot of the specular factor (sheen: 0-3, clear coat: 4-5).
 SPECULAR_SLOT = 6
 
@@ -130,7 +130,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     kd = 1.0 - metallic
     s = params[q, columns.specular]
     f0_ior = f0_from_ior(params[q, columns.ior])
-    sc = columns.specular_color
+    sc = columns.specular_color_factor
     d0 = min(f0_ior * params[q, sc], 1.0) * s
     d1 = min(f0_ior * params[q, sc + 1], 1.0) * s
     d2 = min(f0_ior * params[q, sc + 2], 1.0) * s
@@ -300,14 +300,6 @@ def ibl_extensions_base_scale(b, nov):
     return scale
 
 
-def check(values, where):
-    """The extensions' cross-field rules: KHR_materials_ior's ior is 0 or at least 1
-    (its README's schema)."""
-    ior = values.get("ior")
-    if ior is not None and np.any((np.asarray(ior) != 0.0) & (np.asarray(ior) < 1.0)):
-        raise ValueError(f"{where}ior must be 0 or at least 1 (KHR_materials_ior)")
-
-
 #: The core model: a material without KHR_materials extensions compiles as this
 #: (:attr:`pbrkit.brdf.shading.model.Model.core`), the code it ran before them.
 CORE = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_COLOR, METALLIC, ROUGHNESS),
@@ -319,4 +311,4 @@ MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with it
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
                        sheen_roughness=ibl_sheen_roughness, extras=ibl_extensions_extras,
-                       base_scale=ibl_extensions_base_scale), check=check, core=CORE)
+                       base_scale=ibl_extensions_base_scale, khronos_extensions=True), core=CORE)

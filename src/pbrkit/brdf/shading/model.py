@@ -45,13 +45,16 @@ class RealTime:
     diffuse RGB) added for the model's other lobes (``None``: there are none), with
     the DFG table at the coat's roughness and the RGB irradiance, coat and sheen lookups;
     ``base_scale(b, nov)``, the factor on the specular and diffuse IBL terms before
-    the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling)."""
+    the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling);
+    ``khronos_extensions``: ``engine="khronos"`` evaluates the model's glTF material
+    extensions as the Sample Viewer does (:mod:`pbrkit.render.khronos_ibl`)."""
 
     diffuse_weight: object = _one
     coat_roughness: object = _no_coat
     sheen_roughness: object = _no_coat
     extras: object = None
     base_scale: object = _unscaled
+    khronos_extensions: bool = False
 
 
 @dataclass(frozen=True, eq=False)
