@@ -214,7 +214,8 @@ def test_written_files(written, sun_bake):
     levels = sun_bake.levels
     expected = {"manifest.json", "specular.ktx2", "specular.dds", "irradiance.ktx2", "irradiance.dds",
                 "brdf_lut.ktx2", "brdf_lut.ktx2.json", "brdf_lut.npy", "brdf_lut.npy.json", "brdf_lut.exr",
-                "brdf_lut.exr.json", "preview.png"}
+                "brdf_lut.exr.json", "preview.png", "sheen.ktx2", "sheen.dds", "sheen_lut.ktx2", "sheen_lut.ktx2.json",
+                "sheen_lut.npy", "sheen_lut.npy.json"}
     expected |= {f"faces/specular_m{m}_{f}.exr" for m in range(levels) for f in ("px", "nx", "py", "ny", "pz", "nz")}
     expected |= {f"faces/irradiance_{f}.exr" for f in ("px", "nx", "py", "ny", "pz", "nz")}
     assert set(names) == expected

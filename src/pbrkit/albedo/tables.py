@@ -38,6 +38,7 @@ from ..brdf.terms import GGX, HEIGHT_CORRELATED_DIVISION_FREE, SCHLICK_GGX, SEPA
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, row_kernel
+from ..microfacet.charlie import v_charlie
 from ..core.quadrature import (
     gauss_legendre_01,
     ggx_cos_of_s,
@@ -75,6 +76,7 @@ __all__ = [
 #: Visibility terms for the specular tables, by name -> kernel code.
 VISIBILITIES = {"schlick-ggx": 0, "separable": 1, "height-correlated": 2}
 _NEUBELT = 3
+_SHEEN_CHARLIE = 4
 _LOBE_GGX = 0
 _LOBE_CHARLIE = 1
 
@@ -98,6 +100,8 @@ def _lobe_visibility(code, nol, nov, alpha):
     (Filament's division-free form), or the cloth lobe's Neubelt visibility."""
     if code == _NEUBELT:
         return v_neubelt(nol, nov)
+    if code == _SHEEN_CHARLIE:
+        return v_charlie(nol, nov, alpha)
     b = lobe_bxdf(alpha)
     c = Cosines(nol, nov, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     if code == 0:
@@ -221,7 +225,7 @@ def specular_integrals(mu, roughness, visibility="height-correlated", nodes=DEFA
     return _run(mu, table_alpha(roughness), _LOBE_GGX, VISIBILITIES[visibility], nodes)
 
 
-def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
+def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES, visibility="neubelt"):
     """Directional albedo of the cloth sheen lobe: integral of D_Charlie V_Neubelt (n.l) dl.
 
     Charlie distribution D = (2 + 1 / alpha) sin^(1 / alpha) theta_h / (2 pi)
@@ -230,10 +234,16 @@ def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
     :func:`pbrkit.brdf.masking.v_neubelt`, F = 1; the third channel Filament and
     the Khronos IBL sampler bake.  Integrated in h over the Charlie CDF
     s^(2 + 1 / alpha), s = sin theta_h, so D cancels exactly.
+    ``visibility="sheen"`` takes KHR_materials_sheen's visibility instead
+    (:func:`pbrkit.microfacet.charlie.v_charlie`, Estevez & Kulla's fitted Lambda,
+    alpha = r^2): the E_sheen of the specification's albedo scaling.
     Returns (len(roughness), len(mu)).
     """
+    if visibility not in ("neubelt", "sheen"):
+        raise ValueError(f"unknown sheen visibility {visibility!r}; use 'neubelt' or 'sheen'")
     mu, roughness = _check_axes(mu, roughness)
-    out = _run(mu, table_alpha(roughness), _LOBE_CHARLIE, _NEUBELT, nodes)
+    code = _NEUBELT if visibility == "neubelt" else _SHEEN_CHARLIE
+    out = _run(mu, table_alpha(roughness), _LOBE_CHARLIE, code, nodes)
     return out.sum(axis=-1)
 
 

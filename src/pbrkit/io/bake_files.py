@@ -9,6 +9,8 @@ renamed into place at the end, so a failure leaves nothing behind)::
     specular.ktx2, specular.dds        cube map, all levels
     irradiance.ktx2, irradiance.dds    cube map, one level
     brdf_lut.ktx2, .npy, .exr          the DFG table (+ .json descriptions)
+    sheen.ktx2, sheen.dds              the Charlie-prefiltered (sheen) cube map, all levels
+    sheen_lut.ktx2, .npy               the sheen table (E_sheen, E_ashikhmin) (+ .json)
     faces/specular_m{m}_{px|nx|py|ny|pz|nz}.exr, faces/irradiance_{face}.exr
     preview.png                        every level as a tone-mapped cross
 
@@ -59,7 +61,7 @@ def _face_path(kind, face, level=None):
 
 
 #: The groups of files :func:`write_bake` writes, in order (its progress stages).
-WRITE_STEPS = ("specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "faces", "preview", "manifest")
+WRITE_STEPS = ("specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "sheen", "faces", "preview", "manifest")
 
 
 def write_steps(targets=("generic",)):
@@ -108,6 +110,8 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     for suffix in (".ktx2", ".npy", ".exr"):
         write_lut(root / f"brdf_lut{suffix}", b.lut, spec)
     step("brdf_lut")
+    _write_sheen(root, b, ktx_format, dds_format)
+    step("sheen")
     (root / "faces").mkdir()
     for m, level in enumerate(b.specular):
         for f in range(6):
@@ -126,6 +130,25 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
         manifest = dict(manifest, targets=entries)
     (root / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     step("manifest")
+
+
+def _write_sheen(root, b, ktx_format, dds_format):
+    """The sheen chain (KTX2 and DDS, as the specular chain) and the sheen table
+    (:func:`pbrkit.albedo.sheen_tables.sheen_lut`) of ``b``."""
+    from ..albedo.sheen_tables import SheenTableSpec
+    from .dds import write_dds
+    from .ktx2 import write_ktx2
+    from .lut_files import write_lut
+
+    entry = b.manifest["outputs"]["sheen"]
+    key = {"pbrkit.bake": json.dumps({"sheen_roughness": entry["sheen_roughness"],
+                                      "sheen_roughness_of_level": "r = m / (M - 1)",
+                                      "content": "Charlie-prefiltered radiance (n = v = r)"})}
+    write_ktx2(root / "sheen.ktx2", b.sheen, ktx_format, cube=True, key_values=key)
+    write_dds(root / "sheen.dds", b.sheen, dds_format, cube=True)
+    spec = SheenTableSpec("sheen", int(b.sheen_lut.shape[0]), "sheen")
+    for suffix in (".ktx2", ".npy"):
+        write_lut(root / f"sheen_lut{suffix}", b.sheen_lut, spec)
 
 
 def write_bake(bake_result, out_dir, force=False, progress=None, started=None, targets=("generic",)):
