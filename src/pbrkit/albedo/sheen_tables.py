@@ -36,7 +36,8 @@ import numpy as np
 from ..core import checks
 from ..core.cache import memoised_array
 
-__all__ = ["VISIBILITIES", "SHEEN_NODES", "SheenTableSpec", "sheen_albedo_texels", "sheen_lut", "charlie_lut", "sheen_e_lut"]
+__all__ = ["VISIBILITIES", "SHEEN_NODES", "SheenTableSpec", "sheen_albedo_texels", "sheen_lut", "charlie_lut",
+           "sheen_e_lut"]
 
 #: The visibility of the Charlie DFG table -> what it is.
 VISIBILITIES = {
