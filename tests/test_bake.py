@@ -347,3 +347,12 @@ def test_force_replaces_and_refusal_keeps(sun_bake, tmp_path):
     write_bake(sun_bake, out, force=True)
     assert not (out / "keep.txt").exists() and (out / "manifest.json").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
+
+
+def test_load_bake_reads_the_sheen_chain_and_table(written, sun_bake):
+    loaded = load_bake(written)
+    assert len(loaded.sheen) == len(sun_bake.sheen) == sun_bake.levels
+    for got, want in zip(loaded.sheen, sun_bake.sheen):  # RGBA16F in the KTX2
+        np.testing.assert_allclose(got, want, rtol=1e-3, atol=1e-6)
+    np.testing.assert_array_equal(loaded.sheen_lut, sun_bake.sheen_lut)
+    np.testing.assert_array_equal(loaded.sheen_roughness, sun_bake.sheen_roughness)

@@ -110,7 +110,8 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     for suffix in (".ktx2", ".npy", ".exr"):
         write_lut(root / f"brdf_lut{suffix}", b.lut, spec)
     step("brdf_lut")
-    _write_sheen(root, b, ktx_format, dds_format)
+    if b.sheen:
+        _write_sheen(root, b, ktx_format, dds_format)
     step("sheen")
     (root / "faces").mkdir()
     for m, level in enumerate(b.specular):
@@ -300,10 +301,47 @@ def load_bake(out_dir, prefer="exr"):
         raise InputError("not a numeric .npy array", lut_path)
     if lut.ndim != 3 or lut.shape[0] != lut.shape[1] or lut.shape[2] not in (2, 3) or lut.shape[0] < 2:
         raise InputError(f"table has shape {lut.shape}, expected (N, N, 2)", lut_path)
+    sheen, sheen_roughness, sheen_table = _load_sheen(root, path, manifest)
     return Bake(specular=[np.asarray(s, dtype=np.float32) for s in specular],
                 roughness=np.asarray(roughness, dtype=np.float64),
                 irradiance=np.asarray(irradiance, dtype=np.float32), sh=np.asarray(sh, dtype=np.float64),
-                lut=np.asarray(lut, dtype=np.float32), manifest=manifest)
+                lut=np.asarray(lut, dtype=np.float32), manifest=manifest, sheen=sheen,
+                sheen_roughness=sheen_roughness, sheen_lut=sheen_table)
+
+
+def _load_sheen(root, path, manifest):
+    """The sheen chain (``sheen.ktx2``), its sheen roughness and table (``sheen_lut.npy``)
+    of a bake whose manifest names them (``outputs.sheen``), else ([], None, None)
+    (a bake written before pbrkit baked sheen).  Inconsistent files raise
+    :class:`~pbrkit.core.errors.InputError`."""
+    from ..core.errors import InputError
+    from .ktx2 import read_ktx2
+    from .npy_files import read_npy
+
+    outputs = manifest.get("outputs")
+    if not isinstance(outputs, dict) or "sheen" not in outputs:
+        return [], None, None
+    levels = _entry(manifest, path, "outputs.sheen.levels", _positive_int, "a positive integer")
+    size = _entry(manifest, path, "outputs.sheen.size", _positive_int, "a positive integer")
+    roughness = _entry(manifest, path, "outputs.sheen.sheen_roughness",
+                       lambda r: np.asarray(r, dtype=np.float64).shape == (levels,)
+                       and np.all(np.isfinite(np.asarray(r, dtype=np.float64))),
+                       f"a list of {levels} finite numbers")
+    _, chain, _ = read_ktx2(root / "sheen.ktx2")
+    if len(chain) != levels:
+        raise InputError(f"has {len(chain)} levels, the manifest says {levels}", root / "sheen.ktx2")
+    for m, level in enumerate(chain):
+        n = max(1, size >> m)
+        if level.shape[:3] != (6, n, n):
+            raise InputError(f"level {m} has shape {level.shape}, expected {(6, n, n)}", root / "sheen.ktx2")
+    table_path = root / "sheen_lut.npy"
+    if not os.path.lexists(table_path):
+        raise InputError("missing (the sheen table of the bake)", table_path)
+    table = read_npy(table_path, "the bake's sheen table (.npy, N x N x 2)")
+    if table.dtype.kind not in "fiu" or table.ndim != 3 or table.shape[0] != table.shape[1] or table.shape[2] != 2:
+        raise InputError(f"table has shape {table.shape}, expected (N, N, 2)", table_path)
+    return ([np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in chain],
+            np.asarray(roughness, dtype=np.float64), np.asarray(table, dtype=np.float32))
 
 
 def load_target_chain(out_dir, target):
