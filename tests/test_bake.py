@@ -356,3 +356,12 @@ def test_load_bake_reads_the_sheen_chain_and_table(written, sun_bake):
         np.testing.assert_allclose(got, want, rtol=1e-3, atol=1e-6)
     np.testing.assert_array_equal(loaded.sheen_lut, sun_bake.sheen_lut)
     np.testing.assert_array_equal(loaded.sheen_roughness, sun_bake.sheen_roughness)
+
+
+def test_a_bake_without_sheen(sun_env, tmp_path):
+    b = bake(sun_env, size=16, min_size=8, irradiance_size=4, lut_size=4, sheen=False)
+    assert b.sheen == [] and b.sheen_lut is None and "sheen" not in b.manifest["outputs"]
+    assert "sheen" not in b.timings
+    write_bake(b, tmp_path / "o", targets=("generic", "khronos"))
+    assert not (tmp_path / "o" / "sheen.ktx2").exists() and not (tmp_path / "o" / "khronos" / "charlie.ktx2").exists()
+    assert load_bake(tmp_path / "o").sheen == []

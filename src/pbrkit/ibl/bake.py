@@ -186,9 +186,10 @@ def _sha256(path):
 EXTRA_CHAINS = ("filament", "babylon")
 
 
-def _stage_names(levels, chains=()):
+def _stage_names(levels, chains=(), sheen=True):
     return (["load", "cube", "sh", "split", "transform"] + [f"specular m={m}" for m in range(1, levels)]
-            + [f"specular {c}" for c in chains] + ["sheen", "irradiance", "lut", "sheen lut"])
+            + [f"specular {c}" for c in chains] + (["sheen"] if sheen else []) + ["irradiance", "lut"]
+            + (["sheen lut"] if sheen else []))
 
 
 def _check_chains(chains):
@@ -201,7 +202,7 @@ def _check_chains(chains):
 
 def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *, specular_format="rgba16f",
          method="spectral", sh_window=None, sh_window_width=3.0, fis_samples=None, fis_bias=1.0,
-         fix_nonfinite=False, layout=None, chains=(), progress=None, started=None):
+         fix_nonfinite=False, layout=None, chains=(), sheen=True, progress=None, started=None):
     """Bake an environment (module doc) and return a :class:`Bake`.
 
     ``environment``: a path, a list of six face paths (+X, -X, +Y, -Y, +Z,
@@ -218,7 +219,8 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     other level curves (:data:`EXTRA_CHAINS`: "filament" for Filament and three.js,
     "babylon" for Babylon.js; :func:`pbrkit.ibl.prefilter.prefilter_chain`) to
     :attr:`Bake.chains`, for :mod:`pbrkit.io.bake_files`' engine targets; they
-    need the spectral method.  ``progress(stage, done,
+    need the spectral method.  ``sheen`` false leaves out the sheen chain and
+    table (and their manifest entries and files).  ``progress(stage, done,
     total)`` is called after each stage, ``started(stage, number, total)``
     before each (number counts from 1).  Bad input raises ValueError
     (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
@@ -239,7 +241,8 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     chains = _check_chains(chains)
     if chains and method != "spectral":
         raise ValueError(f"engine chains ({', '.join(chains)}) need --method spectral")
-    stages = _stage_names(levels, chains)
+    sheen = bool(sheen)
+    stages = _stage_names(levels, chains, sheen)
     timings = {}
     clock = [time.perf_counter()]
 
@@ -326,16 +329,18 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
         chain, info = prefilter_fis(bounded_cube, levels, counts, fis_bias, highlights,
                                     progress=lambda m: done(f"specular m={m}"))
         del bounded_cube
-    sheen, sheen_roughness, sheen_info = prefilter_charlie(level0, levels)
-    done("sheen")
+    sheen_chain, sheen_roughness, sheen_info = prefilter_charlie(level0, levels) if sheen else ([], None, None)
+    if sheen:
+        done("sheen")
     irradiance, irr_info = irradiance_spectral(coeffs, highlights, irradiance_size)
     del coeffs
     done("irradiance")
 
     lut, spec = lookup_table("dfg", lut_size)
     done("lut")
-    sheen_table, sheen_spec = sheen_lut(lut_size)
-    done("sheen lut")
+    sheen_table, sheen_spec = sheen_lut(lut_size) if sheen else (None, None)
+    if sheen:
+        done("sheen lut")
 
     specular = [level0] + chain
     roughness = np.array([roughness_of_level(m, levels) for m in range(levels)])
@@ -350,9 +355,11 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     manifest = _manifest(files, env, resolution, options, level_info, transform, highlights, irr_info, sh,
                          spec, levels, size, irradiance_size, lut_size, specular_format, method, sh_window,
                          sh_window_width)
-    manifest["outputs"].update(_sheen_outputs(sheen, sheen_roughness, sheen_info, sheen_spec, specular_format))
+    if sheen:
+        manifest["outputs"].update(_sheen_outputs(sheen_chain, sheen_roughness, sheen_info, sheen_spec,
+                                                  specular_format))
     return Bake(specular=specular, roughness=roughness, irradiance=irradiance, sh=np.asarray(sh, dtype=np.float64),
-                lut=lut, manifest=manifest, timings=timings, chains=extra, sheen=sheen,
+                lut=lut, manifest=manifest, timings=timings, chains=extra, sheen=sheen_chain,
                 sheen_roughness=sheen_roughness, sheen_lut=sheen_table)
 
 

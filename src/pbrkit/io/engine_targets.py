@@ -133,7 +133,7 @@ def _write_khronos(folder, b):
     write_lut(folder / "lut_ggx.ktx2", splitsum_of_dfg(b.lut), replace(spec, kind="splitsum"))
     files = {"specular": "khronos/specular.ktx2", "lambertian": "khronos/lambertian.ktx2",
              "lut": "khronos/lut_ggx.ktx2", "lut_description": "khronos/lut_ggx.ktx2.json"}
-    sheen = _write_khronos_sheen(folder, b)
+    sheen = _write_khronos_sheen(folder, b) if b.sheen else {"files": {}}
     files.update(sheen.pop("files"))
     shutil.copyfile(JS_DIR / "pbrkit-khronos.js", folder / "pbrkit-khronos.js")
     files["module"] = "khronos/pbrkit-khronos.js"
