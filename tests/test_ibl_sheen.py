@@ -16,7 +16,7 @@ import pytest
 from scipy import integrate
 from test_charlie import spec_d
 
-from pbrkit.ibl.cubemap import cube_texel_directions, cube_texel_solid_angles
+from pbrkit.ibl.cubemap import cube_texel_directions
 from pbrkit.ibl.sheen import SHEEN_SAMPLES, charlie_sample_set, prefilter_charlie, sheen_chain_sizes
 
 LEVELS = 4

@@ -38,7 +38,6 @@ from ..brdf.terms import GGX, HEIGHT_CORRELATED_DIVISION_FREE, SCHLICK_GGX, SEPA
 from ..core import checks
 from ..core.filtering import CLAMP_TO_EDGE, texel_pair
 from ..core.jit import dual_use, kernel, row_kernel
-from ..microfacet.charlie import v_charlie
 from ..core.quadrature import (
     gauss_legendre_01,
     ggx_cos_of_s,
@@ -47,6 +46,7 @@ from ..core.quadrature import (
     horizon_phi_max,
     split_node,
 )
+from ..microfacet.charlie import v_charlie
 from .lut import DEFAULT_NODES, TableSpec, default_visibility, lookup_table
 
 __all__ = [
@@ -97,7 +97,8 @@ def _lobe_visibility(code, nol, nov, alpha):
     the models' lobes use (:mod:`pbrkit.brdf.terms`) for Schlick-GGX with k = alpha / 2
     (cook_torrance ``schlick-ggx``, UE4's IBL), separable exact Smith-GGX
     (cook_torrance ``separable``, glTF, Disney) and height-correlated Smith-GGX
-    (Filament's division-free form), or the cloth lobe's Neubelt visibility."""
+    (Filament's division-free form), or the cloth lobe's Neubelt visibility, or
+    KHR_materials_sheen's sheen visibility (:func:`pbrkit.microfacet.charlie.v_charlie`)."""
     if code == _NEUBELT:
         return v_neubelt(nol, nov)
     if code == _SHEEN_CHARLIE:
