@@ -670,7 +670,7 @@ def test_progress_lines_when_piped_and_silence_with_quiet(tmp_path, env):
     result = invoke("bake", env, "-o", tmp_path / "b", *SMALL)
     lines = result.stderr.splitlines()
     assert result.exit_code == 0 and all(PROGRESS.match(line) for line in lines), result.stderr
-    assert lines[0] == "pbrkit bake: load (1/16)" and lines[-1] == "pbrkit bake: write manifest (16/16)"
+    assert lines[0] == "pbrkit bake: load (1/19)" and lines[-1] == "pbrkit bake: write manifest (19/19)"
     result = invoke("render", "sphere", "-o", tmp_path / "r.png", "--env", env, *RENDER_SMALL)
     assert result.exit_code == 0, result.output
     assert [line for line in result.stderr.splitlines() if line.startswith("pbrkit render:")] == [

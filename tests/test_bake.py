@@ -214,7 +214,8 @@ def test_written_files(written, sun_bake):
     levels = sun_bake.levels
     expected = {"manifest.json", "specular.ktx2", "specular.dds", "irradiance.ktx2", "irradiance.dds",
                 "brdf_lut.ktx2", "brdf_lut.ktx2.json", "brdf_lut.npy", "brdf_lut.npy.json", "brdf_lut.exr",
-                "brdf_lut.exr.json", "preview.png"}
+                "brdf_lut.exr.json", "preview.png", "sheen.ktx2", "sheen.dds", "sheen_lut.ktx2", "sheen_lut.ktx2.json",
+                "sheen_lut.npy", "sheen_lut.npy.json"}
     expected |= {f"faces/specular_m{m}_{f}.exr" for m in range(levels) for f in ("px", "nx", "py", "ny", "pz", "nz")}
     expected |= {f"faces/irradiance_{f}.exr" for f in ("px", "nx", "py", "ny", "pz", "nz")}
     assert set(names) == expected
@@ -346,3 +347,21 @@ def test_force_replaces_and_refusal_keeps(sun_bake, tmp_path):
     write_bake(sun_bake, out, force=True)
     assert not (out / "keep.txt").exists() and (out / "manifest.json").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
+
+
+def test_load_bake_reads_the_sheen_chain_and_table(written, sun_bake):
+    loaded = load_bake(written)
+    assert len(loaded.sheen) == len(sun_bake.sheen) == sun_bake.levels
+    for got, want in zip(loaded.sheen, sun_bake.sheen):  # RGBA16F in the KTX2
+        np.testing.assert_allclose(got, want, rtol=1e-3, atol=1e-6)
+    np.testing.assert_array_equal(loaded.sheen_lut, sun_bake.sheen_lut)
+    np.testing.assert_array_equal(loaded.sheen_roughness, sun_bake.sheen_roughness)
+
+
+def test_a_bake_without_sheen(sun_env, tmp_path):
+    b = bake(sun_env, size=16, min_size=8, irradiance_size=4, lut_size=4, sheen=False)
+    assert b.sheen == [] and b.sheen_lut is None and "sheen" not in b.manifest["outputs"]
+    assert "sheen" not in b.timings
+    write_bake(b, tmp_path / "o", targets=("generic", "khronos"))
+    assert not (tmp_path / "o" / "sheen.ktx2").exists() and not (tmp_path / "o" / "khronos" / "charlie.ktx2").exists()
+    assert load_bake(tmp_path / "o").sheen == []

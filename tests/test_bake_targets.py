@@ -79,6 +79,63 @@ def test_khronos_files_follow_the_sample_viewer_conventions(baked):
     assert json.loads(files["lut_description"].read_text())["visibility"] == "height-correlated"
 
 
+def test_generic_bake_records_the_sheen_chain_and_table(baked):
+    """The manifest names each sheen file, its layout and level curve; the chain has the
+    specular chain's level count at sheen roughness m / (M - 1) and halving sizes."""
+    generic, _ = baked
+    manifest = json.loads((generic / "manifest.json").read_text())
+    outputs = manifest["outputs"]
+    sheen, table = outputs["sheen"], outputs["sheen_lut"]
+    levels = outputs["specular"]["levels"]
+    assert sheen["ktx2"]["path"] == "sheen.ktx2" and sheen["dds"]["path"] == "sheen.dds"
+    assert sheen["levels"] == levels and sheen["level_curve"] == "linear"
+    assert sheen["sheen_roughness"] == pytest.approx([m / (levels - 1) for m in range(levels)])
+    assert "r = m / (M - 1)" in sheen["sheen_roughness_of_level"]
+    assert [e["size"] for e in sheen["level_info"]] == [sheen["size"] >> m for m in range(levels)]
+    _, chain, kv = read_ktx2(generic / sheen["ktx2"]["path"])
+    assert len(chain) == levels and chain[0].shape == (6, sheen["size"], sheen["size"], 4)
+    assert json.loads(kv["pbrkit.bake"])["sheen_roughness"] == sheen["sheen_roughness"]
+    assert table["npy"]["path"] == "sheen_lut.npy" and table["ktx2"]["path"] == "sheen_lut.ktx2"
+    assert table["description"]["channels"] == ["E_sheen", "E_ashikhmin"]
+    assert table["description"]["axes"]["column i"] == "n.v = (i + 0.5) / N"
+    lut = np.load(generic / "sheen_lut.npy")
+    assert lut.shape == (16, 16, 2) and lut.dtype == np.float32
+    assert json.loads((generic / "sheen_lut.npy.json").read_text())["kind"] == "sheen"
+
+
+def test_khronos_sheen_files(baked):
+    """charlie.ktx2 is the generic sheen chain byte for byte; lut_charlie holds E_sheen in
+    blue (what getIBLRadianceCharlie reads) and lut_sheen_E in red (albedoSheenScalingLUT),
+    both the generic table's E_sheen to half-float rounding."""
+    _, both = baked
+    entry = json.loads((both / "manifest.json").read_text())["targets"]["khronos"]
+    files = {k: both / v for k, v in entry["files"].items()}
+    assert files["sheen"].read_bytes() == (both / "sheen.ktx2").read_bytes()
+    _, (charlie,), _ = read_ktx2(files["sheen_lut"])
+    _, (sheen_e,), _ = read_ktx2(files["sheen_e_lut"])
+    e = np.load(both / "sheen_lut.npy")[..., 0]
+    assert charlie.shape == (16, 16, 4) and sheen_e.shape == (16, 16, 2)
+    np.testing.assert_allclose(charlie[..., 2], e, rtol=1e-3, atol=1e-4)
+    np.testing.assert_allclose(sheen_e[..., 0], e, rtol=1e-3, atol=1e-4)
+    assert not charlie[..., :2].any() and np.all(charlie[..., 3] == 1.0) and not sheen_e[..., 1].any()
+    conventions = entry["conventions"]
+    assert ".b" in conventions["sheen_lut"] and ".r" in conventions["sheen_e_lut"]
+    assert "u_MipCount" in conventions["sheen"]
+
+
+def test_khronos_module_binds_the_sheen_files(baked):
+    """pbrkit-khronos.js fetches the three sheen files and binds them as sheenEnvMap,
+    sheenLUT and sheenELUT, black only when a file is absent."""
+    _, both = baked
+    js = (both / "khronos" / "pbrkit-khronos.js").read_text()
+    for name in ("charlie.ktx2", "lut_charlie.ktx2", "lut_sheen_E.ktx2"):
+        assert name in js
+    assert 'add("sheenEnvMap", sheen ? uploadPbrkitKTX2(gl, sheen) : blank(gl, true, 4), true);' in js
+    assert 'add("sheenLUT", sheenLut ? uploadPbrkitKTX2(gl, sheenLut) : blank(gl, false, 4), false);' in js
+    assert 'add("sheenELUT", sheenE ? uploadPbrkitKTX2(gl, sheenE) : blank(gl, false, 4), false);' in js
+    assert "response.status === 404" in js and "u_MipCount" in js
+
+
 def test_unknown_target_is_refused_cleanly(tmp_path):
     env = tmp_path / "sky.pfm"
     write_pfm(env, _sky())

@@ -86,10 +86,12 @@ def bake(bake_dir):
     return Path(bake_dir)
 
 
-def write_gltf(folder):
+def write_gltf(folder, sheen_roughness=None):
     """The grid as glTF 2.0 (pygltflib): a unit UV sphere (positions = normals), one node
     per sphere (translation, uniform scale) with its own material, and the camera
-    (node at CAMERA's position looking down -Z, yfov and aspect of CAMERA)."""
+    (node at CAMERA's position looking down -Z, yfov and aspect of CAMERA).  With
+    ``sheen_roughness`` every material is black (base colour 0, dielectric) under a white
+    KHR_materials_sheen of that sheen roughness."""
     import pygltflib as g
 
     assert CAMERA["look_at"] == [0.0, 0.0, 0.0] and CAMERA["position"][:2] == [0.0, 0.0]
@@ -118,9 +120,8 @@ def write_gltf(folder):
                               min=pos.min(0).tolist(), max=pos.max(0).tolist()),
                    g.Accessor(bufferView=1, componentType=g.FLOAT, count=n, type=g.VEC3),
                    g.Accessor(bufferView=2, componentType=g.UNSIGNED_INT, count=len(idx), type=g.SCALAR)],
-        materials=[g.Material(name=f"m{i}", pbrMetallicRoughness=g.PbrMetallicRoughness(
-            baseColorFactor=[*s["base_color"], 1.0], metallicFactor=s["metallic"], roughnessFactor=s["roughness"]))
-            for i, s in enumerate(grid)],
+        materials=[_material(g, i, s, sheen_roughness) for i, s in enumerate(grid)],
+        extensionsUsed=["KHR_materials_sheen"] if sheen_roughness is not None else [],
         meshes=[g.Mesh(primitives=[g.Primitive(attributes=g.Attributes(POSITION=0, NORMAL=1), indices=2,
                                                material=i)]) for i in range(len(grid))],
         cameras=[g.Camera(type="perspective", perspective=g.Perspective(
@@ -133,6 +134,16 @@ def write_gltf(folder):
     (Path(folder) / "grid.bin").write_bytes(blob)
     gltf.save_json(str(Path(folder) / "grid.gltf"))
     return Path(folder) / "grid.gltf"
+
+
+def _material(g, i, s, sheen_roughness):
+    if sheen_roughness is None:
+        return g.Material(name=f"m{i}", pbrMetallicRoughness=g.PbrMetallicRoughness(
+            baseColorFactor=[*s["base_color"], 1.0], metallicFactor=s["metallic"], roughnessFactor=s["roughness"]))
+    return g.Material(name=f"sheen{i}", pbrMetallicRoughness=g.PbrMetallicRoughness(
+        baseColorFactor=[0.0, 0.0, 0.0, 1.0], metallicFactor=0.0, roughnessFactor=s["roughness"]),
+        extensions={"KHR_materials_sheen": {"sheenColorFactor": [1.0, 1.0, 1.0],
+                                            "sheenRoughnessFactor": float(sheen_roughness)}})
 
 
 def pbrkit_linear(bake_dir, scene_dir, options=RENDER_OPTIONS):
@@ -154,14 +165,18 @@ def pbrkit_image(bake_dir, scene_dir):
     return _encode(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
 
 
-def viewer_canvas(bake_dir):
-    """The viewer's canvas, 8-bit (H, W, 3) in its own encoding pow(c, 1 / 2.2)."""
+def viewer_canvas(bake_dir, sheen_roughness=None, nosheen=False):
+    """The viewer's canvas, 8-bit (H, W, 3) in its own encoding pow(c, 1 / 2.2); the grid
+    of :func:`write_gltf` (``sheen_roughness``), the bake's sheen files left out with
+    ``nosheen``."""
     bake_dir = Path(bake_dir)
-    write_gltf(bake_dir)
-    query = "&".join(["folder=khronos/", "gltf=grid.gltf", f"width={W}", f"height={H}", f"intensity={INTENSITY}"])
+    write_gltf(bake_dir, sheen_roughness)
+    query = "&".join(["folder=khronos/", "gltf=grid.gltf", f"width={W}", f"height={H}", f"intensity={INTENSITY}",
+                      f"nosheen={int(bool(nosheen))}"])
     report = run_page("khronos_render.html", data=bake_dir, query=query, timeout=120)
     result = report["result"]
     assert (result["width"], result["height"]) == (W, H) and result["mipCount"] == 5
+    assert result["sheen"] is not bool(nosheen)
     rgba = np.frombuffer(base64.b64decode(result["rgba8"]), np.uint8).reshape(H, W, 4)[::-1]
     return np.ascontiguousarray(rgba[..., :3])
 
@@ -256,6 +271,27 @@ def test_the_viewer_renders_the_grid(renders):
         mean = e[renders["mask"] & (index == i)].mean()
         assert 10 < mean < 250, (i, mean)
     assert renders["pbrkit_lin"][renders["mask"]].max() < 1.0
+
+
+def test_the_viewer_renders_sheen_from_the_bound_tables(renders):
+    """Black dielectric spheres under a white KHR_materials_sheen (sheen roughness 0.5):
+    with the bake's charlie.ktx2, lut_charlie.ktx2 and lut_sheen_E.ktx2 bound the sheen
+    lights every sphere; with them left out (the black textures bound before pbrkit baked
+    sheen) only the dielectric's 4 % specular remains.  The sheen pixels must be clearly
+    brighter, most brighter, and none black on a sphere's interior.  Measured (256 x 128,
+    bake size 128): 41.2 grey levels on average against 17.2 without, the gain 24.1 on
+    average, 10 at its 5th percentile, positive at every sphere pixel."""
+    from scipy.ndimage import maximum_filter
+
+    bake_dir, index, mask = renders["bake"], renders["index"], renders["mask"]
+    with_sheen = gamma22_to_srgb8(viewer_canvas(bake_dir, sheen_roughness=0.5)).astype(np.float64)
+    without = gamma22_to_srgb8(viewer_canvas(bake_dir, sheen_roughness=0.5, nosheen=True)).astype(np.float64)
+    assert np.all(with_sheen[~maximum_filter(index >= 0, size=3)] == 0)
+    gain = (with_sheen - without).mean(-1)[mask]
+    assert gain.mean() > 10.0 and np.mean(gain > 0) > 0.9, (gain.mean(), np.mean(gain > 0))
+    assert np.mean(with_sheen.mean(-1)[mask] > 5) > 0.99
+    for i in range(len(spheres())):
+        assert with_sheen[mask & (index == i)].mean() > without[mask & (index == i)].mean() + 5, i
 
 
 def test_viewer_agrees_with_pbrkit_realtime(renders):

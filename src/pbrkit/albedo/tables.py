@@ -46,6 +46,7 @@ from ..core.quadrature import (
     horizon_phi_max,
     split_node,
 )
+from ..microfacet.charlie import v_charlie
 from .lut import DEFAULT_NODES, TableSpec, default_visibility, lookup_table
 
 __all__ = [
@@ -75,6 +76,7 @@ __all__ = [
 #: Visibility terms for the specular tables, by name -> kernel code.
 VISIBILITIES = {"schlick-ggx": 0, "separable": 1, "height-correlated": 2}
 _NEUBELT = 3
+_SHEEN_CHARLIE = 4
 _LOBE_GGX = 0
 _LOBE_CHARLIE = 1
 
@@ -95,9 +97,12 @@ def _lobe_visibility(code, nol, nov, alpha):
     the models' lobes use (:mod:`pbrkit.brdf.terms`) for Schlick-GGX with k = alpha / 2
     (cook_torrance ``schlick-ggx``, UE4's IBL), separable exact Smith-GGX
     (cook_torrance ``separable``, glTF, Disney) and height-correlated Smith-GGX
-    (Filament's division-free form), or the cloth lobe's Neubelt visibility."""
+    (Filament's division-free form), or the cloth lobe's Neubelt visibility, or
+    KHR_materials_sheen's sheen visibility (:func:`pbrkit.microfacet.charlie.v_charlie`)."""
     if code == _NEUBELT:
         return v_neubelt(nol, nov)
+    if code == _SHEEN_CHARLIE:
+        return v_charlie(nol, nov, alpha)
     b = lobe_bxdf(alpha)
     c = Cosines(nol, nov, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     if code == 0:
@@ -221,7 +226,7 @@ def specular_integrals(mu, roughness, visibility="height-correlated", nodes=DEFA
     return _run(mu, table_alpha(roughness), _LOBE_GGX, VISIBILITIES[visibility], nodes)
 
 
-def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
+def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES, visibility="neubelt"):
     """Directional albedo of the cloth sheen lobe: integral of D_Charlie V_Neubelt (n.l) dl.
 
     Charlie distribution D = (2 + 1 / alpha) sin^(1 / alpha) theta_h / (2 pi)
@@ -230,10 +235,16 @@ def sheen_albedo(mu, roughness, nodes=DEFAULT_NODES):
     :func:`pbrkit.brdf.masking.v_neubelt`, F = 1; the third channel Filament and
     the Khronos IBL sampler bake.  Integrated in h over the Charlie CDF
     s^(2 + 1 / alpha), s = sin theta_h, so D cancels exactly.
+    ``visibility="sheen"`` takes KHR_materials_sheen's visibility instead
+    (:func:`pbrkit.microfacet.charlie.v_charlie`, Estevez & Kulla's fitted Lambda,
+    alpha = r^2): the E_sheen of the specification's albedo scaling.
     Returns (len(roughness), len(mu)).
     """
+    if visibility not in ("neubelt", "sheen"):
+        raise ValueError(f"unknown sheen visibility {visibility!r}; use 'neubelt' or 'sheen'")
     mu, roughness = _check_axes(mu, roughness)
-    out = _run(mu, table_alpha(roughness), _LOBE_CHARLIE, _NEUBELT, nodes)
+    code = _NEUBELT if visibility == "neubelt" else _SHEEN_CHARLIE
+    out = _run(mu, table_alpha(roughness), _LOBE_CHARLIE, code, nodes)
     return out.sum(axis=-1)
 
 

@@ -17,7 +17,12 @@ faces):
   :func:`pbrkit.ibl.sh.project_cube` for cube input: solid-angle-weighted
   projection; windowing optional, off by default);
 - the split-sum DFG table (:func:`pbrkit.albedo.tables.lookup_table` kind ``dfg``:
-  Filament's (DFG1, DFG2) with the height-correlated Smith visibility).
+  Filament's (DFG1, DFG2) with the height-correlated Smith visibility);
+- the sheen (``KHR_materials_sheen``) IBL: the Charlie-prefiltered chain
+  (:func:`pbrkit.ibl.sheen.prefilter_charlie`: as many levels as the specular chain,
+  level m at sheen roughness m / (M - 1), sizes from
+  :func:`pbrkit.ibl.sheen.sheen_chain_sizes`) and the sheen table (E_sheen,
+  E_ashikhmin) (:func:`pbrkit.albedo.sheen_tables.sheen_lut`), ``lut_size`` square.
 
 Levels 1.. and the irradiance map come from one spherical-harmonic transform
 of the environment's bounded part plus exactly summed highlights
@@ -97,7 +102,9 @@ class Bake:
     ``roughness`` (M,) perceptual roughness per level (0 first, increasing);
     ``irradiance`` (6, K, K, 3) float32 E(n); ``sh`` (9, 3) float64 radiance
     SH (CONVENTIONS order and basis); ``lut`` (L, L, 2) float32 DFG table;
-    ``manifest`` what ``manifest.json`` holds; ``chains`` the extra chains for
+    ``sheen`` the Charlie-prefiltered levels (6, n_m, n_m, 3) float32 (M of them, at
+    sheen roughness ``sheen_roughness``); ``sheen_lut`` (L, L, 2) float32 (E_sheen,
+    E_ashikhmin); ``manifest`` what ``manifest.json`` holds; ``chains`` the extra chains for
     engine targets, level curve -> :class:`Chain`; ``timings`` seconds per stage
     (never written: they differ from run to run)."""
 
@@ -109,6 +116,9 @@ class Bake:
     manifest: dict
     timings: dict = field(default_factory=dict)
     chains: dict = field(default_factory=dict)
+    sheen: list = field(default_factory=list)
+    sheen_roughness: np.ndarray = None
+    sheen_lut: np.ndarray = None
 
     @property
     def levels(self):
@@ -176,9 +186,10 @@ def _sha256(path):
 EXTRA_CHAINS = ("filament", "babylon")
 
 
-def _stage_names(levels, chains=()):
+def _stage_names(levels, chains=(), sheen=True):
     return (["load", "cube", "sh", "split", "transform"] + [f"specular m={m}" for m in range(1, levels)]
-            + [f"specular {c}" for c in chains] + ["irradiance", "lut"])
+            + [f"specular {c}" for c in chains] + (["sheen"] if sheen else []) + ["irradiance", "lut"]
+            + (["sheen lut"] if sheen else []))
 
 
 def _check_chains(chains):
@@ -191,7 +202,7 @@ def _check_chains(chains):
 
 def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *, specular_format="rgba16f",
          method="spectral", sh_window=None, sh_window_width=3.0, fis_samples=None, fis_bias=1.0,
-         fix_nonfinite=False, layout=None, chains=(), progress=None, started=None):
+         fix_nonfinite=False, layout=None, chains=(), sheen=True, progress=None, started=None):
     """Bake an environment (module doc) and return a :class:`Bake`.
 
     ``environment``: a path, a list of six face paths (+X, -X, +Y, -Y, +Z,
@@ -208,17 +219,20 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     other level curves (:data:`EXTRA_CHAINS`: "filament" for Filament and three.js,
     "babylon" for Babylon.js; :func:`pbrkit.ibl.prefilter.prefilter_chain`) to
     :attr:`Bake.chains`, for :mod:`pbrkit.io.bake_files`' engine targets; they
-    need the spectral method.  ``progress(stage, done,
+    need the spectral method.  ``sheen`` false leaves out the sheen chain and
+    table (and their manifest entries and files).  ``progress(stage, done,
     total)`` is called after each stage, ``started(stage, number, total)``
     before each (number counts from 1).  Bad input raises ValueError
     (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
     """
+    from ..albedo.sheen_tables import sheen_lut
     from ..albedo.tables import lookup_table
     from ..io.environment import (  # here: io.environment imports pbrkit.ibl
         Environment,
         load_environment,
     )
     from .sh import apply_window, project_cube, project_equirect
+    from .sheen import prefilter_charlie
     from .spectral import analyse_equirect
 
     size, min_size, irradiance_size, lut_size = _check_options(
@@ -227,7 +241,8 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     chains = _check_chains(chains)
     if chains and method != "spectral":
         raise ValueError(f"engine chains ({', '.join(chains)}) need --method spectral")
-    stages = _stage_names(levels, chains)
+    sheen = bool(sheen)
+    stages = _stage_names(levels, chains, sheen)
     timings = {}
     clock = [time.perf_counter()]
 
@@ -314,12 +329,18 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
         chain, info = prefilter_fis(bounded_cube, levels, counts, fis_bias, highlights,
                                     progress=lambda m: done(f"specular m={m}"))
         del bounded_cube
+    sheen_chain, sheen_roughness, sheen_info = prefilter_charlie(level0, levels) if sheen else ([], None, None)
+    if sheen:
+        done("sheen")
     irradiance, irr_info = irradiance_spectral(coeffs, highlights, irradiance_size)
     del coeffs
     done("irradiance")
 
     lut, spec = lookup_table("dfg", lut_size)
     done("lut")
+    sheen_table, sheen_spec = sheen_lut(lut_size) if sheen else (None, None)
+    if sheen:
+        done("sheen lut")
 
     specular = [level0] + chain
     roughness = np.array([roughness_of_level(m, levels) for m in range(levels)])
@@ -334,8 +355,12 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     manifest = _manifest(files, env, resolution, options, level_info, transform, highlights, irr_info, sh,
                          spec, levels, size, irradiance_size, lut_size, specular_format, method, sh_window,
                          sh_window_width)
+    if sheen:
+        manifest["outputs"].update(_sheen_outputs(sheen_chain, sheen_roughness, sheen_info, sheen_spec,
+                                                  specular_format))
     return Bake(specular=specular, roughness=roughness, irradiance=irradiance, sh=np.asarray(sh, dtype=np.float64),
-                lut=lut, manifest=manifest, timings=timings, chains=extra)
+                lut=lut, manifest=manifest, timings=timings, chains=extra, sheen=sheen_chain,
+                sheen_roughness=sheen_roughness, sheen_lut=sheen_table)
 
 
 def _reduce_rows(image, rows):
@@ -492,6 +517,45 @@ def _manifest(files, env, resolution, options, level_info, transform, highlights
             },
         },
         "sh": [[float(v) for v in row] for row in np.asarray(sh, dtype=np.float64)],
+    }
+
+
+def _sheen_outputs(sheen, roughness, info, spec, specular_format):
+    """The manifest's ``outputs`` entries of the sheen chain and table."""
+    from .sheen import SHEEN_MAX_BASE_SIZE
+
+    ktx_format, dds_format = SPECULAR_FORMATS[specular_format]
+    levels = len(sheen)
+    return {
+        "sheen": {
+            "ktx2": {"path": "sheen.ktx2", "format": ktx_format},
+            "dds": {"path": "sheen.dds", "format": dds_format},
+            "content": "Charlie-prefiltered radiance (KHR_materials_sheen IBL, as the Khronos glTF IBL Sampler's "
+                       "charlie filter) with n = v = r: integral of L(l) D_Charlie(h) (n.l) dl divided by the "
+                       "integral of D_Charlie(h) (n.l) dl over n.l > 0, h = normalize(n + l); Estevez & Kulla 2017, "
+                       "alpha = sheenRoughness^2; level 0 (sheen roughness 0) is that ratio's limit, the mean over "
+                       "the horizon circle of n",
+            "size": int(sheen[0].shape[1]),
+            "size_rule": "min(size, max(%d, 2^(M - 1))), halving per level" % SHEEN_MAX_BASE_SIZE,
+            "levels": levels,
+            "level_curve": "linear",
+            "sheen_roughness_of_level": "r = m / (M - 1) for level m of M = %d (the specular chain's curve and "
+                                        "level count)" % levels,
+            "level_of_sheen_roughness": "lod = r (M - 1), sampled with trilinear filtering",
+            "sheen_roughness": [float(r) for r in roughness],
+            "level_info": [{k: _plain(v) for k, v in e.items()} for e in info],
+            "shading": "sheen = sheenColor * sheen(n, lod) * E_sheen(n.v, sheenRoughness) from sheen_lut, and the "
+                       "layer below scaled by 1 - max3(sheenColor) E_sheen (KHR_materials_sheen albedo scaling)",
+        },
+        "sheen_lut": {
+            "ktx2": {"path": "sheen_lut.ktx2", "format": "R16G16_SFLOAT"},
+            "npy": {"path": "sheen_lut.npy", "format": "float32 (N, N, 2)"},
+            "descriptions": "each file has a .json beside it",
+            "size": int(spec.size),
+            "levels": 1,
+            "kind": spec.kind,
+            "description": spec.description(),
+        },
     }
 
 

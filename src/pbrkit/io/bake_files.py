@@ -9,6 +9,8 @@ renamed into place at the end, so a failure leaves nothing behind)::
     specular.ktx2, specular.dds        cube map, all levels
     irradiance.ktx2, irradiance.dds    cube map, one level
     brdf_lut.ktx2, .npy, .exr          the DFG table (+ .json descriptions)
+    sheen.ktx2, sheen.dds              the Charlie-prefiltered (sheen) cube map, all levels
+    sheen_lut.ktx2, .npy               the sheen table (E_sheen, E_ashikhmin) (+ .json)
     faces/specular_m{m}_{px|nx|py|ny|pz|nz}.exr, faces/irradiance_{face}.exr
     preview.png                        every level as a tone-mapped cross
 
@@ -59,7 +61,7 @@ def _face_path(kind, face, level=None):
 
 
 #: The groups of files :func:`write_bake` writes, in order (its progress stages).
-WRITE_STEPS = ("specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "faces", "preview", "manifest")
+WRITE_STEPS = ("specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "sheen", "faces", "preview", "manifest")
 
 
 def write_steps(targets=("generic",)):
@@ -108,6 +110,9 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     for suffix in (".ktx2", ".npy", ".exr"):
         write_lut(root / f"brdf_lut{suffix}", b.lut, spec)
     step("brdf_lut")
+    if b.sheen:
+        _write_sheen(root, b, ktx_format, dds_format)
+    step("sheen")
     (root / "faces").mkdir()
     for m, level in enumerate(b.specular):
         for f in range(6):
@@ -126,6 +131,25 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
         manifest = dict(manifest, targets=entries)
     (root / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
     step("manifest")
+
+
+def _write_sheen(root, b, ktx_format, dds_format):
+    """The sheen chain (KTX2 and DDS, as the specular chain) and the sheen table
+    (:func:`pbrkit.albedo.sheen_tables.sheen_lut`) of ``b``."""
+    from ..albedo.sheen_tables import SheenTableSpec
+    from .dds import write_dds
+    from .ktx2 import write_ktx2
+    from .lut_files import write_lut
+
+    entry = b.manifest["outputs"]["sheen"]
+    key = {"pbrkit.bake": json.dumps({"sheen_roughness": entry["sheen_roughness"],
+                                      "sheen_roughness_of_level": "r = m / (M - 1)",
+                                      "content": "Charlie-prefiltered radiance (n = v = r)"})}
+    write_ktx2(root / "sheen.ktx2", b.sheen, ktx_format, cube=True, key_values=key)
+    write_dds(root / "sheen.dds", b.sheen, dds_format, cube=True)
+    spec = SheenTableSpec("sheen", int(b.sheen_lut.shape[0]), "sheen")
+    for suffix in (".ktx2", ".npy"):
+        write_lut(root / f"sheen_lut{suffix}", b.sheen_lut, spec)
 
 
 def write_bake(bake_result, out_dir, force=False, progress=None, started=None, targets=("generic",)):
@@ -277,10 +301,47 @@ def load_bake(out_dir, prefer="exr"):
         raise InputError("not a numeric .npy array", lut_path)
     if lut.ndim != 3 or lut.shape[0] != lut.shape[1] or lut.shape[2] not in (2, 3) or lut.shape[0] < 2:
         raise InputError(f"table has shape {lut.shape}, expected (N, N, 2)", lut_path)
+    sheen, sheen_roughness, sheen_table = _load_sheen(root, path, manifest)
     return Bake(specular=[np.asarray(s, dtype=np.float32) for s in specular],
                 roughness=np.asarray(roughness, dtype=np.float64),
                 irradiance=np.asarray(irradiance, dtype=np.float32), sh=np.asarray(sh, dtype=np.float64),
-                lut=np.asarray(lut, dtype=np.float32), manifest=manifest)
+                lut=np.asarray(lut, dtype=np.float32), manifest=manifest, sheen=sheen,
+                sheen_roughness=sheen_roughness, sheen_lut=sheen_table)
+
+
+def _load_sheen(root, path, manifest):
+    """The sheen chain (``sheen.ktx2``), its sheen roughness and table (``sheen_lut.npy``)
+    of a bake whose manifest names them (``outputs.sheen``), else ([], None, None)
+    (a bake written before pbrkit baked sheen).  Inconsistent files raise
+    :class:`~pbrkit.core.errors.InputError`."""
+    from ..core.errors import InputError
+    from .ktx2 import read_ktx2
+    from .npy_files import read_npy
+
+    outputs = manifest.get("outputs")
+    if not isinstance(outputs, dict) or "sheen" not in outputs:
+        return [], None, None
+    levels = _entry(manifest, path, "outputs.sheen.levels", _positive_int, "a positive integer")
+    size = _entry(manifest, path, "outputs.sheen.size", _positive_int, "a positive integer")
+    roughness = _entry(manifest, path, "outputs.sheen.sheen_roughness",
+                       lambda r: np.asarray(r, dtype=np.float64).shape == (levels,)
+                       and np.all(np.isfinite(np.asarray(r, dtype=np.float64))),
+                       f"a list of {levels} finite numbers")
+    _, chain, _ = read_ktx2(root / "sheen.ktx2")
+    if len(chain) != levels:
+        raise InputError(f"has {len(chain)} levels, the manifest says {levels}", root / "sheen.ktx2")
+    for m, level in enumerate(chain):
+        n = max(1, size >> m)
+        if level.shape[:3] != (6, n, n):
+            raise InputError(f"level {m} has shape {level.shape}, expected {(6, n, n)}", root / "sheen.ktx2")
+    table_path = root / "sheen_lut.npy"
+    if not os.path.lexists(table_path):
+        raise InputError("missing (the sheen table of the bake)", table_path)
+    table = read_npy(table_path, "the bake's sheen table (.npy, N x N x 2)")
+    if table.dtype.kind not in "fiu" or table.ndim != 3 or table.shape[0] != table.shape[1] or table.shape[2] != 2:
+        raise InputError(f"table has shape {table.shape}, expected (N, N, 2)", table_path)
+    return ([np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in chain],
+            np.asarray(roughness, dtype=np.float64), np.asarray(table, dtype=np.float32))
 
 
 def load_target_chain(out_dir, target):

@@ -11,7 +11,8 @@ loader and shaders):
 target        files                                      level curve                 orientation  diffuse
 ============  =========================================  ==========================  ===========  ==============
 ``khronos``   ``specular.ktx2``, ``lambertian.ktx2``,    r = m / (M - 1)             as generic   E / pi cube
-              ``lut_ggx.ktx2`` (A, B)
+              ``lut_ggx.ktx2`` (A, B), ``charlie.ktx2``,
+              ``lut_charlie.ktx2``, ``lut_sheen_E.ktx2``
 ``filament``  ``ibl.ktx`` (KTX1 + ``sh`` key),           r = 1 - sqrt(1 - m/(M-1))   as generic   SH, E / pi
               ``skybox.ktx``
 ``three``     ``specular.ktx2`` + ``pbrkit-three.js``,   r = 1 - sqrt(1 - m/(M-1))   x mirrored   pi x last level
@@ -104,7 +105,14 @@ def _write_khronos(folder, b):
     cube is Lambertian *radiance*, E / pi (``lambertian.ktx2``: the generic
     irradiance divided by pi), and its lookup table is Karis' (A, B) with
     specular = F0 A + B and height-correlated Smith visibility (``lut_ggx.ktx2``,
-    R16G16 float; A = DFG2 - DFG1 and B = DFG1 of the same integral)."""
+    R16G16 float; A = DFG2 - DFG1 and B = DFG1 of the same integral).  Its sheen
+    (KHR_materials_sheen) IBL: ``charlie.ktx2`` is the generic Charlie-prefiltered
+    chain (``sheen.ktx2``: as many levels as the specular chain, which the viewer's
+    one ``u_MipCount`` assumes, sheen roughness m / (M - 1)), ``lut_charlie.ktx2`` the
+    Charlie DFG in the blue channel that ``getIBLRadianceCharlie`` reads, and
+    ``lut_sheen_E.ktx2`` E_sheen in the red channel that ``albedoSheenScalingLUT``
+    reads (:mod:`pbrkit.albedo.sheen_tables`; both the generic sheen table's E_sheen,
+    KHR_materials_sheen's visibility)."""
     from dataclasses import replace
 
     from ..albedo.tables import splitsum_of_dfg
@@ -123,11 +131,14 @@ def _write_khronos(folder, b):
         raise ValueError(f"the khronos LUT comes from the bake's height-correlated DFG table, not {spec.kind} "
                          f"with {spec.visibility} visibility")
     write_lut(folder / "lut_ggx.ktx2", splitsum_of_dfg(b.lut), replace(spec, kind="splitsum"))
+    files = {"specular": "khronos/specular.ktx2", "lambertian": "khronos/lambertian.ktx2",
+             "lut": "khronos/lut_ggx.ktx2", "lut_description": "khronos/lut_ggx.ktx2.json"}
+    sheen = _write_khronos_sheen(folder, b) if b.sheen else {"files": {}}
+    files.update(sheen.pop("files"))
     shutil.copyfile(JS_DIR / "pbrkit-khronos.js", folder / "pbrkit-khronos.js")
+    files["module"] = "khronos/pbrkit-khronos.js"
     return {
-        "files": {"specular": "khronos/specular.ktx2", "lambertian": "khronos/lambertian.ktx2",
-                  "lut": "khronos/lut_ggx.ktx2", "lut_description": "khronos/lut_ggx.ktx2.json",
-                  "module": "khronos/pbrkit-khronos.js"},
+        "files": files,
         "engine": "Khronos glTF Sample Viewer (npm @khronosgroup/gltf-viewer 1.1.0)",
         "conventions": {
             "levels": f"{len(b.specular)} levels, r = m / (M - 1); the viewer samples lod = r (mipCount - 1)",
@@ -135,12 +146,43 @@ def _write_khronos(folder, b):
             "lut": "(A, B): specular albedo F0 A + B, height-correlated Smith-GGX, uv = (n.v, r), texel centres",
             "orientation": "CONVENTIONS cube layout, as the generic bake (the viewer's environmentRotation "
                            "of 90 degrees about +Y is a display setting: set it to 0 to see pbrkit's frame)",
+            **sheen,
         },
         "load": ("import { loadPbrkitEnvironment } from './pbrkit-khronos.js'; "
                  "await loadPbrkitEnvironment(state, 'khronos/') (state: the viewer's GltfState; the viewer's "
                  "public ResourceLoader.loadEnvironment takes only .hdr files, so the module builds "
                  "state.environment from these textures, relying on gltf-viewer 1.1.0's layout of that object, "
-                 "documented in its header; no sheen IBL)"),
+                 "documented in its header; the sheen textures are bound when the folder has them)"),
+    }
+
+
+def _write_khronos_sheen(folder, b):
+    """The Sample Viewer's three sheen inputs (:func:`_write_khronos`) and their
+    conventions; ``files`` among them."""
+    from ..albedo.sheen_tables import SheenTableSpec
+    from .lut_files import write_lut
+
+    shutil.copyfile(folder.parent / "sheen.ktx2", folder / "charlie.ktx2")  # the generic chain, byte for byte
+    e = np.asarray(b.sheen_lut, dtype=np.float32)[..., 0]
+    charlie = np.zeros(e.shape + (3,), np.float32)
+    charlie[..., 2] = e
+    write_lut(folder / "lut_charlie.ktx2", charlie, SheenTableSpec("charlie", e.shape[0], "sheen"))
+    sheen_e = np.zeros(e.shape + (2,), np.float32)
+    sheen_e[..., 0] = e
+    write_lut(folder / "lut_sheen_E.ktx2", sheen_e, SheenTableSpec("sheen_e", e.shape[0], "sheen"))
+    levels = len(b.sheen)
+    return {
+        "files": {"sheen": "khronos/charlie.ktx2", "sheen_lut": "khronos/lut_charlie.ktx2",
+                  "sheen_e_lut": "khronos/lut_sheen_E.ktx2"},
+        "sheen": (f"charlie.ktx2: {levels} levels (as many as specular.ktx2: the viewer samples both with "
+                  f"u_MipCount), base {int(b.sheen[0].shape[1])}, sheen roughness m / (M - 1); the viewer samples "
+                  "lod = sheenRoughness (u_MipCount - 1) in the mirror direction (getIBLRadianceCharlie); level 0 "
+                  "is the horizon-circle mean (the IBL Sampler's is black)"),
+        "sheen_lut": ("lut_charlie.ktx2: RGBA16F, (0, 0, E_sheen, 1), uv = (n.v, sheen roughness), texel centres; "
+                      "the viewer reads .b (getIBLRadianceCharlie). E_sheen with KHR_materials_sheen's visibility "
+                      "(the IBL Sampler's lut_charlie integrates Ashikhmin's: sheen_lut.npy channel 1)"),
+        "sheen_e_lut": ("lut_sheen_E.ktx2: RG16F, (E_sheen, 0), uv = (n.v, sheen roughness), texel centres; the "
+                        "viewer reads .r (albedoSheenScalingLUT: base scaled by 1 - max3(sheenColor) E)"),
     }
 
 

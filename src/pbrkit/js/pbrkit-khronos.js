@@ -7,7 +7,15 @@
 //   lambertian.ktx2  Lambertian radiance E / pi, RGBA16F cube, one level
 //   lut_ggx.ktx2     the (A, B) split-sum table (specular = F0 A + B), R16G16 float,
 //                    u = n.v, v = roughness, row 0 = roughness 0
-// all in pbrkit's cube layout, which is the viewer's (no mirror).
+//   charlie.ktx2     Charlie-prefiltered radiance (KHR_materials_sheen IBL), RGBA16F
+//                    cube, as many levels as specular.ktx2, level m at sheen roughness
+//                    m / (M - 1) (the viewer's lod = sheenRoughness (u_MipCount - 1))
+//   lut_charlie.ktx2 (0, 0, E_sheen, 1), RGBA16F: the viewer reads .b, u = n.v,
+//                    v = sheen roughness
+//   lut_sheen_E.ktx2 (E_sheen, 0), R16G16 float: the viewer reads .r (albedo scaling)
+// all in pbrkit's cube layout, which is the viewer's (no mirror).  The three sheen
+// files are optional: a folder without them (a bake from before pbrkit baked sheen)
+// gets 1 x 1 black sheen textures, as before.
 //
 // The viewer's public API (GltfView, GltfState, ResourceLoader) loads environments
 // only from a Radiance .hdr, which it re-filters on the GPU.  There is no entry point
@@ -25,8 +33,9 @@
 //     ({mimeType: "image/texture" (ImageMimeType.GLTEXTURE), image: glTexture});
 //   * the texture types it samples: samplerCube for the three env maps, sampler2D for
 //     the LUTs (u_GGXLUT read as .rg).
-// pbrkit bakes no sheen: sheenEnvMap, sheenLUT and sheenELUT are 1 x 1 black
-// textures, so KHR_materials_sheen gets no image-based sheen.
+// sheenEnvMap, sheenLUT and sheenELUT are charlie.ktx2, lut_charlie.ktx2 and
+// lut_sheen_E.ktx2 when the folder has them (HTTP 404: a 1 x 1 black texture, and
+// KHR_materials_sheen gets no image-based sheen; `files: {sheen: null}` skips them).
 // The viewer rotates environment lookups about +Y by
 // state.renderingParameters.environmentRotation (default 90 degrees: world +Z sees
 // the cube's +X); set it to 0 to see pbrkit's frame unchanged.
@@ -41,6 +50,7 @@
 
 const KTX2_IDENTIFIER = [0xab, 0x4b, 0x54, 0x58, 0x20, 0x32, 0x30, 0xbb, 0x0d, 0x0a, 0x1a, 0x0a];
 const VK_FORMATS = { 97: { name: "R16G16B16A16_SFLOAT", channels: 4 }, 83: { name: "R16G16_SFLOAT", channels: 2 } };
+const SHEEN_FILES = { sheen: "charlie.ktx2", sheenLut: "lut_charlie.ktx2", sheenE: "lut_sheen_E.ktx2" };
 const GLTEXTURE_MIME = "image/texture"; // ImageMimeType.GLTEXTURE of gltf-viewer 1.1.0
 
 /**
@@ -138,35 +148,50 @@ function contextOf(target) {
  * Build a Sample Viewer environment (the object ResourceLoader.loadEnvironment
  * returns) from pbrkit's khronos files.  `target`: a GltfState (its environment is
  * set), GltfView or ResourceLoader.  `folder`: URL of the khronos folder, or
- * `files: {specular, lambertian, lut}` (URLs or ArrayBuffers) in `options`.
- * Returns the environment; `environment.pbrkit` records what was loaded.
+ * `files: {specular, lambertian, lut, sheen, sheenLut, sheenE}` (URLs or ArrayBuffers;
+ * the three sheen files optional: null, or a URL answering 404, gives black) in
+ * `options`.  Returns the environment; `environment.pbrkit` records what was loaded.
  */
 export async function loadPbrkitEnvironment(target, folder = "", options = {}) {
   const gl = contextOf(target);
   const base = folder && !folder.endsWith("/") ? folder + "/" : folder;
   const files = { specular: base + "specular.ktx2", lambertian: base + "lambertian.ktx2", lut: base + "lut_ggx.ktx2",
+                  ...Object.fromEntries(Object.entries(SHEEN_FILES).map(([key, name]) => [key, base + name])),
                   ...(options.files || {}) };
   const parsed = {};
   for (const [key, file] of Object.entries(files)) {
+    const optional = key in SHEEN_FILES;
+    if (optional && (file === null || file === undefined)) continue;
     let buffer = file;
     if (!(file instanceof ArrayBuffer) && !ArrayBuffer.isView(file)) {
       const response = await fetch(file);
+      if (optional && response.status === 404) continue;
       if (!response.ok) throw new Error(`${file}: HTTP ${response.status}`);
       buffer = await response.arrayBuffer();
     }
     parsed[key] = parsePbrkitKTX2(buffer, typeof file === "string" ? file : key);
   }
-  const { specular, lambertian, lut } = parsed;
+  const { specular, lambertian, lut, sheen, sheenLut, sheenE } = parsed;
   if (specular.faces !== 6 || specular.channels !== 4) throw new Error("specular.ktx2 must be an RGBA16F cube");
   if (lambertian.faces !== 6 || lambertian.channels !== 4) throw new Error("lambertian.ktx2 must be an RGBA16F cube");
   if (lut.faces !== 1) throw new Error("lut_ggx.ktx2 must be a 2D table");
+  if (sheen && (sheen.faces !== 6 || sheen.channels !== 4)) throw new Error("charlie.ktx2 must be an RGBA16F cube");
+  if (sheen && sheen.levels.length !== specular.levels.length) {
+    throw new Error(`charlie.ktx2 has ${sheen.levels.length} levels, specular.ktx2 ${specular.levels.length}: ` +
+                    "the viewer samples both with one u_MipCount");
+  }
+  if (sheenLut && (sheenLut.faces !== 1 || sheenLut.channels !== 4)) {
+    throw new Error("lut_charlie.ktx2 must be an RGBA16F 2D table (the viewer reads .b)");
+  }
+  if (sheenE && sheenE.faces !== 1) throw new Error("lut_sheen_E.ktx2 must be a 2D table");
 
   const environment = { images: [], textures: [], samplers: [], mipCount: specular.levels.length,
                         iblIntensityScale: 1.0 };
   const add = (key, glTexture, cube) => {
     const type = cube ? gl.TEXTURE_CUBE_MAP : gl.TEXTURE_2D;
+    const mipmapped = key === "specularEnvMap" || (key === "sheenEnvMap" && sheen);
     environment.samplers.push({ name: key, magFilter: gl.LINEAR, wrapS: gl.CLAMP_TO_EDGE, wrapT: gl.CLAMP_TO_EDGE,
-                                minFilter: key === "specularEnvMap" ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR });
+                                minFilter: mipmapped ? gl.LINEAR_MIPMAP_LINEAR : gl.LINEAR });
     environment.images.push({ mimeType: GLTEXTURE_MIME, image: glTexture, type, miplevel: 0, name: key });
     const index = environment.textures.length;
     environment.textures.push({ sampler: index, source: index, type, glTexture, initialized: true,
@@ -176,13 +201,15 @@ export async function loadPbrkitEnvironment(target, folder = "", options = {}) {
   };
   add("diffuseEnvMap", uploadPbrkitKTX2(gl, lambertian), true);
   add("specularEnvMap", uploadPbrkitKTX2(gl, specular), true);
-  add("sheenEnvMap", blank(gl, true, 4), true);
+  add("sheenEnvMap", sheen ? uploadPbrkitKTX2(gl, sheen) : blank(gl, true, 4), true);
   add("lut", uploadPbrkitKTX2(gl, lut), false);
-  add("sheenLUT", blank(gl, false, 4), false);
-  add("sheenELUT", blank(gl, false, 4), false);
+  add("sheenLUT", sheenLut ? uploadPbrkitKTX2(gl, sheenLut) : blank(gl, false, 4), false);
+  add("sheenELUT", sheenE ? uploadPbrkitKTX2(gl, sheenE) : blank(gl, false, 4), false);
   environment.pbrkit = { files, specularSize: specular.width, specularLevels: specular.levels.length,
                          lambertianSize: lambertian.width, lutSize: [lut.width, lut.height],
-                         lutChannels: lut.channels };
+                         lutChannels: lut.channels, sheen: Boolean(sheen && sheenLut && sheenE),
+                         sheenSize: sheen ? sheen.width : 0, sheenLutSize: sheenLut ? [sheenLut.width, sheenLut.height] : [0, 0],
+                         sheenESize: sheenE ? [sheenE.width, sheenE.height] : [0, 0] };
   if (target && "environment" in target && "renderingParameters" in target) target.environment = environment;
   return environment;
 }

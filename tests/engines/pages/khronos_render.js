@@ -3,7 +3,8 @@
 // (loadPbrkitEnvironment), environmentRotation 0 (pbrkit's frame), tone map "None"
 // (the viewer then writes pow(c, 1 / 2.2), clamped), no punctual lights, no background;
 // the canvas is read back as 8-bit RGBA.  Query: folder (khronos folder under /data),
-// gltf (file under /data), width, height, intensity (renderingParameters.iblIntensity).
+// gltf (file under /data), width, height, intensity (renderingParameters.iblIntensity),
+// nosheen (1: load without the sheen files).
 import { GltfView, ResourceLoader } from "@khronosgroup/gltf-viewer";
 import { report } from "/pages/readback.js";
 import { loadPbrkitEnvironment } from "/pbrkit-js/pbrkit-khronos.js";
@@ -26,7 +27,9 @@ report(async () => {
   const view = new GltfView(gl);
   const state = view.createState();
   const loader = new ResourceLoader(view, "/node_modules/@khronosgroup/gltf-viewer/dist/libs/");
-  await loadPbrkitEnvironment(state, "/data/" + q.get("folder"));
+  // nosheen=1: the sheen files left out (the module binds black textures, as before pbrkit baked sheen)
+  const files = q.get("nosheen") === "1" ? { sheen: null, sheenLut: null, sheenE: null } : {};
+  await loadPbrkitEnvironment(state, "/data/" + q.get("folder"), { files });
   state.gltf = await loader.loadGltf("/data/" + q.get("gltf"));
   state.sceneIndex = 0;
   state.cameraIndex = 0;
@@ -41,5 +44,6 @@ report(async () => {
   gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, px);
   const err = gl.getError();
   if (err !== gl.NO_ERROR) throw new Error(`GL error 0x${err.toString(16)} after renderFrame`);
-  return { width, height, rgba8: toBase64(px), mipCount: state.environment.mipCount };
+  return { width, height, rgba8: toBase64(px), mipCount: state.environment.mipCount,
+           sheen: state.environment.pbrkit.sheen };
 });
