@@ -367,11 +367,15 @@ class EnvironmentLight:
     def bake(self, size=256, irradiance_size=32, lut_size=128, **options):
         """The IBL bake (:func:`pbrkit.ibl.bake.bake`) of the un-scaled environment (the
         renderer multiplies by the intensity), cached.  The chain goes down to
-        ``min_size`` = min(16, size / 4) unless given (at least 3 levels)."""
+        ``min_size`` = min(16, size / 4) unless given (at least 3 levels).  Without the
+        sheen's Charlie chain and table unless ``sheen=True``: the real-time renderer
+        prefilters the chain when a material first needs it
+        (:func:`pbrkit.render.realtime.render_realtime`)."""
         if self.bake_data is None:
             from ..ibl.bake import bake as bake_environment
 
             options.setdefault("min_size", max(1, min(16, size // 4)))
+            options.setdefault("sheen", False)
             self.bake_data = bake_environment(self.environment, size=size, irradiance_size=irradiance_size,
                                               lut_size=lut_size, **options)
         return self.bake_data

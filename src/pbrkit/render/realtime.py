@@ -253,21 +253,23 @@ def specular_dominant_direction(n, r, roughness):
 def _charlie_rows(bake, n, v, sheen_roughness, engine):
     """Per pixel, the Charlie LUT (the Khronos IBL sampler's ``lut_charlie``, its blue
     channel: the sheen lobe's split-sum albedo) at (n.v, sheenRoughness) for the Sample
-    Viewer's sheen (``engine="khronos"``; 0 elsewhere): the bake's ``charlie_lut``
-    (rows sheenRoughness, columns n.v, texel centres) when it has one, else the sheen
-    lobe's own albedo E(n.v, sheenRoughness) (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_lookup`)."""
+    Viewer's sheen (``engine="khronos"``; 0 elsewhere): channel 0 of the bake's
+    ``sheen_lut`` (rows sheenRoughness, columns n.v, texel centres: what the Khronos
+    target writes to the LUT's blue channel) when it has one, else the same albedo
+    E(n.v, sheenRoughness) from the bundled table
+    (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_lookups`)."""
     out = np.zeros(n.shape[0])
     rows = np.flatnonzero(sheen_roughness >= 0.0)
     if engine != "khronos" or not rows.size:
         return out
     nov = np.clip(np.sum(n[rows] * v[rows], axis=1), 1e-4, 1.0)
-    lut = getattr(bake, "charlie_lut", None)
+    lut = bake.sheen_lut
     if lut is None:
         out[rows] = sheen_albedo_lookups(nov, sheen_roughness[rows])
     else:
         from ..albedo.tables import sample_table
 
-        out[rows] = sample_table(np.asarray(lut, dtype=np.float64)[..., None], nov, sheen_roughness[rows])[..., 0]
+        out[rows] = sample_table(np.asarray(lut, dtype=np.float64)[..., 0], nov, sheen_roughness[rows])
     return out
 
 
@@ -275,24 +277,23 @@ def _sheen_lookups(bake, env, sampler, n, v, sheen_roughness, levels):
     """The sheen's prefiltered radiance of the pixels with a sheen (roughness >= 0,
     :func:`pbrkit.brdf.dispatch.ibl_sheen_roughness`; 0 elsewhere), about the mirror
     direction of the unbent normal as the Khronos Sample Viewer's getIBLRadianceCharlie
-    looks it up: in the bake's Charlie-prefiltered chain (``bake.charlie``, level
-    sheenRoughness (levels - 1)) when it has one, else in the GGX chain at that
-    roughness (the stand-in of bakes without one)."""
+    looks it up: in the bake's Charlie-prefiltered chain (``bake.sheen``, level
+    sheenRoughness (M - 1), :func:`pbrkit.ibl.sheen.prefilter_charlie`), prefiltered
+    from the bake's level 0 here the first time a bake without one needs it (then
+    kept with the bake)."""
     from ..ibl.cubemap import CubeSampler
-    from ..ibl.prefilter import level_of_roughness
+    from ..ibl.sheen import prefilter_charlie
 
     out = np.zeros((n.shape[0], 3))
     rows = np.flatnonzero(sheen_roughness >= 0.0)
     if not rows.size:
         return out
+    if not len(bake.sheen):
+        bake.sheen, bake.sheen_roughness, _ = prefilter_charlie(np.asarray(bake.specular[0]), len(bake.specular))
     nov = np.sum(n[rows] * v[rows], axis=1, keepdims=True)
     direction = env.to_env_frame(2.0 * nov * n[rows] - v[rows])
-    charlie = getattr(bake, "charlie", None)
-    if charlie is not None:
-        chain = CubeSampler([np.asarray(x) for x in charlie])
-        out[rows] = chain(direction, sheen_roughness[rows] * (len(charlie) - 1.0)) * env.intensity
-    else:
-        out[rows] = sampler(direction, level_of_roughness(sheen_roughness[rows], levels)) * env.intensity
+    chain = CubeSampler([np.asarray(x) for x in bake.sheen])
+    out[rows] = chain(direction, sheen_roughness[rows] * (len(bake.sheen) - 1.0)) * env.intensity
     return out
 
 
