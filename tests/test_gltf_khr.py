@@ -26,7 +26,7 @@ N = 400
 RTOL = 1e-9
 TABLE = np.load(SHEEN_TABLE_FILE)
 KEYS = ("base", "metallic", "roughness", "sheen_color", "sheen_roughness", "clearcoat", "clearcoat_roughness",
-        "specular", "specular_color_factor", "ior")
+        "specular", "specular_color", "ior")
 
 
 def _unit(x):
@@ -39,7 +39,7 @@ def _case(seed, n=N):
     values = dict(base=u(0.0, 1.0, (n, 3)), metallic=u(0.0, 1.0, n), roughness=u(0.05, 1.0, n),
                   sheen_color=u(0.0, 1.0, (n, 3)) * (rng.random((n, 1)) < 0.5), sheen_roughness=u(0.0, 1.0, n),
                   clearcoat=u(0.0, 1.0, n) * (rng.random(n) < 0.7), clearcoat_roughness=u(0.0, 1.0, n),
-                  specular=u(0.0, 1.0, n), specular_color_factor=u(0.0, 3.0, (n, 3)), ior=u(1.0, 3.0, n))
+                  specular=u(0.0, 1.0, n), specular_color=u(0.0, 3.0, (n, 3)), ior=u(1.0, 3.0, n))
     values["metallic"][rng.random(n) < 0.2] = 0.0
     values["specular"][rng.random(n) < 0.1] = 1.0
     values["ior"][rng.random(n) < 0.05] = 0.0  # the specular-glossiness conversion's ior 0 (f0 = 1)
@@ -57,7 +57,7 @@ def _material(values):
     return Material(base_color=values["base"], metallic=values["metallic"], roughness=values["roughness"],
                     sheen_color=values["sheen_color"], sheen_roughness=values["sheen_roughness"],
                     clearcoat=values["clearcoat"], clearcoat_roughness=values["clearcoat_roughness"],
-                    specular=values["specular"], specular_color_factor=values["specular_color_factor"], ior=values["ior"])
+                    specular=values["specular"], specular_color=values["specular_color"], ior=values["ior"])
 
 
 def _reference(values, l, v):
@@ -87,13 +87,13 @@ def test_gltf_with_the_extensions_matches_the_transcription(case):
 
 @pytest.mark.parametrize("name, extension", [
     ("clearcoat", dict(clearcoat=1.0, clearcoat_roughness=0.1)),
-    ("specular", dict(specular=0.3, specular_color_factor=(1.0, 0.5, 2.0))),
+    ("specular", dict(specular=0.3, specular_color=(1.0, 0.5, 2.0))),
     ("ior", dict(ior=2.0)),
 ])
 def test_each_extension_alone_matches_the_transcription(case, name, extension):
     values, l, v = case
     values = dict(values, sheen_color=np.zeros((N, 3)), clearcoat=np.zeros(N), specular=np.ones(N),
-                  specular_color_factor=np.ones((N, 3)), ior=np.full(N, 1.5))
+                  specular_color=np.ones((N, 3)), ior=np.full(N, 1.5))
     for key, x in extension.items():
         values[key] = np.broadcast_to(np.asarray(x, dtype=float), values[key].shape).copy()
     actual = models.gltf(l, v, N_DIR, _material(values))
@@ -162,13 +162,13 @@ def test_the_extensions_are_read_from_gltf_files(tmp_path):
     path = write_quad_glb(tmp_path / "k.glb", material_extras=ext, extensions_required=tuple(ext))
     asset = load_gltf(path)
     spec = asset.materials[0].spec
-    assert (spec.clearcoat, spec.clearcoat_roughness, spec.specular, spec.specular_color_factor, spec.ior) == \
+    assert (spec.clearcoat, spec.clearcoat_roughness, spec.specular, spec.specular_color, spec.ior) == \
         (0.8, 0.2, 0.5, (2.0, 1.0, 0.5), 1.8)
     assert not asset.notes
     # an extension without its factors: the README's defaults
     asset = load_gltf(write_quad_glb(tmp_path / "d.glb", material_extras={k: {} for k in ext}))
     spec = asset.materials[0].spec
-    assert (spec.clearcoat, spec.clearcoat_roughness, spec.specular, spec.specular_color_factor, spec.ior) == \
+    assert (spec.clearcoat, spec.clearcoat_roughness, spec.specular, spec.specular_color, spec.ior) == \
         (0.0, 0.0, 1.0, (1.0, 1.0, 1.0), 1.5)
     # the ior 0 of the specular-glossiness conversion is accepted
     asset = load_gltf(write_quad_glb(tmp_path / "z.glb", material_extras={"KHR_materials_ior": {"ior": 0}}))
@@ -324,7 +324,7 @@ def test_ior_zero_is_allowed_beside_its_range():
     f = models.gltf(l, l, N_DIR, white)  # F0 = 1: the dielectric reflects like a white metal
     metal = models.gltf(l, l, N_DIR, Material(base_color=np.ones(3), metallic=1.0, roughness=0.3))
     np.testing.assert_allclose(f, metal, rtol=1e-12)
-    with pytest.raises(ValueError, match=r"Material\.ior must be in \[1, inf\] or 0"):
+    with pytest.raises(ValueError, match=r"Material\.ior must be in \[1.0, inf\] or 0.0"):
         Material(ior=0.5)
     scene = {"materials": {"m": {"model": "gltf", "ior": 0.5}},
              "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1.0, "material": "m"}]}

@@ -13,8 +13,11 @@ parameter table (:func:`markdown_table`).
 Names follow the specification of the model that defines them
 (``CONVENTIONS.md``, "Materials"): the glTF 2.0 core names in snake_case
 (``base_color`` for ``baseColorFactor``), Filament's ``reflectance`` and
-``anisotropy``, Disney's (Burley 2012) for its extras.  A name means one thing
-in every model that declares it; a model may narrow its range (Disney's
+``anisotropy``, Disney's (Burley 2012) for its extras, glTF's
+``KHR_materials_*`` property names without "Factor".  A name means one thing
+in every model that declares it (``specular_color`` tints the specular
+reflection: cook_torrance's constant F, glTF's KHR_materials_specular F0 colour;
+``clearcoat`` weighs a clear coat); a model may narrow its range (Disney's
 anisotropy is Burley's aspect in [0, 1]).
 """
 
@@ -77,7 +80,8 @@ class Parameter:
             raise ValueError(f"{where} has {int(bad.sum())} non-finite value(s)")
         out = ((array < self.low) | (array > self.high)) & ~np.isin(array, self.also)
         if np.any(out):
-            raise ValueError(f"{where} must be in {self.range_text}; {int(out.sum())} value(s) "
+            also = "".join(f" or {x}" for x in self.also)
+            raise ValueError(f"{where} must be in [{self.low}, {self.high}]{also}; {int(out.sum())} value(s) "
                              f"outside, e.g. {array[out].flat[0]!r}")
         return array
 

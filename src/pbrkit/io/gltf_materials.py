@@ -11,7 +11,7 @@ KHR_materials_sheen     sheenRoughnessFactor        sheen_roughness    [0, 1]   
 KHR_materials_clearcoat clearcoatFactor             clearcoat          [0, 1]       0
 KHR_materials_clearcoat clearcoatRoughnessFactor    clearcoat_roughness [0, 1]      0
 KHR_materials_specular  specularFactor              specular           [0, 1]       1
-KHR_materials_specular  specularColorFactor         specular_color_factor [0, inf)^3 1
+KHR_materials_specular  specularColorFactor         specular_color     [0, inf)^3   1
 KHR_materials_ior       ior                         ior                0 or >= 1    1.5
 ======================  ==========================  =================  ===========  =========
 
@@ -37,7 +37,7 @@ FACTORS = (
     ("KHR_materials_clearcoat", "clearcoatFactor", "clearcoat", 1, 0.0, 1.0, 0.0),
     ("KHR_materials_clearcoat", "clearcoatRoughnessFactor", "clearcoat_roughness", 1, 0.0, 1.0, 0.0),
     ("KHR_materials_specular", "specularFactor", "specular", 1, 0.0, 1.0, 1.0),
-    ("KHR_materials_specular", "specularColorFactor", "specular_color_factor", 3, 0.0, None, (1.0, 1.0, 1.0)),
+    ("KHR_materials_specular", "specularColorFactor", "specular_color", 3, 0.0, None, (1.0, 1.0, 1.0)),
     ("KHR_materials_ior", "ior", "ior", 1, 0.0, None, 1.5),
 )
 #: The textureInfos of each extension (checked; not applied yet).

@@ -38,7 +38,7 @@ from ..core.jit import dual_use
 __all__ = ["sample_viewer_fresnel", "sample_viewer_base", "sample_viewer_extensions_ibl"]
 
 _INV_PI = 1.0 / math.pi
-_IOR, _SPECULAR, _SPECULAR_COLOR = COLUMNS.ior, COLUMNS.specular, COLUMNS.specular_color_factor
+_IOR, _SPECULAR, _SPECULAR_COLOR = COLUMNS.ior, COLUMNS.specular, COLUMNS.specular_color
 _SHEEN_COLOR, _SHEEN_ROUGHNESS = COLUMNS.sheen_color, COLUMNS.sheen_roughness
 _CLEARCOAT = COLUMNS.clearcoat
 

@@ -85,7 +85,7 @@ CLEARCOAT_ROUGHNESS = Parameter("clearcoat_roughness", 0.0, 0.0, 1.0, "",
 #: KHR_materials_specular's factors (its README, "Properties"; defaults 1: the core's F).
 SPECULAR = Parameter("specular", 1.0, 0.0, 1.0, "", "dielectric specular weight (F90 too), "
                      "KHR_materials_specular specularFactor")
-SPECULAR_COLOR = Parameter("specular_color_factor", (1.0, 1.0, 1.0), 0.0, math.inf, "linear Rec.709",
+SPECULAR_COLOR = Parameter("specular_color", (1.0, 1.0, 1.0), 0.0, math.inf, "linear Rec.709",
                            "dielectric F0 colour (f0 = min(f0(ior) colour, 1) specular), KHR_materials_specular "
                            "specularColorFactor", channels=3)
 #: KHR_materials_ior's ior (its README; 1.5 the core's, 0 or at least 1).
@@ -130,7 +130,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     kd = 1.0 - metallic
     s = params[q, columns.specular]
     f0_ior = f0_from_ior(params[q, columns.ior])
-    sc = columns.specular_color_factor
+    sc = columns.specular_color
     d0 = min(f0_ior * params[q, sc], 1.0) * s
     d1 = min(f0_ior * params[q, sc + 1], 1.0) * s
     d2 = min(f0_ior * params[q, sc + 2], 1.0) * s
