@@ -21,7 +21,7 @@ import math
 
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use, select
-from ..bxdf import BxDF
+from ..bxdf import EXTRA_SLOTS, BxDF
 from ...microfacet.roughness import alpha_from_roughness, anisotropic_alphas_burley
 from ..fresnel import f0_from_reflectance, f0_metallic
 from ..lobes.disney import CLEARCOAT, CLEARCOAT_ALPHA, CLEARCOAT_SLOT, DISNEY_DIFFUSE, SHEEN, SHEEN_SLOT
@@ -34,6 +34,8 @@ from .model import Model, RealTime
 __all__ = ["MODEL", "SPECULAR", "disney_tint", "disney_clearcoat_alpha", "ibl_extras", "ibl_coat_roughness",
            "EXTRAS"]
 
+#: The extra slots Disney leaves unused.
+_PAD = (0.0,) * (EXTRA_SLOTS - 6)
 _Z3 = (0.0, 0.0, 0.0)
 _INV_PI = 1.0 / math.pi
 
@@ -92,7 +94,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     sht = params[q, columns.sheen_tint]
     extra = (params[q, columns.subsurface], s * (1.0 + (t0 - 1.0) * sht) * kd, s * (1.0 + (t1 - 1.0) * sht) * kd,
              s * (1.0 + (t2 - 1.0) * sht) * kd, 0.25 * params[q, columns.clearcoat],
-             disney_clearcoat_alpha(params[q, columns.clearcoat_gloss]), 0.0, 0.0)
+             disney_clearcoat_alpha(params[q, columns.clearcoat_gloss])) + _PAD
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
                 alpha_x, alpha_y, anisotropic, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3,
                 _Z3, f0d, _Z3, extra)
@@ -111,7 +113,8 @@ def ibl_coat_roughness(b):
 
 
 @dual_use(inline=True)
-def ibl_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered):
+def ibl_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
+              radiance):
     """The clear coat and the sheen in real time: the coat's split sum with f0 0.04,
     0.25 clearcoat (DFG1 + 0.04 (DFG2 - DFG1)) at its roughness times its own
     prefiltered lookup, and the sheen colour times the sheen lobe's albedo table
