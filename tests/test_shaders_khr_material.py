@@ -6,7 +6,9 @@ tests/test_shaders.py and tests/test_shaders_khr.py check the other files: each 
 over a grid of float32 inputs, compared with :mod:`pbrkit.brdf.shading.gltf` (its
 extended ``setup``, ``_specular_mix_weight``, ``ibl_*``), :mod:`pbrkit.brdf.lobes.clearcoat`,
 :func:`pbrkit.brdf.operators.fresnel_coat`, :func:`pbrkit.brdf.models.gltf` (the whole
-material at random (l, v, n, material)) and :mod:`pbrkit.render.khronos_ibl`.
+material at random (l, v, n, material)), the real-time renderer's own IBL kernel
+(``pbrkit.render.realtime._ibl_kernel``, the whole IBL of the material) and
+:mod:`pbrkit.render.khronos_ibl`.
 
 The page's 2-D table (``u_lut``) is the E_sheen table, as in tests/test_shaders_khr.py:
 the BRDF and the IBL's scaling read E through ``pbrkit_fetchSheenAlbedo``.  Tolerances:
@@ -21,7 +23,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from engine_pages import needs_engines, run_page
-from test_shaders import N, WIDTH, Case, _cosines, _f32, _measured, _vec4s
+from test_shaders import N, WIDTH, Case, _cosines, _f32, _measured, _unit, _vec4s
 from test_shaders_khr import _sheen_bxdf
 
 from pbrkit import shaders
@@ -227,6 +229,49 @@ def _ibl_cases(rng, m, bx, dfg_table):
     return cases
 
 
+def _renderer_case(rng, m, dfg_table):
+    """pbrkit_glTFExtendedIBL against the renderer itself: pbrkit.render.realtime's _ibl_kernel (engine
+    "pbrkit", no energy compensation) on the materials packed as a scene's (material_tables), at random
+    (n, v); the kernel's own n.v (floored at 1e-4), DFG lookups at (n.v, r) and at (n.v, the coat's
+    roughness from its _reflection_kernel) are the GLSL's inputs, as _ibl_cases lays them out."""
+    from pbrkit.albedo.tables import table_bilinear
+    from pbrkit.render import realtime
+    from pbrkit.render.material_spec import MaterialSpec
+    from pbrkit.render.materials import material_tables
+
+    specs = [SimpleNamespace(spec=MaterialSpec(
+        name=f"m{q}", base_color=tuple(m.base[q]), metallic=float(m.metallic[q]), roughness=float(m.roughness[q]),
+        sheen_color=tuple(m.sheen_color[q]), sheen_roughness=float(m.sheen_roughness[q]),
+        clearcoat=float(m.clearcoat[q]), clearcoat_roughness=float(m.clearcoat_roughness[q]),
+        specular=float(m.specular[q]), specular_color_factor=tuple(m.specular_color[q]), ior=float(m.ior[q])))
+        for q in range(N)]
+    mi, mf = material_tables(specs)
+    n, v = _unit(rng), _unit(rng)
+    v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v)
+    mat = np.arange(N)
+    base = np.ascontiguousarray(m.base)
+    refl, coat_r, sheen_r = np.empty((N, 3)), np.empty(N), np.empty(N)
+    realtime._reflection_kernel(mi, mf, mat, n, v, m.roughness, m.metallic, base, refl, coat_r, sheen_r)
+    tables = np.ascontiguousarray(np.asarray(dfg_table, dtype=np.float64)[None, ..., :2])
+    pref, irr = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
+    coat_pref, sheen_pref = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
+    out, ec = np.empty((N, 3)), np.empty((N, 3))
+    realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
+                         np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, np.zeros(N),
+                         realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
+                         realtime.ENGINES.index("pbrkit"), out, ec)
+    nov = np.maximum(np.sum(n * v, axis=1), 1e-4)
+    dfg = np.array([[table_bilinear(tables, 0, nov[q], float(m.roughness[q]), k) for k in range(2)]
+                    for q in range(N)])
+    coat2 = np.array([table_bilinear(tables, 0, nov[q], coat_r[q], 1) if coat_r[q] >= 0.0 else 0.0
+                      for q in range(N)])
+    inputs = _inputs(m, _vec4s(nov, dfg, coat2), _vec4s(pref, sheen_pref[:, 0]), _vec4s(irr, sheen_pref[:, 1]),
+                     _vec4s(coat_pref, sheen_pref[:, 2]))
+    return Case("glTFExtendedIBL_renderer", ("pbrkit_glTFExtendedIBL",),
+                f"vec4(pbrkit_glTFExtendedIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
+                "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w), vec3(b.w, c.w, h.w)), 0.0)", inputs, out, atol=1e-6)
+
+
 def _sample_viewer_cases(rng, m):
     """The Sample Viewer's IBL (pbrkit.render.khronos_ibl).  Inputs: a = (n.v, Karis' (A, B), the Charlie
     LUT's value), b, c, h = (radiance, irradiance, the coat's radiance) RGB, the sheen's radiance RGB in
@@ -276,7 +321,8 @@ def webgl_material_results(tmp_path_factory):
     dfg, _ = lookup_table("dfg", 16)
     m = _materials(rng)
     bx = _bxdfs(m)
-    cases = _setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + _sample_viewer_cases(rng, m)
+    cases = (_setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + [_renderer_case(rng, m, dfg)]
+             + _sample_viewer_cases(rng, m))
     rg = np.stack([table, np.zeros_like(table)], axis=-1)  # the page uploads RG32F; E in .r
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
             "lut": {"width": table.shape[1], "height": table.shape[0], "data": rg.reshape(-1).tolist()},
