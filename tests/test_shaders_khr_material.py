@@ -229,11 +229,12 @@ def _ibl_cases(rng, m, bx, dfg_table):
     return cases
 
 
-def _renderer_case(rng, m, dfg_table):
-    """pbrkit_glTFExtendedIBL against the renderer itself: pbrkit.render.realtime's _ibl_kernel (engine
-    "pbrkit", no energy compensation) on the materials packed as a scene's (material_tables), at random
-    (n, v); the kernel's own n.v (floored at 1e-4), DFG lookups at (n.v, r) and at (n.v, the coat's
-    roughness from its _reflection_kernel) are the GLSL's inputs, as _ibl_cases lays them out."""
+def _renderer_cases(rng, m, dfg_table):
+    """pbrkit_glTFExtendedIBL and pbrkit_sampleViewerExtensionsIBL against the renderer itself:
+    pbrkit.render.realtime's _ibl_kernel (engines "pbrkit", no energy compensation, and "khronos") on
+    the materials packed as a scene's (material_tables), at random (n, v); the kernel's own n.v (floored
+    at 1e-4), DFG lookups at (n.v, r) and at (n.v, the coat's roughness from its _reflection_kernel)
+    are the GLSL's inputs, as _ibl_cases lays them out."""
     from pbrkit.albedo.tables import table_bilinear
     from pbrkit.render import realtime
     from pbrkit.render.material_spec import MaterialSpec
@@ -267,9 +268,24 @@ def _renderer_case(rng, m, dfg_table):
                       for q in range(N)])
     inputs = _inputs(m, _vec4s(nov, dfg, coat2), _vec4s(pref, sheen_pref[:, 0]), _vec4s(irr, sheen_pref[:, 1]),
                      _vec4s(coat_pref, sheen_pref[:, 2]))
-    return Case("glTFExtendedIBL_renderer", ("pbrkit_glTFExtendedIBL",),
-                f"vec4(pbrkit_glTFExtendedIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
-                "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w), vec3(b.w, c.w, h.w)), 0.0)", inputs, out, atol=1e-6)
+    cases = [Case("glTFExtendedIBL_renderer", ("pbrkit_glTFExtendedIBL",),
+                  f"vec4(pbrkit_glTFExtendedIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
+                  "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w), vec3(b.w, c.w, h.w)), 0.0)", inputs, out.copy(),
+                  atol=1e-6)]
+
+    # the same kernel as the Sample Viewer (engine "khronos"): Karis' (A, B) = (DFG2 - DFG1, DFG1), the
+    # Charlie LUT's value per pixel; the core materials' rows take its core path (_engine_ibl)
+    charlie = _f32(rng.uniform(0.0, 0.5, N))
+    realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
+                         np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, charlie,
+                         realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
+                         realtime.ENGINES.index("khronos"), out, ec)
+    inputs = _inputs(m, _vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7])
+    cases.append(Case("sampleViewerExtensionsIBL_renderer", ("pbrkit_sampleViewerExtensionsIBL",),
+                      f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, "
+                      "vec3(b.w, c.w, h.w), a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, out.copy(),
+                      atol=1e-6))
+    return cases
 
 
 def _sample_viewer_cases(rng, m):
@@ -321,7 +337,7 @@ def webgl_material_results(tmp_path_factory):
     dfg, _ = lookup_table("dfg", 16)
     m = _materials(rng)
     bx = _bxdfs(m)
-    cases = (_setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + [_renderer_case(rng, m, dfg)]
+    cases = (_setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + _renderer_cases(rng, m, dfg)
              + _sample_viewer_cases(rng, m))
     rg = np.stack([table, np.zeros_like(table)], axis=-1)  # the page uploads RG32F; E in .r
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
@@ -362,7 +378,7 @@ def test_material_glsl_matches_pbrkit_in_webgl2(webgl_material_results):
         bad = ~(diff <= case.rtol * scale + case.atol)  # NaN fails
         sized = scale > max(case.atol, 1e-30)
         rel = diff[sized] / scale[sized]
-        lines.append(f"{case.name:26s} max |diff| {np.nanmax(diff):.3g}  max rel {np.nanmax(rel, initial=0.0):.3g} "
+        lines.append(f"{case.name:34s} max |diff| {np.nanmax(diff):.3g}  max rel {np.nanmax(rel, initial=0.0):.3g} "
                      f"(rtol {case.rtol:g}, atol {case.atol:.3g})")
         if np.any(bad):
             k = np.argwhere(bad)[0]
