@@ -144,13 +144,13 @@ N = 512
 
 @dataclass
 class Case:
-    """A GLSL expression (a vec4 of the inputs a, b, c, d) over N rows of inputs and
+    """A GLSL expression (a vec4 of the inputs a, b, ..., h) over N rows of inputs and
     the pbrkit values it must equal: |gl - expected| <= rtol |expected| + atol."""
 
     name: str
     covers: tuple
     expr: str
-    inputs: list  # up to 4 arrays (N, 4) float32
+    inputs: list  # up to 8 arrays (N, 4) float32
     expected: np.ndarray  # (N, C) float64
     rtol: float = 1e-4
     atol: float = 0.0
@@ -594,8 +594,10 @@ def _measured(case, values):
 def test_every_function_is_tested_in_webgl2(webgl_results):
     cases, result = webgl_results
     covered = {name for c in cases for name in c.covers}
-    # pbrkit_khr.glsl's functions are tested in tests/test_shaders_khr.py (with the E_sheen table as u_lut)
-    assert covered == {f["name"] for f in shaders.functions() if f["file"] != "pbrkit_khr.glsl"}
+    # pbrkit_khr.glsl's and pbrkit_khr_material.glsl's functions are tested in tests/test_shaders_khr.py and
+    # tests/test_shaders_khr_material.py (with the E_sheen table as u_lut)
+    assert covered == {f["name"] for f in shaders.functions()
+                       if f["file"] not in ("pbrkit_khr.glsl", "pbrkit_khr_material.glsl")}
     assert set(result["results"]) == {c.name for c in cases}
 
 

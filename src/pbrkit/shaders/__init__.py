@@ -35,15 +35,25 @@ group:
   1 - max3(sheenColor) E, and the split-sum sheen IBL at lod = sheenRoughness
   (M - 1)) and ``KHR_materials_iridescence`` (:func:`pbrkit.brdf.fresnel.
   f_iridescence`: ``F_Iridescence``, ``F_IridescenceDielectric`` and the
-  spectral sensitivity); needs ``pbrkit_brdf.glsl`` before it.
+  spectral sensitivity); needs ``pbrkit_brdf.glsl`` before it;
+- ``pbrkit_khr_material.glsl``: the extended glTF material of
+  :mod:`pbrkit.brdf.shading.gltf` (``KHR_materials_ior`` and ``_specular``: the
+  dielectric's F0 and F90 and the diffuse's weight; ``KHR_materials_clearcoat``:
+  the coat lobe ``pbrkit_clearcoatBRDF`` and its Fresnel layering; the whole BRDF
+  ``BRDF_glTFExtended`` with the sheen, its factors in a ``pbrkit_KHRMaterial``)
+  and the extensions' real-time IBL: pbrkit's own (split sum with F90, the
+  diffuse's F* weight, the coat's roughness, the sheen and coat terms and the
+  base's scale, ``pbrkit_glTFExtendedIBL``) and the Khronos Sample Viewer's
+  (:mod:`pbrkit.render.khronos_ibl`); needs ``pbrkit_brdf.glsl`` and
+  ``pbrkit_khr.glsl`` before it.
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each
 function is preceded by a comment whose ``source:``, ``roughness:`` and
 ``pbrkit:`` lines give its citation, its roughness remap and the pbrkit
 function it transcribes; :func:`functions` reads them back, and the
-``manifest.json`` written beside the files lists them.  tests/test_shaders.py
-and tests/test_shaders_khr.py compile every function in WebGL2 and compare it
-with pbrkit's own.
+``manifest.json`` written beside the files lists them.  tests/test_shaders.py,
+tests/test_shaders_khr.py and tests/test_shaders_khr_material.py compile every
+function in WebGL2 and compare it with pbrkit's own.
 """
 
 from __future__ import annotations
@@ -57,7 +67,8 @@ __all__ = ["TARGETS", "GLSL_FILES", "glsl_sources", "functions", "shader_manifes
 #: Shader languages ``pbrkit shaders --target`` writes.
 TARGETS = ("glsl",)
 #: The GLSL files, in the order they may be concatenated.
-GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_npr.glsl", "pbrkit_khr.glsl")
+GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_npr.glsl", "pbrkit_khr.glsl",
+              "pbrkit_khr_material.glsl")
 #: Version of the manifest's layout.
 MANIFEST_VERSION = 1
 

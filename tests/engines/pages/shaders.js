@@ -3,9 +3,9 @@
 //
 // /data/cases.json: {files: [...], width: W, cases: [{name, expr, count, inputs:
 // [in0, in1, ...]}], lut: {width, height, data}, cube: {size, levels: [faces...]},
-// sh: [27 floats]}.  Case k's inputs are up to four arrays of 4 * count floats,
-// uploaded as RGBA32F textures u_in0..u_in3 (W texels wide, sample i at texel
-// (i % W, i / W)); its fragment shader reads them as vec4 a, b, c, d and writes
+// sh: [27 floats]}.  Case k's inputs are up to eight arrays of 4 * count floats,
+// uploaded as RGBA32F textures u_in0..u_in7 (W texels wide, sample i at texel
+// (i % W, i / W)); its fragment shader reads them as vec4 a, b, ..., h and writes
 // expr (a float or vector, padded to a vec4) into an RGBA32F framebuffer, read back with readPixels.
 const fail = (message) => { window.__pbrkitError = String(message); };
 
@@ -34,7 +34,8 @@ function program(gl, vertex, fragmentSource, name) {
   return p;
 }
 
-const SCRATCH_UNIT = 7;  // textures are created on this unit, so that creating one unbinds nothing in use
+const INPUTS = 8;  // texture units 0..7; the table on 8, the cube on 9
+const SCRATCH_UNIT = 15;  // textures are created on this unit, so that creating one unbinds nothing in use
 
 function floatTexture(gl, width, height, data, filter, format = gl.RGBA32F) {
   const tex = gl.createTexture();
@@ -100,10 +101,7 @@ void main() { gl_Position = vec4(p, 0.0, 1.0); }`, "vertex");
 precision highp float;
 precision highp int;
 ${library}
-uniform highp sampler2D u_in0;
-uniform highp sampler2D u_in1;
-uniform highp sampler2D u_in2;
-uniform highp sampler2D u_in3;
+${[...Array(INPUTS).keys()].map((k) => `uniform highp sampler2D u_in${k};`).join("\n")}
 uniform highp sampler2D u_lut;
 uniform highp samplerCube u_cube;
 uniform vec3 u_sh[9];
@@ -114,35 +112,32 @@ vec4 pad4(vec3 x) { return vec4(x, 0.0); }
 vec4 pad4(vec4 x) { return x; }
 void main() {
   ivec2 q = ivec2(gl_FragCoord.xy);
-  vec4 a = texelFetch(u_in0, q, 0);
-  vec4 b = texelFetch(u_in1, q, 0);
-  vec4 c = texelFetch(u_in2, q, 0);
-  vec4 d = texelFetch(u_in3, q, 0);
+${[..."abcdefgh"].map((v, k) => `  vec4 ${v} = texelFetch(u_in${k}, q, 0);`).join("\n")}
   o_value = pad4(${c.expr});
 }`;
     const p = program(gl, vertex, source, c.name);
     gl.useProgram(p);
     const textures = [];
-    for (let k = 0; k < 4; k++) {
+    for (let k = 0; k < INPUTS; k++) {
       const data = new Float32Array(W * H * 4);
       if (k < c.inputs.length) data.set(c.inputs[k]);
       textures.push(floatTexture(gl, W, H, data, gl.NEAREST));
     }
     const target = floatTexture(gl, W, H, null, gl.NEAREST);
-    for (let k = 0; k < 4; k++) {
+    for (let k = 0; k < INPUTS; k++) {
       gl.activeTexture(gl.TEXTURE0 + k);
       gl.bindTexture(gl.TEXTURE_2D, textures[k]);
       gl.uniform1i(gl.getUniformLocation(p, `u_in${k}`), k);
     }
     if (lut) {
-      gl.activeTexture(gl.TEXTURE4);
+      gl.activeTexture(gl.TEXTURE8);
       gl.bindTexture(gl.TEXTURE_2D, lut);
-      gl.uniform1i(gl.getUniformLocation(p, "u_lut"), 4);
+      gl.uniform1i(gl.getUniformLocation(p, "u_lut"), 8);
     }
     if (cube) {
-      gl.activeTexture(gl.TEXTURE5);
+      gl.activeTexture(gl.TEXTURE9);
       gl.bindTexture(gl.TEXTURE_CUBE_MAP, cube);
-      gl.uniform1i(gl.getUniformLocation(p, "u_cube"), 5);
+      gl.uniform1i(gl.getUniformLocation(p, "u_cube"), 9);
     }
     if (spec.sh) {
       const where = gl.getUniformLocation(p, "u_sh");

@@ -1,0 +1,249 @@
+// pbrkit_khr_material.glsl: the extended glTF material of pbrkit (pbrkit.brdf.shading.gltf) in GLSL:
+// KHR_materials_ior and KHR_materials_specular (the dielectric's F0 and F90, the diffuse's weight),
+// KHR_materials_clearcoat (the coat lobe and its Fresnel layering), the whole BRDF with
+// KHR_materials_sheen, and their real-time image-based lighting -- pbrkit's own
+// (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl).
+//
+// GLSL ES 3.00 (WebGL2) and GLSL 3.30+: add your own version line, then pbrkit_brdf.glsl and
+// pbrkit_khr.glsl (whose F_Schlick, D_GGX, V_SmithGGX, sheen lobe and albedo scaling these call)
+// before this file.  Every function transcribes the pbrkit function named in its "pbrkit:" line
+// and is tested against it in WebGL2 (tests/test_shaders_khr_material.py).
+//
+// Roughness: the base and the coat take perceptual roughness r, alpha = max(r^2, 1e-3)
+// (pbrkit_alphaFromRoughness); the sheen's roughness is the Charlie one (pbrkit_charlieAlpha).
+// E_sheen (sheenAlbedo below) is pbrkit_fetchSheenAlbedo or pbrkit_sampleSheenAlbedo at
+// (n.v, sheenRoughness).
+
+precision highp float;
+
+// pbrkit_KHRMaterial: the glTF material's factors as pbrkit.brdf.material.Material names them
+//   (defaults: sheenColor 0, clearcoat 0, specular 1, specularColor 1, ior 1.5: the core material).
+struct pbrkit_KHRMaterial {
+    vec3 baseColor;
+    float metallic;
+    float roughness;
+    vec3 sheenColor;
+    float sheenRoughness;
+    float clearcoat;
+    float clearcoatRoughness;
+    float specular;
+    vec3 specularColor;
+    float ior;
+};
+
+// ------------------------------------------------------------ KHR_materials_ior and KHR_materials_specular
+
+// pbrkit_dielectricF0: the dielectric's normal reflectance per channel,
+//   min(((ior - 1) / (ior + 1))^2 specularColor, 1) specular (ior 0 gives f0(ior) = 1).
+// source: KHR_materials_specular README, "Implementation" (dielectric_f0); KHR_materials_ior README; glTF 2.0 Appendix B.3.4
+// roughness: none
+// pbrkit: pbrkit.brdf.shading.gltf.setup, pbrkit.brdf.fresnel.f0_from_ior
+vec3 pbrkit_dielectricF0(float ior, vec3 specularColor, float specular) {
+    return min(pbrkit_f0FromIOR(ior) * specularColor, vec3(1.0)) * specular;
+}
+
+// pbrkit_f0MetallicKHR: the specular lobe's F0 = mix(dielectricF0, baseColor, metallic) per channel.
+// source: glTF 2.0 specification, Appendix B (the metal mixed by metallic); KHR_materials_specular README
+// roughness: none
+// pbrkit: pbrkit.brdf.shading.gltf.setup, pbrkit.brdf.fresnel.f0_metallic
+vec3 pbrkit_f0MetallicKHR(vec3 baseColor, float metallic, vec3 dielectricF0) {
+    return dielectricF0 + (baseColor - dielectricF0) * metallic;
+}
+
+// pbrkit_f90MetallicKHR: the specular lobe's F90 = mix(specular, 1, metallic) (the dielectric's F90 is the
+//   specular factor, the metal's 1).
+// source: KHR_materials_specular README, "Implementation" (dielectric_f90 = specular); glTF 2.0 Appendix B
+// roughness: none
+// pbrkit: pbrkit.brdf.shading.gltf.setup
+float pbrkit_f90MetallicKHR(float specular, float metallic) {
+    return specular + (1.0 - specular) * metallic;
+}
+
+// pbrkit_specularMixWeight: the diffuse's weight under the dielectric's specular layer,
+//   1 - max3(dielectric_fresnel) = 1 - F_Schlick(v.h; max3(dielectricF0), specular).
+// source: KHR_materials_specular README, "Implementation" (1 - max_value(dielectric_fresnel)); Schlick 1994
+// roughness: none
+// pbrkit: pbrkit.brdf.shading.gltf._specular_mix_weight
+float pbrkit_specularMixWeight(float VoH, vec3 dielectricF0, float specular) {
+    return 1.0 - F_Schlick(VoH, max(max(dielectricF0.r, dielectricF0.g), dielectricF0.b), specular);
+}
+
+// ------------------------------------------------------------ KHR_materials_clearcoat
+
+// pbrkit_clearcoatBRDF: the coat lobe D_GGX(n.h; alpha_c) V_SmithGGX(n.l, n.v; alpha_c), white, no Fresnel.
+// source: KHR_materials_clearcoat README, "Clearcoat BRDF" (the specular_brdf of glTF 2.0 Appendix B.3.2 at the coat's roughness)
+// roughness: alpha_c = max(clearcoatRoughness^2, 1e-3) (pbrkit_alphaFromRoughness)
+// pbrkit: pbrkit.brdf.lobes.clearcoat.clearcoat_value
+float pbrkit_clearcoatBRDF(float NoH, float NoL, float NoV, float clearcoatRoughness) {
+    float alpha = pbrkit_alphaFromRoughness(clearcoatRoughness);
+    return D_GGX(NoH, alpha) * V_SmithGGX(NoL, NoV, alpha);
+}
+
+// pbrkit_clearcoatWeight: the coat's weight over the material, clearcoat F_Schlick(n.v; 0.04, 1) (the coat's
+//   IOR 1.5; the view's cosine to the normal, not v.h).
+// source: KHR_materials_clearcoat README, "Layering" (clearcoat * clearcoat_fresnel); Schlick 1994
+// roughness: none
+// pbrkit: pbrkit.brdf.operators.fresnel_coat
+float pbrkit_clearcoatWeight(float clearcoat, float NoV) {
+    return clearcoat * F_Schlick(NoV, 0.04, 1.0);
+}
+
+// pbrkit_fresnelCoat: mix(base, coat, t) = (1 - t) base + t coat with t = pbrkit_clearcoatWeight.
+// source: KHR_materials_clearcoat README, "Layering" (fresnel_coat)
+// roughness: none
+// pbrkit: pbrkit.brdf.operators.fresnel_coat
+vec3 pbrkit_fresnelCoat(vec3 base, vec3 coat, float t) {
+    return base * (1.0 - t) + coat * t;
+}
+
+// ------------------------------------------------------------ the material
+
+// BRDF_glTFExtended: the glTF material with KHR_materials_ior, _specular, _sheen and _clearcoat, f (not f cos):
+//   material = (1 - metallic) base / pi pbrkit_specularMixWeight + D_GGX V_SmithGGX F_Schlick(v.h; F0, F90)
+//   (F0 pbrkit_f0MetallicKHR of pbrkit_dielectricF0, F90 pbrkit_f90MetallicKHR), under the sheen
+//   sheenColor D_Charlie V_Charlie + material (1 - max3(sheenColor) sheenAlbedo), under the coat
+//   pbrkit_fresnelCoat(.., pbrkit_clearcoatBRDF, clearcoat F_Schlick(n.v; 0.04, 1)); 0 unless n.l > 0 and n.v > 0.
+//   sheenAlbedo: E_sheen at (n.v, sheenRoughness) (any value without sheen).
+// source: glTF 2.0 specification, Appendix B; KHR_materials_specular, KHR_materials_ior, KHR_materials_sheen and KHR_materials_clearcoat READMEs
+// roughness: alpha = max(r^2, 1e-3) for the base, max(clearcoatRoughness^2, 1e-3) for the coat, sheenRoughness^2 for the sheen
+// pbrkit: pbrkit.brdf.models.gltf, pbrkit.brdf.shading.gltf.EXTENDED_COMPOSITION
+vec3 BRDF_glTFExtended(vec3 l, vec3 v, vec3 n, pbrkit_KHRMaterial m, float sheenAlbedo) {
+    pbrkit_Cosines c = pbrkit_cosines(l, v, n);
+    if (c.NoL <= 0.0 || c.NoV <= 0.0) return vec3(0.0);
+    float alpha = pbrkit_alphaFromRoughness(m.roughness);
+    vec3 dielectricF0 = pbrkit_dielectricF0(m.ior, m.specularColor, m.specular);
+    vec3 f0 = pbrkit_f0MetallicKHR(m.baseColor, m.metallic, dielectricF0);
+    float f90 = pbrkit_f90MetallicKHR(m.specular, m.metallic);
+    vec3 specular = (D_GGX(c.NoH, alpha) * V_SmithGGX(c.NoL, c.NoV, alpha)) * F_Schlick(c.VoH, f0, f90);
+    float diffuseWeight = Fd_Lambert(c.NoL) * pbrkit_specularMixWeight(c.VoH, dielectricF0, m.specular);
+    vec3 material = m.baseColor * (1.0 - m.metallic) * diffuseWeight + specular;
+    vec3 sheen = pbrkit_sheenBRDF(m.sheenColor, m.sheenRoughness, c.NoH, c.NoL, c.NoV);
+    material = sheen + material * pbrkit_sheenAlbedoScaling(m.sheenColor, sheenAlbedo);
+    float coat = m.clearcoat > 0.0 ? pbrkit_clearcoatBRDF(c.NoH, c.NoL, c.NoV, m.clearcoatRoughness) : 0.0;
+    return pbrkit_fresnelCoat(material, vec3(coat), pbrkit_clearcoatWeight(m.clearcoat, c.NoV));
+}
+
+// ------------------------------------------------------------ image-based lighting, pbrkit's
+
+// pbrkit_specularAlbedoDFGF90: the split-sum specular albedo with Schlick's F90,
+//   DFG1 F90 + F0 (DFG2 - DFG1) (F90 = 1: pbrkit_specularAlbedoDFG).
+// source: Karis 2013, split sum; Filament sec. 5.3.4.3 (lerp(DFG1, DFG2, F0)) with F90 scaling the (1 - v.h)^5 part
+// roughness: none (the table lookup took r)
+// pbrkit: pbrkit.render.realtime.render_realtime
+vec3 pbrkit_specularAlbedoDFGF90(vec2 dfg, vec3 f0, float f90) {
+    return dfg.x * f90 + f0 * (dfg.y - dfg.x);
+}
+
+// pbrkit_specularDiffuseWeightIBL: the diffuse's IBL weight with KHR_materials_specular: 1 - F* of Lagarde's
+//   roughness-aware Schlick, F_Schlick(n.v; f0, max(specular (1 - r), f0)) with f0 = max3(dielectricF0)
+//   (multiplies diffuseColor E / pi; the core's F, f0 0.04 and specular 1, is Lagarde's 1 - F*(0.04, r)).
+// source: Lagarde 2011, "Adopting a physically based shading model" (F*); KHR_materials_specular README
+// roughness: perceptual roughness r
+// pbrkit: pbrkit.brdf.shading.gltf.ibl_specular_diffuse_weight
+float pbrkit_specularDiffuseWeightIBL(float NoV, float roughness, vec3 dielectricF0, float specular) {
+    float f0 = max(max(dielectricF0.r, dielectricF0.g), dielectricF0.b);
+    return 1.0 - F_Schlick(NoV, f0, max(specular * (1.0 - roughness), f0));
+}
+
+// pbrkit_clearcoatRoughnessIBL: the perceptual roughness of the coat's prefiltered and DFG lookups, sqrt(alpha_c) =
+//   sqrt(max(clearcoatRoughness^2, 1e-3)); -1 without a coat (clearcoat <= 0: no lookup).
+// source: glTF 2.0 specification, Appendix B.2.2 (alpha = r^2); KHR_materials_clearcoat README (the coat's roughness); Karis 2013, split sum
+// roughness: clearcoatRoughness -> sqrt(max(clearcoatRoughness^2, 1e-3)) (the floored alpha's perceptual roughness)
+// pbrkit: pbrkit.brdf.shading.gltf.ibl_coat_roughness
+float pbrkit_clearcoatRoughnessIBL(float clearcoat, float clearcoatRoughness) {
+    return clearcoat > 0.0 ? sqrt(pbrkit_alphaFromRoughness(clearcoatRoughness)) : -1.0;
+}
+
+// pbrkit_extensionsIBLBaseScale: the factor on the base's IBL (specular and diffuse): (1 - clearcoat F_Schlick(n.v;
+//   0.04, 1)) times, with a sheen (any sheenColor channel > 0), 1 - max3(sheenColor) sheenAlbedo.
+// source: KHR_materials_clearcoat README, "Layering"; KHR_materials_sheen README, "Albedo-scaling technique"
+// roughness: none (sheenAlbedo took the sheen roughness)
+// pbrkit: pbrkit.brdf.shading.gltf.ibl_extensions_base_scale
+float pbrkit_extensionsIBLBaseScale(float NoV, float clearcoat, vec3 sheenColor, float sheenAlbedo) {
+    float scale = 1.0 - pbrkit_clearcoatWeight(clearcoat, NoV);
+    bool sheen = any(greaterThan(sheenColor, vec3(0.0)));
+    return sheen ? scale * pbrkit_sheenAlbedoScaling(sheenColor, sheenAlbedo) : scale;
+}
+
+// pbrkit_extensionsIBL: the sheen's and the coat's IBL radiance, added to the base's scaled by
+//   pbrkit_extensionsIBLBaseScale: sheenColor sheenAlbedo (1 - t) sheenPrefiltered + t coatDFG2 coatPrefiltered,
+//   t = clearcoat F_Schlick(n.v; 0.04, 1), coatDFG2 the DFG table's second channel (the white lobe's albedo) at
+//   (n.v, pbrkit_clearcoatRoughnessIBL), the prefiltered radiances at the sheen's and the coat's roughness.
+// source: glTF-Sample-Viewer ibl.glsl (getIBLRadianceCharlie, getIBLRadianceGGX); KHR_materials_clearcoat and KHR_materials_sheen READMEs; Karis 2013 split sum
+// roughness: none (the lookups took the sheen's and the coat's roughness)
+// pbrkit: pbrkit.brdf.shading.gltf.ibl_extensions_extras
+vec3 pbrkit_extensionsIBL(float NoV, float clearcoat, float coatDFG2, vec3 coatPrefiltered, vec3 sheenColor,
+                          float sheenAlbedo, vec3 sheenPrefiltered) {
+    float t = pbrkit_clearcoatWeight(clearcoat, NoV);
+    bool sheen = any(greaterThan(sheenColor, vec3(0.0)));
+    float e = sheen ? sheenAlbedo * (1.0 - t) : 0.0;
+    return sheenColor * e * sheenPrefiltered + (t * coatDFG2) * coatPrefiltered;
+}
+
+// pbrkit_glTFExtendedIBL: the material's split-sum IBL as pbrkit renders it (render_realtime, engine "pbrkit",
+//   without energy compensation): (prefiltered pbrkit_specularAlbedoDFGF90(dfg, F0, F90) + (1 - metallic) base
+//   pbrkit_specularDiffuseWeightIBL E / pi) pbrkit_extensionsIBLBaseScale + pbrkit_extensionsIBL; dfg at (n.v, r),
+//   coatDFG at (n.v, pbrkit_clearcoatRoughnessIBL), irradiance E (not E / pi).
+// source: Karis 2013, split sum; glTF 2.0 Appendix B; KHR_materials_specular, KHR_materials_clearcoat and KHR_materials_sheen READMEs
+// roughness: none (the lookups took r, the coat's and the sheen's roughness)
+// pbrkit: pbrkit.render.realtime.render_realtime, pbrkit.brdf.shading.gltf.ibl_extensions_extras
+vec3 pbrkit_glTFExtendedIBL(float NoV, pbrkit_KHRMaterial m, vec2 dfg, vec3 prefiltered, vec3 irradiance,
+                            vec2 coatDFG, vec3 coatPrefiltered, float sheenAlbedo, vec3 sheenPrefiltered) {
+    vec3 dielectricF0 = pbrkit_dielectricF0(m.ior, m.specularColor, m.specular);
+    vec3 f0 = pbrkit_f0MetallicKHR(m.baseColor, m.metallic, dielectricF0);
+    vec3 specular = prefiltered * pbrkit_specularAlbedoDFGF90(dfg, f0, pbrkit_f90MetallicKHR(m.specular, m.metallic));
+    float weight = pbrkit_specularDiffuseWeightIBL(NoV, m.roughness, dielectricF0, m.specular) * PBRKIT_INV_PI;
+    vec3 diffuse = m.baseColor * (1.0 - m.metallic) * weight * irradiance;
+    return (specular + diffuse) * pbrkit_extensionsIBLBaseScale(NoV, m.clearcoat, m.sheenColor, sheenAlbedo)
+        + pbrkit_extensionsIBL(NoV, m.clearcoat, coatDFG.y, coatPrefiltered, m.sheenColor, sheenAlbedo,
+                               sheenPrefiltered);
+}
+
+// ------------------------------------------------------------ image-based lighting, the Khronos Sample Viewer's
+
+// pbrkit_sampleViewerFresnel: the Sample Viewer's getIBLGGXFresnel per channel, FssEss + FmsEms with FssEss = w (k_S A
+//   + B), k_S = F_SchlickRoughness(n.v; F0, r), E_ms = 1 - (A + B), F_avg = w (F0 + (1 - F0) / 21), FmsEms = E_ms
+//   FssEss F_avg / (1 - F_avg E_ms); (A, B) Karis' split-sum pair at (n.v, r) (A = DFG2 - DFG1, B = DFG1).
+// source: glTF-Sample-Viewer ibl.glsl (getIBLGGXFresnel); Fdez-Agüera 2019, "A Multiple-Scattering Microfacet Model for Real-Time Image-based Lighting"
+// roughness: perceptual roughness r
+// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_fresnel
+vec3 pbrkit_sampleViewerFresnel(float NoV, float roughness, vec3 f0, float weight, vec2 ab) {
+    vec3 fssEss = weight * (F_SchlickRoughness(NoV, f0, roughness) * ab.x + ab.y);
+    float eMs = 1.0 - (ab.x + ab.y);
+    vec3 fAvg = weight * (f0 + (1.0 - f0) / 21.0);
+    return fssEss + eMs * fssEss * fAvg / (1.0 - fAvg * eMs);
+}
+
+// pbrkit_sampleViewerBase: the Sample Viewer's metallic-roughness IBL: the dielectric mix(base E / pi, radiance,
+//   W(F0, weight)) and the metal radiance W(base, 1), mixed by metallic (W pbrkit_sampleViewerFresnel).
+// source: glTF-Sample-Viewer pbr.frag (f_dielectric_brdf_ibl, f_metal_brdf_ibl); Fdez-Agüera 2019
+// roughness: perceptual roughness r
+// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_base
+vec3 pbrkit_sampleViewerBase(float NoV, float roughness, vec3 baseColor, float metallic, vec3 f0, float weight,
+                             vec2 ab, vec3 radiance, vec3 irradiance) {
+    vec3 w = pbrkit_sampleViewerFresnel(NoV, roughness, f0, weight, ab);
+    vec3 dielectric = baseColor * irradiance * PBRKIT_INV_PI * (1.0 - w) + radiance * w;
+    vec3 metal = radiance * pbrkit_sampleViewerFresnel(NoV, roughness, baseColor, 1.0, ab);
+    return dielectric + (metal - dielectric) * metallic;
+}
+
+// pbrkit_sampleViewerExtensionsIBL: the Sample Viewer's IBL of the material with its extensions:
+//   pbrkit_sampleViewerBase with F0 = min(f0(ior) specularColor, 1) and weight = specular; with a sheen,
+//   sheenColor charlieLUT sheenRadiance + color (1 - max3(sheenColor) sheenAlbedo); then mix(color, coatRadiance,
+//   clearcoat F_Schlick(n.v; f0(ior), 1)) (the coat's F0 of the material's ior, its radiance without an albedo).
+//   charlieLUT: the Charlie LUT (pbrkit lut --cloth, .b) at (n.v, sheenRoughness).
+// source: glTF-Sample-Viewer pbr.frag, material_info.glsl and ibl.glsl; KHR_materials_specular, KHR_materials_sheen and KHR_materials_clearcoat READMEs
+// roughness: perceptual roughness r (the lookups took the coat's and the sheen's roughness)
+// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_extensions_ibl
+vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, pbrkit_KHRMaterial m, vec2 ab, vec3 radiance, vec3 irradiance,
+                                      vec3 coatRadiance, vec3 sheenRadiance, float charlieLUT, float sheenAlbedo) {
+    float f0Ior = pbrkit_f0FromIOR(m.ior);
+    vec3 f0 = min(f0Ior * m.specularColor, vec3(1.0));
+    vec3 color = pbrkit_sampleViewerBase(NoV, m.roughness, m.baseColor, m.metallic, f0, m.specular, ab, radiance,
+                                         irradiance);
+    if (any(greaterThan(m.sheenColor, vec3(0.0)))) {
+        color = m.sheenColor * charlieLUT * sheenRadiance + color * pbrkit_sheenAlbedoScaling(m.sheenColor, sheenAlbedo);
+    }
+    float t = m.clearcoat * F_Schlick(NoV, f0Ior, 1.0);
+    return color + (coatRadiance - color) * t;
+}
