@@ -89,7 +89,7 @@ def _params(m):
     p[:, c.metallic], p[:, c.roughness] = m.metallic, m.roughness
     p[:, c.sheen_color:c.sheen_color + 3], p[:, c.sheen_roughness] = m.sheen_color, m.sheen_roughness
     p[:, c.clearcoat], p[:, c.clearcoat_roughness] = m.clearcoat, m.clearcoat_roughness
-    p[:, c.specular], p[:, c.specular_color_factor:c.specular_color_factor + 3] = m.specular, m.specular_color
+    p[:, c.specular], p[:, c.specular_color:c.specular_color + 3] = m.specular, m.specular_color
     p[:, c.ior] = m.ior
     return p
 
@@ -167,7 +167,7 @@ def _brdf_case(rng):
     material = Material(base_color=m.base, metallic=m.metallic, roughness=m.roughness, sheen_color=m.sheen_color,
                         sheen_roughness=m.sheen_roughness, clearcoat=m.clearcoat,
                         clearcoat_roughness=m.clearcoat_roughness, specular=m.specular,
-                        specular_color_factor=m.specular_color, ior=m.ior)
+                        specular_color=m.specular_color, ior=m.ior)
     return Case("BRDF_glTFExtended", ("BRDF_glTFExtended",),
                 f"vec4(BRDF_glTFExtended(a.xyz, b.xyz, c.xyz, {MATERIAL}, "
                 "pbrkit_fetchSheenAlbedo(u_lut, dot(c.xyz, b.xyz), e.w)), 0.0)",
@@ -213,7 +213,8 @@ def _ibl_cases(rng, m, bx, dfg_table):
              atol=2e-6))  # 1 - cE crosses 0 (as sheenAlbedoScaling in tests/test_shaders_khr.py)
     table = np.zeros((2, 2))
     extras = np.array([gltf.ibl_extensions_extras(b, float(nov[q]), float(coat_dfg[q, 0]), float(coat_dfg[q, 1]),
-                                                  table, tuple(irr[q]), tuple(coat_pref[q]), tuple(sheen_pref[q]))[0]
+                                                  table, tuple(irr[q]), tuple(coat_pref[q]), tuple(sheen_pref[q]),
+                                                  0.5, 0.9, (1.0, 1.0, 1.0))[0]  # no film: the base's DFG unused
                        for q, b in enumerate(bx)])
     add(Case("extensionsIBL", ("pbrkit_extensionsIBL",),
              f"vec4(pbrkit_extensionsIBL(a.x, f.x, a.w, h.xyz, e.xyz, {e_sheen}, {sheen}), 0.0)", inputs, extras,
@@ -244,7 +245,7 @@ def _renderer_cases(rng, m, dfg_table):
         name=f"m{q}", base_color=tuple(m.base[q]), metallic=float(m.metallic[q]), roughness=float(m.roughness[q]),
         sheen_color=tuple(m.sheen_color[q]), sheen_roughness=float(m.sheen_roughness[q]),
         clearcoat=float(m.clearcoat[q]), clearcoat_roughness=float(m.clearcoat_roughness[q]),
-        specular=float(m.specular[q]), specular_color_factor=tuple(m.specular_color[q]), ior=float(m.ior[q])))
+        specular=float(m.specular[q]), specular_color=tuple(m.specular_color[q]), ior=float(m.ior[q])))
         for q in range(N)]
     mi, mf = material_tables(specs)
     n, v = _unit(rng), _unit(rng)
