@@ -115,7 +115,8 @@ def _post_init(self):
         raise ValueError(f"{where}{exc}") from None
     for p in m.numbers:  # the model's own ranges, where narrower than the shared ones
         value = getattr(material, p.name)
-        if value is not None and np.any(((value < p.low) | (value > p.high)) & ~np.isin(value, p.also)):
+        if value is not None and np.any(((value < p.low) | (value > p.high)) & ~(np.isin(value, p.also) if p.also
+                                                                                 else False)):
             raise ValueError(f"{where}{p.name} must be in {p.range_text} for model {self.model!r} ({p.doc})")
     for p in NUMBERS:  # normalised: floats and tuples of floats
         value = getattr(material, p.name)

@@ -21,7 +21,7 @@ import math
 
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use, select
-from ..bxdf import EXTRA_SLOTS, BxDF
+from ..bxdf import BxDF
 from ...microfacet.roughness import alpha_from_roughness, anisotropic_alphas_burley
 from ..fresnel import f0_from_reflectance, f0_metallic
 from ..lobes.disney import CLEARCOAT, CLEARCOAT_ALPHA, CLEARCOAT_SLOT, DISNEY_DIFFUSE, SHEEN, SHEEN_SLOT
@@ -34,8 +34,6 @@ from .model import Model, RealTime
 __all__ = ["MODEL", "SPECULAR", "disney_tint", "disney_clearcoat_alpha", "ibl_extras", "ibl_coat_roughness",
            "EXTRAS"]
 
-#: The extra slots Disney leaves unused.
-_PAD = (0.0,) * (EXTRA_SLOTS - 6)
 _Z3 = (0.0, 0.0, 0.0)
 _INV_PI = 1.0 / math.pi
 
@@ -94,7 +92,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     sht = params[q, columns.sheen_tint]
     extra = (params[q, columns.subsurface], s * (1.0 + (t0 - 1.0) * sht) * kd, s * (1.0 + (t1 - 1.0) * sht) * kd,
              s * (1.0 + (t2 - 1.0) * sht) * kd, 0.25 * params[q, columns.clearcoat],
-             disney_clearcoat_alpha(params[q, columns.clearcoat_gloss])) + _PAD
+             disney_clearcoat_alpha(params[q, columns.clearcoat_gloss]), 0.0, 0.0)
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
                 alpha_x, alpha_y, anisotropic, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3,
                 _Z3, f0d, _Z3, extra)
