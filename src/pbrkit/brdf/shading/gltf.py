@@ -104,12 +104,10 @@ IRIDESCENCE_THICKNESS_MINIMUM = Parameter("iridescence_thickness_minimum", 100.0
 IRIDESCENCE_THICKNESS_MAXIMUM = Parameter("iridescence_thickness_maximum", 400.0, 0.0, math.inf, "nm",
                                           "film thickness (at thickness-texture 1, and without the texture), "
                                           "KHR_materials_iridescence iridescenceThicknessMaximum")
-#: The BxDF ``extra`` slot of the specular factor (sheen: 0-3, clear coat: 4-5).  The thin film's
-#: weight, IOR and thickness (nm) ride in the BxDF's ``k`` (the complex IOR's extinction, which
-#: this model's Schlick Fresnel never reads), at these indices: a BxDF of every model carries
-#: ``extra``, and four more slots for all of them cost the ground truth 15 %.
+#: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5) and of the
+#: thin film: its weight, IOR and thickness (nm).
 SPECULAR_SLOT = 6
-IRIDESCENCE_SLOT, IRIDESCENCE_IOR_SLOT, IRIDESCENCE_THICKNESS_SLOT = 0, 1, 2
+IRIDESCENCE_SLOT, IRIDESCENCE_IOR_SLOT, IRIDESCENCE_THICKNESS_SLOT = 8, 9, 10
 
 
 @dual_use
@@ -141,8 +139,8 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     # dielectric_f90 = specular), mixed with the metal's (base colour, 1) by metallic;
     # dielectric_f0 holds max3 of the dielectric F0 (the diffuse weight's); the sheen's colour
     # and roughness, the coat's weight and alpha, the specular factor and the thin film in the
-    # extra slots (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT), the thin
-    # film in k (IRIDESCENCE_SLOT...); the dielectric's F0 colour as the BxDF's specular colour
+    # extra slots (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT,
+    # IRIDESCENCE_SLOT...); the dielectric's F0 colour as the BxDF's specular colour
     z3 = (0.0, 0.0, 0.0)
     alpha = alpha_from_roughness(roughness)
     kd = 1.0 - metallic
@@ -156,11 +154,11 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     f90 = s + (1.0 - s) * metallic
     h = columns.sheen_color
     extra = (params[q, h], params[q, h + 1], params[q, h + 2], params[q, columns.sheen_roughness],
-             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s, 0.0)
-    film = (params[q, columns.iridescence], params[q, columns.iridescence_ior],
-            params[q, columns.iridescence_thickness_maximum])
+             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s, 0.0,
+             params[q, columns.iridescence], params[q, columns.iridescence_ior],
+             params[q, columns.iridescence_thickness_maximum], 0.0)
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
-                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, z3, film,
+                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, z3, z3,
                 max(d0, max(d1, d2)), (d0, d1, d2), extra)
 
 
@@ -212,7 +210,7 @@ def _dielectric_iridescence(b, voh):
     # KHR_materials_specular): the film's Fresnel over base F0 = specular min(F0(ior) specularColor, 1)
     # (the BxDF's specular colour), at v.h
     d = b.specular_color
-    return f_iridescence(voh, b.k[IRIDESCENCE_IOR_SLOT], b.k[IRIDESCENCE_THICKNESS_SLOT], d[0], d[1], d[2])
+    return f_iridescence(voh, b.extra[IRIDESCENCE_IOR_SLOT], b.extra[IRIDESCENCE_THICKNESS_SLOT], d[0], d[1], d[2])
 
 
 @dual_use(inline=True)
@@ -221,7 +219,7 @@ def _specular_mix_weight(b, c):
     # per channel (KHR_materials_specular's README, "Implementation"): its largest channel is
     # the one of the largest f0, b.dielectric_f0; with a thin film (KHR_materials_iridescence,
     # rgb_mix) the largest channel of mix(dielectric_fresnel, iridescent_f, iridescence)
-    k = b.k[IRIDESCENCE_SLOT]
+    k = b.extra[IRIDESCENCE_SLOT]
     if k == 0.0:
         return 1.0 - f_schlick(c.voh, b.dielectric_f0, b.extra[SPECULAR_SLOT])
     s = b.extra[SPECULAR_SLOT]
@@ -240,13 +238,13 @@ def khr_fresnel(b, voh):
     iridescent_dielectric_layer and iridescent_conductor_layer) each part mixed towards the
     film's Fresnel (:func:`pbrkit.brdf.fresnel.f_iridescence`, over the dielectric's F0 colour
     and over the base colour) by iridescenceFactor."""
-    k = b.k[IRIDESCENCE_SLOT]
+    k = b.extra[IRIDESCENCE_SLOT]
     if k == 0.0:
         return f_schlick(voh, b.f0[0], b.f90), f_schlick(voh, b.f0[1], b.f90), f_schlick(voh, b.f0[2], b.f90)
     s = b.extra[SPECULAR_SLOT]
     m = b.metallic
     d = _dielectric_iridescence(b, voh)
-    e = f_iridescence(voh, b.k[IRIDESCENCE_IOR_SLOT], b.k[IRIDESCENCE_THICKNESS_SLOT], b.base[0], b.base[1],
+    e = f_iridescence(voh, b.extra[IRIDESCENCE_IOR_SLOT], b.extra[IRIDESCENCE_THICKNESS_SLOT], b.base[0], b.base[1],
                       b.base[2])
     out = [0.0, 0.0, 0.0]
     for c in range(3):
@@ -345,14 +343,14 @@ def ibl_sheen_roughness(b):
 @dual_use(inline=True)
 def _iridescence_ibl(b, nov, dfg1, dfg2, irradiance, radiance, scale):
     # the thin film's change to the base's split sum (ibl_extensions_extras), times the base's scale
-    k = b.k[IRIDESCENCE_SLOT]
+    k = b.extra[IRIDESCENCE_SLOT]
     if k == 0.0:
         z = (0.0, 0.0, 0.0)
         return z, z
     s = b.extra[SPECULAR_SLOT]
     m = b.metallic
     fd = _dielectric_iridescence(b, nov)
-    fm = f_iridescence(nov, b.k[IRIDESCENCE_IOR_SLOT], b.k[IRIDESCENCE_THICKNESS_SLOT], b.base[0], b.base[1],
+    fm = f_iridescence(nov, b.extra[IRIDESCENCE_IOR_SLOT], b.extra[IRIDESCENCE_THICKNESS_SLOT], b.base[0], b.base[1],
                        b.base[2])
     spec = [0.0, 0.0, 0.0]
     plain = 0.0
