@@ -236,3 +236,74 @@ def test_npr_section_shows_the_grid_and_a_gltf_model_in_each_style(demo_dir):
     gltf = pygltflib.GLTF2().load(str(demo_dir / "model.glb"))
     assert [m.name for m in gltf.materials] == ["knot", "pedestal"]
     assert gltf.meshes[0].primitives[0].attributes.TEXCOORD_0 is not None
+
+
+def test_gltf_extensions_scene_has_one_sphere_per_extension():
+    """The section's materials: the core first (no extension: the core model's code), then
+    each KHR_materials extension alone (its keys away from their defaults, the others at
+    theirs: the extended model's code), then all four together; the materials of the
+    brief (velvet sheen 0.5, car-paint coat 1 / 0.05 over roughness 0.5, specular 0.3
+    coloured, ior 2.4)."""
+    from pbrkit.app.demo import GLTF_EXTENSION_MATERIALS, gltf_extensions_scene
+    from pbrkit.brdf.shading.registry import BY_NAME, EXTENDED_CODES, MODELS, model_codes
+    from pbrkit.render.scene import EnvironmentSpec
+
+    keys = {"sheen": {"sheen_color", "sheen_roughness"}, "clearcoat": {"clearcoat", "clearcoat_roughness"},
+            "specular": {"specular", "specular_color"}, "ior": {"ior"}}
+    declared = BY_NAME["gltf"]
+    scene = gltf_extensions_scene(48, EnvironmentSpec(color=(1.0, 1.0, 1.0)))
+    assert (scene.camera.width, scene.camera.height) == (48, 32) and len(scene.objects) == 6
+    names = [name for name, _, _ in GLTF_EXTENSION_MATERIALS]
+    assert names == ["core", "sheen", "clearcoat", "specular", "ior", "combined"]
+    for obj, (name, shows, _) in zip(scene.objects, GLTF_EXTENSION_MATERIALS):
+        spec = scene.materials[obj.material]
+        assert spec.model == "gltf" and shows
+        changed = {p.name for p in declared.parameters if p.name in keys["sheen"] | keys["clearcoat"]
+                   | keys["specular"] | keys["ior"] and np.any(np.asarray(getattr(spec, p.name)) != p.default)}
+        expected = set().union(*keys.values()) if name == "combined" else keys.get(name, set())
+        assert changed == expected, name
+        values = {p.name: getattr(spec, p.name) for p in declared.parameters}
+        code = model_codes("gltf", values=values)[0]
+        assert code == (MODELS.index("gltf") if name == "core" else EXTENDED_CODES["gltf"]), name
+    m = {name: scene.materials[name] for name in names}
+    assert m["sheen"].sheen_roughness == 0.5 and tuple(m["sheen"].sheen_color) == (1.0, 1.0, 1.0)
+    assert max(m["sheen"].base_color) < 0.2
+    assert (m["clearcoat"].clearcoat, m["clearcoat"].clearcoat_roughness, m["clearcoat"].roughness) == (1.0, 0.05, 0.5)
+    assert m["specular"].specular == 0.3 and len(set(m["specular"].specular_color)) == 3
+    assert m["ior"].ior == 2.4
+
+
+def test_gltf_extensions_section_shows_both_modes_and_their_errors(demo_dir):
+    """The page's glTF extensions section: the whole images and error map, each material's
+    sphere cut out of both modes side by side with its errors and a line saying what it
+    shows; the errors finite, within the bound of this run's noise (8 spp: the ground
+    truth's own relative noise is about 25% per pixel here) and the section's numbers
+    the ones on the page."""
+    import imageio.v3 as iio
+
+    page = (demo_dir / "index.html").read_text(encoding="utf-8")
+    parser = _Links()
+    parser.feed(page)
+    g = json.loads((demo_dir / "summary.json").read_text())["gltf_extensions"]
+    assert "<h2>glTF material extensions</h2>" in page
+    assert {"gltf_realtime.png", "gltf_reference.png", "gltf_error.png"} <= set(parser.images)
+    assert iio.imread(demo_dir / "gltf_realtime.png").shape[:2] == (g["image"]["height"], g["image"]["width"])
+    assert g["spp"] == 8 and g["model"] == "gltf"
+    e = g["errors"]
+    for key in ("mean_relative_error", "rms_relative_error_noise_removed", "mean_relative_stderr", "flip"):
+        assert np.isfinite(e[key]), key
+    assert e["mean_relative_error"] < 0.4 and e["flip"] < 0.3
+    assert f"{100.0 * e['mean_relative_error']:.1f}%" in page and f"{e['flip']:.4f}" in page
+    assert [m["name"] for m in g["materials"]] == ["core", "sheen", "clearcoat", "specular", "ior", "combined"]
+    for m in g["materials"]:
+        for mode in ("realtime", "reference"):
+            assert m["files"][mode] in parser.images and (demo_dir / m["files"][mode]).is_file()
+        errors = m["errors"]
+        assert errors["pixels"] > 0 and all(np.isfinite(v) for v in errors.values()), m["name"]
+        assert errors["mean_relative_error"] < 0.7, (m["name"], errors)
+        assert html.escape(m["shows"]) in page
+        assert f"{100.0 * errors['signed_relative_error']:+.1f}%" in page
+    # the real-time and ground-truth cut-outs of one sphere are side by side in one table row
+    row = page.split("<tr><th>clearcoat</th>", 1)[1].split("</tr>", 1)[0]
+    assert "gltf_extensions/clearcoat_realtime.png" in row and "gltf_extensions/clearcoat_reference.png" in row
+    assert "<code>clearcoat_roughness</code> = 0.05" in row

@@ -194,3 +194,40 @@ def test_the_app_loads_a_merl_file_and_fits_it(tmp_path):
     assert e.second.value == "fit" and "rms_log" in e.status.object
     assert e._b is e.fitted and abs(e.fitted.result.parameters["roughness"] - 0.35) < 1e-3
     assert np.all(np.isfinite(e.sources["sphere_difference"].data["image"][0]))
+
+
+def test_the_gltf_extensions_have_controls_that_change_the_plots():
+    """KHR_materials parameters of the gltf model are sliders (colours: one per channel,
+    finite ends), enabled for gltf only where the model declares them, and moving one
+    redraws the plots with the model's values."""
+    import numpy as np
+
+    from pbrkit.brdf import models
+    from pbrkit.explore import views as V
+    from pbrkit.explore.app import Explorer
+
+    e = Explorer(model="gltf", base_color=(0.3, 0.05, 0.05), roughness=0.5, sheen_color=(0.2, 0.2, 0.2))
+    assert [w.value for w in e.colours["sheen_color"]] == [0.2, 0.2, 0.2]
+    assert e.params["ior"].start == 1.0 and e.params["ior"].end == 3.0 and e.params["ior"].value == 1.5
+    assert e.colours["specular_color"][0].end == 2.0
+    for name in ("clearcoat", "clearcoat_roughness", "sheen_roughness", "specular", "ior"):
+        assert not e.params[name].disabled, name
+    assert not e.colours["sheen_color"][0].disabled and not e.colours["specular_color"][2].disabled
+
+    def peak():
+        return float(np.max(np.asarray(e.sources["incidence_a"].data["y"], dtype=float)))
+
+    before = peak()
+    e.params["clearcoat"].value = 1.0
+    e.params["clearcoat_roughness"].value = 0.05
+    assert e._a.spec.clearcoat == 1.0 and peak() > 1.2 * before
+    e.params["ior"].value = 2.4
+    for w, x in zip(e.colours["specular_color"], (1.0, 0.5, 0.2)):
+        w.value = x
+    assert e._a.spec.ior == 2.4 and tuple(e._a.spec.specular_color) == (1.0, 0.5, 0.2)
+    p = V.incidence_plane(e._a, np.radians(e.theta_v.value))
+    f = models.gltf(p["l"], np.broadcast_to(p["v"], p["l"].shape), np.array([0.0, 0.0, 1.0]), e._a.material)
+    value = (f * p["l"][:, 2:3]) @ np.array([0.2126, 0.7152, 0.0722])
+    np.testing.assert_allclose(e.sources["incidence_a"].data["y"], value * np.cos(p["theta_l"]), rtol=1e-12)
+    e.model.value = "ue4"  # no KHR_materials: their controls are disabled and not applied
+    assert e.colours["sheen_color"][0].disabled and e.params["ior"].disabled and e.status.object == ""

@@ -357,3 +357,52 @@ def test_view_threads_restores_the_count():
     with V.view_threads(1):
         assert numba.get_num_threads() == 1
     assert numba.get_num_threads() == before
+
+
+# ------------------------------------------------------------------ glTF's KHR_materials extensions
+
+
+GLTF_EXTENSIONS = {
+    "clearcoat": dict(clearcoat=1.0, clearcoat_roughness=0.05),
+    "sheen": dict(sheen_color=(1.0, 1.0, 1.0), sheen_roughness=0.5),
+    "specular": dict(specular=0.3, specular_color=(1.0, 0.5, 0.2)),
+    "ior": dict(ior=2.4),
+}
+
+
+@pytest.mark.parametrize("extension", sorted(GLTF_EXTENSIONS))
+def test_gltf_extensions_change_the_views_by_the_models_values(extension):
+    """Each KHR_materials extension's parameters reach the views: the theta_h slice of
+    the gltf model moves, and is the model's value with those parameters."""
+    core = V.model_brdf("gltf", (0.3, 0.05, 0.05), 0.0, 0.5)
+    brdf = V.model_brdf("gltf", (0.3, 0.05, 0.05), 0.0, 0.5, **GLTF_EXTENSIONS[extension])
+    pd, td = math.radians(90.0), math.radians(30.0)
+    s0, s = V.theta_h_slice(core, td, pd, count=30), V.theta_h_slice(brdf, td, pd, count=30)
+    np.testing.assert_allclose(s["f"], models.gltf(s["l"], s["v"], Z, material_of(brdf)), rtol=1e-12, atol=1e-15)
+    change = np.max(np.abs(s["value"] - s0["value"]) / s0["value"])
+    assert change > 0.05, (extension, change)
+    if extension in ("clearcoat", "ior"):  # a second (sharp) lobe, a brighter dielectric: more at the mirror
+        assert s["value"][0] > 1.2 * s0["value"][0]
+    if extension == "specular":  # weaker, orange F0: less, and less blue than red
+        assert s["value"][0] < s0["value"][0] and s["f"][0, 2] < s["f"][0, 0]
+    if extension == "sheen":  # the Charlie lobe adds most where the half vector leans away from n
+        assert s["value"][-1] - s0["value"][-1] > s["value"][0] - s0["value"][0]
+    for parameter in GLTF_EXTENSIONS[extension]:
+        assert parameter in V.MODEL_PARAMETERS["gltf"] + V.COLOUR_PARAMETERS["gltf"]
+
+
+def test_every_parameter_has_a_finite_slider_and_the_white_lobe_drops_the_extras():
+    assert set(V.SLIDER_RANGES) == set(V.PARAMETER_RANGES) | set(V.COLOUR_RANGES)
+    for name, (lo, hi) in V.SLIDER_RANGES.items():
+        assert math.isfinite(lo) and math.isfinite(hi) and lo < hi, name
+    assert V.SLIDER_RANGES["ior"] == (1.0, 3.0) and V.SLIDER_RANGES["specular_color"] == (0.0, 2.0)
+    assert set(V.COLOUR_PARAMETERS["gltf"]) == {"sheen_color", "specular_color"}
+    assert V.applicable_parameters("gltf", {"sheen_color": (2.0, 0.5, -1.0), "ior": 2.4, "sheen": 0.5}) == {
+        "sheen_color": (1.0, 0.5, 0.0), "ior": 2.4}
+    # the albedo view's white lobe (F = 1): no sheen, no coat, whatever the material has
+    brdf = V.model_brdf("gltf", **GLTF_EXTENSIONS["clearcoat"], **GLTF_EXTENSIONS["sheen"], ior=2.4)
+    white = brdf.white()
+    assert white.spec.clearcoat == 0.0 and tuple(white.spec.sheen_color) == (0.0, 0.0, 0.0)
+    np.testing.assert_allclose(V.directional_albedo(white, count=8)["value"],
+                               V.directional_albedo(V.model_brdf("gltf").white(), count=8)["value"], rtol=1e-12)
+    assert V.model_brdf("disney", sheen=0.5, clearcoat=0.5).white().spec.clearcoat == 0.0

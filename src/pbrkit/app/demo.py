@@ -35,7 +35,8 @@ from ..io.exr import write_exr
 from ..io.png import write_png
 from .figures import error_scale, new_figure, plot_error_map, save_figure
 
-__all__ = ["run_demo", "FURNACE_LOBES", "DEMO_LEVELS", "DEMO_ENTRIES", "ERROR_QUANTITY"]
+__all__ = ["run_demo", "FURNACE_LOBES", "DEMO_LEVELS", "DEMO_ENTRIES", "ERROR_QUANTITY", "GLTF_EXTENSION_MATERIALS",
+           "gltf_extensions_scene"]
 
 #: The furnace lobes the demo plots (the models, and GGX with three masking terms).
 FURNACE_LOBES = ("ggx/height-correlated", "ggx/separable", "ggx/schlick-ggx", "ue4", "filament", "urp_mobile")
@@ -143,7 +144,8 @@ DEMO_ENTRIES = frozenset({"index.html", "summary.json", "realtime.png", "referen
                           "preview", "furnace", "area_realtime.png", "area_reference.png", "area_error.png",
                           "npr_toon.png", "npr_mtoon.png", "npr_hatching.png", "model.glb", "npr_model_pbr.png",
                           "npr_model_toon.png", "npr_model_mtoon.png", "npr_model_hatching.png",
-                          "npr_model_outline.png"})
+                          "npr_model_outline.png", "gltf_realtime.png", "gltf_reference.png", "gltf_error.png",
+                          "gltf_extensions"})
 
 
 def _demo_entries():
@@ -270,6 +272,11 @@ def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progr
     wait("reference")
     ref = render_reference(scene, spp=spp, seed=seed, geometry=geometry, env=env, occlusion=False)
     timings["ground-truth render"] = ref.stats["timings"]["total"]
+    # the glTF material extensions, one sphere each, in both modes (after the sphere grid's ground
+    # truth: its kernels are compiled by then)
+    t = time.perf_counter()
+    gltf_extensions = _gltf_extensions_comparison(out, scene.environment, env, baked, size, spp, seed)
+    timings["glTF extensions"] = time.perf_counter() - t
     step("reference")
     t = time.perf_counter()
     mask = rt.mask & ref.mask
@@ -318,6 +325,7 @@ def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progr
                       "percentile_99": p99, "max": peak, "pixels_above_scale": int(np.count_nonzero(rel[valid] > scale))},
         "per_sphere_signed_relative_error": per_sphere,
         "area_light": area,
+        "gltf_extensions": gltf_extensions,
         "npr": npr,
         "furnace": {name: furnace_summary["per_lobe"][name] for name in lobes},
         "furnace_options": {"mu": n_mu, "roughness": n_rough, "samples": samples,
@@ -459,6 +467,123 @@ def _area_light_comparison(out, size, spp, seed, before_reference=None):
             "timings": {"realtime": rt.stats["timings"]["total"], "reference": ref.stats["timings"]["total"]}}
 
 
+#: The demo's glTF material extensions section: (name, what it shows, the material's keys)
+#: of one sphere per KHR_materials extension of the ``gltf`` model, the core model first as
+#: the reference, and all of them together last; a 3 x 2 grid, row by row.
+GLTF_EXTENSION_MATERIALS = (
+    ("core", "core glTF 2.0 (Appendix B), no extension: the clear-coat sphere's red metal-ish base, roughness 0.5, "
+             "without its coat; the reference the others differ from",
+     dict(base_color=(0.6, 0.06, 0.05), metallic=0.5, roughness=0.5)),
+    ("sheen", "KHR_materials_sheen: velvet, a dark base (roughness 0.8) under a white Charlie sheen of roughness "
+              "0.5, which brightens towards the silhouette",
+     dict(base_color=(0.05, 0.03, 0.12), metallic=0.0, roughness=0.8, sheen_color=(1.0, 1.0, 1.0),
+          sheen_roughness=0.5)),
+    ("clearcoat", "KHR_materials_clearcoat: car paint, the core sphere under a clear coat of weight 1 and roughness "
+                  "0.05: a sharp reflection over the base's blurred one",
+     dict(base_color=(0.6, 0.06, 0.05), metallic=0.5, roughness=0.5, clearcoat=1.0, clearcoat_roughness=0.05)),
+    ("specular", "KHR_materials_specular: specular 0.3 and an orange specular colour on a blue dielectric: "
+                 "weaker, tinted reflections (F0 and F90 scaled by 0.3)",
+     dict(base_color=(0.1, 0.25, 0.5), metallic=0.0, roughness=0.3, specular=0.3, specular_color=(1.0, 0.6, 0.2))),
+    ("ior", "KHR_materials_ior: ior 2.4, a diamond-like dielectric over a near-black base: F0 0.17 instead of the "
+            "core's 0.04",
+     dict(base_color=(0.02, 0.02, 0.02), metallic=0.0, roughness=0.1, ior=2.4)),
+    ("combined", "all four together: a blue dielectric of ior 1.8 with specular 0.8 and a warm specular colour, "
+                 "a grey sheen, under a clear coat of weight 0.8 and roughness 0.1",
+     dict(base_color=(0.1, 0.25, 0.5), metallic=0.0, roughness=0.4, sheen_color=(0.6, 0.6, 0.6),
+          sheen_roughness=0.3, clearcoat=0.8, clearcoat_roughness=0.1, specular=0.8,
+          specular_color=(1.0, 0.8, 0.6), ior=1.8)),
+)
+
+
+def gltf_extensions_scene(width, environment):
+    """The scene of the demo's glTF extensions section: the spheres of
+    :data:`GLTF_EXTENSION_MATERIALS` (model ``gltf``) in a 3 x 2 grid, ``width`` x
+    (2/3 ``width``) pixels, far camera (as the sphere grid's), lit by ``environment``
+    (an :class:`pbrkit.render.scene.EnvironmentSpec`)."""
+    import math
+
+    from ..render.scene import Camera, MaterialSpec, Scene, Sphere
+
+    cols, rows, spacing, distance = 3, 2, 2.4, 60.0
+    materials = {"default": MaterialSpec()}
+    objects = []
+    for k, (name, _, keys) in enumerate(GLTF_EXTENSION_MATERIALS):
+        materials[name] = MaterialSpec(name=name, model="gltf", **keys)
+        r, c = divmod(k, cols)
+        objects.append(Sphere(center=((c - (cols - 1) / 2) * spacing, ((rows - 1) / 2 - r) * spacing, 0.0),
+                              radius=1.0, material=name))
+    height = max(8, (2 * width) // 3)
+    half = ((rows - 1) / 2 * spacing + 1.0) * 1.06
+    camera = Camera(position=(0.0, 0.0, distance), look_at=(0.0, 0.0, 0.0),
+                    fov=2.0 * math.degrees(math.atan(half / (distance - 1.0))), width=width, height=height)
+    return Scene(camera=camera, environment=environment, materials=materials, objects=tuple(objects),
+                 source="gltf-extensions")
+
+
+def _sphere_discs(scene, fraction=1.0):
+    """Per sphere of ``scene``: its centre (row, column) and radius in pixels times ``fraction``."""
+    cam = scene.camera
+    scale = cam.height / (2.0 * np.tan(np.radians(cam.fov) / 2.0))
+    out = []
+    for sphere in scene.objects:
+        r, c = cam.project(np.array([sphere.center]))
+        distance = np.linalg.norm(np.subtract(sphere.center, cam.position))
+        out.append((float(r[0]), float(c[0]), fraction * sphere.radius / distance * scale))
+    return out
+
+
+def _gltf_extensions_comparison(out, environment, env, baked, size, spp, seed):
+    """The glTF extensions section: :func:`gltf_extensions_scene` at size / 2 wide, in
+    real time from the demo's bake and as ground truth (``spp``, no occlusion: like for
+    like), the whole images and error map written into ``out``, and each sphere cut out
+    of both (``gltf_extensions/<name>_realtime.png``, ``..._reference.png``) with its own
+    errors over the sphere's inner 80% (radius); returns its summary."""
+    from ..core.color import luminance
+    from ..render.compare import compare_images, relative_error_pixels
+    from ..render.geometry import Geometry
+    from ..render.realtime import render_realtime
+    from ..render.reference import render_reference
+
+    scene = gltf_extensions_scene(max(24, size // 2), environment)
+    geometry = Geometry(scene)
+    rt = render_realtime(scene, geometry, env, bake=baked)
+    ref = render_reference(scene, spp=spp, seed=seed, geometry=geometry, env=env, occlusion=False)
+    mask = rt.mask & ref.mask
+    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
+    rel = metrics.pop("relative_error_map")
+    valid = relative_error_pixels(ref.image, mask)
+    scale, p99, peak = error_scale(rel[valid])
+    _png(out / "gltf_realtime.png", rt.image)
+    _png(out / "gltf_reference.png", ref.image)
+    plot_error_map(out / "gltf_error.png", rel, valid, scale, _ERROR_LABEL)
+    (out / "gltf_extensions").mkdir(exist_ok=True)
+    cam = scene.camera
+    rows, cols = np.mgrid[0:cam.height, 0:cam.width] + 0.5
+    y_rt, y_ref = luminance(rt.image), luminance(ref.image)
+    materials = []
+    for (name, shows, keys), (r, c, radius) in zip(GLTF_EXTENSION_MATERIALS, _sphere_discs(scene)):
+        inside = (rows - r) ** 2 + (cols - c) ** 2 < (0.8 * radius) ** 2
+        e = compare_images(rt.image, ref.image, mask & inside, ref.stderr, flip=False)
+        e.pop("relative_error_map")
+        ok = relative_error_pixels(ref.image, mask & inside)
+        e["signed_relative_error"] = (float(np.mean((y_rt[ok] - y_ref[ok]) / y_ref[ok])) if ok.any()
+                                      else float("nan"))
+        r0, r1 = max(0, int(np.floor(r - 1.08 * radius))), min(cam.height, int(np.ceil(r + 1.08 * radius)))
+        c0, c1 = max(0, int(np.floor(c - 1.08 * radius))), min(cam.width, int(np.ceil(c + 1.08 * radius)))
+        files = {}
+        for mode, image in (("realtime", rt.image), ("reference", ref.image)):
+            files[mode] = f"gltf_extensions/{name}_{mode}.png"
+            _png(out / files[mode], image[r0:r1, c0:c1])
+        materials.append({"name": name, "shows": shows,
+                          "material": {k: list(v) if isinstance(v, tuple) else v for k, v in keys.items()},
+                          "files": files, "errors": e})
+    sheen_lookup = "charlie" if getattr(baked, "charlie", None) is not None else "ggx"
+    return {"image": {"width": cam.width, "height": cam.height}, "spp": int(spp), "model": "gltf",
+            "sheen_lookup": sheen_lookup, "materials": materials, "errors": metrics,
+            "error_map": {"scale_max": scale, "percentile_99": p99, "max": peak},
+            "timings": {"realtime": rt.stats["timings"]["total"], "reference": ref.stats["timings"]["total"]}}
+
+
 def _per_sphere_errors(scene, rt, ref):
     """Signed relative luminance error (Y_rt - Y_ref) / Y_ref averaged over the inner
     80% (radius) of each sphere of the grid, as rows (metallic) of columns (roughness)."""
@@ -491,6 +616,7 @@ h3 { font-size: 1.05em; margin-top: 1.4em; }
 figure { display: inline-block; margin: 0.4em; vertical-align: top; text-align: center; }
 figure img { max-width: 100%; border: 1px solid #ccc; image-rendering: auto; }
 .grid figure { width: 360px; } .grid img { width: 360px; }
+img.crop { width: 112px; image-rendering: auto; border: 1px solid #ccc; }
 .crosses figure { width: 176px; margin: 0.3em; } .crosses img { width: 176px; image-rendering: pixelated; }
 figure.wide { display: block; margin: 0.6em 0; } figure.wide img { width: 100%; max-width: 1150px; }
 figcaption { font-size: 0.85em; color: #444; }
@@ -598,6 +724,64 @@ without occlusion (like for like).</p>
 """
 
 
+def _gltf_section(summary):
+    """The page's glTF material extensions section (summary["gltf_extensions"], when present)."""
+    g = summary.get("gltf_extensions")
+    if not g:
+        return ""
+    e = g["errors"]
+    rows = [("mean relative error", _percent(e["mean_relative_error"])),
+            ("RMS relative error, ground-truth noise removed", _percent(e.get("rms_relative_error_noise_removed", 0.0))),
+            ("ground-truth noise (mean relative standard error)", _percent(e.get("mean_relative_stderr", 0.0))),
+            ("HDR-FLIP", f"{e.get('flip', float('nan')):.4f}"),
+            ("real time / ground truth (s)", f"{g['timings']['realtime']:.2f} / {g['timings']['reference']:.2f}")]
+
+    def keys(material):
+        return ", ".join(f"<code>{html.escape(k)}</code> = " + html.escape(
+            ", ".join(f"{x:g}" for x in v) if isinstance(v, list) else f"{v:g}") for k, v in material.items())
+
+    sheen = ("the Charlie-prefiltered chain at the sheen roughness" if g.get("sheen_lookup") == "charlie" else
+             "the GGX-prefiltered chain at the sheen roughness (the bake has no Charlie-prefiltered chain: a "
+             "stand-in)")
+    material_rows = "\n".join(
+        f"<tr><th>{html.escape(m['name'])}</th>"
+        f'<td><img class="crop" src="{html.escape(m["files"]["realtime"])}" alt="{html.escape(m["name"])}, '
+        f'real time"></td>'
+        f'<td><img class="crop" src="{html.escape(m["files"]["reference"])}" alt="{html.escape(m["name"])}, '
+        f'ground truth"></td>'
+        f'<td class="num">{_percent(m["errors"]["mean_relative_error"])}</td>'
+        f'<td class="num">{_percent(m["errors"].get("rms_relative_error_noise_removed", 0.0))}</td>'
+        f'<td class="num">{100.0 * m["errors"]["signed_relative_error"]:+.1f}%</td>'
+        f'<td class="num">{_percent(m["errors"].get("mean_relative_stderr", 0.0))}</td>'
+        f"<td>{html.escape(m['shows'])}<br><span class=\"note\">{keys(m['material'])}</span></td></tr>"
+        for m in g["materials"])
+    return f"""<h2>glTF material extensions</h2>
+<p class="note">One sphere per KHR_materials extension of the <code>gltf</code> model (the material keys of
+<code>pbrkit render</code>'s scene files; <code>pbrkit.io.gltf_materials</code> reads them from glTF files), the
+core model first as the reference; {g["image"]["width"]} &times; {g["image"]["height"]} pixels, lit by the same
+environment and bake as the sphere grid. Real time, as the Khronos glTF Sample Viewer evaluates the extensions:
+the base's split sum (with KHR_materials_specular's and KHR_materials_ior's F0 and F90) scaled by the sheen's and
+the coat's albedo terms, the clear coat's own lookup in the prefiltered chain at its roughness and its own DFG
+term, and the sheen's albedo table times {sheen}. Ground truth ({g["spp"]} spp): the layered BRDF evaluated and sampled exactly,
+without occlusion (like for like).</p>
+<div class="grid">
+<figure><img src="gltf_realtime.png" alt="glTF extensions, real time"><figcaption>real time</figcaption></figure>
+<figure><img src="gltf_reference.png" alt="glTF extensions, ground truth"><figcaption>ground truth</figcaption>
+</figure>
+<figure><img src="gltf_error.png" alt="glTF extensions, relative luminance error map">
+<figcaption>relative luminance error, colour scale 0 to {100.0 * g["error_map"]["scale_max"]:g}%</figcaption>
+</figure>
+</div>
+<table>{_rows(rows)}</table>
+<h3>Per material (over the inner 80% of each sphere)</h3>
+<table><tr><th>material</th><th>real time</th><th>ground truth</th><th>mean relative error</th>
+<th>RMS relative error, noise removed</th><th>mean signed error</th><th>ground-truth noise</th><th>what it shows</th>
+</tr>
+{material_rows}
+</table>
+"""
+
+
 def _page(summary, manifest):
     e = summary["errors"]
     ref = summary["reference"]
@@ -696,6 +880,7 @@ positive where real time is brighter than the ground truth.</p>
 <table>{_rows(sample_rows)}</table>
 
 {_area_section(summary)}
+{_gltf_section(summary)}
 {_npr_section(summary)}
 <h2>White furnace</h2>
 <p class="note">Directional albedo E(mu) with F = 1 of single-scattering specular lobes, by quadrature (the energy

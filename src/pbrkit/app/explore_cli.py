@@ -24,10 +24,18 @@ EXPLORE_CONDUCTORS = ("aluminium", "copper", "gold", "silver")
 EXPLORE_FIT_MODELS = ("ggx", "disney")
 EXPLORE_FIT_WEIGHTINGS = ("log", "cosine")
 EXPLORE_COMPENSATIONS = ("filament", "kulla-conty")
-#: The optional material parameters: option -> Material field (each in [0, 1]; anisotropy in [-1, 1]).
+#: The optional material parameters: option -> Material field (each in [0, 1]; anisotropy in [-1, 1];
+#: ior 0 or >= 1, checked by the material).
 EXPLORE_PARAMETERS = {"--reflectance": "reflectance", "--anisotropy": "anisotropy", "--subsurface": "subsurface",
                       "--specular-tint": "specular_tint", "--sheen": "sheen", "--sheen-tint": "sheen_tint",
-                      "--clearcoat": "clearcoat", "--clearcoat-gloss": "clearcoat_gloss"}
+                      "--clearcoat": "clearcoat", "--clearcoat-gloss": "clearcoat_gloss",
+                      "--sheen-roughness": "sheen_roughness", "--clearcoat-roughness": "clearcoat_roughness",
+                      "--specular": "specular", "--ior": "ior"}
+#: The optional colour parameters: option -> Material field (R,G,B; sheen_color in [0, 1],
+#: specular_color >= 0).
+EXPLORE_COLOURS = {"--sheen-color": "sheen_color", "--specular-color": "specular_color"}
+#: The upper end of each parameter's range where it is not 1 (checked here; the material checks again).
+_HIGH = {"ior": float("inf"), "specular_color": float("inf")}
 
 
 def _unit(option, value, lo=0.0, hi=1.0):
@@ -40,16 +48,17 @@ def _unit(option, value, lo=0.0, hi=1.0):
     return float(value)
 
 
-def _base_color(text):
+def _base_color(text, option="--base-color", hi=1.0):
     parts = text.split(",")
     try:
         rgb = tuple(float(x) for x in parts)
     except ValueError:
         rgb = ()
     if len(rgb) != 3:
-        raise ValueError(f"--base-color: three comma-separated numbers R,G,B (linear, in [0, 1]); got {text!r}")
+        span = "in [0, 1]" if hi == 1.0 else ">= 0"
+        raise ValueError(f"{option}: three comma-separated numbers R,G,B (linear, {span}); got {text!r}")
     for x in rgb:
-        _unit("--base-color", x)
+        _unit(option, x, 0.0, hi)
     return rgb
 
 
@@ -62,7 +71,8 @@ def _angle(option, value, hi):
 _KEY_FLAGS = {"distribution": "--distribution", "masking": "--masking", "fresnel": "--fresnel",
               "diffuse": "--diffuse", "conductor": "--conductor", "base_color": "--base-color",
               "metallic": "--metallic", "roughness": "--roughness",
-              **{name: option for option, name in EXPLORE_PARAMETERS.items()}}
+              **{name: option for option, name in EXPLORE_PARAMETERS.items()},
+              **{name: option for option, name in EXPLORE_COLOURS.items()}}
 _SPEC_PREFIX = "material 'explore': "
 
 
@@ -143,9 +153,23 @@ def register(app):
         sheen: Optional[float] = typer.Option(None, "--sheen", metavar="X", help="disney only."),
         sheen_tint: Optional[float] = typer.Option(None, "--sheen-tint", metavar="X",
                                                    help="disney only (default 0.5)."),
-        clearcoat: Optional[float] = typer.Option(None, "--clearcoat", metavar="X", help="disney only."),
+        clearcoat: Optional[float] = typer.Option(None, "--clearcoat", metavar="X",
+                                                  help="disney; gltf (KHR_materials_clearcoat)."),
         clearcoat_gloss: Optional[float] = typer.Option(None, "--clearcoat-gloss", metavar="X",
                                                         help="disney only (default 1)."),
+        clearcoat_roughness: Optional[float] = typer.Option(None, "--clearcoat-roughness", metavar="X",
+                                                            help="gltf only (KHR_materials_clearcoat; default 0)."),
+        sheen_color: Optional[str] = typer.Option(None, "--sheen-color", metavar="R,G,B",
+                                                  help="gltf only (KHR_materials_sheen; default 0,0,0)."),
+        sheen_roughness: Optional[float] = typer.Option(None, "--sheen-roughness", metavar="X",
+                                                        help="gltf only (KHR_materials_sheen; default 0)."),
+        specular: Optional[float] = typer.Option(None, "--specular", metavar="X",
+                                                 help="gltf only (KHR_materials_specular; default 1)."),
+        specular_color: Optional[str] = typer.Option(None, "--specular-color", metavar="R,G,B",
+                                                     help="gltf, cook_torrance (KHR_materials_specular; >= 0, "
+                                                          "default 1,1,1)."),
+        ior: Optional[float] = typer.Option(None, "--ior", metavar="X",
+                                            help="gltf only (KHR_materials_ior: 0 or >= 1; default 1.5)."),
         distribution: str = _choice("ggx", "--distribution", EXPLORE_DISTRIBUTIONS, "distribution",
                                     "cook_torrance's D."),
         masking: str = _choice("height-correlated", "--masking", EXPLORE_MASKINGS, "masking",
@@ -219,11 +243,11 @@ def register(app):
         _unit("--metallic", metallic)
         _unit("--roughness", roughness)
         rgb = _base_color(base_color)
-        given = {name: _unit(option, value, -1.0 if name == "anisotropy" else 0.0)
-                 for (option, name), value in zip(EXPLORE_PARAMETERS.items(),
-                                                  (reflectance, anisotropy, subsurface, specular_tint, sheen,
-                                                   sheen_tint, clearcoat, clearcoat_gloss))
-                 if value is not None}
+        values = locals()
+        given = {name: _unit(option, values[name], -1.0 if name == "anisotropy" else 0.0, _HIGH.get(name, 1.0))
+                 for option, name in EXPLORE_PARAMETERS.items() if values[name] is not None}
+        given.update({name: _base_color(values[name], option, _HIGH.get(name, 1.0))
+                      for option, name in EXPLORE_COLOURS.items() if values[name] is not None})
         angles = {"theta_v": _angle("--theta-v", theta_v, 89.0),
                   "light_theta": _angle("--light-theta", light_theta, 90.0),
                   "light_phi": _angle("--light-phi", light_phi, 360.0),
@@ -239,9 +263,10 @@ def register(app):
             check_port(port)  # before any work: a port in use is refused with its one line
         from ..explore import views as V
 
-        for option, name in EXPLORE_PARAMETERS.items():
-            if name in given and name not in V.MODEL_PARAMETERS[model]:  # (--compare takes those it has)
-                having = [k for k, v in V.MODEL_PARAMETERS.items() if name in v]
+        for option, name in {**EXPLORE_PARAMETERS, **EXPLORE_COLOURS}.items():
+            if name in given and name not in V.MODEL_PARAMETERS[model] + V.COLOUR_PARAMETERS[model]:
+                # (--compare takes those it has)
+                having = [k for k in V.MODEL_PARAMETERS if name in V.MODEL_PARAMETERS[k] + V.COLOUR_PARAMETERS[k]]
                 raise ValueError(f"{option}: model {model!r} has no {name} (models with it: {', '.join(having)})")
         terms = {}
         if model == "cook_torrance":

@@ -97,7 +97,7 @@ class Explorer:
         self.measured = None
         self.fitted = None
         self._building = True
-        params = {k: v[2] for k, v in V.PARAMETER_RANGES.items()}
+        params = {k: v[2] for k, v in {**V.PARAMETER_RANGES, **V.COLOUR_RANGES}.items()}
         params.update(metallic=metallic, roughness=roughness, **parameters)
         angles = {"theta_v": theta_v, "light_theta": light_theta, "light_phi": light_phi, "theta_h": theta_h,
                   "theta_d": theta_d, "phi_d": phi_d}
@@ -134,8 +134,16 @@ class Explorer:
         self.base = [w.FloatSlider(label=f"base colour {c} (linear)", start=0.0, end=1.0, step=0.01, value=float(x))
                      for c, x in zip("RGB", rgb)]
         self.params = {}
-        for name, (lo, hi, _) in V.PARAMETER_RANGES.items():
-            self.params[name] = w.FloatSlider(label=name, start=lo, end=hi, step=0.01, value=float(params[name]))
+        for name in V.PARAMETER_RANGES:  # each slider over its declared range, finite (views.SLIDER_RANGES)
+            lo, hi = V.SLIDER_RANGES[name]
+            self.params[name] = w.FloatSlider(label=name, start=lo, end=hi, step=0.01,
+                                              value=min(max(float(params[name]), lo), hi))
+        self.colours = {}  # the colour parameters (views.COLOUR_PARAMETERS): one slider per channel
+        for name in V.COLOUR_RANGES:
+            lo, hi = V.SLIDER_RANGES[name]
+            rgb = np.broadcast_to(np.asarray(params[name], dtype=float), (3,))
+            self.colours[name] = [w.FloatSlider(label=f"{name} {c} (linear)", start=lo, end=hi, step=0.01,
+                                                value=min(max(float(x), lo), hi)) for c, x in zip("RGB", rgb)]
         deg = {k: round(math.degrees(v), 1) for k, v in angles.items()}
         self.theta_v = w.FloatSlider(label="theta_v (view, degrees)", start=0.0, end=89.0, step=0.5,
                                      value=deg["theta_v"])
@@ -166,7 +174,7 @@ class Explorer:
 
         groups = {
             "all": [self.model, self.distribution, self.masking, self.fresnel, self.diffuse, self.conductor,
-                    *self.base, *self.params.values(), self.second],
+                    *self.base, *self.params.values(), *self._colour_widgets(), self.second],
             "plane": [self.theta_v],
             "lobe": [self.phi_v],
             "slices": [self.theta_h, self.theta_d, self.phi_d],
@@ -179,9 +187,13 @@ class Explorer:
         self.merl_load.on_click(lambda event: self._load_merl(show=True))
         self.fit_button.on_click(lambda event: self._fit())
 
+    def _colour_widgets(self):
+        return [widget for widgets in self.colours.values() for widget in widgets]
+
     def _sync_widgets(self):
         """Enable the widgets of the chosen model: terms for cook_torrance (filament:
-        diffuse), parameters by :data:`pbrkit.explore.views.MODEL_PARAMETERS`."""
+        diffuse), parameters by :data:`pbrkit.explore.views.MODEL_PARAMETERS` and
+        :data:`pbrkit.explore.views.COLOUR_PARAMETERS`."""
         model = self.model.value
         ct = model == "cook_torrance"
         for widget in (self.distribution, self.masking, self.fresnel):
@@ -190,6 +202,9 @@ class Explorer:
         for name, widget in self.params.items():
             widget.disabled = name not in V.MODEL_PARAMETERS[model] or (
                 name == "anisotropy" and ct and self.distribution.value == "blinn-phong")
+        for name, widgets in self.colours.items():
+            for widget in widgets:
+                widget.disabled = name not in V.COLOUR_PARAMETERS[model]
 
     # ------------------------------------------------------------ BRDFs
 
@@ -197,7 +212,8 @@ class Explorer:
         """The first BRDF (a :class:`~pbrkit.explore.views.ModelBRDF`) from the widgets
         (``model`` replaces the chosen model, for the second BRDF)."""
         model = model or self.model.value
-        params = V.applicable_parameters(model, {k: w.value for k, w in self.params.items()})
+        params = V.applicable_parameters(model, {**{k: w.value for k, w in self.params.items()},
+                                                 **{k: tuple(w.value for w in ws) for k, ws in self.colours.items()}})
         terms = {}
         if model == "cook_torrance":
             terms = {"distribution": self.distribution.value, "masking": self.masking.value,
@@ -348,7 +364,7 @@ class Explorer:
         side = pn.Column(
             pn.pane.Markdown("### pbrkit explore\nThe values are pbrkit's models, evaluated in Python."),
             self.model, self.distribution, self.masking, self.fresnel, self.diffuse, self.conductor,
-            *self.base, *self.params.values(),
+            *self.base, *self.params.values(), *self._colour_widgets(),
             pn.pane.Markdown("**Angles**"), self.theta_v, self.phi_v, self.light_theta, self.light_phi,
             self.theta_d, self.theta_h, self.phi_d, self.exposure, self.compensation,
             pn.pane.Markdown("**Second BRDF and measured materials**"), self.second, self.merl_path,

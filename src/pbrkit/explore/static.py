@@ -263,7 +263,8 @@ def _summary(brdf, second, angles, compensation, extra):
             out.update(model=s.model, distribution=s.distribution, masking=s.masking, fresnel=s.fresnel,
                        diffuse=s.diffuse, base_color=list(s.base_color), metallic=s.metallic,
                        roughness=s.roughness, roughness_remap="alpha = roughness^2",
-                       **{k: getattr(s, k) for k in V.MODEL_PARAMETERS[s.model]})
+                       **{k: getattr(s, k) for k in V.MODEL_PARAMETERS[s.model]},
+                       **{k: [float(x) for x in getattr(s, k)] for k in V.COLOUR_PARAMETERS[s.model]})
         e = V.directional_albedo(b, compensation=compensation)
         p = V.incidence_plane(b, math.radians(angles["theta_v"]))
         out["albedo_luminance"] = {"theta_v_min": float(e["value"][0]), "theta_v_max": float(e["value"][-1]),

@@ -63,6 +63,11 @@ __all__ = [
     "MODEL_PARAMETERS",
     "DISNEY_ONLY",
     "PARAMETER_RANGES",
+    "COLOUR_PARAMETERS",
+    "COLOUR_RANGES",
+    "SLIDER_LIMITS",
+    "SLIDER_RANGES",
+    "EXTRA_LOBES",
     "incidence_plane",
     "lobe_3d",
     "theta_h_slice",
@@ -99,6 +104,32 @@ DISNEY_ONLY = {p.name: p.default for p in REGISTERED[[m.name for m in REGISTERED
 #: (anisotropy: [0, 1] for disney, Burley's aspect, which :func:`applicable_parameters` applies).
 PARAMETER_RANGES = {p.name: (p.low, p.high, p.default) for p in PARAMETERS
                     if isinstance(p, Parameter) and p.channels == 1}
+#: The colour parameters (three channels) each model reads besides base_color, from the
+#: models' declarations: the explorer's R, G, B sliders (``specular_color``, glTF's
+#: ``sheen_color``, ...).  Cook-Torrance's ``eta`` and ``k`` (no default: set by the
+#: ``conductor`` choice) are not among them.
+COLOUR_PARAMETERS = {m.name: tuple(p.name for p in m.numbers if p.channels == 3 and p.name not in TEXTURED
+                               and p.default is not None) for m in REGISTERED}
+#: (low, high, default) of every colour parameter (one channel's range; the default RGB).
+COLOUR_RANGES = {p.name: (p.low, p.high, tuple(p.default)) for p in PARAMETERS
+                 if isinstance(p, Parameter) and p.channels == 3 and p.name in set().union(*COLOUR_PARAMETERS.values())}
+#: The explorer's slider ends where the declared range is open (a slider needs a finite
+#: end) or has a gap: KHR_materials_ior's ior, declared 0 or >= 1 (0: f0 = 1), from 1
+#: (f0 = 0) to 3 (f0 = 0.25; diamond's 2.42 inside); KHR_materials_specular's
+#: specular_color, declared [0, inf) (f0 = min(f0(ior) colour, 1) per channel), to 2.
+#: A value outside a slider's ends is still a valid material (:func:`model_brdf` checks
+#: the declared range).
+SLIDER_LIMITS = {"ior": (1.0, 3.0), "specular_color": (0.0, 2.0)}
+#: The end of a slider over any other open range (a parameter declared later).
+SLIDER_UNBOUNDED_HIGH = 2.0
+#: (low, high) of every scalar and colour parameter's slider: the declared range, or
+#: :data:`SLIDER_LIMITS`, always finite.
+SLIDER_RANGES = {name: SLIDER_LIMITS.get(name, (lo, hi if math.isfinite(hi) else SLIDER_UNBOUNDED_HIGH))
+                 for name, (lo, hi, _) in {**PARAMETER_RANGES, **COLOUR_RANGES}.items()}
+#: The parameters of the lobes that :meth:`ModelBRDF.white` removes (Disney's sheen and
+#: clear coat, glTF's KHR_materials_sheen and KHR_materials_clearcoat), with their
+#: declared defaults (no sheen, no coat).
+EXTRA_LOBES = {p.name: p.default for p in PARAMETERS if p.name in ("sheen", "clearcoat", "sheen_color")}
 #: Compensations of the albedo view (:mod:`pbrkit.albedo.compensation`).
 COMPENSATIONS = ("filament", "kulla-conty")
 
@@ -177,13 +208,12 @@ class ModelBRDF:
         return evaluate(self.spec.model, l, v, _N if n is None else n, self.material, t=t, **self.term_names)
 
     def white(self):
-        """The same model with F = 1 and no diffuse, clear coat or sheen: base colour 1,
-        metallic 1 (f0 = 1 in every metallic workflow; cook_torrance: fresnel ``none``
-        and diffuse ``none``), as :func:`pbrkit.albedo.furnace.furnace_lobes` builds
+        """The same model with F = 1 and no diffuse, clear coat or sheen (:data:`EXTRA_LOBES`):
+        base colour 1, metallic 1 (f0 = 1 and F90 = 1 in every metallic workflow, glTF's
+        specular and ior included; cook_torrance: fresnel ``none`` and diffuse ``none``), as :func:`pbrkit.albedo.furnace.furnace_lobes` builds
         its white lobes.  Its albedo is the white furnace of the specular lobe."""
         s = self.spec
-        changes = dict(base_color=(1.0, 1.0, 1.0), metallic=1.0, conductor=None, eta=None, k=None,
-                       **{k: DISNEY_ONLY[k] for k in ("sheen", "clearcoat")})
+        changes = dict(base_color=(1.0, 1.0, 1.0), metallic=1.0, conductor=None, eta=None, k=None, **EXTRA_LOBES)
         if s.model == "cook_torrance":
             changes.update(fresnel="none", diffuse="none")
         return ModelBRDF(dataclasses.replace(s, **changes), label=f"{self.name}, F = 1")
@@ -224,12 +254,16 @@ def model_choices(model):
 
 def applicable_parameters(model, parameters):
     """The entries of ``parameters`` (name -> value) that ``model`` reads
-    (:data:`MODEL_PARAMETERS`); anisotropy is clamped to [0, 1] for disney."""
-    keep = {k: v for k, v in parameters.items() if k in MODEL_PARAMETERS[model]}
+    (:data:`MODEL_PARAMETERS`, and the RGB triples of :data:`COLOUR_PARAMETERS`), each
+    clamped to the model's own range (anisotropy to [0, 1] for disney)."""
+    keep = {k: v for k, v in parameters.items() if k in MODEL_PARAMETERS[model] or k in COLOUR_PARAMETERS[model]}
     declared = REGISTERED[MODELS.index(model)]
     for name, value in keep.items():  # the model's own range (Disney's anisotropy)
         p = declared.declaration(name)
-        keep[name] = min(max(float(value), p.low), p.high)
+        if name in COLOUR_PARAMETERS[model]:
+            keep[name] = tuple(min(max(float(x), p.low), p.high) for x in np.broadcast_to(value, (3,)))
+        else:
+            keep[name] = min(max(float(value), p.low), p.high)
     return keep
 
 
@@ -255,8 +289,7 @@ def fitted_brdf(result):
     if result.model == "disney":
         m = result.material()
         return model_brdf("disney", m.base_color, float(m.metallic), float(m.roughness), label=label,
-                          reflectance=float(m.reflectance),
-                          **{k: float(getattr(m, k)) for k in DISNEY_ONLY})
+                          **{k: float(getattr(m, k)) for k in MODEL_PARAMETERS["disney"]})
     return FittedBRDF(result, label)
 
 
