@@ -9,17 +9,21 @@ Each asset is a grid of UV spheres (32 x 64 segments, radius 0.42, one per cell 
 material's ``extensions`` and the file's ``extensionsUsed``, a perspective camera at
 (0, 0, 6) looking down -Z), into the test's tmp folder:
 
-=========  ======================  ==========================================  ==================
-asset      extension               varied (columns x rows)                     base
-=========  ======================  ==========================================  ==================
-clearcoat  KHR_materials_clearcoat clearcoat 0, 0.5, 1 x coat roughness        red, roughness 0.5
-                                   0, 0.3, 0.7
-specular   KHR_materials_specular  specular 0, 0.5, 1 (white colour); colour   dark grey, r 0.3
-                                   (1, .3, .3), (.3, .6, 1), (2.5, 2.5, 2.5)
-ior        KHR_materials_ior       ior 1.0, 1.5, 2.0, 2.5 x roughness 0.2, 0.5  near black
-sheen      KHR_materials_sheen     colour white, pink, blue x sheen roughness   dark blue, r 0.5
+=========  ======================  ============================================  ==================
+asset      extension               varied (columns x rows)                       base
+=========  ======================  ============================================  ==================
+clearcoat  KHR_materials_clearcoat clearcoat 0, 0.5, 1 x coat roughness 0, 0.3,  red, roughness 0.5
+                                   0.7; a 4th row: coat 1, roughness 0 over
+                                   KHR_materials_ior 1, 2, 3
+specular   KHR_materials_specular  specular 0, 0.5, 1 (white colour); colour     dark grey, r 0.3
+                                   (1, .3, .3), (.3, .6, 1), (2.5, 2.5, 2.5); a
+                                   3rd row with KHR_materials_ior: ior 1, ior 2
+                                   with specular 0.5 and a colour, ior 2.5 x
+                                   colour 10 (F0 clamped to 1)
+ior        KHR_materials_ior       ior 1.0, 1.5, 2.0, 2.5 x roughness 0.2, 0.5    near black
+sheen      KHR_materials_sheen     colour white, pink, blue x sheen roughness     dark blue, r 0.5
                                    0.3, 0.8
-=========  ======================  ==========================================  ==================
+=========  ======================  ============================================  ==================
 
 The viewer loads the ``.glb`` with the page and bake of ``test_engine_render_khronos.py``
 (``pages/khronos_render.html``, ``loadPbrkitEnvironment`` of ``pbrkit bake --target
@@ -34,17 +38,18 @@ Measured (mean |grey| / p95 of grey / largest per-channel mean, in 8-bit levels,
 viewer against pbrkit; ``bench/khr_extensions.md`` adds pbrkit's own engine and the
 ground truth):
 
-* clearcoat (144 x 144, 9 spheres): 0.21 / 0.67 / 0.29, every sphere 0.20 .. 0.22.
+* clearcoat (144 x 192, 12 spheres): 0.23 / 0.67 / 0.31, every sphere 0.20 .. 0.22
+  but the coats over ior 2 and 3 (0.27, 0.35: their sharp, strong reflections).
   pbrkit reproduces the viewer's ``color = mix(color, clearcoat_brdf,
   clearcoatFactor * clearcoatFresnel)`` with ``clearcoat_brdf`` the bare GGX radiance
   at lod = clearcoatRoughness (u_MipCount - 1) (``getIBLRadianceGGX``, no split-sum
   weight) and the coat's F0 from the material's ior (``getClearCoatInfo``:
   ``clearcoatF0 = vec3(pow((info.ior - 1.0) / (info.ior + 1.0), 2.0))``).
-* specular (144 x 96, 6 spheres): 0.22 / 0.67 / 0.28.  ``getSpecularInfo``'s
+* specular (144 x 144, 9 spheres): 0.23 / 0.67 / 0.28.  ``getSpecularInfo``'s
   ``f0_dielectric = min(f0_dielectric * specularColorFactor, vec3(1.0))`` and
   ``specularWeight = specularFactor`` inside ``getIBLGGXFresnel`` (FssEss and F_avg
   both scaled) are :func:`pbrkit.render.khronos_ibl.sample_viewer_fresnel`'s, the
-  over-1 colour (2.5, F0 0.1) included.
+  over-1 colour (2.5, F0 0.1) and the clamp (ior 2.5 x 10) included.
 * ior (192 x 96, 8 spheres): 0.23 / 0.67 / 0.30.  ``getIorInfo``'s ``f0_dielectric =
   vec3(pow((u_Ior - 1.0) / (u_Ior + 1.0), 2.0))``; ior 1 reflects nothing in both.
 
@@ -102,8 +107,14 @@ def _material(base, roughness, extensions, metallic=0.0):
 
 
 def _clearcoat():
-    return [[_material((0.8, 0.05, 0.05), 0.5, {"KHR_materials_clearcoat": {
-        "clearcoatFactor": c, "clearcoatRoughnessFactor": cr}}) for c in (0.0, 0.5, 1.0)] for cr in (0.0, 0.3, 0.7)]
+    red = (0.8, 0.05, 0.05)
+    grid = [[_material(red, 0.5, {"KHR_materials_clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": cr}})
+             for c in (0.0, 0.5, 1.0)] for cr in (0.0, 0.3, 0.7)]
+    # the coat's F0 follows the material's ior in the viewer (getClearCoatInfo)
+    grid.append([_material(red, 0.5, {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+                                                                  "clearcoatRoughnessFactor": 0.0},
+                                      "KHR_materials_ior": {"ior": ior}}) for ior in (1.0, 2.0, 3.0)])
+    return grid
 
 
 def _specular():
@@ -113,7 +124,11 @@ def _specular():
              for s in (0.0, 0.5, 1.0)]
     second = [_material(base, 0.3, {"KHR_materials_specular": {"specularFactor": 1.0, "specularColorFactor": c}})
               for c in ([1.0, 0.3, 0.3], [0.3, 0.6, 1.0], [2.5, 2.5, 2.5])]
-    return [first, second]
+    # with KHR_materials_ior: F0(ior) x colour, clamped to 1 (ior 2.5 x 10)
+    third = [_material(base, 0.3, {"KHR_materials_specular": {"specularFactor": s, "specularColorFactor": c},
+                                   "KHR_materials_ior": {"ior": ior}})
+             for s, c, ior in ((1.0, [1.0, 1.0, 1.0], 1.0), (0.5, [0.3, 0.6, 1.0], 2.0), (1.0, [10.0, 10.0, 10.0], 2.5))]
+    return [first, second, third]
 
 
 def _ior():
@@ -297,16 +312,20 @@ def test_viewer_agrees_with_pbrkit_engine_khronos(renders, name, request):
 
 def test_the_extensions_change_the_viewer_s_pixels(renders):
     """Each asset's factors matter to the viewer (the extension is not ignored), by
-    (measured): the smooth full coat over the red base +6.7 levels in green; specular
-    1 against 0 +7; specularColorFactor 2.5 against 1 +8; the red specularColorFactor
-    tilts R - B by +3.3 against the white one; ior 2.5 against 1 +31."""
+    (measured): the smooth full coat over the red base +6.8 levels in green, and +43
+    over ior 3 against ior 1 (the coat's F0 follows the ior); specular 1 against 0 +7;
+    specularColorFactor 2.5 against 1 +8; the red specularColorFactor tilts R - B by
+    +3.2 against the white one; F0 clamped to 1 (ior 2.5 x 10) above 100; ior 2.5
+    against 1 +31."""
     def sphere(name, i):
         r = renders[name]
         return r["engine8"][r["mask"] & (r["index"] == i)].astype(np.float64).mean(0)
 
     assert sphere("clearcoat", 2)[1] > sphere("clearcoat", 0)[1] + 4  # coat 1 vs 0, coat roughness 0
+    assert sphere("clearcoat", 11)[1] > sphere("clearcoat", 9)[1] + 30  # coat over ior 3 vs ior 1
     assert sphere("specular", 2).mean() > sphere("specular", 0).mean() + 5  # specular 1 vs 0
     assert sphere("specular", 5).mean() > sphere("specular", 2).mean() + 5  # specularColorFactor 2.5 vs 1
     tilt = sphere("specular", 3) - sphere("specular", 2)  # specularColorFactor (1, 0.3, 0.3) vs white
     assert tilt[0] - tilt[2] > 2
+    assert sphere("specular", 8).mean() > 90  # F0 = min(F0(2.5) x 10, 1) = 1
     assert sphere("ior", 3).mean() > sphere("ior", 0).mean() + 20  # ior 2.5 vs 1.0
