@@ -29,7 +29,8 @@ def _json(data):
 
 
 def test_material_extensions_and_extensions_used(tmp_path):
-    prims = [GltfPrimitive(**QUAD, name="coat", extensions=COAT), GltfPrimitive(**QUAD, name="plain"),
+    prims = [GltfPrimitive(**QUAD, name="coat", extensions=COAT, emissive=(0.5, 0.25, 0.0)),
+             GltfPrimitive(**QUAD, name="plain"),
              GltfPrimitive(**QUAD, name="spec", extensions=SPECULAR)]
     path = tmp_path / "m.glb"
     write_glb(path, prims, extensions_required=["KHR_materials_ior"])
@@ -39,11 +40,13 @@ def test_material_extensions_and_extensions_used(tmp_path):
     assert gltf.materials[0].extensions == {"KHR_materials_clearcoat": {"clearcoatFactor": 0.5,
                                                                         "clearcoatRoughnessFactor": 0.25},
                                             "KHR_materials_ior": {"ior": 2.0}}
-    assert not gltf.materials[1].extensions
+    assert gltf.materials[0].emissiveFactor == [0.5, 0.25, 0.0]
+    assert not gltf.materials[1].extensions and gltf.materials[1].emissiveFactor in (None, [0.0, 0.0, 0.0])
     assert gltf.materials[2].extensions["KHR_materials_specular"]["specularColorFactor"] == [1.0, 0.5, 2.0]
     asset = load_gltf(path)  # pbrkit's reader: the factors become the gltf model's parameters
     coat, plain, spec = (m.spec for m in asset.materials)
     assert (coat.clearcoat, coat.clearcoat_roughness, coat.ior) == (0.5, 0.25, 2.0)
+    assert tuple(coat.emissive) == (0.5, 0.25, 0.0)
     assert plain.clearcoat == 0.0 and plain.ior == 1.5
     assert spec.specular == 0.5 and tuple(spec.specular_color) == (1.0, 0.5, 2.0)
     assert path.read_bytes() == glb_bytes(prims, extensions_required=["KHR_materials_ior"])
@@ -53,6 +56,7 @@ def test_no_extensions_writes_no_extensions_used():
     doc = _json(glb_bytes([GltfPrimitive(**QUAD)]))
     assert "extensionsUsed" not in doc and "extensionsRequired" not in doc and "cameras" not in doc
     assert "extensions" not in doc["materials"][0] and doc["nodes"] == [{"mesh": 0}]
+    assert "emissiveFactor" not in doc["materials"][0]
 
 
 def test_camera_node():
@@ -73,6 +77,8 @@ def test_camera_node():
     ({"extensions": ["KHR_materials_ior"]}, "must be a dict"),
     ({"extensions": {"KHR_materials_ior": {"ior": object()}}}, "must be JSON"),
     ({"extensions": {"KHR_materials_ior": {1: 2.0}}}, "keys must be strings"),
+    ({"emissive": (0.5, 2.0, 0.0)}, "emissive"),
+    ({"emissive": (0.5, 0.5)}, "emissive"),
 ])
 def test_bad_extensions_are_refused_and_nothing_is_written(tmp_path, kwargs, message):
     with pytest.raises(ValueError, match=message):

@@ -7,7 +7,7 @@ binary container: a 12-byte header, a JSON chunk padded with spaces and a BIN
 chunk padded with zeros, each to 4 bytes), sec. 3.6 (one buffer; a bufferView
 and an accessor per attribute, float32 VEC3 POSITION with its min / max, VEC3
 NORMAL, VEC2 TEXCOORD_0, uint32 indices), sec. 3.9 (materials'
-``pbrMetallicRoughness`` factors), sec. 3.10 (an optional perspective camera in a
+``pbrMetallicRoughness`` factors and ``emissiveFactor``), sec. 3.10 (an optional perspective camera in a
 node of its own, :class:`GltfCamera`) and sec. 3.12 (extensions: a material's
 ``extensions`` object is written as given, e.g. ``{"KHR_materials_clearcoat":
 {"clearcoatFactor": 1.0}}``, and every extension name any material uses is listed
@@ -40,7 +40,8 @@ class GltfPrimitive:
     """One mesh primitive: ``positions`` (V, 3), ``normals`` (V, 3) unit,
     optional ``texcoords`` (V, 2), ``indices`` (T, 3) counter-clockwise
     triangles, and its material's ``base_color`` (linear RGB or RGBA),
-    ``metallic``, ``roughness``, ``name`` and ``extensions`` (the material's glTF
+    ``metallic``, ``roughness``, ``emissive`` (``emissiveFactor``, linear RGB in
+    [0, 1], written when not black), ``name`` and ``extensions`` (the material's glTF
     ``extensions`` object: extension name -> JSON object of strings, booleans,
     finite numbers, lists and objects; None for none)."""
 
@@ -53,6 +54,7 @@ class GltfPrimitive:
     roughness: float = 0.5
     name: str = "material"
     extensions: dict | None = None
+    emissive: tuple = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -190,6 +192,11 @@ def glb_bytes(primitives, camera=None, extensions_required=()):
         color = [float(x) for x in prim.base_color] + ([1.0] if len(prim.base_color) == 3 else [])
         material = {"name": str(prim.name), "pbrMetallicRoughness": {
             "baseColorFactor": color, "metallicFactor": float(prim.metallic), "roughnessFactor": float(prim.roughness)}}
+        emissive = np.asarray(prim.emissive, dtype=np.float64)
+        if emissive.shape != (3,) or not np.all((emissive >= 0.0) & (emissive <= 1.0)):
+            raise ValueError(f"primitive {k}: emissive must be 3 numbers in [0, 1]; got {prim.emissive!r}")
+        if np.any(emissive > 0.0):
+            material["emissiveFactor"] = [float(x) for x in emissive]
         extensions = _material_extensions(prim, k)
         if extensions:
             material["extensions"] = extensions
