@@ -23,6 +23,8 @@ specular   KHR_materials_specular  specular 0, 0.5, 1 (white colour); colour    
 ior        KHR_materials_ior       ior 1.0, 1.5, 2.0, 2.5 x roughness 0.2, 0.5    near black
 sheen      KHR_materials_sheen     colour white, pink, blue x sheen roughness     dark blue, r 0.5
                                    0.3, 0.8
+coated_    KHR_materials_clearcoat clearcoat 0, 0.5, 1 (coat roughness 0) over    near black, r 0.5,
+emission                           an emissive base                              emissive (.6, .3, .1)
 =========  ======================  ============================================  ==================
 
 The viewer loads the ``.glb`` with the page and bake of ``test_engine_render_khronos.py``
@@ -71,6 +73,17 @@ the extension's factors.
   With the Charlie chain and LUTs baked and bound it is expected to meet the bound
   of the others.
 
+* coated_emission (144 x 48, 3 spheres): xfail, a pbrkit bug.  The
+  KHR_materials_clearcoat README ("Emission": "The clearcoat layer is on top of
+  emission in the layering stack. Consequently, the emission is darkened by the
+  Fresnel term", ``coated_emission = emission * (1 - clearcoat * clearcoat_fresnel)``)
+  and the viewer (``color = f_emissive * (1.0 - clearcoatFactor * clearcoatFresnel) +
+  color``) darken the emission under the coat; pbrkit adds it unchanged in real time
+  (``out += s.emissive`` in ``render/realtime.py``) and in the ground truth
+  (``s.emissive`` at the primary hit, ``render/reference.py``).  Measured 1.90 / 5,
+  per sphere 0.19 (no coat: :func:`test_uncoated_emission_agrees`), +1.87 (coat 0.5)
+  and +3.64 (coat 1) levels brighter in pbrkit, most at the silhouettes.
+
 Bound: mean |grey| 0.5, p95 2, per-channel mean 0.6 (twice the measured values).
 
 pbrkit's own engine (``--engine pbrkit --diffuse cube --energy-compensation``, measured
@@ -96,7 +109,7 @@ from test_engine_render_three import _cli, _encode, agreement, sphere_mask
 
 from pbrkit.io.gltf_writer import GltfCamera, GltfPrimitive, write_glb
 
-# one CLI bake, four Chromium pages and four pbrkit renders: about 40 s on 2 cores
+# one CLI bake, five Chromium pages and five pbrkit renders: about 50 s on 2 cores
 pytestmark = [needs_engines(), pytest.mark.slow]
 
 INTENSITY = 0.25
@@ -107,10 +120,13 @@ RINGS, SEGMENTS = 32, 64
 ENGINE_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--engine", "khronos"]
 PBRKIT_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--diffuse", "cube", "--energy-compensation"]
 CHARLIE_MISSING = "the Khronos target does not bake the Charlie chain yet"
+COATED_EMISSION = ("pbrkit adds emission above the clear coat (render/realtime.py: out += s.emissive); the viewer "
+                   "and the KHR_materials_clearcoat README darken it: emission * (1 - clearcoat * clearcoat_fresnel)")
 
 
-def _material(base, roughness, extensions, metallic=0.0):
-    return {"base_color": base, "metallic": metallic, "roughness": roughness, "extensions": extensions}
+def _material(base, roughness, extensions, metallic=0.0, emissive=(0.0, 0.0, 0.0)):
+    return {"base_color": base, "metallic": metallic, "roughness": roughness, "extensions": extensions,
+            "emissive": emissive}
 
 
 def _clearcoat():
@@ -122,6 +138,12 @@ def _clearcoat():
                                                                   "clearcoatRoughnessFactor": 0.0},
                                       "KHR_materials_ior": {"ior": ior}}) for ior in (1.0, 2.0, 3.0)])
     return grid
+
+
+def _coated_emission():
+    return [[_material((0.02, 0.02, 0.02), 0.5, {"KHR_materials_clearcoat": {"clearcoatFactor": c,
+                                                                             "clearcoatRoughnessFactor": 0.0}},
+                       emissive=(0.6, 0.3, 0.1)) for c in (0.0, 0.5, 1.0)]]
 
 
 def _specular():
@@ -151,7 +173,8 @@ def _sheen():
 
 #: name -> (extension, rows of materials: base colour, metallic, roughness, glTF extensions)
 ASSETS = {"clearcoat": ("KHR_materials_clearcoat", _clearcoat()), "specular": ("KHR_materials_specular", _specular()),
-          "ior": ("KHR_materials_ior", _ior()), "sheen": ("KHR_materials_sheen", _sheen())}
+          "ior": ("KHR_materials_ior", _ior()), "sheen": ("KHR_materials_sheen", _sheen()),
+          "coated_emission": ("KHR_materials_clearcoat", _coated_emission())}
 
 
 def asset_size(name):
@@ -202,7 +225,7 @@ def write_asset(name, folder):
         m = s["material"]
         prims.append(GltfPrimitive(np.asarray(s["center"]) + s["radius"] * unit, unit, tris,
                                    base_color=m["base_color"], metallic=m["metallic"], roughness=m["roughness"],
-                                   name=f"{name}{k}", extensions=m["extensions"]))
+                                   name=f"{name}{k}", extensions=m["extensions"], emissive=m["emissive"]))
     cam = asset_camera(name)
     camera = GltfCamera(yfov=math.radians(cam["fov"]), aspect_ratio=cam["width"] / cam["height"], znear=0.1,
                         zfar=100.0, translation=tuple(cam["position"]))
@@ -311,10 +334,20 @@ def test_viewer_agrees_with_pbrkit_engine_khronos(renders, name, request):
     sheen case xfails while the bake has no Charlie chain."""
     if name == "sheen" and not renders["charlie"]:
         request.node.add_marker(pytest.mark.xfail(reason=CHARLIE_MISSING, strict=False))
+    if name == "coated_emission":
+        request.node.add_marker(pytest.mark.xfail(reason=COATED_EMISSION, strict=False))
     r = renders[name]
     got = agreement(r["engine8"], r["khronos8"], r["mask"])
     got["spheres"] = per_sphere(r["engine8"], r["khronos8"], r["index"], r["mask"])
     assert got["grey_mean"] <= 0.5 and got["grey_p95"] <= 2 and max(got["mean"]) <= 0.6, got
+
+
+def test_uncoated_emission_agrees(renders):
+    """The coated-emission asset's uncoated sphere (emissive (0.6, 0.3, 0.1), clearcoat 0):
+    the emission itself is the same in both (measured 0.19 levels)."""
+    r = renders["coated_emission"]
+    got = agreement(r["engine8"], r["khronos8"], r["mask"] & (r["index"] == 0))
+    assert got["grey_mean"] <= 0.5 and got["grey_p95"] <= 2, got
 
 
 def test_the_extensions_change_the_viewer_s_pixels(renders):
