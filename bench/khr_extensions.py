@@ -221,6 +221,12 @@ def markdown(rows, spp, charlie, constant):
         "  smooth coats, the specular and ior spheres; its rough coat (0.7) is darker; the",
         "  viewer's terms (and `--engine khronos`) are brighter on every dielectric by about a",
         "  level; the sheen is darker in both engines, more at sheen roughness 0.8 (see below).",
+        "- coated_emission: pbrkit adds the emission above the clear coat in both modes (`out +=",
+        "  s.emissive` in `render/realtime.py`, `s.emissive` at the primary hit in `render/reference.py`),",
+        "  where the KHR_materials_clearcoat README (\"Emission\": `coated_emission = emission * (1 -",
+        "  clearcoat * clearcoat_fresnel)`) and the viewer (`color = f_emissive * (1.0 - clearcoatFactor *",
+        "  clearcoatFresnel) + color`) darken it: pbrkit is brighter than the viewer on the coated",
+        "  spheres, and the ground truth agrees with pbrkit's real time, not with the viewer.",
     ]
     if not charlie:
         lines += [
