@@ -91,7 +91,7 @@ pbrkit's own engine (``--engine pbrkit --diffuse cube --energy-compensation``, m
 by ``bench/khr_extensions.py``, not asserted) differs from the viewer by 2.24 (clear
 coat: the viewer's coat F0 follows the material's ior where pbrkit's coat keeps the
 README's 1.5, -7.5 .. +4.5 on the coats over ior 3 and 1, and the viewer's bare coat
-radiance), 0.67 (specular) and 1.07 (ior): the viewer's ``getIBLGGXFresnel`` on the
+radiance), 0.67 (specular) and 0.94 (ior): the viewer's ``getIBLGGXFresnel`` on the
 dielectric, as for the base in ``test_engine_render_khronos.py``; it agrees with the
 viewer on ior 0.
 """
