@@ -6,14 +6,21 @@ The layout is the glTF 2.0 specification's (Khronos, 2021): sec. 4.4 (the
 binary container: a 12-byte header, a JSON chunk padded with spaces and a BIN
 chunk padded with zeros, each to 4 bytes), sec. 3.6 (one buffer; a bufferView
 and an accessor per attribute, float32 VEC3 POSITION with its min / max, VEC3
-NORMAL, VEC2 TEXCOORD_0, uint32 indices) and sec. 3.9 (materials'
-``pbrMetallicRoughness`` factors).  JSON keys are sorted and numbers written
-by Python's shortest round-trip repr, so the same meshes give the same bytes.
+NORMAL, VEC2 TEXCOORD_0, uint32 indices), sec. 3.9 (materials'
+``pbrMetallicRoughness`` factors and ``emissiveFactor``), sec. 3.10 (an optional perspective camera in a
+node of its own, :class:`GltfCamera`) and sec. 3.12 (extensions: a material's
+``extensions`` object is written as given, e.g. ``{"KHR_materials_clearcoat":
+{"clearcoatFactor": 1.0}}``, and every extension name any material uses is listed
+in ``extensionsUsed``; ``extensionsRequired`` is written only for the names passed
+as ``extensions_required``).  JSON keys are sorted and numbers written by Python's
+shortest round-trip repr, so the same meshes give the same bytes.
 """
 
 from __future__ import annotations
 
 import json
+import math
+import numbers
 import struct
 from dataclasses import dataclass
 
@@ -21,7 +28,7 @@ import numpy as np
 
 from ..core.atomic import write_bytes
 
-__all__ = ["GltfPrimitive", "glb_bytes", "write_glb"]
+__all__ = ["GltfCamera", "GltfPrimitive", "glb_bytes", "write_glb"]
 
 _FLOAT, _UINT = 5126, 5125
 _ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
@@ -33,7 +40,10 @@ class GltfPrimitive:
     """One mesh primitive: ``positions`` (V, 3), ``normals`` (V, 3) unit,
     optional ``texcoords`` (V, 2), ``indices`` (T, 3) counter-clockwise
     triangles, and its material's ``base_color`` (linear RGB or RGBA),
-    ``metallic``, ``roughness`` and ``name``."""
+    ``metallic``, ``roughness``, ``emissive`` (``emissiveFactor``, linear RGB in
+    [0, 1], written when not black), ``name`` and ``extensions`` (the material's glTF
+    ``extensions`` object: extension name -> JSON object of strings, booleans,
+    finite numbers, lists and objects; None for none)."""
 
     positions: np.ndarray
     normals: np.ndarray
@@ -43,6 +53,86 @@ class GltfPrimitive:
     metallic: float = 0.0
     roughness: float = 0.5
     name: str = "material"
+    extensions: dict | None = None
+    emissive: tuple = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class GltfCamera:
+    """A perspective camera (glTF sec. 5.12): ``yfov`` in radians, ``aspect_ratio``
+    (None: the viewport's), ``znear``, ``zfar`` (None: infinite), placed by its node's
+    ``translation`` and unit quaternion ``rotation`` (x, y, z, w); unrotated it looks
+    down -Z with +Y up."""
+
+    yfov: float
+    aspect_ratio: float | None = None
+    znear: float = 0.01
+    zfar: float | None = None
+    translation: tuple = (0.0, 0.0, 0.0)
+    rotation: tuple = (0.0, 0.0, 0.0, 1.0)
+
+
+def _json_value(value, where):
+    """``value`` as plain JSON (Python numbers, strings, lists, dicts); ``ValueError``
+    naming ``where`` for anything else or a non-finite number."""
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        if not math.isfinite(float(value)):
+            raise ValueError(f"{where} must be finite; got {value!r}")
+        return float(value)
+    if isinstance(value, dict):
+        out = {}
+        for key, item in value.items():
+            if not isinstance(key, str):
+                raise ValueError(f"{where}: keys must be strings; got {key!r}")
+            out[key] = _json_value(item, f"{where}.{key}")
+        return out
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_json_value(item, f"{where}[{i}]") for i, item in enumerate(value)]
+    raise ValueError(f"{where} must be JSON (numbers, strings, lists, objects); got {type(value).__name__}")
+
+
+def _material_extensions(prim, k):
+    if prim.extensions is None:
+        return None
+    where = f"primitive {k}: material extensions"
+    if not isinstance(prim.extensions, dict):
+        raise ValueError(f"{where} must be a dict of extension name -> object; got {type(prim.extensions).__name__}")
+    out = _json_value(prim.extensions, where)
+    for name, obj in out.items():
+        if not name or not isinstance(obj, dict):
+            raise ValueError(f"{where}.{name} must be an object under a non-empty name")
+    return out
+
+
+def _camera(camera):
+    yfov, znear = float(camera.yfov), float(camera.znear)
+    if not (math.isfinite(yfov) and 0.0 < yfov < math.pi):
+        raise ValueError(f"camera yfov must lie in (0, pi) radians; got {camera.yfov!r}")
+    if not (math.isfinite(znear) and znear > 0.0):
+        raise ValueError(f"camera znear must be positive; got {camera.znear!r}")
+    perspective = {"yfov": yfov, "znear": znear}
+    if camera.aspect_ratio is not None:
+        aspect = float(camera.aspect_ratio)
+        if not (math.isfinite(aspect) and aspect > 0.0):
+            raise ValueError(f"camera aspect_ratio must be positive; got {camera.aspect_ratio!r}")
+        perspective["aspectRatio"] = aspect
+    if camera.zfar is not None:
+        zfar = float(camera.zfar)
+        if not (math.isfinite(zfar) and zfar > znear):
+            raise ValueError(f"camera zfar must exceed znear; got {camera.zfar!r}")
+        perspective["zfar"] = zfar
+    t = np.asarray(camera.translation, dtype=np.float64)
+    q = np.asarray(camera.rotation, dtype=np.float64)
+    if t.shape != (3,) or not np.all(np.isfinite(t)):
+        raise ValueError(f"camera translation must be 3 finite numbers; got {camera.translation!r}")
+    if q.shape != (4,) or not np.all(np.isfinite(q)) or abs(float(q @ q) - 1.0) > 1e-6:
+        raise ValueError(f"camera rotation must be a unit quaternion (x, y, z, w); got {camera.rotation!r}")
+    node = {"camera": 0, "translation": [float(x) for x in t], "rotation": [float(x) for x in q]}
+    return {"type": "perspective", "perspective": perspective}, node
 
 
 def _check(prim, k):
@@ -68,11 +158,15 @@ def _check(prim, k):
     return arrays, i.astype(np.uint32)
 
 
-def glb_bytes(primitives):
+def glb_bytes(primitives, camera=None, extensions_required=()):
     """The ``.glb`` bytes of one mesh made of ``primitives`` (:class:`GltfPrimitive`),
-    in one node of one scene (module docstring)."""
+    in one node of one scene, with ``camera`` (:class:`GltfCamera`) in a second node
+    when given; ``extensionsUsed`` lists the materials' extensions, and
+    ``extensions_required`` (each also used by a material) goes into
+    ``extensionsRequired`` (module docstring)."""
     if not primitives:
         raise ValueError("a glTF mesh needs at least one primitive")
+    used = set()
     blob = bytearray()
     views, accessors, materials, prims = [], [], [], []
 
@@ -96,12 +190,34 @@ def glb_bytes(primitives):
             attributes["TEXCOORD_0"] = add(arrays[2], _FLOAT, "VEC2", _ARRAY_BUFFER)
         index = add(indices.reshape(-1), _UINT, "SCALAR", _ELEMENT_ARRAY_BUFFER)
         color = [float(x) for x in prim.base_color] + ([1.0] if len(prim.base_color) == 3 else [])
-        materials.append({"name": str(prim.name), "pbrMetallicRoughness": {
-            "baseColorFactor": color, "metallicFactor": float(prim.metallic), "roughnessFactor": float(prim.roughness)}})
+        material = {"name": str(prim.name), "pbrMetallicRoughness": {
+            "baseColorFactor": color, "metallicFactor": float(prim.metallic), "roughnessFactor": float(prim.roughness)}}
+        emissive = np.asarray(prim.emissive, dtype=np.float64)
+        if emissive.shape != (3,) or not np.all((emissive >= 0.0) & (emissive <= 1.0)):
+            raise ValueError(f"primitive {k}: emissive must be 3 numbers in [0, 1]; got {prim.emissive!r}")
+        if np.any(emissive > 0.0):
+            material["emissiveFactor"] = [float(x) for x in emissive]
+        extensions = _material_extensions(prim, k)
+        if extensions:
+            material["extensions"] = extensions
+            used.update(extensions)
+        materials.append(material)
         prims.append({"attributes": attributes, "indices": index, "material": k, "mode": 4})
     doc = {"asset": {"version": "2.0", "generator": "pbrkit"}, "scene": 0, "scenes": [{"nodes": [0]}],
            "nodes": [{"mesh": 0}], "meshes": [{"primitives": prims}], "materials": materials,
            "accessors": accessors, "bufferViews": views, "buffers": [{"byteLength": len(blob)}]}
+    if camera is not None:
+        perspective, node = _camera(camera)
+        doc["cameras"] = [perspective]
+        doc["nodes"].append(node)
+        doc["scenes"][0]["nodes"].append(1)
+    required = sorted(set(extensions_required))
+    if set(required) - used:
+        raise ValueError(f"extensions_required {sorted(set(required) - used)} are not used by any material")
+    if used:
+        doc["extensionsUsed"] = sorted(used)
+    if required:
+        doc["extensionsRequired"] = required
     text = json.dumps(doc, sort_keys=True, separators=(",", ":")).encode("utf-8")
     text += b" " * (-len(text) % 4)
     total = 12 + 8 + len(text) + 8 + len(blob)
@@ -109,6 +225,7 @@ def glb_bytes(primitives):
             + struct.pack("<II", len(blob), _CHUNK_BIN) + bytes(blob))
 
 
-def write_glb(path, primitives):
-    """Write :func:`glb_bytes` of ``primitives`` to ``path`` atomically."""
-    write_bytes(path, glb_bytes(primitives))
+def write_glb(path, primitives, camera=None, extensions_required=()):
+    """Write :func:`glb_bytes` of ``primitives`` (and ``camera``, ``extensions_required``)
+    to ``path`` atomically."""
+    write_bytes(path, glb_bytes(primitives, camera, extensions_required))

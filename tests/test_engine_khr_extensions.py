@@ -1,0 +1,375 @@
+"""Test assets per glTF material extension, laid out like the Khronos sample models
+(ClearCoatTest, SpecularTest, IorTest-like, SheenTest), rendered by the Khronos glTF
+Sample Viewer 1.1.0 (npm ``@khronosgroup/gltf-viewer``) against ``pbrkit render --mode
+realtime --engine khronos`` of the same glTF file (issue 25), in headless Chromium.
+
+Each asset is a grid of UV spheres (32 x 64 segments, radius 0.42, one per cell of
+1 x 1, :data:`CELL` = 48 pixels a cell) written as ``.glb`` by
+:mod:`pbrkit.io.gltf_writer` (one mesh, one primitive and material per sphere, the
+material's ``extensions`` and the file's ``extensionsUsed``, a perspective camera at
+(0, 0, 6) looking down -Z), into the test's tmp folder:
+
+=========  ======================  ============================================  ==================
+asset      extension               varied (columns x rows)                       base
+=========  ======================  ============================================  ==================
+clearcoat  KHR_materials_clearcoat clearcoat 0, 0.5, 1 x coat roughness 0, 0.3,  red, roughness 0.5
+                                   0.7; a 4th row: coat 1, roughness 0 over
+                                   KHR_materials_ior 1, 2, 3
+specular   KHR_materials_specular  specular 0, 0.5, 1 (white colour); colour     dark grey, r 0.3
+                                   (1, .3, .3), (.3, .6, 1), (2.5, 2.5, 2.5); a
+                                   3rd row with KHR_materials_ior: ior 1, ior 2
+                                   with specular 0.5 and a colour, ior 2.5 x
+                                   colour 10 (F0 clamped to 1)
+ior        KHR_materials_ior       ior 1.0, 1.5, 2.0, 2.5, 0 x roughness 0.2, 0.5 near black
+sheen      KHR_materials_sheen     colour white, pink, blue x sheen roughness     dark blue, r 0.5
+                                   0.3, 0.8
+coated_    KHR_materials_clearcoat clearcoat 0, 0.5, 1 (coat roughness 0) over    near black, r 0.5,
+emission                           an emissive base                              emissive (.6, .3, .1)
+=========  ======================  ============================================  ==================
+
+The viewer loads the ``.glb`` with the page and bake of ``test_engine_render_khronos.py``
+(``pages/khronos_render.html``, ``loadPbrkitEnvironment`` of ``pbrkit bake --target
+khronos --size 128 --min-size 8`` of the bundled environment, iblIntensity 0.25, tone
+map "None", environmentRotation 0, the glTF's camera); pbrkit renders a scene file that
+places the same ``.glb`` (``[[objects]] type = "gltf"``) under the same camera and bake
+(``--mode realtime --tonemap none --engine khronos``).  Both are compared in 8-bit sRGB
+over the sphere pixels away from silhouettes (the canvas's pow(c, 1 / 2.2) decoded and
+re-encoded as sRGB, as there).
+
+Measured (mean |grey| / p95 of grey / largest per-channel mean, in 8-bit levels, the
+viewer against pbrkit; ``bench/khr_extensions.md`` adds pbrkit's own engine and the
+ground truth):
+
+* clearcoat (144 x 192, 12 spheres): 0.23 / 0.67 / 0.31, every sphere 0.20 .. 0.22
+  but the coats over ior 2 and 3 (0.27, 0.35: their sharp, strong reflections).
+  pbrkit reproduces the viewer's ``color = mix(color, clearcoat_brdf,
+  clearcoatFactor * clearcoatFresnel)`` with ``clearcoat_brdf`` the bare GGX radiance
+  at lod = clearcoatRoughness (u_MipCount - 1) (``getIBLRadianceGGX``, no split-sum
+  weight) and the coat's F0 from the material's ior (``getClearCoatInfo``:
+  ``clearcoatF0 = vec3(pow((info.ior - 1.0) / (info.ior + 1.0), 2.0))``).
+* specular (144 x 144, 9 spheres): 0.23 / 0.67 / 0.28.  ``getSpecularInfo``'s
+  ``f0_dielectric = min(f0_dielectric * specularColorFactor, vec3(1.0))`` and
+  ``specularWeight = specularFactor`` inside ``getIBLGGXFresnel`` (FssEss and F_avg
+  both scaled) are :func:`pbrkit.render.khronos_ibl.sample_viewer_fresnel`'s, the
+  over-1 colour (2.5, F0 0.1) and the clamp (ior 2.5 x 10) included.
+* ior (240 x 96, 10 spheres): 0.24 / 0.67 / 0.31.  ``getIorInfo``'s ``f0_dielectric =
+  vec3(pow((u_Ior - 1.0) / (u_Ior + 1.0), 2.0))``; ior 1 reflects nothing in both, and
+  the README's special value 0 (F0 1) is 0.31 and 0.26.
+
+What remains in these three is what the sphere grid of ``test_engine_render_khronos.py``
+leaves (0.29 there): the cube lookups' filtering (the GPU's seamless trilinear against
+pbrkit's :class:`~pbrkit.ibl.cubemap.CubeSampler`), rasterisation of the same
+triangles against pbrkit's ray-traced ones, and 8-bit rounding (the gamma-2.2 to
+sRGB requantisation alone about 0.2); it is the same on every sphere, whatever
+the extension's factors.
+
+* sheen (144 x 96, 6 spheres): xfail while the Khronos target bakes no Charlie chain:
+  ``pbrkit-khronos.js`` binds 1 x 1 black textures for ``sheenEnvMap``, ``sheenLUT``
+  and ``sheenELUT``, so the viewer's ``f_sheen = getIBLRadianceCharlie(...)`` is 0
+  and its ``albedoSheenScaling = 1.0 - max3(sheenColor) * albedoSheenScalingLUT(...)``
+  is 1 (the base alone), while pbrkit's khronos path falls back to the GGX chain
+  and the sheen lobe's own albedo (``_sheen_lookups`` and ``_charlie_rows`` in
+  ``render/realtime.py``).  Measured 11.7 / 33: sheen roughness 0.3 5.1, 2.9, 2.6
+  and 0.8 27.5, 16.8, 15.2 (white, pink, blue), all of it the sheen pbrkit adds.
+  With the Charlie chain and LUTs baked and bound it is expected to meet the bound
+  of the others.
+
+* coated_emission (144 x 48, 3 spheres): xfail, a pbrkit bug.  The
+  KHR_materials_clearcoat README ("Emission": "The clearcoat layer is on top of
+  emission in the layering stack. Consequently, the emission is darkened by the
+  Fresnel term", ``coated_emission = emission * (1 - clearcoat * clearcoat_fresnel)``)
+  and the viewer (``color = f_emissive * (1.0 - clearcoatFactor * clearcoatFresnel) +
+  color``) darken the emission under the coat; pbrkit adds it unchanged in real time
+  (``out += s.emissive`` in ``render/realtime.py``) and in the ground truth
+  (``s.emissive`` at the primary hit, ``render/reference.py``).  Measured 1.90 / 5,
+  per sphere 0.19 (no coat: :func:`test_uncoated_emission_agrees`), +1.87 (coat 0.5)
+  and +3.64 (coat 1) levels brighter in pbrkit, most at the silhouettes.
+
+Bound: mean |grey| 0.5, p95 2, per-channel mean 0.6 (twice the measured values).
+
+pbrkit's own engine (``--engine pbrkit --diffuse cube --energy-compensation``, measured
+by ``bench/khr_extensions.py``, not asserted) differs from the viewer by 2.24 (clear
+coat: the viewer's coat F0 follows the material's ior where pbrkit's coat keeps the
+README's 1.5, -7.5 .. +4.5 on the coats over ior 3 and 1, and the viewer's bare coat
+radiance), 0.67 (specular) and 0.94 (ior): the viewer's ``getIBLGGXFresnel`` on the
+dielectric, as for the base in ``test_engine_render_khronos.py``; it agrees with the
+viewer on ior 0.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from engine_pages import needs_engines, run_page
+from test_engine_render_khronos import bake, gamma22_to_srgb8
+from test_engine_render_three import _cli, _encode, agreement, sphere_mask
+
+from pbrkit.io.gltf_writer import GltfCamera, GltfPrimitive, write_glb
+
+# one CLI bake, five Chromium pages and five pbrkit renders: about 50 s on 2 cores
+pytestmark = [needs_engines(), pytest.mark.slow]
+
+INTENSITY = 0.25
+CELL = 48  # pixels per sphere cell
+DISTANCE = 6.0  # the camera's distance to the grid's plane
+RADIUS = 0.42
+RINGS, SEGMENTS = 32, 64
+ENGINE_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--engine", "khronos"]
+PBRKIT_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--diffuse", "cube", "--energy-compensation"]
+CHARLIE_MISSING = "the Khronos target does not bake the Charlie chain yet"
+COATED_EMISSION = ("pbrkit adds emission above the clear coat (render/realtime.py: out += s.emissive); the viewer "
+                   "and the KHR_materials_clearcoat README darken it: emission * (1 - clearcoat * clearcoat_fresnel)")
+
+
+def _material(base, roughness, extensions, metallic=0.0, emissive=(0.0, 0.0, 0.0)):
+    return {"base_color": base, "metallic": metallic, "roughness": roughness, "extensions": extensions,
+            "emissive": emissive}
+
+
+def _clearcoat():
+    red = (0.8, 0.05, 0.05)
+    grid = [[_material(red, 0.5, {"KHR_materials_clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": cr}})
+             for c in (0.0, 0.5, 1.0)] for cr in (0.0, 0.3, 0.7)]
+    # the coat's F0 follows the material's ior in the viewer (getClearCoatInfo)
+    grid.append([_material(red, 0.5, {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+                                                                  "clearcoatRoughnessFactor": 0.0},
+                                      "KHR_materials_ior": {"ior": ior}}) for ior in (1.0, 2.0, 3.0)])
+    return grid
+
+
+def _coated_emission():
+    return [[_material((0.02, 0.02, 0.02), 0.5, {"KHR_materials_clearcoat": {"clearcoatFactor": c,
+                                                                             "clearcoatRoughnessFactor": 0.0}},
+                       emissive=(0.6, 0.3, 0.1)) for c in (0.0, 0.5, 1.0)]]
+
+
+def _specular():
+    base = (0.1, 0.1, 0.1)
+    first = [_material(base, 0.3, {"KHR_materials_specular": {"specularFactor": s,
+                                                              "specularColorFactor": [1.0, 1.0, 1.0]}})
+             for s in (0.0, 0.5, 1.0)]
+    second = [_material(base, 0.3, {"KHR_materials_specular": {"specularFactor": 1.0, "specularColorFactor": c}})
+              for c in ([1.0, 0.3, 0.3], [0.3, 0.6, 1.0], [2.5, 2.5, 2.5])]
+    # with KHR_materials_ior: F0(ior) x colour, clamped to 1 (ior 2.5 x 10)
+    third = [_material(base, 0.3, {"KHR_materials_specular": {"specularFactor": s, "specularColorFactor": c},
+                                   "KHR_materials_ior": {"ior": ior}})
+             for s, c, ior in ((1.0, [1.0, 1.0, 1.0], 1.0), (0.5, [0.3, 0.6, 1.0], 2.0), (1.0, [10.0, 10.0, 10.0], 2.5))]
+    return [first, second, third]
+
+
+def _ior():
+    # 0: the README's special value (F0 = 1, as ((0 - 1) / (0 + 1))^2 gives)
+    return [[_material((0.02, 0.02, 0.02), r, {"KHR_materials_ior": {"ior": ior}})
+             for ior in (1.0, 1.5, 2.0, 2.5, 0.0)] for r in (0.2, 0.5)]
+
+
+def _sheen():
+    return [[_material((0.02, 0.02, 0.08), 0.5, {"KHR_materials_sheen": {"sheenColorFactor": c,
+                                                                         "sheenRoughnessFactor": sr}})
+             for c in ([1.0, 1.0, 1.0], [1.0, 0.3, 0.5], [0.2, 0.5, 1.0])] for sr in (0.3, 0.8)]
+
+
+#: name -> (extension, rows of materials: base colour, metallic, roughness, glTF extensions)
+ASSETS = {"clearcoat": ("KHR_materials_clearcoat", _clearcoat()), "specular": ("KHR_materials_specular", _specular()),
+          "ior": ("KHR_materials_ior", _ior()), "sheen": ("KHR_materials_sheen", _sheen()),
+          "coated_emission": ("KHR_materials_clearcoat", _coated_emission())}
+
+
+def asset_size(name):
+    """(width, height) of the asset's image: CELL pixels a sphere."""
+    rows = ASSETS[name][1]
+    return CELL * len(rows[0]), CELL * len(rows)
+
+
+def asset_spheres(name):
+    """The asset's spheres, row 0 at the top: centre, radius, material."""
+    rows = ASSETS[name][1]
+    n_rows, n_cols = len(rows), len(rows[0])
+    return [{"center": [j - (n_cols - 1) / 2.0, (n_rows - 1) / 2.0 - i, 0.0], "radius": RADIUS, "material": m}
+            for i, row in enumerate(rows) for j, m in enumerate(row)]
+
+
+def asset_camera(name):
+    """pbrkit's camera of the asset: at (0, 0, DISTANCE) looking at the origin, the
+    vertical field of view spanning the rows (fov in degrees)."""
+    w, h = asset_size(name)
+    fov = math.degrees(2.0 * math.atan(0.5 * h / CELL / DISTANCE))
+    return {"position": [0.0, 0.0, DISTANCE], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1.0, 0.0], "fov": fov,
+            "width": w, "height": h}
+
+
+def _unit_sphere():
+    theta = np.linspace(0.0, np.pi, RINGS + 1)
+    phi = np.linspace(0.0, 2 * np.pi, SEGMENTS + 1)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    pos = np.stack([np.sin(t) * np.sin(p), np.cos(t), np.sin(t) * np.cos(p)], axis=-1).reshape(-1, 3)
+    tris = []
+    for i in range(RINGS):
+        for j in range(SEGMENTS):
+            a, b = i * (SEGMENTS + 1) + j, (i + 1) * (SEGMENTS + 1) + j
+            if i > 0:  # no degenerate triangles at the poles
+                tris.append((a, b, a + 1))
+            if i < RINGS - 1:
+                tris.append((a + 1, b, b + 1))
+    return pos, np.asarray(tris, np.int64)
+
+
+def write_asset(name, folder):
+    """The asset as ``folder/<name>.glb`` (:mod:`pbrkit.io.gltf_writer`): one primitive
+    and material per sphere (world-space positions, unit normals), the camera."""
+    unit, tris = _unit_sphere()
+    prims = []
+    for k, s in enumerate(asset_spheres(name)):
+        m = s["material"]
+        prims.append(GltfPrimitive(np.asarray(s["center"]) + s["radius"] * unit, unit, tris,
+                                   base_color=m["base_color"], metallic=m["metallic"], roughness=m["roughness"],
+                                   name=f"{name}{k}", extensions=m["extensions"], emissive=m["emissive"]))
+    cam = asset_camera(name)
+    camera = GltfCamera(yfov=math.radians(cam["fov"]), aspect_ratio=cam["width"] / cam["height"], znear=0.1,
+                        zfar=100.0, translation=tuple(cam["position"]))
+    path = Path(folder) / f"{name}.glb"
+    write_glb(path, prims, camera=camera)
+    return path
+
+
+def write_asset_scene(name, folder, bake_dir):
+    """A pbrkit scene file placing ``<name>.glb`` under the asset's camera and the bake."""
+    glb = write_asset(name, folder)
+    scene = {"camera": asset_camera(name), "environment": {"bake": str(Path(bake_dir).resolve()),
+                                                           "intensity": INTENSITY},
+             "objects": [{"type": "gltf", "file": glb.name}]}
+    path = Path(folder) / f"{name}.json"
+    path.write_text(json.dumps(scene, indent=1))
+    return path
+
+
+def pbrkit_render(scene, options, out):
+    """``pbrkit render SCENE -o OUT OPTIONS`` as linear (H, W, 3) float64."""
+    from pbrkit.io.exr import read_exr
+
+    _cli(["render", scene, "-o", out, *options, "-q"])
+    return read_exr(out)[..., :3].astype(np.float64)
+
+
+def viewer_image(name, bake_dir):
+    """The Sample Viewer's render of ``bake_dir/<name>.glb`` (written here), 8-bit sRGB."""
+    write_asset(name, bake_dir)
+    w, h = asset_size(name)
+    query = "&".join(["folder=khronos/", f"gltf={name}.glb", f"width={w}", f"height={h}", f"intensity={INTENSITY}"])
+    result = run_page("khronos_render.html", data=bake_dir, query=query, timeout=120)["result"]
+    assert (result["width"], result["height"]) == (w, h) and result["mipCount"] == 5
+    rgba = np.frombuffer(base64.b64decode(result["rgba8"]), np.uint8).reshape(h, w, 4)[::-1]
+    return gamma22_to_srgb8(np.ascontiguousarray(rgba[..., :3]))
+
+
+def asset_index(name):
+    """Per pixel the index of the sphere its centre ray hits (-1: none), from the
+    analytic spheres under pbrkit's camera."""
+    from pbrkit.render.scene import Camera
+
+    cam = asset_camera(name)
+    camera = Camera(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in cam.items()})
+    h, w = cam["height"], cam["width"]
+    d = camera.ray_directions(*np.meshgrid(np.arange(h) + 0.5, np.arange(w) + 0.5, indexing="ij"))
+    origin = np.asarray(cam["position"])
+    index, nearest = np.full((h, w), -1), np.full((h, w), np.inf)
+    for i, s in enumerate(asset_spheres(name)):
+        oc = origin - np.asarray(s["center"])
+        b = d @ oc
+        disc = b * b - (oc @ oc - s["radius"] ** 2)
+        t = np.where(disc > 0, -b - np.sqrt(np.maximum(disc, 0.0)), np.inf)
+        closer = t < nearest
+        nearest[closer], index[closer] = t[closer], i
+    return index
+
+
+def charlie_baked(bake_dir):
+    """Whether the Khronos target's bake has a Charlie chain (a ``charlie*`` file)."""
+    return any("charlie" in p.name for p in (Path(bake_dir) / "khronos").iterdir())
+
+
+def per_sphere(a, b, index, mask):
+    """Mean |grey| of each sphere, row-major."""
+    grey = np.abs(a.astype(np.float64).mean(-1) - b.astype(np.float64).mean(-1))
+    return [round(float(grey[mask & (index == i)].mean()), 2) for i in range(index.max() + 1)]
+
+
+# ------------------------------------------------------------------------ tests
+
+
+@pytest.fixture(scope="module")
+def renders(tmp_path_factory):
+    root = tmp_path_factory.mktemp("khr_extensions")
+    bake_dir = bake(root / "bake")
+    out = {"bake": bake_dir, "charlie": charlie_baked(bake_dir)}
+    for name in ASSETS:
+        folder = root / name
+        folder.mkdir()
+        scene = write_asset_scene(name, folder, bake_dir)
+        index = asset_index(name)
+        out[name] = {"engine8": viewer_image(name, bake_dir),
+                     "khronos8": _encode(pbrkit_render(scene, ENGINE_OPTIONS, folder / "khronos.exr")),
+                     "index": index, "mask": sphere_mask(index)}
+    return out
+
+
+@pytest.mark.parametrize("name", list(ASSETS))
+def test_the_viewer_renders_the_asset(renders, name):
+    from scipy.ndimage import maximum_filter
+
+    r = renders[name]
+    e, index = r["engine8"], r["index"]
+    assert np.all(e[~maximum_filter(index >= 0, size=3)] == 0)  # no background, spheres where pbrkit has them
+    for i in range(index.max() + 1):
+        mean = e[r["mask"] & (index == i)].mean()
+        assert 2 < mean < 250, (name, i, mean)
+
+
+@pytest.mark.parametrize("name", list(ASSETS))
+def test_viewer_agrees_with_pbrkit_engine_khronos(renders, name, request):
+    """Mean |grey| within 0.5 levels, p95 within 2, per-channel mean within 0.6 over the
+    asset's sphere pixels (module docstring: measured 0.23 .. 0.24, 0.67, 0.31); the
+    sheen case xfails while the bake has no Charlie chain, the coated emission while
+    pbrkit does not darken the emission under the coat."""
+    if name == "sheen" and not renders["charlie"]:
+        request.node.add_marker(pytest.mark.xfail(reason=CHARLIE_MISSING, strict=False))
+    if name == "coated_emission":
+        request.node.add_marker(pytest.mark.xfail(reason=COATED_EMISSION, strict=False))
+    r = renders[name]
+    got = agreement(r["engine8"], r["khronos8"], r["mask"])
+    got["spheres"] = per_sphere(r["engine8"], r["khronos8"], r["index"], r["mask"])
+    assert got["grey_mean"] <= 0.5 and got["grey_p95"] <= 2 and max(got["mean"]) <= 0.6, got
+
+
+def test_uncoated_emission_agrees(renders):
+    """The coated-emission asset's uncoated sphere (emissive (0.6, 0.3, 0.1), clearcoat 0):
+    the emission itself is the same in both (measured 0.19 levels)."""
+    r = renders["coated_emission"]
+    got = agreement(r["engine8"], r["khronos8"], r["mask"] & (r["index"] == 0))
+    assert got["grey_mean"] <= 0.5 and got["grey_p95"] <= 2, got
+
+
+def test_the_extensions_change_the_viewer_s_pixels(renders):
+    """Each asset's factors matter to the viewer (the extension is not ignored), by
+    (measured): the smooth full coat over the red base +6.8 levels in green, and +43
+    over ior 3 against ior 1 (the coat's F0 follows the ior); specular 1 against 0 +7;
+    specularColorFactor 2.5 against 1 +8; the red specularColorFactor tilts R - B by
+    +3.2 against the white one; F0 clamped to 1 (ior 2.5 x 10) above 100; ior 2.5
+    against 1 +31."""
+    def sphere(name, i):
+        r = renders[name]
+        return r["engine8"][r["mask"] & (r["index"] == i)].astype(np.float64).mean(0)
+
+    assert sphere("clearcoat", 2)[1] > sphere("clearcoat", 0)[1] + 4  # coat 1 vs 0, coat roughness 0
+    assert sphere("clearcoat", 11)[1] > sphere("clearcoat", 9)[1] + 30  # coat over ior 3 vs ior 1
+    assert sphere("specular", 2).mean() > sphere("specular", 0).mean() + 5  # specular 1 vs 0
+    assert sphere("specular", 5).mean() > sphere("specular", 2).mean() + 5  # specularColorFactor 2.5 vs 1
+    tilt = sphere("specular", 3) - sphere("specular", 2)  # specularColorFactor (1, 0.3, 0.3) vs white
+    assert tilt[0] - tilt[2] > 2
+    assert sphere("specular", 8).mean() > 90  # F0 = min(F0(2.5) x 10, 1) = 1
+    assert sphere("ior", 3).mean() > sphere("ior", 0).mean() + 20  # ior 2.5 vs 1.0
