@@ -60,7 +60,7 @@ from ..brdf.dispatch import (
 )
 from ..brdf.fresnel import f_schlick
 from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0, gltf_fresnel_mix_weight
-from ..brdf.shading.registry import COLUMNS, model
+from ..brdf.shading.registry import COLUMNS, EXTENDED_CODES, model
 from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
@@ -68,6 +68,9 @@ from ..io.engine_targets import TARGET_CHAINS
 from ..brdf.lobes.sheen import sheen_albedo_lookups
 from .area_lights import area_light_ltc
 from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
+
+#: The codes of the models' extended forms (:data:`pbrkit.brdf.shading.registry.EXTENDED_CODES`).
+_EXTENDED = np.array(sorted(EXTENDED_CODES.values()), dtype=np.int64)
 from .environment import EnvironmentLight
 from .geometry import Geometry
 from .materials import hit_bxdf, material_tables
@@ -608,7 +611,12 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             coat_dir = 2.0 * nov * s.n[coated] - v[coated]
             coat_prefiltered[coated] = sampler(env.to_env_frame(coat_dir),
                                                level_of_roughness(coat_roughness[coated], levels)) * env.intensity
-        sheen_prefiltered = _sheen_lookups(bake, env, sampler, s.n, v, sheen_roughness, levels)
+        # the sheen's lookups: only the extended forms' extras read them (a scene without one passes
+        # a single zero row instead of a per-pixel array)
+        extended = bool(np.isin(mat_i[:, 0], _EXTENDED).any())
+        sheen_prefiltered = (_sheen_lookups(bake, env, sampler, s.n, v, sheen_roughness, levels) if extended
+                             else np.zeros((1, 3)))
+        charlie = _charlie_rows(bake, n_rows, v_rows, sheen_roughness, engine) if extended else np.zeros(1)
         if engine == "three":  # getIBLIrradiance: pi x the last (r = 1) level in the normal's direction
             irradiance = math.pi * sampler(env.to_env_frame(s.n), np.full(count, levels - 1.0)) * env.intensity
         elif diffuse == "sh":
@@ -622,7 +630,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
                     s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                     np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                    sheen_prefiltered, _charlie_rows(bake, n_rows, v_rows, sheen_roughness, engine),
+                    sheen_prefiltered, charlie,
                     sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
                     bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
@@ -635,7 +643,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             irr, coat = lt.irradiance, lt.coat
             area = np.empty((count, 3))
             _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
-                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count, 3)), np.zeros(count),
+                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count if extended else 1, 3)),
+                        np.zeros(count if extended else 1),
                         sheen_albedo_table(),
                         fresnel_mix_albedo_table(), diffuse_weight == "exact", bool(energy_compensation), 0, area,
                         np.empty((count, 3)))
