@@ -601,9 +601,10 @@ def test_every_function_is_tested_in_webgl2(webgl_results):
     assert set(result["results"]) == {c.name for c in cases}
 
 
-@needs_engines()
-def test_glsl_matches_pbrkit_in_webgl2(webgl_results):
-    cases, result = webgl_results
+def assert_cases_match(cases, result, width=22):
+    """Each case's GLSL values (``result["results"]``) within its bound rtol |expected| +
+    atol of pbrkit's (NaN fails); prints each case's largest differences and asserts with
+    the first failing row of every case that fails."""
     failures = []
     lines = [f"renderer: {result['renderer']}, {result['seconds']:.1f} s"]
     for case in cases:
@@ -613,8 +614,8 @@ def test_glsl_matches_pbrkit_in_webgl2(webgl_results):
         bad = ~(diff <= bound)  # NaN fails
         sized = scale > max(case.atol, 1e-30)  # relative differences where the value is above atol
         rel = diff[sized] / scale[sized]
-        lines.append(f"{case.name:22s} max |diff| {np.nanmax(diff):.3g}  max rel {np.nanmax(rel, initial=0.0):.3g} "
-                     f"(rtol {case.rtol:g}, atol {case.atol:.3g})")
+        lines.append(f"{case.name:{width}s} max |diff| {np.nanmax(diff):.3g}  "
+                     f"max rel {np.nanmax(rel, initial=0.0):.3g} (rtol {case.rtol:g}, atol {case.atol:.3g})")
         if np.any(bad):
             k = np.argwhere(bad)[0]
             failures.append(f"{case.name}: {int(bad.sum())} values off, e.g. row {k[0]}: inputs "
@@ -622,3 +623,9 @@ def test_glsl_matches_pbrkit_in_webgl2(webgl_results):
                             f"{case.expected[tuple(k)]!r}")
     print("\n".join(lines))
     assert not failures, "\n".join(failures)
+
+
+@needs_engines()
+def test_glsl_matches_pbrkit_in_webgl2(webgl_results):
+    cases, result = webgl_results
+    assert_cases_match(cases, result)

@@ -19,7 +19,8 @@ import json
 import numpy as np
 import pytest
 from engine_pages import needs_engines, run_page
-from test_shaders import CUBE_LEVELS, CUBE_SIZE, N, WIDTH, Case, _cosines, _f32, _measured, _unit, _vec4s
+from test_shaders import (CUBE_LEVELS, CUBE_SIZE, WIDTH, N, Case, _cosines, _f32, _unit, _vec4s,
+                          assert_cases_match)
 
 from pbrkit import shaders
 from pbrkit.brdf import fresnel
@@ -265,20 +266,4 @@ def test_every_khr_function_is_tested_in_webgl2(webgl_khr_results):
 @needs_engines()
 def test_khr_glsl_matches_pbrkit_in_webgl2(webgl_khr_results):
     cases, result = webgl_khr_results
-    failures = []
-    lines = [f"renderer: {result['renderer']}, {result['seconds']:.1f} s"]
-    for case in cases:
-        got, diff = _measured(case, result["results"][case.name])
-        scale = np.abs(case.expected)
-        bad = ~(diff <= case.rtol * scale + case.atol)  # NaN fails
-        sized = scale > max(case.atol, 1e-30)
-        rel = diff[sized] / scale[sized]
-        lines.append(f"{case.name:24s} max |diff| {np.nanmax(diff):.3g}  max rel {np.nanmax(rel, initial=0.0):.3g} "
-                     f"(rtol {case.rtol:g}, atol {case.atol:.3g})")
-        if np.any(bad):
-            k = np.argwhere(bad)[0]
-            failures.append(f"{case.name}: {int(bad.sum())} values off, e.g. row {k[0]}: inputs "
-                            f"{[x[k[0]].tolist() for x in case.inputs]} -> GL {got[tuple(k)]!r}, pbrkit "
-                            f"{case.expected[tuple(k)]!r}")
-    print("\n".join(lines))
-    assert not failures, "\n".join(failures)
+    assert_cases_match(cases, result, 24)

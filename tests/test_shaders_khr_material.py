@@ -23,7 +23,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from engine_pages import needs_engines, run_page
-from test_shaders import N, WIDTH, Case, _cosines, _f32, _measured, _unit, _vec4s
+from test_shaders import WIDTH, N, Case, _cosines, _f32, _unit, _vec4s, assert_cases_match
 from test_shaders_khr import _sheen_bxdf
 
 from pbrkit import shaders
@@ -370,20 +370,4 @@ def test_every_material_function_is_tested_in_webgl2(webgl_material_results):
 @needs_engines()
 def test_material_glsl_matches_pbrkit_in_webgl2(webgl_material_results):
     cases, result = webgl_material_results
-    failures = []
-    lines = [f"renderer: {result['renderer']}, {result['seconds']:.1f} s"]
-    for case in cases:
-        got, diff = _measured(case, result["results"][case.name])
-        scale = np.abs(case.expected)
-        bad = ~(diff <= case.rtol * scale + case.atol)  # NaN fails
-        sized = scale > max(case.atol, 1e-30)
-        rel = diff[sized] / scale[sized]
-        lines.append(f"{case.name:34s} max |diff| {np.nanmax(diff):.3g}  max rel {np.nanmax(rel, initial=0.0):.3g} "
-                     f"(rtol {case.rtol:g}, atol {case.atol:.3g})")
-        if np.any(bad):
-            k = np.argwhere(bad)[0]
-            failures.append(f"{case.name}: {int(bad.sum())} values off, e.g. row {k[0]}: inputs "
-                            f"{[x[k[0]].tolist() for x in case.inputs]} -> GL {got[tuple(k)]!r}, pbrkit "
-                            f"{case.expected[tuple(k)]!r}")
-    print("\n".join(lines))
-    assert not failures, "\n".join(failures)
+    assert_cases_match(cases, result, 34)
