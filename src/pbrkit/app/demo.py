@@ -577,9 +577,8 @@ def _gltf_extensions_comparison(out, environment, env, baked, size, spp, seed):
         materials.append({"name": name, "shows": shows,
                           "material": {k: list(v) if isinstance(v, tuple) else v for k, v in keys.items()},
                           "files": files, "errors": e})
-    sheen_lookup = "charlie" if getattr(baked, "charlie", None) is not None else "ggx"
     return {"image": {"width": cam.width, "height": cam.height}, "spp": int(spp), "model": "gltf",
-            "sheen_lookup": sheen_lookup, "materials": materials, "errors": metrics,
+            "materials": materials, "errors": metrics,
             "error_map": {"scale_max": scale, "percentile_99": p99, "max": peak},
             "timings": {"realtime": rt.stats["timings"]["total"], "reference": ref.stats["timings"]["total"]}}
 
@@ -595,12 +594,8 @@ def _per_sphere_errors(scene, rt, ref):
     y_ref = luminance(ref.image)
     out = []
     n = int(round(len(scene.objects) ** 0.5))
-    scale = cam.height / (2.0 * np.tan(np.radians(cam.fov) / 2.0))
-    for k, sphere in enumerate(scene.objects):
-        r, c = cam.project(np.array([sphere.center]))
-        distance = np.linalg.norm(np.subtract(sphere.center, cam.position))
-        radius = 0.8 * sphere.radius / distance * scale
-        inside = ((rows - r[0]) ** 2 + (cols - c[0]) ** 2 < radius * radius) & rt.mask & ref.mask & (y_ref > 0)
+    for k, (r, c, radius) in enumerate(_sphere_discs(scene, 0.8)):
+        inside = ((rows - r) ** 2 + (cols - c) ** 2 < radius * radius) & rt.mask & ref.mask & (y_ref > 0)
         value = float(np.mean((y_rt[inside] - y_ref[inside]) / y_ref[inside])) if inside.any() else float("nan")
         if k % n == 0:
             out.append([])
@@ -693,17 +688,24 @@ so the shares need not add up to it.</p>
 </table>"""
 
 
+def _comparison_rows(section):
+    """The error and timing rows of a section comparing the two modes (its "errors" and
+    "timings")."""
+    e = section["errors"]
+    t = section["timings"]
+    return [("mean relative error", _percent(e["mean_relative_error"])),
+            ("RMS relative error, ground-truth noise removed", _percent(e.get("rms_relative_error_noise_removed", 0.0))),
+            ("ground-truth noise (mean relative standard error)", _percent(e.get("mean_relative_stderr", 0.0))),
+            ("HDR-FLIP", f"{e.get('flip', float('nan')):.4f}"),
+            ("real time / ground truth (s)", f"{t['realtime']:.2f} / {t['reference']:.2f}")]
+
+
 def _area_section(summary):
     """The page's area-light section (summary["area_light"], when present)."""
     area = summary.get("area_light")
     if not area:
         return ""
-    e = area["errors"]
-    rows = [("mean relative error", _percent(e["mean_relative_error"])),
-            ("RMS relative error, ground-truth noise removed", _percent(e.get("rms_relative_error_noise_removed", 0.0))),
-            ("ground-truth noise (mean relative standard error)", _percent(e.get("mean_relative_stderr", 0.0))),
-            ("HDR-FLIP", f"{e.get('flip', float('nan')):.4f}"),
-            ("real time / ground truth (s)", f"{area['timings']['realtime']:.2f} / {area['timings']['reference']:.2f}")]
+    rows = _comparison_rows(area)
     light = area["light"]
     return f"""<h2>Area light (Linearly Transformed Cosines)</h2>
 <p class="note">Five gold spheres, perceptual roughness 0.1 to 0.9, on a grey glTF floor under a
@@ -729,20 +731,13 @@ def _gltf_section(summary):
     g = summary.get("gltf_extensions")
     if not g:
         return ""
-    e = g["errors"]
-    rows = [("mean relative error", _percent(e["mean_relative_error"])),
-            ("RMS relative error, ground-truth noise removed", _percent(e.get("rms_relative_error_noise_removed", 0.0))),
-            ("ground-truth noise (mean relative standard error)", _percent(e.get("mean_relative_stderr", 0.0))),
-            ("HDR-FLIP", f"{e.get('flip', float('nan')):.4f}"),
-            ("real time / ground truth (s)", f"{g['timings']['realtime']:.2f} / {g['timings']['reference']:.2f}")]
+    rows = _comparison_rows(g)
 
     def keys(material):
         return ", ".join(f"<code>{html.escape(k)}</code> = " + html.escape(
             ", ".join(f"{x:g}" for x in v) if isinstance(v, list) else f"{v:g}") for k, v in material.items())
 
-    sheen = ("the Charlie-prefiltered chain at the sheen roughness" if g.get("sheen_lookup") == "charlie" else
-             "the GGX-prefiltered chain at the sheen roughness (the bake has no Charlie-prefiltered chain: a "
-             "stand-in)")
+    sheen = "the Charlie-prefiltered chain at the sheen roughness"
     material_rows = "\n".join(
         f"<tr><th>{html.escape(m['name'])}</th>"
         f'<td><img class="crop" src="{html.escape(m["files"]["realtime"])}" alt="{html.escape(m["name"])}, '
