@@ -126,3 +126,66 @@ def test_a_helper_compiles_once_for_callers_that_differ_only_in_flags_it_does_no
         assert len(compiled) == 2
     finally:
         event.unregister("numba:compile", listener)
+
+
+# ---------------------------------------------------------------- rebind
+
+
+def _one(x):
+    return x + 1.0
+
+
+def _two(x):
+    return x + 2.0
+
+
+def _untouched(x):
+    return 10.0 * x
+
+
+def _middle(x):
+    return _one(x) * 3.0 + _untouched(x)
+
+
+def _kernel(x):
+    return _middle(x) - 1.0
+
+
+def _rows(start, stop, values, out):
+    for i in range(start, stop):
+        out[i] = _middle(values[i])
+
+
+jit.jitable(_one)
+jit.jitable(_two)
+jit.jitable(_untouched)
+jit.dual_use(_middle, inline="llvm")
+_KERNEL = jit.njit(_kernel)
+_ROWS = jit.row_kernel(0)(_rows)
+
+
+def test_rebind_replaces_a_helper_two_calls_down_and_keeps_the_rest():
+    """The kernel calls _middle, which calls _one: rebinding _one to _two changes the
+    kernel's result as the formula says ((x + 2) 3 + 10 x - 1), leaves the original
+    kernel as it was, copies only the functions on the way (_untouched is kept), and
+    names the copies after the suffix."""
+    memo = {}
+    rebound = jit.rebind(_KERNEL, {id(_one): _two}, "t", memo)
+    assert _KERNEL(1.0) == (1.0 + 1.0) * 3.0 + 10.0 - 1.0
+    assert rebound(1.0) == (1.0 + 2.0) * 3.0 + 10.0 - 1.0
+    assert rebound.py_func.__qualname__ == "_kernel__t"
+    copied = rebound.py_func.__globals__["_middle"]
+    assert copied is not _middle and copied.__globals__["_two"] is _two and copied.__globals__["_one"] is _two
+    assert copied.__globals__["_untouched"] is _untouched
+    assert jit.rebind(_KERNEL, {id(_one): _two}, "t", memo) is rebound  # the memo shares copies
+    assert jit.rebind(_KERNEL, {id(_untouched) + 1: _two}, "u") is _KERNEL  # nothing reached: the original
+
+
+def test_rebind_runs_a_row_kernel_with_its_rebound_kernel():
+    values = np.arange(5.0)
+    rebound = jit.rebind(_ROWS, {id(_one): _two}, "t")
+    out, expected = np.empty(5), (values + 2.0) * 3.0 + 10.0 * values
+    rebound(values, out)
+    np.testing.assert_array_equal(out, expected)
+    _ROWS(values, out)
+    np.testing.assert_array_equal(out, (values + 1.0) * 3.0 + 10.0 * values)

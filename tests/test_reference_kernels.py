@@ -250,3 +250,33 @@ def test_lane_kernel_with_area_lights_gives_the_per_sample_paths_numbers(occlusi
             assert "lanes" in a.stats["engine"]
             np.testing.assert_allclose(a.image, b.image, rtol=1e-9, atol=1e-12)
             np.testing.assert_allclose(a.stderr, b.stderr, rtol=1e-6, atol=1e-11)
+
+
+@pytest.mark.slow
+def test_kernels_for_core_materials_carry_only_the_core_models_and_give_the_full_kernels_numbers(monkeypatch):
+    """A scene whose materials use no extension runs kernels compiled with the dispatch
+    over the registered models' cores (pbrkit.brdf.dispatch.restricted): their
+    dispatch has no branch for an extended form, and the lane, fused and wavefront
+    engines give the same bytes as the kernels over every compiled model.  A material
+    with an extension gets the kernels over every model."""
+    from pbrkit.brdf import dispatch
+    from pbrkit.brdf.shading.registry import COMPILED, REGISTERED
+    from pbrkit.render import lanes, materials, punctual, reference
+    from pbrkit.render.geometry import Geometry
+
+    core = COMPILED[:len(REGISTERED)]
+    source = dispatch.family(core)["bxdf_f"].__source__
+    assert source.count("return value") == len(core) and f"value{len(core)}" not in source
+    assert dispatch.family(COMPILED)["bxdf_f"] is dispatch.bxdf_f
+    scene = _scene(_MATERIALS[0], EnvironmentSpec(color=(0.9, 0.8, 1.0)))
+    codes, _ = material_tables(Geometry(scene).materials)
+    assert materials.for_materials(lanes._direct_kernel, codes) is not lanes._direct_kernel
+    sheen = MaterialSpec(name="m", model="gltf", roughness=0.5, sheen_color=(0.5, 0.4, 0.3))
+    codes, _ = material_tables(Geometry(_scene(sheen, EnvironmentSpec())).materials)
+    assert materials.for_materials(lanes._direct_kernel, codes) is lanes._direct_kernel
+    runs = [dict(engine="fused"), dict(engine="fused", bounces=1), dict(engine="wavefront")]
+    restricted = [render_reference(scene, spp=6, seed=2, **kw).image for kw in runs]
+    for module in (lanes, reference, punctual):
+        monkeypatch.setattr(module, "for_materials", lambda fn, codes: fn)
+    for kw, image in zip(runs, restricted):
+        np.testing.assert_array_equal(render_reference(scene, spp=6, seed=2, **kw).image, image)

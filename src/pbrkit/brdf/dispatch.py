@@ -25,7 +25,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 from ..core.codegen import generate, if_chain
-from ..core.jit import dual_use
+from ..core.jit import dual_use, rebind
 from .bxdf import BxDF
 from .lobes.microfacet import always, never
 from .shading.registry import COLUMNS, COMPILED
@@ -35,10 +35,16 @@ __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf",
            "fresnel_constant", "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_sheen_roughness",
            "ibl_base_scale", "ibl_khronos_extensions", "ibl_has_extras",
            "ibl_extras",
-           "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL"]
+           "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL", "family", "restricted"]
 
 #: The generated source of every dispatch, by name.
 SOURCES = {}
+
+
+#: Each dispatch over every compiled model, by name, and how to generate it again over
+#: other models (:func:`family`).
+_FULL = {}
+_SPECS = {}
 
 
 def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), namespace=None, models=COMPILED):
@@ -50,8 +56,51 @@ def _dispatch(name, arguments, call, selector="b.model", inline=True, head=(), n
     calls = [call(i, m, ns) for i, m in enumerate(models)]
     lines = [f"def {name}({', '.join(arguments)}):", *head] + if_chain(selector, calls)
     source = "\n".join(lines) + "\n"
-    SOURCES[name] = source
-    return generate(source, name, ns, inline=inline)
+    full = models is COMPILED
+    if full:
+        SOURCES[name] = source
+    fn = generate(source, name, ns, inline=inline)
+    if full:
+        _FULL[name] = fn
+        _SPECS[name] = (arguments, call, selector, inline, head, namespace)
+    return fn
+
+
+_FAMILIES = {}
+
+
+def family(models):
+    """Every dispatch of this module generated over ``models`` (a prefix of
+    :data:`pbrkit.brdf.shading.registry.COMPILED`, so that a model's code is its
+    index in both), by name; the module's own functions for all of them."""
+    models = tuple(models)
+    if models == COMPILED:
+        return dict(_FULL)
+    if models != COMPILED[:len(models)] or not models:
+        raise ValueError("a family of the dispatch is a non-empty prefix of the compiled models")
+    if models not in _FAMILIES:
+        _FAMILIES[models] = {name: _dispatch(name, a, c, sel, inl, h, ns, models)
+                             for name, (a, c, sel, inl, h, ns) in _SPECS.items()}
+    return _FAMILIES[models]
+
+
+_RESTRICTED = {}
+
+
+def restricted(fn, models):
+    """``fn`` (a kernel or compiled helper that calls this module's dispatch, directly or
+    not) compiled with the dispatch over ``models`` only (:func:`family`), so that a
+    kernel for scenes of those models carries no other model's code
+    (:func:`pbrkit.core.jit.rebind`; copies named after the number of models, cached
+    on disk as their own).  ``fn`` itself for every compiled model."""
+    models = tuple(models)
+    if models == COMPILED:
+        return fn
+    if models not in _RESTRICTED:
+        sub = family(models)
+        _RESTRICTED[models] = ({id(_FULL[name]): sub[name] for name in _FULL}, {})
+    replacements, memo = _RESTRICTED[models]
+    return rebind(fn, replacements, f"models{len(models)}", memo)
 
 
 def _put(ns, key, fn):

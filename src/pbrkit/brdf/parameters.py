@@ -26,6 +26,8 @@ from __future__ import annotations
 from collections import namedtuple
 from dataclasses import dataclass, replace
 
+import math
+
 import numpy as np
 
 __all__ = [
@@ -75,6 +77,15 @@ class Parameter:
         array = np.asarray(value, dtype=float)
         if self.channels == 3 and (array.ndim == 0 or array.shape[-1] != 3):
             raise ValueError(f"{where} must have 3 channels (RGB) in its last axis; got shape {array.shape}")
+        if array.size <= 3:  # one material's value: Python's arithmetic (each NumPy reduction costs microseconds)
+            values = array.ravel().tolist()
+            bad = sum(1 for x in values if not math.isfinite(x))
+            if bad:
+                raise ValueError(f"{where} has {bad} non-finite value(s)")
+            outside = [x for x in values if (x < self.low or x > self.high) and x not in self.also]
+            if outside:
+                self._outside(where, len(outside), outside[0])
+            return array
         bad = ~np.isfinite(array)
         if np.any(bad):
             raise ValueError(f"{where} has {int(bad.sum())} non-finite value(s)")
@@ -82,10 +93,13 @@ class Parameter:
         if self.also:  # (np.isin costs tens of microseconds: only where a declaration has such values)
             out &= ~np.isin(array, self.also)
         if np.any(out):
-            also = "".join(f" or {x}" for x in self.also)
-            raise ValueError(f"{where} must be in [{self.low}, {self.high}]{also}; {int(out.sum())} value(s) "
-                             f"outside, e.g. {array[out].flat[0]!r}")
+            self._outside(where, int(out.sum()), float(array[out].flat[0]))
         return array
+
+    def _outside(self, where, count, example):
+        also = "".join(f" or {x}" for x in self.also)
+        raise ValueError(f"{where} must be in [{self.low}, {self.high}]{also}; {count} value(s) outside, "
+                         f"e.g. {example!r}")
 
     @property
     def phrase(self):
@@ -196,6 +210,10 @@ class Layout:
                 continue
             shape = rows_shape + ((3,) if p.channels == 3 else ())
             column = getattr(self.columns, p.name)
+            array = np.asarray(value, dtype=np.float64)
+            if not rows_shape and array.size == p.channels:  # one row (np.broadcast_to costs microseconds)
+                table[0, column:column + p.channels] = array.ravel()
+                continue
             table[:, column:column + p.channels] = np.broadcast_to(np.asarray(value, dtype=np.float64),
                                                                     shape).reshape(count, -1)
         return table

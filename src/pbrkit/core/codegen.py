@@ -9,9 +9,7 @@ can be read and documented; nothing generated is typed by hand.
 
 from __future__ import annotations
 
-import numba
-
-from .jit import jitable
+from .jit import jitable, njit
 
 __all__ = ["generate", "if_chain"]
 
@@ -30,7 +28,7 @@ def generate(source, name, namespace, inline=True):
     if inline == "llvm":
         compiled = jitable(fn, forceinline=True)
     elif inline:
-        compiled = numba.njit(inline="always", error_model="numpy")(fn)
+        compiled = njit(fn, inline="always", error_model="numpy")
     else:
         compiled = jitable(fn)
     compiled.__source__ = source

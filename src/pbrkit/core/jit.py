@@ -27,6 +27,7 @@ from __future__ import annotations
 import functools
 import os
 import threading
+import types as pytypes
 from pathlib import Path
 
 import numba
@@ -42,7 +43,7 @@ from numba.extending import intrinsic, overload
 from .cache import cache_directory, source_hash
 
 __all__ = ["dual_use", "jitable", "kernel", "threaded_kernel", "run_in_threads", "row_kernel", "lane_stage",
-           "stack_array", "select",
+           "stack_array", "select", "njit", "rebind",
            "source_hash", "cache_directory"]
 
 _PACKAGE_ROOT = Path(__file__).resolve().parent.parent
@@ -70,7 +71,7 @@ def dual_use(fn=None, *, inline=False, cache=True):
     if inline == "llvm":
         return jitable(fn, forceinline=True)
     if inline:
-        return numba.njit(inline="always", cache=cache, error_model="numpy")(fn)
+        return njit(fn, inline="always", cache=cache, error_model="numpy")
     return jitable(fn)
 
 
@@ -116,7 +117,17 @@ def jitable(fn, *, forceinline=False):
 
     infer(SharedTemplate)
     infer_global(fn, types.Function(SharedTemplate))
+    _MADE[fn] = functools.partial(jitable, forceinline=forceinline)
     return fn
+
+
+def njit(fn, **options):
+    """``numba.njit(**options)(fn)``, remembered so that :func:`rebind` can compile a
+    copy of ``fn`` the same way.  Every compiled function of pbrkit is made by this
+    or :func:`jitable`."""
+    compiled = numba.njit(**options)(fn)
+    _MADE[fn] = lambda clone: numba.njit(**options)(clone)
+    return compiled
 
 
 def kernel(fn):
@@ -134,7 +145,7 @@ def threaded_kernel(fn):
     ``prange`` kernel: Numba compiles the body once instead of once more for the
     parallel region's outlined function, which halves the first compilation of a
     large kernel, and work items are handed out dynamically all the same."""
-    return numba.njit(cache=True, nogil=True, fastmath=False, error_model="numpy")(fn)
+    return njit(fn, cache=True, nogil=True, fastmath=False, error_model="numpy")
 
 
 _POOL = {"key": None, "pool": None}
@@ -204,6 +215,7 @@ def row_kernel(rows):
             run_in_threads(compiled, int(count(*args)), *args)
 
         run.kernel = compiled
+        run.rows = count
         return run
 
     return wrap
@@ -220,7 +232,7 @@ def lane_stage(fn):
     arrays (the reference counting of those arrays adds calls that keep a loop from
     being vectorised); loops that gather from tables belong in the kernel, where
     LLVM knows its arrays apart."""
-    return numba.njit(forceinline=True, fastmath=False, error_model="numpy")(fn)
+    return njit(fn, forceinline=True, fastmath=False, error_model="numpy")
 
 
 @intrinsic
@@ -270,6 +282,90 @@ def _select_numba(condition, if_true, if_false):
         return np.where(condition, if_true, if_false)
 
     return array_select
+
+
+# ----------------------------------------------------------------- rebinding
+
+#: How each compiled function of pbrkit was made, by its Python function: a function
+#: of a copy that compiles the copy the same way (:func:`njit`, :func:`jitable`).
+_MADE = {}
+
+
+def _names(code):
+    """The global names that ``code`` and the code objects nested in it read."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if isinstance(const, pytypes.CodeType):
+            names |= _names(const)
+    return names
+
+
+def rebind(obj, replacements, suffix, memo=None):
+    """``obj`` (a compiled function of pbrkit, a :func:`row_kernel` or any object) with
+    every object of ``replacements`` (a dict from ``id(old)`` to the new object) put in
+    its place, in ``obj`` and in every compiled function that it calls, directly or
+    not: the functions that reach a replaced one are copied with new globals (and
+    closure cells) and compiled again the way they were made (:func:`njit`,
+    :func:`jitable`), the others are kept.  The copies are named ``<name>__<suffix>``,
+    so that a copy's disk cache is its own.  This compiles one kernel for another set
+    of helpers, such as the dispatch over fewer models
+    (:func:`pbrkit.brdf.dispatch.restricted`), without writing it twice.
+    ``memo`` (a dict) shares the copies between calls for the same replacements."""
+    memo = {} if memo is None else memo
+    return _rebind(obj, replacements, suffix, memo)
+
+
+def _rebind(obj, replacements, suffix, memo):
+    key = id(obj)
+    if key in replacements:
+        return replacements[key]
+    if key in memo:
+        return memo[key][0]
+    if isinstance(obj, pytypes.FunctionType) and hasattr(obj, "kernel") and hasattr(obj, "rows"):
+        memo[key] = (obj, obj)  # a row kernel: its compiled kernel rebound, run the same way
+        compiled = _rebind(obj.kernel, replacements, suffix, memo)
+        if compiled is obj.kernel:
+            return obj
+        count = obj.rows
+
+        @functools.wraps(obj)
+        def run(*args):
+            run_in_threads(compiled, int(count(*args)), *args)
+
+        run.kernel = compiled
+        run.rows = count
+        memo[key] = (run, obj)
+        return run
+    py = getattr(obj, "py_func", obj)
+    if not isinstance(py, pytypes.FunctionType) or py not in _MADE:
+        return obj
+    memo[key] = (obj, obj)  # a recursive call keeps the original (none of pbrkit's do)
+    scope = py.__globals__
+    changed = {}
+    for name in _names(py.__code__):
+        if name in scope:
+            new = _rebind(scope[name], replacements, suffix, memo)
+            if new is not scope[name]:
+                changed[name] = new
+    closure = py.__closure__
+    if closure:
+        contents = [_rebind(c.cell_contents, replacements, suffix, memo) for c in closure]
+        if any(new is not c.cell_contents for new, c in zip(contents, closure)):
+            closure = tuple(pytypes.CellType(new) for new in contents)
+            changed["<closure>"] = True
+    if not changed:
+        return obj
+    clone = pytypes.FunctionType(py.__code__, {**scope, **{k: v for k, v in changed.items() if k != "<closure>"}},
+                                 py.__name__, py.__defaults__, closure)
+    clone.__kwdefaults__ = py.__kwdefaults__
+    clone.__qualname__ = f"{py.__qualname__}__{suffix}"
+    clone.__doc__ = py.__doc__
+    clone.__module__ = py.__module__
+    if hasattr(py, "__source__"):
+        clone.__source__ = py.__source__
+    compiled = _MADE[py](clone)
+    memo[key] = (compiled, obj)  # the original is kept alive: ids stay unique
+    return compiled
 
 
 # ----------------------------------------------------------------- the cache

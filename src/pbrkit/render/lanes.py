@@ -36,7 +36,7 @@ from .estimator import (
     view_in_frame,
 )
 from .film import shifted_add, store_pixel
-from .materials import hit_bxdf
+from .materials import for_materials, hit_bxdf
 from .primitives import KIND_NONE, KIND_PLANE, KIND_SPHERE, _ray_plane, _ray_sphere, trace_analytic
 
 __all__ = ["material_variants", "direct_lighting"]
@@ -194,7 +194,7 @@ def direct_lighting(seed, spp, k2, strategy, occlusion, base_value, hits, materi
     scene as :mod:`pbrkit.render.records`' records."""
     n_pixels = film.sum.shape[0]
     emissive = bool(np.any(materials.params[:, _EMISSIVE:_EMISSIVE + 3] != 0.0))
-    run_in_threads(_direct_kernel, (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, strategy,
+    run_in_threads(for_materials(_direct_kernel, materials.codes), (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, strategy,
                    bool(occlusion), emissive, base_value, hits, materials,
                    material_variants(materials.codes, materials.params), env, shapes, area, film)
 

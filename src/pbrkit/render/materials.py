@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..brdf.bxdf import CODE_COLUMNS, cosines, isotropic_cosines, tangent_frame
-from ..brdf.dispatch import make_bxdf
+from ..brdf.dispatch import make_bxdf, restricted
 from ..brdf.material import FIELDS
-from ..brdf.shading.registry import LAYOUT, model_codes
+from ..brdf.shading.registry import COMPILED, LAYOUT, REGISTERED, model_codes
 from ..core.jit import dual_use
 
-__all__ = ["material_tables", "hit_bxdf", "hit_cosines"]
+__all__ = ["material_tables", "hit_bxdf", "hit_cosines", "for_materials"]
 
 
 def material_tables(materials):
@@ -35,6 +35,18 @@ def material_tables(materials):
                       double_sided=1.0 if s.double_sided else 0.0)
         params[i] = LAYOUT.row(values)[0]
     return codes, params
+
+
+def for_materials(fn, codes):
+    """The kernel ``fn`` compiled for the models of the material code table ``codes``
+    (:func:`material_tables`): the registered models' cores, and the extended forms
+    only when a material uses one (:func:`pbrkit.brdf.dispatch.restricted` over the
+    prefix of :data:`pbrkit.brdf.shading.registry.COMPILED` that holds every code).
+    So a scene of materials without extensions runs kernels without the extensions'
+    code, which LLVM would otherwise optimise beside theirs (it slowed the plain
+    glTF material's lane kernel by 13-18 % with iridescence)."""
+    top = int(codes[:, 0].max()) + 1 if codes.shape[0] else 0
+    return restricted(fn, COMPILED[:max(len(REGISTERED), top)])
 
 
 @dual_use(inline=True)

@@ -9,7 +9,7 @@ import numpy as np
 from ..brdf.dispatch import bxdf_f
 from ..core.jit import dual_use, row_kernel
 from .lights import light_arrays, light_incidence
-from .materials import hit_bxdf, hit_cosines
+from .materials import for_materials, hit_bxdf, hit_cosines
 from .primitives import KIND_NONE, trace_analytic
 
 __all__ = ["punctual_at", "punctual_radiance"]
@@ -68,7 +68,7 @@ def punctual_radiance(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True)
     codes, values = light_arrays(geometry.lights)
     ec = np.ones((count, 3)) if ec is None else np.ascontiguousarray(ec)
     if not geometry.has_meshes:  # analytic scene: shadow rays inside the kernel
-        _punctual_analytic_batch(mat_i, mat_f, np.ascontiguousarray(surface.material),
+        for_materials(_punctual_analytic_batch, mat_i)(mat_i, mat_f, np.ascontiguousarray(surface.material),
                                  *(np.ascontiguousarray(x) for x in (surface.p, surface.ng, surface.n, v,
                                                                      surface.roughness, surface.metallic,
                                                                      surface.base_color)),
@@ -80,8 +80,9 @@ def punctual_radiance(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True)
     direction = np.empty((count, 3))
     dist = np.empty(count)
     value = np.empty((count, 3))
+    kernel = for_materials(_punctual_kernel, mat_i)
     for li in range(len(geometry.lights)):
-        _punctual_kernel(mat_i, mat_f, np.ascontiguousarray(surface.material), *args, ec, codes, values, li,
+        kernel(mat_i, mat_f, np.ascontiguousarray(surface.material), *args, ec, codes, values, li,
                          direction, dist, value)
         lit = np.flatnonzero(np.any(value > 0.0, axis=1))
         if shadows and lit.size:

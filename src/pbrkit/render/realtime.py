@@ -73,7 +73,7 @@ from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 _EXTENDED = np.array(sorted(EXTENDED_CODES.values()), dtype=np.int64)
 from .environment import EnvironmentLight
 from .geometry import Geometry
-from .materials import hit_bxdf, material_tables
+from .materials import for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary, _resolve
 from .punctual import punctual_radiance
 
@@ -580,8 +580,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         refl = np.empty((count, 3))
         coat_roughness = np.empty(count)
         sheen_roughness = np.empty(count)
-        _reflection_kernel(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic, base_rows, refl,
-                           coat_roughness, sheen_roughness)
+        for_materials(_reflection_kernel, mat_i)(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic,
+                                                 base_rows, refl, coat_roughness, sheen_roughness)
         chain = _engine_chain(bake, env, engine) if curve is not None else bake.specular
         levels = len(chain)
         key = (id(bake), engine)
@@ -627,27 +627,26 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         timings["ibl_lookups"] = t4 - t3
         out = np.empty((count, 3))
         ec = np.empty((count, 3))
-        _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
-                    s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
-                    np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                    sheen_prefiltered, charlie,
-                    sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
-                    bool(energy_compensation), ENGINES.index(engine), out, ec)
+        ibl_kernel = for_materials(_ibl_kernel, mat_i)
+        ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
+                   s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
+                   np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
+                   sheen_prefiltered, charlie,
+                   sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
+                   bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
         timings["ibl_shading"] = t5 - t4
         if len(geometry.area_lights):  # LTC: the same composition, with the lights' integrals for the bake's
             lt = area_light_ltc(geometry.area_lights, s.p, n_rows, v_rows, s.roughness, coat_roughness)
             spec = np.empty((count, 3))
-            _area_specular_kernel(mat_i, mat_f, mat, n_rows, s.roughness, s.metallic, base_rows, lt.specular,
-                                  lt.fresnel, lt.split, spec)
+            for_materials(_area_specular_kernel, mat_i)(mat_i, mat_f, mat, n_rows, s.roughness, s.metallic,
+                                                        base_rows, lt.specular, lt.fresnel, lt.split, spec)
             irr, coat = lt.irradiance, lt.coat
             area = np.empty((count, 3))
-            _ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
-                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count if extended else 1, 3)),
-                        np.zeros(count if extended else 1),
-                        sheen_albedo_table(),
-                        fresnel_mix_albedo_table(), diffuse_weight == "exact", bool(energy_compensation), 0, area,
-                        np.empty((count, 3)))
+            ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
+                       np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count if extended else 1, 3)),
+                       np.zeros(count if extended else 1), sheen_albedo_table(), fresnel_mix_albedo_table(),
+                       diffuse_weight == "exact", bool(energy_compensation), 0, area, np.empty((count, 3)))
             out += area
             t6 = time.perf_counter()
             timings["area_lights"] = t6 - t5

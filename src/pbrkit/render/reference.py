@@ -66,7 +66,7 @@ from .estimator import (
 from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
 from .lanes import direct_lighting
-from .materials import hit_bxdf, material_tables
+from .materials import for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary
 from .primitives import KIND_NONE, KIND_SPHERE, sphere_normal_and_point, trace_analytic
 from .punctual import punctual_at, punctual_radiance
@@ -429,7 +429,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             vs = _vertex_samples(count)
             points = Points(*(np.ascontiguousarray(a) for a in (surf_p, surf_ng, surf_n, v, surf_mat, surf_r,
                                                                  surf_m, surf_b)))
-            _vertex_batch(seed, j, bounce, strategy, pix.astype(np.int64), points, materials, envs, area, vs)
+            for_materials(_vertex_batch, materials.codes)(seed, j, bounce, strategy, pix.astype(np.int64), points, materials, envs, area, vs)
             ldir, lval, adir, adist, aval, bdir, bw, bpdf = vs
             for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
                 lit = np.flatnonzero(np.any(value > 0.0, axis=1))
@@ -569,7 +569,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
             direct_lighting(seed, spp, k2, code, occlusion, base_value, hits, materials, envs, shapes, area, film)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
-            run_in_threads(_fused_kernel, n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
+            run_in_threads(for_materials(_fused_kernel, materials.codes), n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
                            base_value, hits, materials, envs, shapes, punctual_lights(geometry), area, film)
             engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()

@@ -120,7 +120,15 @@ class Model:
         default."""
         for p in self.extensions:
             value = values.get(p.name)
-            if value is not None and np.any(np.asarray(value, dtype=np.float64) != np.asarray(p.default)):
+            if value is None:
+                continue
+            array = np.asarray(value, dtype=np.float64)
+            default = p.default if isinstance(p.default, tuple) else (p.default,)
+            if array.size <= 3:  # one material's value: Python's comparison (np.any costs microseconds)
+                flat = array.ravel().tolist()
+                if any(x != default[i % len(default)] for i, x in enumerate(flat)):
+                    return True
+            elif np.any(array != np.asarray(p.default)):
                 return True
         return False
 
