@@ -55,6 +55,8 @@ CASES = [
     ("gltf-coat-sheen-specular", "gltf", {}, dict(roughness=0.35, metallic=0.5, clearcoat=0.4,
                                                   clearcoat_roughness=0.3, sheen_color=np.array([0.5, 0.4, 0.3]),
                                                   sheen_roughness=0.6, specular=0.5, ior=1.8), 0.3, 1.0),
+    ("gltf-iridescence", "gltf", {}, dict(roughness=0.3, metallic=0.4, iridescence=1.0, iridescence_ior=1.8,
+                                          iridescence_thickness_maximum=300.0), 0.5, 0.7),
 ]
 N_SAMPLES = 200_000
 ALPHA_TEST = chi2.sidak_alpha(FAMILY_ALPHA, len(CASES))

@@ -213,7 +213,8 @@ def _ibl_cases(rng, m, bx, dfg_table):
              atol=2e-6))  # 1 - cE crosses 0 (as sheenAlbedoScaling in tests/test_shaders_khr.py)
     table = np.zeros((2, 2))
     extras = np.array([gltf.ibl_extensions_extras(b, float(nov[q]), float(coat_dfg[q, 0]), float(coat_dfg[q, 1]),
-                                                  table, tuple(irr[q]), tuple(coat_pref[q]), tuple(sheen_pref[q]))[0]
+                                                  table, tuple(irr[q]), tuple(coat_pref[q]), tuple(sheen_pref[q]),
+                                                  0.5, 0.9, (1.0, 1.0, 1.0))[0]  # no film: the base's DFG unused
                        for q, b in enumerate(bx)])
     add(Case("extensionsIBL", ("pbrkit_extensionsIBL",),
              f"vec4(pbrkit_extensionsIBL(a.x, f.x, a.w, h.xyz, e.xyz, {e_sheen}, {sheen}), 0.0)", inputs, extras,

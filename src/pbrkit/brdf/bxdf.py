@@ -36,7 +36,7 @@ __all__ = [
 C_MODEL, C_DISTRIBUTION, C_MASKING, C_FRESNEL, C_DIFFUSE = range(5)
 CODE_COLUMNS = 5
 #: How many values of its own a model can keep in a BxDF (:attr:`BxDF.extra`).
-EXTRA_SLOTS = 8
+EXTRA_SLOTS = 12
 #: The ``extra`` of a model that keeps none.
 NO_EXTRA = (0.0,) * EXTRA_SLOTS
 
@@ -49,7 +49,8 @@ class BxDF(NamedTuple):
     Schlick-type Fresnel terms and ``f90`` their grazing value; ``diffuse_color``
     already carries the model's metallic weighting; ``eta``, ``k``: the complex IOR
     of the exact conductor Fresnel; ``dielectric_f0``: the dielectric's f0;
-    ``specular_color``: the constant F of ``fresnel = "none"``; ``extra``:
+    ``specular_color``: the specular colour, the constant F of ``fresnel = "none"``
+    (glTF's extended model: its dielectric's F0 colour); ``extra``:
     :data:`EXTRA_SLOTS` values of the model's own lobes (Disney's sheen colour and
     clear coat, for instance), at slots the model's lobes name."""
 

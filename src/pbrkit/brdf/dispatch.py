@@ -204,16 +204,17 @@ ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
 
 
 @dual_use(inline=True)
-def _no_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered):
+def _no_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
+               radiance):
     z = (0.0, 0.0, 0.0)
     return z, z
 
 
 ibl_extras = _dispatch(
     "ibl_extras", ("b", "nov", "coat_dfg1", "coat_dfg2", "sheen_table", "irradiance", "coat_prefiltered",
-                   "sheen_prefiltered"),
+                   "sheen_prefiltered", "dfg1", "dfg2", "radiance"),
     lambda i, m, ns: f"{_put(ns, f'e{i}', m.realtime.extras or _no_extras)}(b, nov, coat_dfg1, coat_dfg2, "
-                     "sheen_table, irradiance, coat_prefiltered, sheen_prefiltered)")
+                     "sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2, radiance)")
 
 
 # ----------------------------------------------------------------- specialised

@@ -13,6 +13,10 @@ KHR_materials_clearcoat clearcoatRoughnessFactor    clearcoat_roughness [0, 1]  
 KHR_materials_specular  specularFactor              specular           [0, 1]       1
 KHR_materials_specular  specularColorFactor         specular_color     [0, inf)^3   1
 KHR_materials_ior       ior                         ior                0 or >= 1    1.5
+KHR_materials_iridescence iridescenceFactor         iridescence        [0, 1]       0
+KHR_materials_iridescence iridescenceIor            iridescence_ior    >= 1         1.3
+KHR_materials_iridescence iridescenceThicknessMinimum iridescence_thickness_minimum >= 0 100
+KHR_materials_iridescence iridescenceThicknessMaximum iridescence_thickness_maximum >= 0 400
 ======================  ==========================  =================  ===========  =========
 
 (:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
@@ -39,6 +43,12 @@ FACTORS = (
     ("KHR_materials_specular", "specularFactor", "specular", 1, 0.0, 1.0, 1.0),
     ("KHR_materials_specular", "specularColorFactor", "specular_color", 3, 0.0, None, (1.0, 1.0, 1.0)),
     ("KHR_materials_ior", "ior", "ior", 1, 0.0, None, 1.5),
+    ("KHR_materials_iridescence", "iridescenceFactor", "iridescence", 1, 0.0, 1.0, 0.0),
+    ("KHR_materials_iridescence", "iridescenceIor", "iridescence_ior", 1, 1.0, None, 1.3),
+    ("KHR_materials_iridescence", "iridescenceThicknessMinimum", "iridescence_thickness_minimum", 1, 0.0, None,
+     100.0),
+    ("KHR_materials_iridescence", "iridescenceThicknessMaximum", "iridescence_thickness_maximum", 1, 0.0, None,
+     400.0),
 )
 #: The textureInfos of each extension (checked; not applied yet).
 TEXTURES = {
@@ -46,6 +56,7 @@ TEXTURES = {
     "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
     "KHR_materials_specular": ("specularTexture", "specularColorTexture"),
     "KHR_materials_ior": (),
+    "KHR_materials_iridescence": ("iridescenceTexture", "iridescenceThicknessTexture"),
 }
 UNLIT = "KHR_materials_unlit"
 #: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).

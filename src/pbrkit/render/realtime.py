@@ -446,7 +446,8 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             spec_add, diff_add = ibl_extras(b, nov, c1, c2, sheen_table,
                                             (irradiance[i, 0], irradiance[i, 1], irradiance[i, 2]),
                                             (coat_prefiltered[i, 0], coat_prefiltered[i, 1], coat_prefiltered[i, 2]),
-                                            (sheen_prefiltered[i, 0], sheen_prefiltered[i, 1], sheen_prefiltered[i, 2]))
+                                            (sheen_prefiltered[i, 0], sheen_prefiltered[i, 1], sheen_prefiltered[i, 2]),
+                                            dfg1, dfg2, (prefiltered[i, 0], prefiltered[i, 1], prefiltered[i, 2]))
         for c in range(3):
             f0 = f0s[c]
             if constant_f:

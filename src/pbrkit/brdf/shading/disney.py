@@ -111,7 +111,8 @@ def ibl_coat_roughness(b):
 
 
 @dual_use(inline=True)
-def ibl_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered):
+def ibl_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
+              radiance):
     """The clear coat and the sheen in real time: the coat's split sum with f0 0.04,
     0.25 clearcoat (DFG1 + 0.04 (DFG2 - DFG1)) at its roughness times its own
     prefiltered lookup, and the sheen colour times the sheen lobe's albedo table

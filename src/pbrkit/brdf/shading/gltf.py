@@ -41,15 +41,14 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 
 from ...core.filtering import linear_1d
 from ...core.jit import dual_use
 from ..bxdf import BxDF, metallic_workflow
 from ..diffuse import kd_ibl, lambert
 from ...microfacet.roughness import alpha_from_roughness
-from ..fresnel import f0_from_ior, f0_metallic, f_schlick
-from ..lobes import Lobe
+from ..fresnel import f0_from_ior, f0_metallic, f_iridescence, f_schlick
+from ..lobes import Lobe, lobe_width, quadrature_albedo
 from ..lobes.clearcoat import CLEARCOAT as CLEARCOAT_LOBE
 from ..lobes.clearcoat import CLEARCOAT_ALPHA_SLOT, CLEARCOAT_SLOT, clearcoat_weight
 from ..lobes.diffuse import LAMBERT
@@ -63,13 +62,15 @@ from .model import Model, RealTime
 
 __all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION",
            "COMPOSITION", "SHEEN_COLOR", "SHEEN_ROUGHNESS", "CLEARCOAT", "CLEARCOAT_ROUGHNESS", "SPECULAR",
-           "SPECULAR_COLOR", "IOR", "SPECULAR_SLOT", "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
+           "SPECULAR_COLOR", "IOR", "IRIDESCENCE", "IRIDESCENCE_IOR", "IRIDESCENCE_THICKNESS_MINIMUM",
+           "IRIDESCENCE_THICKNESS_MAXIMUM", "SPECULAR_SLOT", "IRIDESCENCE_SLOT", "khr_fresnel", "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
            "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
            "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale"]
 
 #: The glTF 2.0 dielectric's IOR (Appendix B.3.4) and its normal reflectance
 #: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
 GLTF_IOR = 1.5
+_INV_PI = 1.0 / math.pi
 GLTF_DIELECTRIC_F0 = f0_from_ior(GLTF_IOR)
 
 #: KHR_materials_sheen's factors (its README, "Properties"; default 0: no sheen).
@@ -91,8 +92,22 @@ SPECULAR_COLOR = Parameter("specular_color", (1.0, 1.0, 1.0), 0.0, math.inf, "li
 #: KHR_materials_ior's ior (its README; 1.5 the core's, 0 or at least 1).
 IOR = Parameter("ior", GLTF_IOR, 1.0, math.inf, "", "dielectric index of refraction (f0 = ((ior - 1) / (ior + "
                 "1))^2; 0: f0 = 1), KHR_materials_ior ior", also=(0.0,))
-#: The BxDF ``extra`` slot of the specular factor (sheen: 0-3, clear coat: 4-5).
+#: KHR_materials_iridescence's factors (its README, "Properties"; iridescenceFactor 0: no
+#: film; the thickness is iridescenceThicknessMaximum where no thickness texture applies).
+IRIDESCENCE = Parameter("iridescence", 0.0, 0.0, 1.0, "", "thin-film weight, KHR_materials_iridescence "
+                        "iridescenceFactor")
+IRIDESCENCE_IOR = Parameter("iridescence_ior", 1.3, 1.0, math.inf, "", "thin film's index of refraction, "
+                            "KHR_materials_iridescence iridescenceIor")
+IRIDESCENCE_THICKNESS_MINIMUM = Parameter("iridescence_thickness_minimum", 100.0, 0.0, math.inf, "nm",
+                                          "film thickness at thickness-texture 0 (unused without the texture), "
+                                          "KHR_materials_iridescence iridescenceThicknessMinimum")
+IRIDESCENCE_THICKNESS_MAXIMUM = Parameter("iridescence_thickness_maximum", 400.0, 0.0, math.inf, "nm",
+                                          "film thickness (at thickness-texture 1, and without the texture), "
+                                          "KHR_materials_iridescence iridescenceThicknessMaximum")
+#: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5) and of the
+#: thin film: its weight, IOR and thickness (nm).
 SPECULAR_SLOT = 6
+IRIDESCENCE_SLOT, IRIDESCENCE_IOR_SLOT, IRIDESCENCE_THICKNESS_SLOT = 8, 9, 10
 
 
 @dual_use
@@ -123,8 +138,9 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     # extensions": dielectric_f0 = min(((ior - 1) / (ior + 1))^2 specularColor, 1) specular,
     # dielectric_f90 = specular), mixed with the metal's (base colour, 1) by metallic;
     # dielectric_f0 holds max3 of the dielectric F0 (the diffuse weight's); the sheen's colour
-    # and roughness, the coat's weight and alpha and the specular factor in the extra slots
-    # (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT)
+    # and roughness, the coat's weight and alpha, the specular factor and the thin film in the
+    # extra slots (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT,
+    # IRIDESCENCE_SLOT...); the dielectric's F0 colour as the BxDF's specular colour
     z3 = (0.0, 0.0, 0.0)
     alpha = alpha_from_roughness(roughness)
     kd = 1.0 - metallic
@@ -138,10 +154,12 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     f90 = s + (1.0 - s) * metallic
     h = columns.sheen_color
     extra = (params[q, h], params[q, h + 1], params[q, h + 2], params[q, columns.sheen_roughness],
-             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s, 0.0)
+             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s, 0.0,
+             params[q, columns.iridescence], params[q, columns.iridescence_ior],
+             params[q, columns.iridescence_thickness_maximum], 0.0)
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
                 alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, z3, z3,
-                max(d0, max(d1, d2)), z3, extra)
+                max(d0, max(d1, d2)), (d0, d1, d2), extra)
 
 
 _SPECULAR = microfacet(GGX, SEPARABLE, SCHLICK)
@@ -187,15 +205,70 @@ COMPOSITION = add(weighted(_fresnel_mix_weight, LAMBERT), _SPECULAR)
 
 
 @dual_use(inline=True)
+def _dielectric_iridescence(b, voh):
+    # KHR_materials_iridescence over the dielectric (its README, iridescent_dielectric_layer with
+    # KHR_materials_specular): the film's Fresnel over base F0 = specular min(F0(ior) specularColor, 1)
+    # (the BxDF's specular colour), at v.h
+    d = b.specular_color
+    return f_iridescence(voh, b.extra[IRIDESCENCE_IOR_SLOT], b.extra[IRIDESCENCE_THICKNESS_SLOT], d[0], d[1], d[2])
+
+
+@dual_use(inline=True)
 def _specular_mix_weight(b, c):
     # 1 - max3(dielectric_fresnel), dielectric_fresnel = mix(dielectric_f0, specular, (1 - |v.h|)^5)
     # per channel (KHR_materials_specular's README, "Implementation"): its largest channel is
-    # the one of the largest f0, b.dielectric_f0
-    return 1.0 - f_schlick(c.voh, b.dielectric_f0, b.extra[SPECULAR_SLOT])
+    # the one of the largest f0, b.dielectric_f0; with a thin film (KHR_materials_iridescence,
+    # rgb_mix) the largest channel of mix(dielectric_fresnel, iridescent_f, iridescence)
+    k = b.extra[IRIDESCENCE_SLOT]
+    if k == 0.0:
+        return 1.0 - f_schlick(c.voh, b.dielectric_f0, b.extra[SPECULAR_SLOT])
+    s = b.extra[SPECULAR_SLOT]
+    i0, i1, i2 = _dielectric_iridescence(b, c.voh)
+    f0 = f_schlick(c.voh, b.specular_color[0], s)
+    f1 = f_schlick(c.voh, b.specular_color[1], s)
+    f2 = f_schlick(c.voh, b.specular_color[2], s)
+    return 1.0 - max(f0 + (i0 - f0) * k, max(f1 + (i1 - f1) * k, f2 + (i2 - f2) * k))
 
 
-#: The specular lobe with KHR_materials_specular's F90 (:data:`pbrkit.brdf.terms.SCHLICK_SPECULAR`).
-_SPECULAR_KHR = microfacet(GGX, SEPARABLE, SCHLICK_SPECULAR)
+@dual_use(inline=True)
+def khr_fresnel(b, voh):
+    """The RGB Fresnel of the extended model's specular lobe: mix(dielectric_fresnel,
+    metal_fresnel, metallic), Schlick's with the BxDF's F0 and F90 (KHR_materials_specular,
+    KHR_materials_ior), and with a thin film (KHR_materials_iridescence's README,
+    iridescent_dielectric_layer and iridescent_conductor_layer) each part mixed towards the
+    film's Fresnel (:func:`pbrkit.brdf.fresnel.f_iridescence`, over the dielectric's F0 colour
+    and over the base colour) by iridescenceFactor."""
+    k = b.extra[IRIDESCENCE_SLOT]
+    if k == 0.0:
+        return f_schlick(voh, b.f0[0], b.f90), f_schlick(voh, b.f0[1], b.f90), f_schlick(voh, b.f0[2], b.f90)
+    s = b.extra[SPECULAR_SLOT]
+    m = b.metallic
+    d = _dielectric_iridescence(b, voh)
+    e = f_iridescence(voh, b.extra[IRIDESCENCE_IOR_SLOT], b.extra[IRIDESCENCE_THICKNESS_SLOT], b.base[0], b.base[1],
+                      b.base[2])
+    out = [0.0, 0.0, 0.0]
+    for c in range(3):
+        fd = f_schlick(voh, b.specular_color[c], s)
+        fm = f_schlick(voh, b.base[c], 1.0)
+        out[c] = (fd + (d[c] - fd) * k) * (1.0 - m) + (fm + (e[c] - fm) * k) * m
+    return out[0], out[1], out[2]
+
+
+#: The specular lobe with KHR_materials_specular's F90 (:data:`pbrkit.brdf.terms.SCHLICK_SPECULAR`):
+#: its D V, sampling and split-sum pieces, with the Fresnel :func:`khr_fresnel` in its value.
+_SPECULAR_F90 = microfacet(GGX, SEPARABLE, SCHLICK_SPECULAR)
+_DV_F90 = _SPECULAR_F90.parts.dv
+
+
+@dual_use(inline=True)
+def _khr_specular_value(b, c, ec, w):
+    spec = _DV_F90(b, c)
+    f0, f1, f2 = khr_fresnel(b, c.voh)
+    return f0 * ((spec * ec[0]) * w), f1 * ((spec * ec[1]) * w), f2 * ((spec * ec[2]) * w)
+
+
+_SPECULAR_KHR = Lobe("specular", _khr_specular_value, _SPECULAR_F90.technique, "specular", _SPECULAR_F90.estimate,
+                     quadrature_albedo(_khr_specular_value, lobe_width), _SPECULAR_F90.parts)
 #: The material with KHR_materials_ior and KHR_materials_specular:
 #: ``dielectric_fresnel specular_brdf + (1 - max3(dielectric_fresnel)) diffuse_brdf`` mixed
 #: with the metal by metallic (the specular README), folded as :data:`COMPOSITION` is.
@@ -268,23 +341,55 @@ def ibl_sheen_roughness(b):
 
 
 @dual_use(inline=True)
+def _iridescence_ibl(b, nov, dfg1, dfg2, irradiance, radiance, scale):
+    # the thin film's change to the base's split sum (ibl_extensions_extras), times the base's scale
+    k = b.extra[IRIDESCENCE_SLOT]
+    if k == 0.0:
+        z = (0.0, 0.0, 0.0)
+        return z, z
+    s = b.extra[SPECULAR_SLOT]
+    m = b.metallic
+    fd = _dielectric_iridescence(b, nov)
+    fm = f_iridescence(nov, b.extra[IRIDESCENCE_IOR_SLOT], b.extra[IRIDESCENCE_THICKNESS_SLOT], b.base[0], b.base[1],
+                       b.base[2])
+    spec = [0.0, 0.0, 0.0]
+    plain = 0.0
+    film = 0.0
+    for c in range(3):
+        a_d = dfg1 * s + b.specular_color[c] * (dfg2 - dfg1)
+        a_m = dfg1 + b.base[c] * (dfg2 - dfg1)
+        spec[c] = radiance[c] * k * ((fd[c] * dfg2 - a_d) * (1.0 - m) + (fm[c] * dfg2 - a_m) * m) * scale
+        f = f_schlick(nov, b.specular_color[c], max(s * (1.0 - b.roughness), b.specular_color[c]))
+        plain = max(plain, f)
+        film = max(film, f + (fd[c] - f) * k)
+    w = (plain - film) * _INV_PI * scale
+    return ((spec[0], spec[1], spec[2]), (b.diffuse_color[0] * w * irradiance[0], b.diffuse_color[1] * w * irradiance[1],
+                                          b.diffuse_color[2] * w * irradiance[2]))
+
+
+@dual_use(inline=True)
 def ibl_extensions_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered,
-                          sheen_prefiltered):
+                          sheen_prefiltered, dfg1, dfg2, radiance):
     """The extensions' image-based lighting, as the Khronos Sample Viewer evaluates
     them: the sheen, sheenColor E_sheen(n.v, sheenRoughness) times the sheen's
     prefiltered radiance; the clear coat, clearcoat clearcoat_fresnel(n.v) times its
     prefiltered radiance times the white lobe's split-sum albedo DFG2 at its roughness;
-    the sheen under the coat's 1 - clearcoat clearcoat_fresnel.  Returns (specular RGB,
-    diffuse RGB) to add to the base scaled by :func:`ibl_extensions_base_scale`."""
+    the sheen under the coat's 1 - clearcoat clearcoat_fresnel; the thin film
+    (KHR_materials_iridescence), the base's split-sum albedo of each part (dielectric,
+    metal) mixed towards the film's Fresnel at n.v times DFG2 by iridescenceFactor, and
+    the diffuse weight's largest dielectric Fresnel likewise (the Sample Viewer's
+    Fresnel at n.v, on pbrkit's split sum).  Returns (specular RGB, diffuse RGB) to add
+    to the base scaled by :func:`ibl_extensions_base_scale`."""
     t = _coat(b, nov)
     e = 0.0
     if _sheen_on(b):
         e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT]) * (1.0 - t)
     s = SHEEN_COLOR_SLOT
     k = t * coat_dfg2
-    return ((b.extra[s] * e * sheen_prefiltered[0] + k * coat_prefiltered[0],
-             b.extra[s + 1] * e * sheen_prefiltered[1] + k * coat_prefiltered[1],
-             b.extra[s + 2] * e * sheen_prefiltered[2] + k * coat_prefiltered[2]), (0.0, 0.0, 0.0))
+    fs, fd = _iridescence_ibl(b, nov, dfg1, dfg2, irradiance, radiance, ibl_extensions_base_scale(b, nov))
+    return ((b.extra[s] * e * sheen_prefiltered[0] + k * coat_prefiltered[0] + fs[0],
+             b.extra[s + 1] * e * sheen_prefiltered[1] + k * coat_prefiltered[1] + fs[1],
+             b.extra[s + 2] * e * sheen_prefiltered[2] + k * coat_prefiltered[2] + fs[2]), fd)
 
 
 @dual_use(inline=True)
@@ -307,7 +412,8 @@ CORE = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_
              RealTime(diffuse_weight=ibl_diffuse_weight), variants=(("ggx", "separable", "schlick", "lambert"),))
 MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with its KHR_materials extensions",
               (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS, CLEARCOAT, CLEARCOAT_ROUGHNESS, SPECULAR,
-               SPECULAR_COLOR, IOR), setup, EXTENDED_COMPOSITION,
+               SPECULAR_COLOR, IOR, IRIDESCENCE, IRIDESCENCE_IOR, IRIDESCENCE_THICKNESS_MINIMUM,
+               IRIDESCENCE_THICKNESS_MAXIMUM), setup, EXTENDED_COMPOSITION,
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
                        sheen_roughness=ibl_sheen_roughness, extras=ibl_extensions_extras,

@@ -41,9 +41,10 @@ class RealTime:
     glTF's 1 - F(v.h)); ``coat_roughness(b)``, the perceptual roughness of a second
     prefiltered lookup for a coat (-1: none); ``sheen_roughness(b)``, that of a third,
     in the sheen's (Charlie) chain (-1: none); ``extras(b, nov, coat_dfg1, coat_dfg2,
-    sheen_table, irradiance, coat_prefiltered, sheen_prefiltered)`` -> (specular RGB,
-    diffuse RGB) added for the model's other lobes (``None``: there are none), with
-    the DFG table at the coat's roughness and the RGB irradiance, coat and sheen lookups;
+    sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2, radiance)``
+    -> (specular RGB, diffuse RGB) added for the model's other lobes (``None``: there
+    are none), with the DFG table at the coat's roughness, the RGB irradiance, coat and
+    sheen lookups, and the base's DFG and RGB prefiltered radiance;
     ``base_scale(b, nov)``, the factor on the specular and diffuse IBL terms before
     the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling);
     ``khronos_extensions``: ``engine="khronos"`` evaluates the model's glTF material
