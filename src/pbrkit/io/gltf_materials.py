@@ -17,12 +17,17 @@ KHR_materials_iridescence iridescenceFactor         iridescence        [0, 1]   
 KHR_materials_iridescence iridescenceIor            iridescence_ior    >= 1         1.3
 KHR_materials_iridescence iridescenceThicknessMinimum iridescence_thickness_minimum >= 0 100
 KHR_materials_iridescence iridescenceThicknessMaximum iridescence_thickness_maximum >= 0 400
+KHR_materials_transmission transmissionFactor       transmission       [0, 1]       0
+KHR_materials_volume    thicknessFactor             thickness          [0, inf)     0
+KHR_materials_volume    attenuationDistance         attenuation_distance (0, inf)   +inf (0)
+KHR_materials_volume    attenuationColor            attenuation_color  [0, 1]^3     1
 ======================  ==========================  =================  ===========  =========
 
 (:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
 checked like every textureInfo but not applied yet (the renderer textures base
 colour, metallic, roughness, normal, occlusion and emission per shading point):
-a note says so and the factor applies alone.  ``KHR_materials_unlit`` (its README,
+a note says so and the factor applies alone.  attenuationDistance's default +Infinity
+is the parameter's 0 (JSON has no infinity; glTF's range excludes 0).  ``KHR_materials_unlit`` (its README,
 "Implementation") renders the base colour as emission and no reflection
 (:func:`unlit_material`).
 """
@@ -49,6 +54,10 @@ FACTORS = (
      100.0),
     ("KHR_materials_iridescence", "iridescenceThicknessMaximum", "iridescence_thickness_maximum", 1, 0.0, None,
      400.0),
+    ("KHR_materials_transmission", "transmissionFactor", "transmission", 1, 0.0, 1.0, 0.0),
+    ("KHR_materials_volume", "thicknessFactor", "thickness", 1, 0.0, None, 0.0),
+    ("KHR_materials_volume", "attenuationDistance", "attenuation_distance", 1, 0.0, None, 0.0),
+    ("KHR_materials_volume", "attenuationColor", "attenuation_color", 3, 0.0, 1.0, (1.0, 1.0, 1.0)),
 )
 #: The textureInfos of each extension (checked; not applied yet).
 TEXTURES = {
@@ -57,6 +66,8 @@ TEXTURES = {
     "KHR_materials_specular": ("specularTexture", "specularColorTexture"),
     "KHR_materials_ior": (),
     "KHR_materials_iridescence": ("iridescenceTexture", "iridescenceThicknessTexture"),
+    "KHR_materials_transmission": ("transmissionTexture",),
+    "KHR_materials_volume": ("thicknessTexture",),
 }
 UNLIT = "KHR_materials_unlit"
 #: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).
@@ -66,7 +77,8 @@ MATERIAL_EXTENSIONS = tuple(TEXTURES) + (UNLIT,)
 def check_material_extensions(ext, where, index):
     """Check the ``KHR_materials_*`` objects of a material's ``extensions`` (``where``
     its JSON location): each an object, every factor a finite number (or array) in its
-    range, KHR_materials_ior's ior 0 or at least 1, every texture a textureInfo.
+    range, KHR_materials_ior's ior 0 or at least 1, KHR_materials_volume's
+    attenuationDistance above 0, every texture a textureInfo.
     ``ValueError`` of one line naming the field."""
     for name, textures in TEXTURES.items():
         if ext.get(name) is None:
@@ -82,6 +94,8 @@ def check_material_extensions(ext, where, index):
                 _numbers(obj[key], f"{w}.{key}", n, lo, hi)
         if name == "KHR_materials_ior" and obj.get("ior") is not None and 0.0 < obj["ior"] < 1.0:
             raise ValueError(f"{w}.ior must be 0 or at least 1; got {obj['ior']}")
+        if name == "KHR_materials_volume" and obj.get("attenuationDistance") == 0:
+            raise ValueError(f"{w}.attenuationDistance must be above 0; got 0")
         for key in textures:
             if obj.get(key) is not None:
                 _check_texture_info(obj[key], f"{w}.{key}", index)

@@ -75,6 +75,26 @@ g.l <= 0, n.l <= 0 or a zero pdf contribute nothing.
 - :func:`emission_weight`, :func:`area_emission`: w_B where the BSDF sample meets a
   light.
 
+Transmission (``KHR_materials_transmission``, ``KHR_materials_volume``)
+-------------------------------------------------------------------------
+
+A material that transmits (:func:`pbrkit.brdf.transmission.transmissive_material`) has a
+BSDF on both sides of the surface; its vertices use :func:`transmissive_light_sample`
+and :func:`transmissive_bsdf_sample` in place of the two above: the same estimator
+with f the BSDF (:func:`pbrkit.brdf.transmission.transmissive_f`), |n.l| for <n.l>,
+the mixture pdf of :func:`pbrkit.brdf.transmission.transmissive_pdf` (reflection and
+transmission techniques) in the MIS weights, and l on either side of the surface
+(a light sample from below is lit through it), so long as the geometric and the
+shading normal put l on the same side (else nothing: no light leaks).  The normals
+of a volume's boundary stay outward (the volume README: doubleSided has no effect
+there), so the side of the view says whether a path enters or leaves.  A smooth
+interface's refraction is a Dirac delta: its sample's pdf is
+:data:`pbrkit.brdf.transmission.DELTA_PDF`, which gives it MIS weight 1 where it meets a
+light (no light sample can reach it).  Rays leave from just off the surface on the
+side they go to (:func:`ray_origin`), and the engines multiply the throughput of a
+path segment inside a volume by its Beer-Lambert transmittance
+(:func:`pbrkit.brdf.transmission.absorption`).
+
 The pixel's estimate and standard error from its samples are
 :mod:`pbrkit.render.film`'s.
 """
@@ -85,12 +105,14 @@ import math
 from typing import NamedTuple
 
 from ..brdf.dispatch import bxdf_f, bxdf_pdf, sample_wi
+from ..brdf.transmission import transmissive_f, transmissive_pdf, transmissive_sample
 from ..core.jit import dual_use
 from .area_lights import area_light_pdf
 from .materials import hit_cosines
 
 __all__ = ["STRATEGIES", "STRATEGY_MIS", "STRATEGY_BSDF", "Shading", "power_heuristic", "light_sample",
-           "view_in_frame", "bsdf_weight", "bsdf_sample", "emission_weight", "area_emission", "area_shadow_t"]
+           "view_in_frame", "bsdf_weight", "bsdf_sample", "emission_weight", "area_emission", "area_shadow_t",
+           "transmissive_light_sample", "transmissive_bsdf_sample", "ray_origin"]
 
 #: The sampling strategies of :func:`pbrkit.render.reference.render_reference`: both
 #: light and BSDF samples combined by MIS, or BSDF sampling alone.
@@ -232,3 +254,67 @@ def area_emission(strategy, pdf_b, area, li, px, py, pz, dx, dy, dz, t, r0, r1, 
     w = emission_weight(strategy, pdf_b, pdf_a)
     return r0 * w, r1 * w, r2 * w
 
+
+
+@dual_use(inline=True)
+def _local(s, x, y, z):
+    t = s.t
+    bt = s.bt
+    n = s.n
+    return x * t[0] + y * t[1] + z * t[2], x * bt[0] + y * bt[1] + z * bt[2], x * n[0] + y * n[1] + z * n[2]
+
+
+@dual_use(inline=True)
+def transmissive_light_sample(b, s, p_t, p_spec, p_coat, lx, ly, lz, pdf_l, r0, r1, r2):
+    """:func:`light_sample` for a transmissive BxDF (module docstring): w_L f(v, l) L |n.l|
+    / p_L with l on either side, the mixture pdf of
+    :func:`pbrkit.brdf.transmission.transmissive_pdf` (probabilities (p_t, p_spec,
+    p_coat) of :func:`pbrkit.brdf.transmission.transmissive_probabilities`) in the
+    weight; zero unless pdf_l > 0 and l is on the same side of the geometric and the
+    shading normal."""
+    g = s.g
+    v = s.v
+    wox, woy, woz = _local(s, v[0], v[1], v[2])
+    wix, wiy, wiz = _local(s, lx, ly, lz)
+    f = transmissive_f(b, wox, woy, woz, wix, wiy, wiz)
+    pdf_b = transmissive_pdf(b, wox, woy, woz, wix, wiy, wiz, p_t, p_spec, p_coat)
+    w = power_heuristic(pdf_l, pdf_b) * abs(wiz) / pdf_l
+    gl = g[0] * lx + g[1] * ly + g[2] * lz
+    if (pdf_l > 0.0) & (gl * wiz > 0.0):
+        return f[0] * r0 * w, f[1] * r1 * w, f[2] * r2 * w
+    return 0.0, 0.0, 0.0
+
+
+@dual_use(inline=True)
+def transmissive_bsdf_sample(b, s, p_t, p_spec, p_coat, u_lobe, u1, u2):
+    """:func:`bsdf_sample` for a transmissive BxDF: (direction l (world), weight
+    f |n.l| / p_B (3), p_B) of :func:`pbrkit.brdf.transmission.transmissive_sample`, l
+    on either side (:data:`pbrkit.brdf.transmission.DELTA_PDF` for a smooth interface's
+    refraction); the normal, a zero weight and a zero pdf where the sample gives
+    nothing (or the geometric and shading normals disagree on its side)."""
+    nx, ny, nz = s.n
+    tx, ty, tz = s.t
+    bx, by, bz = s.bt
+    g = s.g
+    v = s.v
+    wox, woy, woz = _local(s, v[0], v[1], v[2])
+    llx, lly, llz, w, pdf_b = transmissive_sample(b, wox, woy, woz, u_lobe, u1, u2, p_t, p_spec, p_coat)
+    lx = llx * tx + lly * bx + llz * nx
+    ly = llx * ty + lly * by + llz * ny
+    lz = llx * tz + lly * bz + llz * nz
+    norm = math.sqrt(lx * lx + ly * ly + lz * lz)
+    if (norm > 0.0) & (pdf_b > 0.0):
+        lx /= norm
+        ly /= norm
+        lz /= norm
+        if (g[0] * lx + g[1] * ly + g[2] * lz) * llz > 0.0:
+            return (lx, ly, lz), w, pdf_b
+    return (nx, ny, nz), (0.0, 0.0, 0.0), 0.0
+
+
+@dual_use(inline=True)
+def ray_origin(px, py, pz, gx, gy, gz, dx, dy, dz, eps):
+    """Where a ray along d leaves the surface point p of geometric normal g: ``eps`` off
+    the surface on the side d goes to (below it for a transmitted ray)."""
+    k = eps if gx * dx + gy * dy + gz * dz >= 0.0 else -eps
+    return px + k * gx, py + k * gy, pz + k * gz

@@ -12,6 +12,7 @@ import numpy as np
 
 from .area_lights import area_light_arrays, area_light_hits
 from .gltf import load_gltf
+from .materials import bounds_volume
 from .primitives import (
     KIND_NONE,
     KIND_PLANE,
@@ -107,7 +108,7 @@ class Geometry:
         self._factor_metallic = np.array([sp.metallic for sp in specs], dtype=np.float64)
         self._factor_roughness = np.array([sp.roughness for sp in specs], dtype=np.float64)
         self._factor_emissive = np.array([sp.emissive for sp in specs], dtype=np.float64).reshape(-1, 3)
-        self._two_sided = np.array([sp.double_sided for sp in specs], dtype=bool)
+        self._two_sided = np.array([sp.double_sided and not bounds_volume(sp) for sp in specs], dtype=bool)
         self._embree = None
         if self.meshes:
             from embreex import rtcore_scene

@@ -14,7 +14,20 @@ from ..brdf.material import FIELDS
 from ..brdf.shading.registry import COMPILED, LAYOUT, REGISTERED, model_codes
 from ..core.jit import dual_use
 
-__all__ = ["material_tables", "hit_bxdf", "hit_cosines", "for_materials"]
+__all__ = ["material_tables", "hit_bxdf", "hit_cosines", "for_materials", "bounds_volume"]
+
+
+def bounds_volume(spec, material=None):
+    """Whether a :class:`pbrkit.render.scene.MaterialSpec` bounds a medium: a ``gltf``
+    material that transmits with a thickness above 0 (``KHR_materials_volume``).  Its
+    normals are never turned to face the ray ("The doubleSided property has no effect
+    on volume boundaries", the volume README, "Properties"): the side of the view says
+    whether a path enters or leaves the medium."""
+    if spec.model != "gltf":
+        return False
+    material = spec.material() if material is None else material
+    return bool(np.any(np.asarray(getattr(material, "transmission", 0.0)) > 0.0)
+                and np.any(np.asarray(getattr(material, "thickness", 0.0)) > 0.0))
 
 
 def material_tables(materials):
@@ -32,7 +45,7 @@ def material_tables(materials):
         values = {p.name: getattr(material, p.name) for p in FIELDS}
         codes[i] = model_codes(s.model, s.distribution, s.masking, s.fresnel, s.diffuse, values)
         values.update(specular_color=s.specular_color, emissive=s.emissive,
-                      double_sided=1.0 if s.double_sided else 0.0)
+                      double_sided=1.0 if s.double_sided and not bounds_volume(s, material) else 0.0)
         params[i] = LAYOUT.row(values)[0]
     return codes, params
 

@@ -19,6 +19,13 @@ ch. 9):
 - ``bounces`` = 0 is direct lighting; each further bounce continues the
   path in the sampled BRDF direction (next-event estimation + MIS at every
   vertex).  The per-pixel standard error of the mean is returned with it.
+- materials that transmit (``KHR_materials_transmission``, ``KHR_materials_volume``;
+  :mod:`pbrkit.brdf.transmission`) continue paths through the surface: light and BSDF
+  samples on both sides (:mod:`pbrkit.render.estimator`), rays leaving from the side
+  they go to, and inside a volume (a closed surface of thickness > 0, its normals
+  outward) the Beer-Lambert transmittance of the real path length, internal
+  reflections included.  Scenes with such materials run direct lighting in the fused
+  kernel rather than the lanes (punctual lights do not shine through them yet);
 - visibility is traced, so the glTF occlusion texture (a real-time stand-in
   for it) is not applied; ``occlusion=False`` instead lets every surface see
   the whole environment unblocked by the other objects, as real-time IBL
@@ -47,6 +54,13 @@ from typing import NamedTuple
 import numpy as np
 
 from ..brdf.dispatch import lobe_probabilities
+from ..brdf.transmission import (
+    absorption,
+    sigma_a,
+    transmissive_material,
+    transmissive_probabilities,
+    volume_material,
+)
 from ..brdf.shading.registry import COLUMNS
 from ..core import checks
 from ..core.jit import dual_use, row_kernel, run_in_threads, threaded_kernel
@@ -62,6 +76,9 @@ from .estimator import (
     bsdf_sample,
     emission_weight,
     light_sample,
+    ray_origin,
+    transmissive_bsdf_sample,
+    transmissive_light_sample,
 )
 from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
@@ -82,6 +99,7 @@ _DOUBLE_SIDED = COLUMNS.double_sided
 _ROUGHNESS = COLUMNS.roughness
 _METALLIC = COLUMNS.metallic
 _BASE_COLOR = COLUMNS.base_color
+_TRANSMISSION = COLUMNS.transmission
 
 
 @dual_use
@@ -99,8 +117,12 @@ def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, 
     among the scene's (probability 1 / A), then sampled by
     :func:`pbrkit.render.area_lights.area_light_sample`.  The BRDF, its sampling
     routine and pdf are the material's BxDF (:mod:`pbrkit.brdf.bxdf`).  A light
-    sample below the surface (g.l <= 0) or of zero pdf is not evaluated."""
+    sample below the surface (g.l <= 0) or of zero pdf is not evaluated.  A material that
+    transmits goes to :func:`_transmissive_vertex`."""
     z3 = (0.0, 0.0, 0.0)
+    if transmissive_material(materials.codes, materials.params, m):
+        return _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx,
+                                    vy, vz, rough, metal, b0, b1, b2)
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
@@ -138,6 +160,48 @@ def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, 
 
 
 @dual_use
+def _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz,
+                         rough, metal, b0, b1, b2):
+    """:func:`_vertex` of a material that transmits (the same random numbers): the view
+    on either side of the surface (the side of its geometric and shading normals must
+    agree), light samples on either side
+    (:func:`pbrkit.render.estimator.transmissive_light_sample`), the BSDF sample of
+    :func:`pbrkit.render.estimator.transmissive_bsdf_sample`."""
+    z3 = (0.0, 0.0, 0.0)
+    nov = nx * vx + ny * vy + nz * vz
+    if nov * (gx * vx + gy * vy + gz * vz) <= 0.0:
+        return z3, z3, z3, 0.0, z3, z3, z3, 0.0
+    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
+    p_t, p_spec, p_coat = transmissive_probabilities(b, nov)
+    light_dir = z3
+    light_val = z3
+    if strategy == STRATEGY_MIS:
+        lx, ly, lz, pdf_e, ei, ej = _env_sample(env.func, env.total, env.alias, env.rows, env.cos, env.sin,
+                                                _uniform(key, 0), _uniform(key, 1))
+        light_dir = (lx, ly, lz)
+        if pdf_e > 0.0:
+            radiance = env.radiance
+            light_val = transmissive_light_sample(b, at, p_t, p_spec, p_coat, lx, ly, lz, pdf_e,
+                                                  radiance[ei, ej, 0], radiance[ei, ej, 1], radiance[ei, ej, 2])
+    area_dir = z3
+    area_dist = 0.0
+    area_val = z3
+    n_area = area.codes.shape[0]
+    if strategy == STRATEGY_MIS and n_area > 0:
+        li = min(int(_uniform(key, 5) * n_area), n_area - 1)
+        ax, ay, az, dist, pdf_a, r0, r1, r2 = area_light_sample(area.codes, area.values, area.vertices, li, px, py,
+                                                                pz, _uniform(key, 6), _uniform(key, 7))
+        if pdf_a > 0.0:
+            area_dir = (ax, ay, az)
+            area_dist = dist
+            area_val = transmissive_light_sample(b, at, p_t, p_spec, p_coat, ax, ay, az, pdf_a / n_area, r0, r1, r2)
+    bsdf_dir, bsdf_w, pdf_b = transmissive_bsdf_sample(b, at, p_t, p_spec, p_coat, _uniform(key, 4),
+                                                       _uniform(key, 2), _uniform(key, 3))
+    return light_dir, light_val, area_dir, area_dist, area_val, bsdf_dir, bsdf_w, pdf_b
+
+
+@dual_use
 def _env_miss(strategy, pdf_b, env, dx, dy, dz):
     """Radiance times the MIS weight of a BRDF sample (pdf ``pdf_b``) that reaches the
     environment along d (:func:`pbrkit.render.estimator.emission_weight`)."""
@@ -168,8 +232,8 @@ def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, o
 
 
 @threaded_kernel
-def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base_value, hits, materials, env, shapes,
-                  lights, area, film):
+def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, media, base_value, hits, materials, env,
+                  shapes, lights, area, film):
     """Every sample of every pixel of an analytic scene (spheres, planes) in one pass:
     rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
     ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
@@ -179,7 +243,12 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
     samples, then the BRDF sample's ray, which meets an area light, the environment
     or the next surface.  Per pixel it accumulates the shifted sums of ``film``
     (:mod:`pbrkit.render.film`).  It runs pixels ``start`` to ``stop``, handed out to
-    threads by :func:`pbrkit.core.jit.run_in_threads`."""
+    threads by :func:`pbrkit.core.jit.run_in_threads`.  ``media``: the scene has
+    materials that transmit; then each ray leaves from the side of the surface it goes
+    to (:func:`pbrkit.render.estimator.ray_origin`), and the path keeps the medium it is
+    in (the last volume boundary it crossed inwards, by the sign of its geometric
+    normal, until it crosses one outwards) and takes its Beer-Lambert transmittance
+    over each segment (:func:`pbrkit.brdf.transmission.absorption`)."""
     p = hits.p
     ng = hits.ng
     n = hits.n
@@ -232,6 +301,7 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                 me = metal[row]
                 b0, b1, b2 = base[row, 0], base[row, 1], base[row, 2]
                 t0 = t1 = t2 = 1.0
+                medium = -1
                 for bounce in range(bounces + 1):
                     key = _path_key(seed, pix, j, bounce)
                     ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
@@ -240,13 +310,16 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
+                    lx_, ly_, lz_ = ox, oy, oz
+                    if media:  # each ray from the side it goes to
+                        lx_, ly_, lz_ = ray_origin(px, py, pz, gx, gy, gz, ldir[0], ldir[1], ldir[2], eps)
                     if lval[0] > 0.0 or lval[1] > 0.0 or lval[2] > 0.0:
                         hk = KIND_NONE
                         if occlusion:  # the objects and the area lights hide the environment
-                            hk = trace_analytic(ox, oy, oz, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True, spheres, lo, hi,
-                                                skip, first, count, order, planes)[1]
+                            hk = trace_analytic(lx_, ly_, lz_, ldir[0], ldir[1], ldir[2], 0.0, np.inf, True, spheres,
+                                                lo, hi, skip, first, count, order, planes)[1]
                             if hk == KIND_NONE and n_area:
-                                if area_light_hit(acodes, avalues, averts, ox, oy, oz, ldir[0],
+                                if area_light_hit(acodes, avalues, averts, lx_, ly_, lz_, ldir[0],
                                                   ldir[1], ldir[2], np.inf)[1] >= 0:
                                     hk = KIND_SPHERE
                         if hk == KIND_NONE:
@@ -257,9 +330,12 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                         hk = KIND_NONE
                         if occlusion:  # shadow ray to the light point: objects and other area lights
                             tmax = area_shadow_t(adist)
-                            hk = trace_analytic(ox, oy, oz, adir[0], adir[1], adir[2], 0.0, tmax, True, spheres, lo, hi,
-                                                skip, first, count, order, planes)[1]
-                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ox, oy, oz,
+                            ax_, ay_, az_ = ox, oy, oz
+                            if media:
+                                ax_, ay_, az_ = ray_origin(px, py, pz, gx, gy, gz, adir[0], adir[1], adir[2], eps)
+                            hk = trace_analytic(ax_, ay_, az_, adir[0], adir[1], adir[2], 0.0, tmax, True, spheres, lo,
+                                                hi, skip, first, count, order, planes)[1]
+                            if hk == KIND_NONE and area_light_hit(acodes, avalues, averts, ax_, ay_, az_,
                                                                   adir[0], adir[1], adir[2], tmax)[1] >= 0:
                                 hk = KIND_SPHERE
                         if hk == KIND_NONE:
@@ -268,6 +344,8 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                             x2 += t2 * aval[2]
                     if pdf_b <= 0.0 or (bw[0] <= 0.0 and bw[1] <= 0.0 and bw[2] <= 0.0):
                         break
+                    if media:
+                        ox, oy, oz = ray_origin(px, py, pz, gx, gy, gz, bdir[0], bdir[1], bdir[2], eps)
                     th, hk, hi_ = np.inf, KIND_NONE, -1
                     if occlusion:
                         th, hk, hi_ = trace_analytic(ox, oy, oz, bdir[0], bdir[1], bdir[2], 0.0, np.inf, False, spheres,
@@ -275,6 +353,14 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, base
                     t0 *= bw[0]
                     t1 *= bw[1]
                     t2 *= bw[2]
+                    if media:  # the medium of this segment, and its transmittance
+                        if volume_material(mi, mf, m):
+                            medium = m if gx * bdir[0] + gy * bdir[1] + gz * bdir[2] < 0.0 else -1
+                        if medium >= 0:
+                            ab = absorption(mf, medium, th)
+                            t0 *= ab[0]
+                            t1 *= ab[1]
+                            t2 *= ab[2]
                     if n_area:  # an area light before the next surface (any, without occlusion)
                         at, ai, a0, a1, a2 = area_light_hit(acodes, avalues, averts, ox, oy, oz,
                                                             bdir[0], bdir[1], bdir[2], th)
@@ -403,6 +489,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
     envs = environment_arrays(env)
     area = area_arrays(geometry)
     has_area = len(geometry.area_lights) > 0
+    # volume boundaries and their media's absorption (the fused kernel's media, per path)
+    volume, sigma = _media_tables(materials)
+    media = bool(volume.any())
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
@@ -422,6 +511,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
         v = -prim.dirs[rows]
         pix = ray_pixel[rows]
         through = np.ones((rows.size, 3))
+        medium = np.full(rows.size, -1, dtype=np.int64)
         for bounce in range(bounces + 1):
             count = pix.size
             if count == 0:
@@ -449,6 +539,16 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             through = through[go] * bw[go]
             pix = pix[go]
             hits = geometry.intersect(origins, dirs) if occlusion else None
+            if media:  # the medium of this segment (by the side of the boundary it leaves to), its transmittance
+                mat_go = surf_mat[go]
+                entering = np.sum(surf_ng[go] * dirs, axis=1) < 0.0
+                medium = np.where(volume[mat_go], np.where(entering, mat_go, -1), medium[go])
+                inside = np.flatnonzero(medium >= 0)
+                if inside.size:
+                    length = np.full(go.size, np.inf) if hits is None else hits.t
+                    s_in = sigma[medium[inside]]
+                    with np.errstate(invalid="ignore", over="ignore"):
+                        through[inside] *= np.where(s_in > 0.0, np.exp(-s_in * length[inside, None]), 1.0)
             escaped = np.ones(go.size, dtype=bool) if hits is None else ~hits.hit
             if has_area:  # an area light before the next surface (any, without occlusion)
                 at, ai, radiance = geometry.area_light_hits(origins, dirs, None if hits is None else hits.t)
@@ -479,6 +579,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 break
             through = through[hit]
             pix = pix[hit]
+            if media:
+                medium = medium[hit]
             v = -dirs[hit]
             if geometry.lights:
                 np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, materials.codes,
@@ -490,6 +592,18 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             shift = x.copy()
         total_sum, total_sq = shifted_add(shift, total_sum, total_sq, x, 1)
     return Film(shift, total_sum, total_sq)
+
+
+def _media_tables(materials):
+    """Per material row: whether it bounds a medium
+    (:func:`pbrkit.brdf.transmission.volume_material`) and its absorption coefficient
+    sigma_a (M, 3) (:func:`pbrkit.brdf.transmission.sigma_a`)."""
+    codes, params = materials
+    volume = (params[:, _TRANSMISSION] > 0.0) & (params[:, COLUMNS.thickness] > 0.0)
+    sigma = np.zeros((codes.shape[0], 3))
+    for m in range(codes.shape[0]):
+        sigma[m] = sigma_a(params, m)
+    return volume, sigma
 
 
 def _primary_points(prim, v):
@@ -553,6 +667,8 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
                                                                None, True)
     t2 = time.perf_counter()
     code = STRATEGIES.index(strategy)
+    # materials that transmit: the lane engine (direct lighting) does not handle them
+    media = bool(np.any(materials.params[:, _TRANSMISSION] > 0.0))
     if engine == "fused" and geometry.has_meshes:
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
     if geometry.has_meshes or engine == "wavefront":
@@ -565,12 +681,13 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         envs = environment_arrays(env)
         shapes = analytic_shapes(geometry)
         area = area_arrays(geometry)
-        if bounces == 0:
+        if bounces == 0 and not media:
             direct_lighting(seed, spp, k2, code, occlusion, base_value, hits, materials, envs, shapes, area, film)
             engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
         else:
-            run_in_threads(for_materials(_fused_kernel, materials.codes), n_pixels, np.uint64(seed), spp, k2, bounces, code, bool(occlusion),
-                           base_value, hits, materials, envs, shapes, punctual_lights(geometry), area, film)
+            run_in_threads(for_materials(_fused_kernel, materials.codes), n_pixels, np.uint64(seed), spp, k2, bounces,
+                           code, bool(occlusion), media, base_value, hits, materials, envs, shapes,
+                           punctual_lights(geometry), area, film)
             engine_name = "fused (analytic primitives)"
     t3 = time.perf_counter()
     mean, stderr = film_estimate(film, spp)

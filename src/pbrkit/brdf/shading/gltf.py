@@ -31,6 +31,16 @@ times the prefiltered radiance at the sheen roughness (here the GGX chain; the
 Charlie-prefiltered chain is a later step), over the base's IBL scaled by the
 same albedo scaling (:func:`ibl_sheen_extras`, :func:`ibl_sheen_base_scale`).
 
+``KHR_materials_transmission`` and ``KHR_materials_volume`` (their READMEs,
+"Transmission BTDF", "Properties"): ``transmission`` takes that fraction of the
+diffuse base (the setup scales the diffuse colour by 1 - transmission) and sends it
+through the surface by a specular BTDF, thin-walled (``thickness`` 0) or refracting into
+an absorbing medium (``thickness`` > 0, ``attenuation_color``, ``attenuation_distance``):
+the BSDF with both sides, its sampling and pdf are :mod:`pbrkit.brdf.transmission`'s,
+which the ground truth calls for such a material; the composition here is its
+reflection.  The extra slots 7-9 hold the transmission factor, the ior and the
+thickness.
+
 A material that uses no extension (every extension parameter at its default)
 compiles as :data:`CORE`, the composition above without the sheen
 (:attr:`pbrkit.brdf.shading.model.Model.core`): its code, and so its speed, is
@@ -63,7 +73,9 @@ from .model import Model, RealTime
 __all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION",
            "COMPOSITION", "SHEEN_COLOR", "SHEEN_ROUGHNESS", "CLEARCOAT", "CLEARCOAT_ROUGHNESS", "SPECULAR",
            "SPECULAR_COLOR", "IOR", "IRIDESCENCE", "IRIDESCENCE_IOR", "IRIDESCENCE_THICKNESS_MINIMUM",
-           "IRIDESCENCE_THICKNESS_MAXIMUM", "SPECULAR_SLOT", "IRIDESCENCE_SLOT", "khr_fresnel", "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
+           "IRIDESCENCE_THICKNESS_MAXIMUM", "TRANSMISSION", "THICKNESS", "ATTENUATION_DISTANCE", "ATTENUATION_COLOR",
+           "SPECULAR_SLOT", "IRIDESCENCE_SLOT", "TRANSMISSION_SLOT", "THICKNESS_SLOT", "SPECULAR_DV", "khr_fresnel",
+           "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
            "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
            "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale"]
 
@@ -104,10 +116,30 @@ IRIDESCENCE_THICKNESS_MINIMUM = Parameter("iridescence_thickness_minimum", 100.0
 IRIDESCENCE_THICKNESS_MAXIMUM = Parameter("iridescence_thickness_maximum", 400.0, 0.0, math.inf, "nm",
                                           "film thickness (at thickness-texture 1, and without the texture), "
                                           "KHR_materials_iridescence iridescenceThicknessMaximum")
-#: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5) and of the
-#: thin film: its weight, IOR and thickness (nm).
+#: KHR_materials_transmission's factor (its README, "Properties"; default 0: opaque).
+TRANSMISSION = Parameter("transmission", 0.0, 0.0, 1.0, "", "fraction of the light that penetrates the surface "
+                         "(is not specularly reflected) that is transmitted rather than diffused, "
+                         "KHR_materials_transmission transmissionFactor")
+#: KHR_materials_volume's factors (its README, "Properties"; thickness 0: thin-walled).
+THICKNESS = Parameter("thickness", 0.0, 0.0, math.inf, "scene units", "0: thin-walled; > 0: the closed mesh bounds "
+                      "a refracting, absorbing medium (the ground truth traces the real path length), "
+                      "KHR_materials_volume thicknessFactor")
+ATTENUATION_DISTANCE = Parameter("attenuation_distance", 0.0, 0.0, math.inf, "scene units",
+                                 "distance at which white light inside the medium turns attenuation_color "
+                                 "(sigma_a = -ln(attenuation_color) / attenuation_distance); 0 stands for glTF's "
+                                 "+Infinity (no absorption), which JSON cannot write, KHR_materials_volume "
+                                 "attenuationDistance")
+ATTENUATION_COLOR = Parameter("attenuation_color", (1.0, 1.0, 1.0), 0.0, 1.0, "linear Rec.709",
+                              "colour white light turns into after attenuation_distance in the medium, "
+                              "KHR_materials_volume attenuationColor", channels=3)
+#: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5), of the
+#: transmission factor and the volume's thickness (:mod:`pbrkit.brdf.transmission`), and of
+#: the thin film: its weight, IOR and thickness (nm).  The dielectric's IOR rides in the
+#: BxDF's ``eta`` (every channel), unused by the model's Schlick Fresnel.
 SPECULAR_SLOT = 6
+TRANSMISSION_SLOT = 7
 IRIDESCENCE_SLOT, IRIDESCENCE_IOR_SLOT, IRIDESCENCE_THICKNESS_SLOT = 8, 9, 10
+THICKNESS_SLOT = 11
 
 
 @dual_use
@@ -138,14 +170,20 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     # extensions": dielectric_f0 = min(((ior - 1) / (ior + 1))^2 specularColor, 1) specular,
     # dielectric_f90 = specular), mixed with the metal's (base colour, 1) by metallic;
     # dielectric_f0 holds max3 of the dielectric F0 (the diffuse weight's); the sheen's colour
-    # and roughness, the coat's weight and alpha, the specular factor and the thin film in the
-    # extra slots (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT,
-    # IRIDESCENCE_SLOT...); the dielectric's F0 colour as the BxDF's specular colour
+    # and roughness, the coat's weight and alpha, the specular factor, the transmission factor,
+    # the thin film and the volume's thickness in the extra slots (pbrkit.brdf.lobes.sheen,
+    # pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT, TRANSMISSION_SLOT, IRIDESCENCE_SLOT...); the
+    # dielectric's F0 colour as the BxDF's specular colour and its IOR as its eta;
+    # KHR_materials_transmission's mix(diffuse_brdf, specular_btdf, transmission) takes
+    # 1 - transmission of the diffuse (its README, "Transmission BTDF"; the BTDF itself is
+    # pbrkit.brdf.transmission's)
     z3 = (0.0, 0.0, 0.0)
     alpha = alpha_from_roughness(roughness)
-    kd = 1.0 - metallic
+    transmission = params[q, columns.transmission]
+    kd = (1.0 - metallic) * (1.0 - transmission)
     s = params[q, columns.specular]
-    f0_ior = f0_from_ior(params[q, columns.ior])
+    ior = params[q, columns.ior]
+    f0_ior = f0_from_ior(ior)
     sc = columns.specular_color
     d0 = min(f0_ior * params[q, sc], 1.0) * s
     d1 = min(f0_ior * params[q, sc + 1], 1.0) * s
@@ -154,16 +192,19 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     f90 = s + (1.0 - s) * metallic
     h = columns.sheen_color
     extra = (params[q, h], params[q, h + 1], params[q, h + 2], params[q, columns.sheen_roughness],
-             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s, 0.0,
-             params[q, columns.iridescence], params[q, columns.iridescence_ior],
-             params[q, columns.iridescence_thickness_maximum], 0.0)
+             params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s,
+             transmission, params[q, columns.iridescence], params[q, columns.iridescence_ior],
+             params[q, columns.iridescence_thickness_maximum], params[q, columns.thickness])
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
-                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, z3, z3,
+                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, (ior, ior, ior), z3,
                 max(d0, max(d1, d2)), (d0, d1, d2), extra)
 
 
 _SPECULAR = microfacet(GGX, SEPARABLE, SCHLICK)
 _DV = _SPECULAR.parts.dv
+#: specular_brdf(alpha) = D V of B.3.2 (no Fresnel): the transmission's thin-walled BTDF
+#: evaluates it at the mirrored light (:mod:`pbrkit.brdf.transmission`).
+SPECULAR_DV = _DV
 
 
 @dual_use(inline=True)
@@ -413,7 +454,8 @@ CORE = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_
 MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with its KHR_materials extensions",
               (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS, CLEARCOAT, CLEARCOAT_ROUGHNESS, SPECULAR,
                SPECULAR_COLOR, IOR, IRIDESCENCE, IRIDESCENCE_IOR, IRIDESCENCE_THICKNESS_MINIMUM,
-               IRIDESCENCE_THICKNESS_MAXIMUM), setup, EXTENDED_COMPOSITION,
+               IRIDESCENCE_THICKNESS_MAXIMUM, TRANSMISSION, THICKNESS, ATTENUATION_DISTANCE, ATTENUATION_COLOR), setup,
+              EXTENDED_COMPOSITION,
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
                        sheen_roughness=ibl_sheen_roughness, extras=ibl_extensions_extras,
