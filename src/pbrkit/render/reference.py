@@ -118,11 +118,9 @@ def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, 
     :func:`pbrkit.render.area_lights.area_light_sample`.  The BRDF, its sampling
     routine and pdf are the material's BxDF (:mod:`pbrkit.brdf.bxdf`).  A light
     sample below the surface (g.l <= 0) or of zero pdf is not evaluated.  A material that
-    transmits goes to :func:`_transmissive_vertex`."""
+    transmits takes :func:`_transmissive_vertex` instead (the engines choose, only in
+    scenes that have one: this function stays the opaque materials' own)."""
     z3 = (0.0, 0.0, 0.0)
-    if transmissive_material(materials.codes, materials.params, m):
-        return _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx,
-                                    vy, vz, rough, metal, b0, b1, b2)
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
@@ -304,9 +302,14 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
                 medium = -1
                 for bounce in range(bounces + 1):
                     key = _path_key(seed, pix, j, bounce)
-                    ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
-                        key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r, me,
-                        b0, b1, b2)
+                    if media and transmissive_material(mi, mf, m):
+                        ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _transmissive_vertex(
+                            key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r,
+                            me, b0, b1, b2)
+                    else:
+                        ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
+                            key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r,
+                            me, b0, b1, b2)
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
@@ -428,8 +431,8 @@ def _vertex_samples(count):
     return VertexSamples(vec(), vec(), vec(), np.empty(count), vec(), vec(), vec(), np.empty(count))
 
 
-@row_kernel(lambda seed, sample, bounce, strategy, pixel, *rest: pixel.shape[0])
-def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, points, materials, env, area, out):
+@row_kernel(lambda seed, sample, bounce, strategy, media, pixel, *rest: pixel.shape[0])
+def _vertex_batch(start, stop, seed, sample, bounce, strategy, media, pixel, points, materials, env, area, out):
     p = points.p
     ng = points.ng
     n = points.n
@@ -448,10 +451,16 @@ def _vertex_batch(start, stop, seed, sample, bounce, strategy, pixel, points, ma
     bsdf_pdf = out.bsdf_pdf
     for i in range(start, stop):
         key = _path_key(seed, pixel[i], sample, bounce)
-        ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
-            key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
-            n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
-            base[i, 2])
+        if media and transmissive_material(materials.codes, materials.params, mat[i]):
+            ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _transmissive_vertex(
+                key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
+                n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
+                base[i, 2])
+        else:
+            ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
+                key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
+                n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
+                base[i, 2])
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
@@ -492,6 +501,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
     # volume boundaries and their media's absorption (the fused kernel's media, per path)
     volume, sigma = _media_tables(materials)
     media = bool(volume.any())
+    transmits = bool(np.any(materials.params[:, _TRANSMISSION] > 0.0))
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
@@ -519,7 +529,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             vs = _vertex_samples(count)
             points = Points(*(np.ascontiguousarray(a) for a in (surf_p, surf_ng, surf_n, v, surf_mat, surf_r,
                                                                  surf_m, surf_b)))
-            for_materials(_vertex_batch, materials.codes)(seed, j, bounce, strategy, pix.astype(np.int64), points, materials, envs, area, vs)
+            for_materials(_vertex_batch, materials.codes)(seed, j, bounce, strategy, transmits, pix.astype(np.int64),
+                                                          points, materials, envs, area, vs)
             ldir, lval, adir, adist, aval, bdir, bw, bpdf = vs
             for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
                 lit = np.flatnonzero(np.any(value > 0.0, axis=1))
