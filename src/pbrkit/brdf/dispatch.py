@@ -28,14 +28,15 @@ from ..core.codegen import generate, if_chain
 from ..core.jit import dual_use, rebind
 from .bxdf import BxDF
 from .lobes.microfacet import always, never
-from .shading.registry import COLUMNS, COMPILED
+from .shading.registry import COLUMNS, COMPILED, EXTENDED_CODES
 
 __all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "split_sum_f90",
            "fresnel_constant", "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_sheen_roughness",
            "ibl_base_scale", "ibl_khronos_extensions", "ibl_has_extras",
            "ibl_extras",
-           "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL", "family", "restricted"]
+           "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL", "family", "restricted",
+           "core_substitute"]
 
 #: The generated source of every dispatch, by name.
 SOURCES = {}
@@ -85,6 +86,19 @@ def family(models):
 
 
 _RESTRICTED = {}
+#: Functions that only the extended forms need, and what a kernel for the cores alone
+#: calls instead (:func:`core_substitute`), by ``id`` of the original.
+_CORE_SUBSTITUTES = {}
+
+
+def core_substitute(original, substitute):
+    """Have kernels compiled for the registered models' cores alone (:func:`restricted`
+    over models without an extended form) call ``substitute`` where they call
+    ``original``: a function only an extension needs (the transmissive vertex of the
+    ground truth, say), replaced by the opaque one or a constant, so that such kernels
+    neither compile nor run its code.  Returns ``original``."""
+    _CORE_SUBSTITUTES[id(original)] = (original, substitute)
+    return original
 
 
 def restricted(fn, models):
@@ -92,14 +106,19 @@ def restricted(fn, models):
     not) compiled with the dispatch over ``models`` only (:func:`family`), so that a
     kernel for scenes of those models carries no other model's code
     (:func:`pbrkit.core.jit.rebind`; copies named after the number of models, cached
-    on disk as their own).  ``fn`` itself for every compiled model."""
+    on disk as their own); without an extended form among ``models``, also with the
+    :func:`core_substitute` s.  ``fn`` itself for every compiled model."""
     models = tuple(models)
     if models == COMPILED:
         return fn
-    if models not in _RESTRICTED:
+    key = models, len(_CORE_SUBSTITUTES)
+    if key not in _RESTRICTED:
         sub = family(models)
-        _RESTRICTED[models] = ({id(_FULL[name]): sub[name] for name in _FULL}, {})
-    replacements, memo = _RESTRICTED[models]
+        replacements = {id(_FULL[name]): sub[name] for name in _FULL}
+        if not any(code < len(models) for code in EXTENDED_CODES.values()):
+            replacements.update({k: new for k, (_, new) in _CORE_SUBSTITUTES.items()})
+        _RESTRICTED[key] = (replacements, {})
+    replacements, memo = _RESTRICTED[key]
     return rebind(fn, replacements, f"models{len(models)}", memo)
 
 

@@ -53,7 +53,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..brdf.dispatch import lobe_probabilities
+from ..brdf.dispatch import core_substitute, lobe_probabilities
 from ..brdf.transmission import (
     absorption,
     sigma_a,
@@ -199,6 +199,25 @@ def _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx,
     return light_dir, light_val, area_dir, area_dist, area_val, bsdf_dir, bsdf_w, pdf_b
 
 
+@dual_use(inline="llvm")
+def _transmits(media):
+    """The engines' flag that the scene has materials that transmit, as the kernels read
+    it: a kernel for the registered models' cores alone calls :func:`_opaque` instead
+    (:func:`pbrkit.brdf.dispatch.core_substitute`), whose constant LLVM folds, so that
+    it keeps no code of the media."""
+    return media
+
+
+@dual_use(inline="llvm")
+def _opaque(media):
+    """:func:`_transmits` in a kernel for materials without extensions: never."""
+    return False
+
+
+core_substitute(_transmits, _opaque)
+core_substitute(_transmissive_vertex, _vertex)
+
+
 @dual_use
 def _env_miss(strategy, pdf_b, env, dx, dy, dz):
     """Radiance times the MIS weight of a BRDF sample (pdf ``pdf_b``) that reaches the
@@ -247,6 +266,7 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
     in (the last volume boundary it crossed inwards, by the sign of its geometric
     normal, until it crosses one outwards) and takes its Beer-Lambert transmittance
     over each segment (:func:`pbrkit.brdf.transmission.absorption`)."""
+    media = _transmits(media)
     p = hits.p
     ng = hits.ng
     n = hits.n
@@ -433,6 +453,7 @@ def _vertex_samples(count):
 
 @row_kernel(lambda seed, sample, bounce, strategy, media, pixel, *rest: pixel.shape[0])
 def _vertex_batch(start, stop, seed, sample, bounce, strategy, media, pixel, points, materials, env, area, out):
+    media = _transmits(media)
     p = points.p
     ng = points.ng
     n = points.n
