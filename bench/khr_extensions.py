@@ -225,12 +225,10 @@ def markdown(rows, spp, charlie, constant):
         "  brighter at roughness 0.5: their multiple-scattering terms (`--energy-compensation`, the",
         "  viewer's FmsEms) add the energy the ground truth's single-scattering GGX lobe (the glTF BRDF,",
         "  as specified) does not have.",
-        "- coated_emission: pbrkit adds the emission above the clear coat in both modes (`out +=",
-        "  s.emissive` in `render/realtime.py`, `s.emissive` at the primary hit in `render/reference.py`),",
-        "  where the KHR_materials_clearcoat README (\"Emission\": `coated_emission = emission * (1 -",
-        "  clearcoat * clearcoat_fresnel)`) and the viewer (`color = f_emissive * (1.0 - clearcoatFactor *",
-        "  clearcoatFresnel) + color`) darken it: pbrkit is brighter than the viewer on the coated",
-        "  spheres, and the ground truth agrees with pbrkit's real time, not with the viewer.",
+        "- coated_emission: the emission beneath the coat is darkened by 1 - clearcoat F(n.v) in both",
+        "  modes (the KHR_materials_clearcoat README, \"Emission\"; the viewer's `color = f_emissive *",
+        "  (1.0 - clearcoatFactor * clearcoatFresnel) + color`): every column within a level; before it",
+        "  was, pbrkit was 1.87 (coat 0.5) and 3.64 (coat 1) levels brighter than the viewer.",
     ]
     if not charlie:
         lines += [

@@ -30,7 +30,7 @@ from .bxdf import BxDF
 from .lobes.microfacet import always, never
 from .shading.registry import COLUMNS, COMPILED, EXTENDED_CODES
 
-__all__ = ["make_bxdf", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
+__all__ = ["make_bxdf", "emission_coat", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "split_sum_f90",
            "fresnel_constant", "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_sheen_roughness",
            "ibl_base_scale", "ibl_khronos_extensions", "ibl_has_extras",
@@ -136,6 +136,15 @@ table ``codes``, row ``q`` of the parameter table ``params``) with the base colo
 (b0, b1, b2), metallic and perceptual roughness at the shading point (textures
 applied): the model's setup.  Tables and row numbers rather than row views: a view
 per call costs reference counting in the innermost loops."""
+
+emission_coat = _dispatch(
+    "emission_coat", ("codes", "row", "params", "q"),
+    lambda i, m, ns: f"{_put(ns, f'coat{i}', m.emission_coat)}(params, q, COLUMNS)", selector="codes[row, 0]",
+    namespace={"COLUMNS": COLUMNS})
+emission_coat.__doc__ = """The weight of the coat over the emission of the material of code row ``row``
+and parameter row ``q`` (:attr:`pbrkit.brdf.shading.model.Model.emission_coat`; 0 for
+every model without one, so that a kernel for the cores alone folds it away)."""
+
 
 class Sampling(NamedTuple):
     """The functions of the Monte Carlo estimator for the models of ``models``:

@@ -18,7 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..brdf.bxdf import CODE_COLUMNS
-from ..brdf.dispatch import lobe_probabilities, sample_wi, specialised
+from ..brdf.dispatch import emission_coat, lobe_probabilities, sample_wi, specialised
+from ..brdf.lobes.clearcoat import coated_emission
 from ..brdf.shading.registry import COLUMNS, VARIANTS
 from ..core.codegen import generate
 from ..core.jit import lane_stage, run_in_threads, stack_array, threaded_kernel
@@ -36,8 +37,8 @@ from .estimator import (
     view_in_frame,
 )
 from .film import shifted_add, store_pixel
-from .materials import for_materials, hit_bxdf
-from .primitives import KIND_NONE, KIND_PLANE, KIND_SPHERE, _ray_plane, _ray_sphere, trace_analytic
+from .materials import COAT_F0, for_materials, hit_bxdf
+from .primitives import KIND_NONE, KIND_PLANE, KIND_SPHERE, _ray_plane, _ray_sphere, analytic_surface, trace_analytic
 
 __all__ = ["material_variants", "direct_lighting"]
 
@@ -475,10 +476,19 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
                         if (sb[_S_PDF, i] > 0.0 and (sb[_S_W, i] > 0.0 or sb[_S_W + 1, i] > 0.0 or sb[_S_W + 2, i] > 0.0)
                                 and occlusion and ha[_T_KIND, i] != KIND_NONE and (n_area == 0 or xb[_X_END, i] == 0.0)):
                             hi_ = np.int64(ha[_T_INDEX, i])
-                            hm = sphere_mat[hi_] if np.int64(ha[_T_KIND, i]) == KIND_SPHERE else plane_mat[hi_]
-                            mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, _EMISSIVE]
-                            mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, _EMISSIVE + 1]
-                            mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, _EMISSIVE + 2]
+                            hk_ = np.int64(ha[_T_KIND, i])
+                            hm = sphere_mat[hi_] if hk_ == KIND_SPHERE else plane_mat[hi_]
+                            ec = 1.0
+                            wc = emission_coat(mi, hm, mf, hm)
+                            if wc > 0.0:  # a coat over the emission (KHR_materials_clearcoat), at the hit's normal
+                                hn = analytic_surface(hk_, hi_, spheres, planes, sphere_mat, plane_mat, mf, ox, oy, oz,
+                                                       sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i],
+                                                       ha[_T_T, i])
+                                ec = coated_emission(wc, COAT_F0, hn[3] * sb[_S_DIR, i] + hn[4] * sb[_S_DIR + 1, i]
+                                                     + hn[5] * sb[_S_DIR + 2, i])
+                            mb[_M_LOCAL, i] += sb[_S_W, i] * mf[hm, _EMISSIVE] * ec
+                            mb[_M_LOCAL + 1, i] += sb[_S_W + 1, i] * mf[hm, _EMISSIVE + 1] * ec
+                            mb[_M_LOCAL + 2, i] += sb[_S_W + 2, i] * mf[hm, _EMISSIVE + 2] * ec
                 # --- the pixel's sums, in sample order (the shift: its first sample)
                 if sub == 0 and c0 == 0:
                     k0 = mb[_M_LOCAL, 0]

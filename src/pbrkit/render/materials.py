@@ -10,11 +10,18 @@ import numpy as np
 
 from ..brdf.bxdf import CODE_COLUMNS, cosines, isotropic_cosines, tangent_frame
 from ..brdf.dispatch import make_bxdf, restricted
+from ..brdf.lobes.clearcoat import coated_emission
 from ..brdf.material import FIELDS
-from ..brdf.shading.registry import COMPILED, LAYOUT, REGISTERED, model_codes
+from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0
+from ..brdf.shading.model import _uncoated
+from ..brdf.shading.registry import COLUMNS, COMPILED, LAYOUT, REGISTERED, model_codes
 from ..core.jit import dual_use
 
-__all__ = ["material_tables", "hit_bxdf", "hit_cosines", "for_materials", "bounds_volume"]
+__all__ = ["material_tables", "hit_bxdf", "hit_cosines", "for_materials", "bounds_volume", "emission_seen",
+           "COAT_F0"]
+
+#: The f0 of the coat over the emission (KHR_materials_clearcoat: its fixed IOR 1.5).
+COAT_F0 = GLTF_DIELECTRIC_F0
 
 
 def bounds_volume(spec, material=None):
@@ -60,6 +67,26 @@ def for_materials(fn, codes):
     glTF material's lane kernel by 13-18 % with iridescence)."""
     top = int(codes[:, 0].max()) + 1 if codes.shape[0] else 0
     return restricted(fn, COMPILED[:max(len(REGISTERED), top)])
+
+
+def emission_seen(codes, params, material, nov, emissive, f0=COAT_F0):
+    """The emission ``emissive`` (N, 3) of hits of materials ``material`` (N,) seen at
+    n.v ``nov`` (N,), darkened where the material's model puts a coat over it
+    (:attr:`pbrkit.brdf.shading.model.Model.emission_coat`,
+    :func:`pbrkit.brdf.lobes.clearcoat.coated_emission` with ``f0``, a number or per
+    hit); ``emissive`` itself where no material has one."""
+    out = emissive
+    for code, m in enumerate(COMPILED):
+        if m.emission_coat is _uncoated:
+            continue
+        rows = np.flatnonzero(codes[material, 0] == code)
+        if rows.size == 0:
+            continue
+        if out is emissive:
+            out = np.array(emissive, dtype=np.float64)
+        f = f0 if np.ndim(f0) == 0 else np.asarray(f0)[rows]
+        out[rows] *= coated_emission(m.emission_coat(params, material[rows], COLUMNS), f, nov[rows])[:, None]
+    return out
 
 
 @dual_use(inline=True)

@@ -16,12 +16,14 @@ import math
 
 import numpy as np
 
+from ..brdf.shading.registry import COLUMNS
 from ..core.jit import dual_use, row_kernel
 
 __all__ = [
     "KIND_NONE",
     "KIND_SPHERE",
     "KIND_PLANE",
+    "analytic_surface",
     "KIND_TRIANGLE",
     "build_sphere_bvh",
     "sphere_normal_and_point",
@@ -29,6 +31,7 @@ __all__ = [
 
 KIND_NONE, KIND_SPHERE, KIND_PLANE, KIND_TRIANGLE = 0, 1, 2, 3
 _INF = np.inf
+_DOUBLE_SIDED = COLUMNS.double_sided
 
 
 # ============================================================ analytic primitives
@@ -219,3 +222,24 @@ def _trace_batch(start, stop, origins, dirs, tmin, tmax, any_hit, spheres, lo, h
         out_kind[i] = k
         out_index[i] = idx
 
+
+@dual_use
+def analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, ox, oy, oz, dx, dy, dz, t):
+    """Position, normal (facing the ray for double-sided materials: parameter rows ``mf``
+    of :func:`pbrkit.render.materials.material_tables`) and material of the hit at
+    distance t along the ray o + t d on primitive ``index`` of ``kind``."""
+    px = ox + t * dx
+    py = oy + t * dy
+    pz = oz + t * dz
+    if kind == KIND_SPHERE:
+        nx, ny, nz, px, py, pz = sphere_normal_and_point(spheres[index, 0], spheres[index, 1], spheres[index, 2],
+                                                         spheres[index, 3], px, py, pz)
+        m = sphere_mat[index]
+    else:
+        nx = planes[index, 3]
+        ny = planes[index, 4]
+        nz = planes[index, 5]
+        m = plane_mat[index]
+    if mf[m, _DOUBLE_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
+        nx, ny, nz = -nx, -ny, -nz
+    return px, py, pz, nx, ny, nz, m

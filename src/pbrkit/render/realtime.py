@@ -58,7 +58,7 @@ from ..brdf.dispatch import (
     ibl_has_extras,
     split_sum_f0,
 )
-from ..brdf.fresnel import f_schlick
+from ..brdf.fresnel import f0_from_ior, f_schlick
 from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0, gltf_fresnel_mix_weight
 from ..brdf.shading.registry import COLUMNS, EXTENDED_CODES, model
 from ..core.jit import dual_use, row_kernel
@@ -73,7 +73,7 @@ from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 _EXTENDED = np.array(sorted(EXTENDED_CODES.values()), dtype=np.int64)
 from .environment import EnvironmentLight
 from .geometry import Geometry
-from .materials import for_materials, hit_bxdf, material_tables
+from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary, _resolve
 from .punctual import punctual_radiance
 
@@ -653,7 +653,10 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             timings["area_lights"] = t6 - t5
             t5 = t6
         out += punctual_radiance(geometry, s, v, mat_i, mat_f, ec if energy_compensation else None, shadows)
-        out += s.emissive
+        # the emission, beneath the coat of a KHR_materials_clearcoat material (its README's
+        # f0 0.04; the Sample Viewer's from the material's IOR under engine khronos)
+        coat_f0 = COAT_F0 if engine != "khronos" else f0_from_ior(mat_f[s.material, COLUMNS.ior])
+        out += emission_seen(mat_i, mat_f, s.material, np.einsum("ij,ij->i", n_rows, v_rows), s.emissive, coat_f0)
         radiance[prim.rows] = out
         timings["punctual"] = time.perf_counter() - t5
     image, mask = _resolve(scene, radiance, prim.hit)

@@ -53,7 +53,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..brdf.dispatch import core_substitute, lobe_probabilities
+from ..brdf.dispatch import core_substitute, emission_coat, lobe_probabilities
+from ..brdf.lobes.clearcoat import coated_emission
 from ..brdf.transmission import (
     absorption,
     sigma_a,
@@ -83,9 +84,9 @@ from .estimator import (
 from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
 from .lanes import direct_lighting
-from .materials import for_materials, hit_bxdf, material_tables
+from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary
-from .primitives import KIND_NONE, KIND_SPHERE, sphere_normal_and_point, trace_analytic
+from .primitives import KIND_NONE, KIND_SPHERE, analytic_surface, trace_analytic
 from .punctual import punctual_at, punctual_radiance
 from .records import Materials, Points, analytic_shapes, area_arrays, environment_arrays, punctual_lights
 
@@ -95,7 +96,6 @@ __all__ = [
 
 #: Columns of the packed parameter row the kernels read.
 _EMISSIVE = COLUMNS.emissive
-_DOUBLE_SIDED = COLUMNS.double_sided
 _ROUGHNESS = COLUMNS.roughness
 _METALLIC = COLUMNS.metallic
 _BASE_COLOR = COLUMNS.base_color
@@ -226,26 +226,6 @@ def _env_miss(strategy, pdf_b, env, dx, dy, dz):
     i, j = _env_texel(radiance.shape[0], radiance.shape[1], env.cos, env.sin, dx, dy, dz)
     w = emission_weight(strategy, pdf_b, _env_pdf_texel(env.func, env.total, i, j))
     return radiance[i, j, 0] * w, radiance[i, j, 1] * w, radiance[i, j, 2] * w
-
-
-@dual_use
-def _analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, ox, oy, oz, dx, dy, dz, t):
-    """Position, normal (facing the ray for double-sided materials) and material of an analytic hit."""
-    px = ox + t * dx
-    py = oy + t * dy
-    pz = oz + t * dz
-    if kind == KIND_SPHERE:
-        nx, ny, nz, px, py, pz = sphere_normal_and_point(spheres[index, 0], spheres[index, 1], spheres[index, 2],
-                                                         spheres[index, 3], px, py, pz)
-        m = sphere_mat[index]
-    else:
-        nx = planes[index, 3]
-        ny = planes[index, 4]
-        nz = planes[index, 5]
-        m = plane_mat[index]
-    if mf[m, _DOUBLE_SIDED] > 0.0 and nx * dx + ny * dy + nz * dz > 0.0:
-        nx, ny, nz = -nx, -ny, -nz
-    return px, py, pz, nx, ny, nz, m
 
 
 @threaded_kernel
@@ -401,11 +381,15 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
                         x1 += t1 * le[1]
                         x2 += t2 * le[2]
                         break
-                    px, py, pz, nx, ny, nz, m = _analytic_surface(hk, hi_, spheres, planes, sphere_mat, plane_mat, mf,
+                    px, py, pz, nx, ny, nz, m = analytic_surface(hk, hi_, spheres, planes, sphere_mat, plane_mat, mf,
                                                                   ox, oy, oz, bdir[0], bdir[1], bdir[2], th)
-                    x0 += t0 * mf[m, _EMISSIVE]
-                    x1 += t1 * mf[m, _EMISSIVE + 1]
-                    x2 += t2 * mf[m, _EMISSIVE + 2]
+                    ec = 1.0
+                    wc = emission_coat(mi, m, mf, m)
+                    if wc > 0.0:  # a coat over the emission (KHR_materials_clearcoat)
+                        ec = coated_emission(wc, COAT_F0, nx * bdir[0] + ny * bdir[1] + nz * bdir[2])
+                    x0 += t0 * mf[m, _EMISSIVE] * ec
+                    x1 += t1 * mf[m, _EMISSIVE + 1] * ec
+                    x2 += t2 * mf[m, _EMISSIVE + 2] * ec
                     if bounce == bounces:
                         break
                     gx, gy, gz = nx, ny, nz
@@ -606,7 +590,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             if hit.size == 0:
                 break
             surface = geometry.surface(hits, origins, dirs, hit)
-            np.add.at(x, pix[hit], through[hit] * surface.emissive)
+            seen = emission_seen(materials.codes, materials.params, surface.material,
+                                 -np.einsum("ij,ij->i", surface.n, dirs[hit]), surface.emissive)
+            np.add.at(x, pix[hit], through[hit] * seen)
             if bounce == bounces:
                 break
             through = through[hit]
@@ -695,7 +681,9 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     base_value = np.zeros((prim.dirs.shape[0], 3))
     base_value[~prim.hit] = _background(prim, env)
     if prim.rows.size:
-        base_value[prim.rows] = s.emissive + punctual_radiance(geometry, s, v, materials.codes, materials.params,
+        nov = np.einsum("ij,ij->i", s.n, v)
+        base_value[prim.rows] = emission_seen(materials.codes, materials.params, s.material, nov, s.emissive) + \
+            punctual_radiance(geometry, s, v, materials.codes, materials.params,
                                                                None, True)
     t2 = time.perf_counter()
     code = STRATEGIES.index(strategy)

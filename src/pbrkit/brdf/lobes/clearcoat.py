@@ -26,11 +26,13 @@ normal (a ``clearcoatNormalTexture`` is not applied).
 from __future__ import annotations
 
 from ...core.jit import dual_use
+from ..fresnel import f_schlick
 from ...microfacet.ggx import d_ggx, lambda_ggx
 from ...microfacet.smith import g2_separable, visibility
 from . import Lobe, ggx_normals, quadrature_albedo
 
-__all__ = ["CLEARCOAT_SLOT", "CLEARCOAT_ALPHA_SLOT", "CLEARCOAT", "clearcoat_value", "clearcoat_weight"]
+__all__ = ["CLEARCOAT_SLOT", "CLEARCOAT_ALPHA_SLOT", "CLEARCOAT", "clearcoat_value", "clearcoat_weight",
+           "coated_emission"]
 
 #: The BxDF ``extra`` slots of the coat: its weight (clearcoatFactor) and alpha_c.
 CLEARCOAT_SLOT, CLEARCOAT_ALPHA_SLOT = 4, 5
@@ -45,6 +47,18 @@ def _alpha(b):
 def clearcoat_weight(b):
     """The coat's weight, KHR_materials_clearcoat's clearcoatFactor (0: no coat)."""
     return b.extra[CLEARCOAT_SLOT]
+
+
+@dual_use(inline="llvm")
+def coated_emission(weight, f0, nov):
+    """The factor on the emission beneath a coat of weight ``weight`` seen at n.v:
+    1 - weight clearcoat_fresnel, clearcoat_fresnel = f0 + (1 - f0)(1 - |n.v|)^5
+    (KHR_materials_clearcoat README, "Emission": the coat lies over the emission,
+    coated_emission = emission (1 - clearcoat clearcoat_fresnel); its Fresnel is the
+    layering's, :func:`pbrkit.brdf.operators.fresnel_coat`, f0 0.04 for the coat's
+    IOR 1.5; the Khronos Sample Viewer takes f0 from the material's IOR).  n is the
+    coat's normal, here the shading normal.  Works on arrays from Python."""
+    return 1.0 - weight * f_schlick(abs(nov), f0, 1.0)
 
 
 @dual_use(inline=True)

@@ -451,6 +451,14 @@ def ibl_extensions_base_scale(b, nov):
 CORE = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B)", (BASE_COLOR, METALLIC, ROUGHNESS),
              core_setup, COMPOSITION, ("ggx", "separable", "schlick", "lambert"),
              RealTime(diffuse_weight=ibl_diffuse_weight), variants=(("ggx", "separable", "schlick", "lambert"),))
+@dual_use(inline="llvm")
+def emission_coat(params, q, columns):
+    """KHR_materials_clearcoat's coat over the emission (its README, "Emission"): the
+    weight clearcoatFactor of :func:`pbrkit.brdf.lobes.clearcoat.coated_emission`.
+    ``q`` may be an array of rows (NumPy from Python)."""
+    return params[q, columns.clearcoat]
+
+
 MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with its KHR_materials extensions",
               (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS, CLEARCOAT, CLEARCOAT_ROUGHNESS, SPECULAR,
                SPECULAR_COLOR, IOR, IRIDESCENCE, IRIDESCENCE_IOR, IRIDESCENCE_THICKNESS_MINIMUM,
@@ -459,4 +467,5 @@ MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with it
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
                        sheen_roughness=ibl_sheen_roughness, extras=ibl_extensions_extras,
-                       base_scale=ibl_extensions_base_scale, khronos_extensions=True), core=CORE)
+                       base_scale=ibl_extensions_base_scale, khronos_extensions=True), core=CORE,
+              emission_coat=emission_coat)

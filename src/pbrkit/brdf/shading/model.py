@@ -33,6 +33,11 @@ def _unscaled(b, nov):
     return 1.0
 
 
+@dual_use(inline=True)
+def _uncoated(params, q, columns):
+    return 0.0
+
+
 @dataclass(frozen=True, eq=False)
 class RealTime:
     """A model's real-time image-based lighting beyond the split sum of its specular
@@ -75,6 +80,9 @@ class Model:
     - ``realtime``: :class:`RealTime`.
     - ``variants``: term tuples the direct-lighting kernel compiles specialised.
     - ``check(values, where)``: cross-parameter rules (one-line ``ValueError``).
+    - ``emission_coat(params, q, columns)``: the weight of a coat that lies over the
+      material's emission (0: none; glTF's KHR_materials_clearcoat: clearcoatFactor),
+      which darkens it by :func:`pbrkit.brdf.lobes.clearcoat.coated_emission`.
     - ``core``: for a model with extensions (glTF's ``KHR_materials_*``), the
       :class:`Model` of a material that uses none of them (its parameters a prefix
       of this one's, its values on such a material equal to this one's).  The
@@ -94,6 +102,7 @@ class Model:
     variants: tuple = ()
     check: object = None
     core: object = None
+    emission_coat: object = _uncoated
     compiled: object = field(init=False)
 
     def __post_init__(self):
