@@ -1,5 +1,5 @@
 """Test assets per glTF material extension, laid out like the Khronos sample models
-(ClearCoatTest, SpecularTest, IorTest-like, SheenTest), rendered by the Khronos glTF
+(ClearCoatTest, SpecularTest, IorTest-like, SheenTest, IridescenceTest), rendered by the Khronos glTF
 Sample Viewer 1.1.0 (npm ``@khronosgroup/gltf-viewer``) against ``pbrkit render --mode
 realtime --engine khronos`` of the same glTF file (issue 25), in headless Chromium.
 
@@ -25,6 +25,9 @@ sheen      KHR_materials_sheen     colour white, pink, blue x sheen roughness   
                                    0.3, 0.8
 coated_    KHR_materials_clearcoat clearcoat 0, 0.5, 1 (coat roughness 0) over    near black, r 0.5,
 emission                           an emissive base                              emissive (.6, .3, .1)
+irides-    KHR_materials_          film thickness 150, 350, 600 nm x film IOR    near black, r 0.2;
+cence      iridescence             1.3, 1.8 (factor 1); a 3rd row: factor 0,     gold metal, r 0.2
+                                   0.5, 1 (1.3, 400 nm) over a gold metal
 =========  ======================  ============================================  ==================
 
 The viewer loads the ``.glb`` with the page and bake of ``test_engine_render_khronos.py``
@@ -167,10 +170,22 @@ def _sheen():
              for c in ([1.0, 1.0, 1.0], [1.0, 0.3, 0.5], [0.2, 0.5, 1.0])] for sr in (0.3, 0.8)]
 
 
+def _iridescence():
+    # IridescenceTest-like: film thickness across, film IOR down, over a dark dielectric and a gold metal
+    def film(k, ior, thickness):
+        return {"KHR_materials_iridescence": {"iridescenceFactor": k, "iridescenceIor": ior,
+                                              "iridescenceThicknessMaximum": thickness}}
+    rows = [[_material((0.05, 0.05, 0.05), 0.2, film(1.0, ior, d)) for d in (150.0, 350.0, 600.0)]
+            for ior in (1.3, 1.8)]
+    rows.append([_material((1.0, 0.78, 0.34), 0.2, film(k, 1.3, 400.0), metallic=1.0) for k in (0.0, 0.5, 1.0)])
+    return rows
+
+
 #: name -> (extension, rows of materials: base colour, metallic, roughness, glTF extensions)
 ASSETS = {"clearcoat": ("KHR_materials_clearcoat", _clearcoat()), "specular": ("KHR_materials_specular", _specular()),
           "ior": ("KHR_materials_ior", _ior()), "sheen": ("KHR_materials_sheen", _sheen()),
-          "coated_emission": ("KHR_materials_clearcoat", _coated_emission())}
+          "coated_emission": ("KHR_materials_clearcoat", _coated_emission()),
+          "iridescence": ("KHR_materials_iridescence", _iridescence())}
 
 
 def asset_size(name):

@@ -468,3 +468,39 @@ def test_emission_seen_by_bxdf_samples_is_darkened_alike_in_every_engine():
     floor = lanes.mask & (lanes.image.sum(axis=-1) < 1.0) & (lanes.image.sum(axis=-1) > 0.0)
     assert floor.sum() > 10 and np.all(lanes.image[floor].sum(-1) <= bare.image[floor].sum(-1) + 1e-12)
     assert lanes.image[floor].sum() < 0.99 * bare.image[floor].sum()
+
+
+def test_the_khronos_engine_mixes_the_thin_film_as_the_sample_viewer():
+    """``engine="khronos"`` with KHR_materials_iridescence (pbr.frag's MATERIAL_IRIDESCENCE
+    branch): under a constant white environment (radiance 1, diffuse = base colour) the
+    metal mixes towards the bare radiance times the film's Fresnel over the base colour,
+    mix(metal, F_film(base), k), and the dielectric towards rgb_mix(base, 1, F_film(F0)),
+    (1 - max3 F) base + F, by iridescenceFactor k; no film at thickness 0.  (The
+    constant map's prefiltered radiance is 1 to within 3e-8.)"""
+    from test_render import pixel_geometry, sphere_scene
+
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+
+    env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
+    base = (0.9, 0.6, 0.3)
+    film = dict(iridescence_ior=1.6, iridescence_thickness_maximum=350.0)
+
+    def render(**kw):
+        return render_realtime(sphere_scene(MaterialSpec(name="m", roughness=0.3, base_color=base, **kw), env,
+                                            size=16), bake_size=16, engine="khronos")
+
+    metal, metal_film = render(metallic=1.0), render(metallic=1.0, iridescence=0.6, **film)
+    glass, glass_film = render(metallic=0.0), render(metallic=0.0, iridescence=1.0, **film)
+    none = render(metallic=1.0, iridescence=1.0, iridescence_ior=1.6, iridescence_thickness_maximum=0.0)
+    mask, n, v = pixel_geometry(sphere_scene(MaterialSpec(name="m"), env, size=16))
+    nov = np.clip(np.sum(n * v, axis=-1), 1e-4, 1.0)
+    sel = mask & metal.mask & (nov > 0.2)
+    mu = nov[sel]
+    f_metal = _film(mu, 1.6, 350.0, np.broadcast_to(base, (mu.size, 3)))
+    np.testing.assert_allclose(metal_film.image[sel], 0.4 * metal.image[sel] + 0.6 * f_metal, rtol=1e-6)
+    f_glass = _film(mu, 1.6, 350.0, np.full((mu.size, 3), 0.04))
+    expected = (1.0 - f_glass.max(axis=1, keepdims=True)) * np.array(base) + f_glass
+    np.testing.assert_allclose(glass_film.image[sel], expected, rtol=1e-6)  # the bake's radiance: 1 to 3e-8
+    np.testing.assert_array_equal(none.image, metal.image)
+    assert np.max(np.abs(glass_film.image[sel] - glass.image[sel])) > 0.02

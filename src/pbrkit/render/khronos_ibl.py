@@ -15,6 +15,14 @@ for :func:`pbrkit.render.realtime.render_realtime` with ``engine="khronos"``:
   ``lut_charlie``) at (n.v, sheenRoughness) x the Charlie-prefiltered radiance
   (``getIBLRadianceCharlie``), albedoSheenScaling = 1 - max3(sheenColor) E(n.v,
   sheenRoughness) (``albedoSheenScalingLUT``);
+- KHR_materials_iridescence: the metal ``mix(f_metal_brdf_ibl, radiance
+  iridescenceFresnel_metallic, iridescenceFactor)`` and the dielectric
+  ``mix(f_dielectric_brdf_ibl, rgb_mix(f_diffuse, radiance,
+  iridescenceFresnel_dielectric), iridescenceFactor)``, the thin film's Fresnel at n.v
+  over the base colour and over the dielectric's F0 (``evalIridescence``, here
+  :func:`pbrkit.brdf.fresnel.f_iridescence`, the same evaluation of the extension's
+  README) applied to the bare prefiltered radiance (no split-sum albedo), no film at
+  thickness 0; rgb_mix(a, b, t) = (1 - max3(t)) a + t b;
 - KHR_materials_clearcoat: ``color = mix(color, clearcoat_brdf, clearcoat
   clearcoatFresnel)`` with clearcoat_brdf the GGX-prefiltered radiance at the coat's
   roughness alone (``getIBLRadianceGGX``: no split-sum albedo) and clearcoatFresnel =
@@ -30,7 +38,7 @@ from __future__ import annotations
 
 import math
 
-from ..brdf.fresnel import f_schlick
+from ..brdf.fresnel import f_iridescence, f_schlick
 from ..brdf.lobes.sheen import sheen_albedo_lookup
 from ..brdf.shading.registry import COLUMNS
 from ..core.jit import dual_use
@@ -41,6 +49,8 @@ _INV_PI = 1.0 / math.pi
 _IOR, _SPECULAR, _SPECULAR_COLOR = COLUMNS.ior, COLUMNS.specular, COLUMNS.specular_color
 _SHEEN_COLOR, _SHEEN_ROUGHNESS = COLUMNS.sheen_color, COLUMNS.sheen_roughness
 _CLEARCOAT = COLUMNS.clearcoat
+_IRIDESCENCE, _FILM_IOR = COLUMNS.iridescence, COLUMNS.iridescence_ior
+_FILM_THICKNESS = COLUMNS.iridescence_thickness_maximum
 
 
 @dual_use(inline=True)
@@ -68,17 +78,35 @@ def sample_viewer_base(nov, r, base, metallic, f0, weight, a, b, radiance, irrad
 
 @dual_use(inline=True)
 def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radiance, irradiance, coat_radiance,
-                                 sheen_radiance, charlie_lut, c):
+                                 sheen_radiance, charlie_lut, c, base0, base1, base2):
     """Channel ``c`` of the Sample Viewer's IBL of a glTF material with extensions
     (module docstring): parameters from row ``q`` of the packed table ``params``,
     ``base`` the channel's base colour, the prefiltered ``radiance`` (GGX at r),
     ``irradiance`` E (the diffuse is base E / pi), the coat's and the sheen's
     prefiltered radiance, and ``charlie_lut`` the Charlie LUT's value at (n.v,
-    sheenRoughness)."""
+    sheenRoughness); (``base0``, ``base1``, ``base2``) the whole base colour (the film's
+    Fresnel over it)."""
     ior = params[q, _IOR]
     f0_ior = ((ior - 1.0) / (ior + 1.0)) ** 2
     f0 = min(f0_ior * params[q, _SPECULAR_COLOR + c], 1.0)
-    color = sample_viewer_base(nov, r, base, metallic, f0, params[q, _SPECULAR], a, b, radiance, irradiance)
+    k = params[q, _IRIDESCENCE]
+    if k > 0.0 and params[q, _FILM_THICKNESS] > 0.0:  # pbr.frag's MATERIAL_IRIDESCENCE branch
+        w_d = sample_viewer_fresnel(nov, r, f0, params[q, _SPECULAR], a, b)
+        diffuse = base * irradiance * _INV_PI
+        dielectric = diffuse * (1.0 - w_d) + radiance * w_d
+        metal = radiance * sample_viewer_fresnel(nov, r, base, 1.0, a, b)
+        film_ior = params[q, _FILM_IOR]
+        thickness = params[q, _FILM_THICKNESS]
+        d = f_iridescence(nov, film_ior, thickness, min(f0_ior * params[q, _SPECULAR_COLOR], 1.0),
+                          min(f0_ior * params[q, _SPECULAR_COLOR + 1], 1.0),
+                          min(f0_ior * params[q, _SPECULAR_COLOR + 2], 1.0))
+        m = f_iridescence(nov, film_ior, thickness, base0, base1, base2)
+        film_dielectric = (1.0 - max(d[0], max(d[1], d[2]))) * diffuse + d[c] * radiance
+        dielectric = dielectric + (film_dielectric - dielectric) * k
+        metal = metal + (radiance * m[c] - metal) * k
+        color = dielectric + (metal - dielectric) * metallic
+    else:
+        color = sample_viewer_base(nov, r, base, metallic, f0, params[q, _SPECULAR], a, b, radiance, irradiance)
     s0, s1, s2 = params[q, _SHEEN_COLOR], params[q, _SHEEN_COLOR + 1], params[q, _SHEEN_COLOR + 2]
     if s0 > 0.0 or s1 > 0.0 or s2 > 0.0:
         e = sheen_albedo_lookup(nov, params[q, _SHEEN_ROUGHNESS])

@@ -419,7 +419,8 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             for c in range(3):
                 out[i, c] = sample_viewer_extensions_ibl(mf, m, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1,
                                                          prefiltered[i, c], irradiance[i, c], coat_prefiltered[i, c],
-                                                         sheen_prefiltered[i, c], charlie[i], c) * occlusion[i]
+                                                         sheen_prefiltered[i, c], charlie[i], c, base[i, 0],
+                                                         base[i, 1], base[i, 2]) * occlusion[i]
                 ec_out[i, c] = 1.0
             continue
         if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE or engine == _ENGINE_BABYLON:
