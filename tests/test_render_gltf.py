@@ -41,7 +41,7 @@ def _png(pixels):
 
 
 def write_quad_glb(path, *, texture=None, mr_texture=None, normal_texture=None, sampler=None, node_matrix=None,
-                   extensions_required=(), uv=None, material_extras=None, light=None):
+                   extensions_required=(), uv=None, material_extras=None, light=None, alpha=None, base_alpha=1.0):
     """A unit quad in the XY plane (z = 0, facing +Z) with glTF UVs (v down: image top at +Y),
     placed by a parent node (translation (0, 0, -1)) and a child node (matrix or scale 2)."""
     import pygltflib as g
@@ -68,7 +68,7 @@ def write_quad_glb(path, *, texture=None, mr_texture=None, normal_texture=None, 
         g.Accessor(bufferView=2, componentType=g.FLOAT, count=4, type=g.VEC2),
         g.Accessor(bufferView=3, componentType=g.UNSIGNED_SHORT, count=6, type=g.SCALAR),
     ]
-    pbr = g.PbrMetallicRoughness(baseColorFactor=[1.0, 0.5, 1.0, 1.0], metallicFactor=0.5, roughnessFactor=0.8)
+    pbr = g.PbrMetallicRoughness(baseColorFactor=[1.0, 0.5, 1.0, base_alpha], metallicFactor=0.5, roughnessFactor=0.8)
     gl_images, textures = [], []
     if texture is not None:
         gl_images.append(g.Image(bufferView=4, mimeType="image/png"))
@@ -84,7 +84,7 @@ def write_quad_glb(path, *, texture=None, mr_texture=None, normal_texture=None, 
         textures.append(g.Texture(source=len(gl_images) - 1))
         normal_info = g.NormalMaterialTexture(index=len(textures) - 1, scale=1.0)
     material = g.Material(pbrMetallicRoughness=pbr, emissiveFactor=[0.2, 0.1, 0.0], doubleSided=True,
-                          extensions=material_extras or {}, normalTexture=normal_info)
+                          extensions=material_extras or {}, normalTexture=normal_info, **(alpha or {}))
     child = g.Node(mesh=0)
     if node_matrix is not None:
         child.matrix = list(np.asarray(node_matrix, dtype=float).T.ravel())  # column-major
@@ -351,3 +351,109 @@ def test_damaged_helmet_textures_emission_and_bounces():
     geometry = Geometry(scene)
     assert any(m.emissive_texture is not None and m.normal_texture is not None for m in geometry.materials)
     assert all(m.tangents is not None for m in geometry.meshes)  # generated: the file has no TANGENT
+
+
+# ------------------------------------------------------------------ alpha modes
+
+_UNLIT = {"KHR_materials_unlit": {}}
+_NEAREST_CLAMP = {"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}
+_SKY = (0.2, 0.3, 0.4)
+
+
+def _alpha_scene(path, supersample=1):
+    cam = Camera(position=(0.0, 0.0, 5.0), look_at=(0.0, 0.0, -1.0), fov=16.0, width=8, height=8,
+                 supersample=supersample)
+    return Scene(camera=cam, environment=EnvironmentSpec(color=_SKY), objects=(GltfObject(str(path)),))
+
+
+def _modes():
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.reference import render_reference
+
+    return {"realtime": lambda scene: render_realtime(scene, bake_size=8),
+            "reference": lambda scene: render_reference(scene, spp=256, seed=1)}
+
+
+@pytest.mark.parametrize("mode", ["realtime", "reference"])
+def test_alpha_mask_cuts_out_where_the_texture_alpha_is_below_the_cutoff(tmp_path, mode):
+    """alphaMode MASK (glTF 2.0, "Alpha Coverage"): an unlit quad (KHR_materials_unlit:
+    it shows its base colour (1, 0.5, 1)) whose base colour texture is transparent on
+    its left half (alpha 0, nearest filtering) and 60 % opaque on its right: with
+    alphaCutoff 0.5 the left half shows the sky behind, exactly, and the right half the
+    quad; with cutoff 0.7 the whole quad is gone; OPAQUE ignores alpha."""
+    texture = np.zeros((2, 2, 4), dtype=np.uint8)
+    texture[..., :3] = 255
+    texture[:, 1, 3] = 153  # 0.6
+    render = _modes()[mode]
+    images = {}
+    for name, alpha in (("mask", {"alphaMode": "MASK"}), ("strict", {"alphaMode": "MASK", "alphaCutoff": 0.7}),
+                        ("opaque", None)):
+        path = write_quad_glb(tmp_path / f"{name}.glb", texture=texture, sampler=_NEAREST_CLAMP,
+                              material_extras=_UNLIT, alpha=alpha)
+        images[name] = render(_alpha_scene(path)).image
+    quad = np.array([1.0, 0.5, 1.0])
+    left, right = images["mask"][:, :3], images["mask"][:, 5:]
+    np.testing.assert_allclose(left, np.broadcast_to(_SKY, left.shape), rtol=1e-6)
+    np.testing.assert_allclose(right, np.broadcast_to(quad, right.shape), rtol=1e-6)
+    np.testing.assert_allclose(images["strict"], np.broadcast_to(_SKY, images["strict"].shape), rtol=1e-6)
+    np.testing.assert_allclose(images["opaque"], np.broadcast_to(quad, images["opaque"].shape), rtol=1e-6)
+
+
+@pytest.mark.parametrize("mode", ["realtime", "reference"])
+def test_alpha_blend_is_coverage_over_what_lies_behind(tmp_path, mode):
+    """alphaMode BLEND: the unlit quad at baseColorFactor alpha 0.3 covers 30 % of the rays
+    (hashed from each ray): the ground truth is 0.3 quad + 0.7 sky within its own
+    standard error per pixel (5 sigma) and overall; real time, 16 sub-pixel rays a pixel,
+    is that blend over the image within 5 sigma of its 1024 rays; the same bytes twice."""
+    path = write_quad_glb(tmp_path / "blend.glb", material_extras=_UNLIT, alpha={"alphaMode": "BLEND"},
+                          base_alpha=0.3)
+    scene = _alpha_scene(path, supersample=4 if mode == "realtime" else 1)
+    result = _modes()[mode](scene)
+    expected = 0.3 * np.array([1.0, 0.5, 1.0]) + 0.7 * np.array(_SKY)
+    spread = np.abs(np.array([1.0, 0.5, 1.0]) - _SKY)  # one ray's deviation scale
+    if mode == "reference":
+        assert np.all(np.abs(result.image - expected) <= 5.0 * result.stderr + 1e-12)
+        rays = 256 * 64
+    else:
+        rays = 16 * 64
+    sigma = np.sqrt(0.3 * 0.7 / rays) * spread
+    assert np.all(np.abs(result.image.reshape(-1, 3).mean(axis=0) - expected) <= 5.0 * sigma)
+    assert np.ptp(result.image[..., 0]) > 0.0  # the coverage differs from pixel to pixel
+    np.testing.assert_array_equal(_modes()[mode](scene).image, result.image)
+
+
+@pytest.mark.parametrize("mode", ["realtime", "reference"])
+def test_a_cutout_lets_light_through_to_the_shadow_side(tmp_path, mode):
+    """Shadow rays pass the cutouts too: a sun straight above a floor, a MASK quad laid
+    flat between them (x in [-0.5, 0.5], z in [-1.5, -0.5]) transparent where x < 0: the
+    floor under that half is lit as without the quad, under the other half not at all
+    (a black sky: the sun alone lights it; the camera looks under the quad)."""
+    from pbrkit.render.scene import Light
+
+    texture = np.zeros((2, 2, 4), dtype=np.uint8)
+    texture[..., :3] = 255
+    texture[:, 1, 3] = 255
+    flat = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=float)  # (x, y, 0) -> (x, 0, -y)
+    path = write_quad_glb(tmp_path / "mask.glb", texture=texture, sampler=_NEAREST_CLAMP,
+                          alpha={"alphaMode": "MASK"}, node_matrix=flat)
+    cam = Camera(position=(3.0, -0.6, -1.0), look_at=(0.0, -1.0, -1.0), fov=40.0, width=24, height=24)
+    floor = MaterialSpec(name="floor", metallic=0.0, roughness=1.0, base_color=(0.5, 0.5, 0.5))
+    sun = Light(type="directional", direction=(0.0, -1.0, 0.0), intensity=2.0)
+    ground = Plane(point=(0.0, -1.0, 0.0), normal=(0.0, 1.0, 0.0), material="floor")
+
+    def scene(objects):
+        return Scene(camera=cam, environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)),
+                     materials={"default": MaterialSpec(), "floor": floor}, lights=(sun,), objects=objects)
+
+    render = _modes()[mode]
+    with_quad = render(scene((GltfObject(str(path)), ground))).image.reshape(-1, 3)
+    without = render(scene((ground,))).image.reshape(-1, 3)
+    d = cam.ray_directions()[:, :, 0].reshape(-1, 3)
+    t = (-1.0 - cam.position[1]) / d[:, 1]
+    p = np.asarray(cam.position) + t[:, None] * d
+    under = (p[:, 2] > -1.45) & (p[:, 2] < -0.55) & (t > 0)
+    lit = under & (p[:, 0] > -0.45) & (p[:, 0] < -0.05)
+    dark = under & (p[:, 0] > 0.05) & (p[:, 0] < 0.45)
+    assert lit.sum() > 5 and dark.sum() > 5 and np.all(without[lit | dark] > 0.01)
+    np.testing.assert_allclose(with_quad[lit], without[lit], rtol=1e-9)
+    assert np.all(with_quad[dark] == 0.0)

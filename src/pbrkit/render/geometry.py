@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .alpha import coverage_tables, pass_through
 from .area_lights import area_light_arrays, area_light_hits
 from .gltf import load_gltf
 from .materials import bounds_volume
@@ -109,6 +110,7 @@ class Geometry:
         self._factor_roughness = np.array([sp.roughness for sp in specs], dtype=np.float64)
         self._factor_emissive = np.array([sp.emissive for sp in specs], dtype=np.float64).reshape(-1, 3)
         self._two_sided = np.array([sp.double_sided and not bounds_volume(sp) for sp in specs], dtype=bool)
+        self._coverage = coverage_tables(self.materials)
         self._embree = None
         if self.meshes:
             from embreex import rtcore_scene
@@ -143,6 +145,14 @@ class Geometry:
         return origins, dirs, tmax, t, kind, index
 
     def intersect(self, origins, dirs, tmax=None):
+        """Closest hits of rays (N, 3) with unit directions, t in (0, tmax), through the
+        surfaces that glTF's alpha modes let rays pass (:mod:`pbrkit.render.alpha`)."""
+        hits = self._closest(origins, dirs, tmax)
+        if self._coverage is not None:
+            hits = pass_through(self, self._coverage, self._closest, hits, origins, dirs, tmax)
+        return hits
+
+    def _closest(self, origins, dirs, tmax=None):
         """Closest hits of rays (N, 3) with unit directions, t in (0, tmax)."""
         origins, dirs, tmax, t, kind, index = self._trace_analytic(origins, dirs, tmax, False)
         n = origins.shape[0]
@@ -165,7 +175,10 @@ class Geometry:
         return Hits(t, kind, index, prim, b1, b2)
 
     def occluded(self, origins, dirs, tmax=None):
-        """True where something lies on the ray before tmax (default: infinity)."""
+        """True where something lies on the ray before tmax (default: infinity); a surface
+        that glTF's alpha modes let the ray through does not count."""
+        if self._coverage is not None:  # the closest hits, through cutouts and coverage
+            return self.intersect(origins, dirs, tmax).hit
         origins, dirs, tmax, t, kind, index = self._trace_analytic(origins, dirs, tmax, True)
         blocked = kind != KIND_NONE
         if self._embree is not None:

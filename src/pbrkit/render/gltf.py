@@ -15,7 +15,9 @@ and emissive (sRGB, times emissiveFactor and
 ``KHR_materials_sheen``, ``_clearcoat``, ``_specular`` and ``_ior`` as the
 ``gltf`` model's parameters (:mod:`pbrkit.io.gltf_materials`; their textures
 are noted as not supported yet) and ``KHR_materials_unlit`` as emission of the
-base colour.  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
+base colour.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
+colour's alpha (factor and texture) give cutouts and coverage in both render
+modes (:mod:`pbrkit.render.alpha`).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
 scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
 are honoured (:mod:`pbrkit.io.gltf_extensions`, after the Khronos
 specifications).  Texture sampling follows the glTF sampler: bilinear (or
@@ -387,8 +389,10 @@ def _gltf_material(reader, index, cache):
     if ext.get(UNLIT) is not None:  # the base colour as emission over a black, non-reflecting surface
         khr.update(unlit_material(bc))
         et, bct, mrt, emissive, strength = bct, None, None, np.ones(3), 1.0
-    if (m.get("alphaMode") or "OPAQUE") != "OPAQUE":
-        reader.notes.append(f"material {index}: alphaMode {m['alphaMode']} rendered as OPAQUE")
+    alpha_mode = m.get("alphaMode") or "OPAQUE"  # cutouts and coverage (pbrkit.render.alpha)
+    alpha_cutoff = 0.5 if m.get("alphaCutoff") is None else float(m["alphaCutoff"])
+    alpha_texture = _texture_ref(reader, pbr.get("baseColorTexture"), True, cache) if alpha_mode != "OPAQUE" \
+        else None
     name = m.get("name")  # shown in messages: a short printable one only
     if not (isinstance(name, str) and name and name.isprintable() and len(name) <= 64):
         name = f"gltf-material-{index}"
@@ -401,14 +405,17 @@ def _gltf_material(reader, index, cache):
         spec = MaterialSpec(name=name, **values)
     except ValueError as exc:
         reader.fail(f"materials[{index}]: {exc}")
-    return SurfaceMaterial(spec, bct, mrt, nt, ot, et)
+    return SurfaceMaterial(spec, bct, mrt, nt, ot, et, alpha_mode=alpha_mode, alpha_cutoff=alpha_cutoff,
+                           alpha=float(bc[3]) if len(bc) > 3 else 1.0, alpha_texture=alpha_texture)
 
 
 def _texture_refs(material):
-    """(name, TextureRef) of the textures a material uses."""
-    names = ("baseColorTexture", "metallicRoughnessTexture", "normalTexture", "occlusionTexture", "emissiveTexture")
+    """(name, TextureRef) of the textures a material uses (the baseColorTexture a second
+    time for its alpha channel under alphaMode MASK or BLEND)."""
+    names = ("baseColorTexture", "metallicRoughnessTexture", "normalTexture", "occlusionTexture", "emissiveTexture",
+             "baseColorTexture")
     refs = (material.base_color_texture, material.metallic_roughness_texture, material.normal_texture,
-            material.occlusion_texture, material.emissive_texture)
+            material.occlusion_texture, material.emissive_texture, material.alpha_texture)
     return [(n, r) for n, r in zip(names, refs) if r is not None]
 
 

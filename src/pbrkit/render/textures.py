@@ -101,6 +101,12 @@ class SurfaceMaterial:
     occlusion_texture: TextureRef | None = None
     emissive_texture: TextureRef | None = None
     textures: list | None = None  # the Texture objects the refs index
+    #: glTF's alphaMode (OPAQUE, MASK, BLEND), alphaCutoff, baseColorFactor's alpha and the
+    #: texture whose alpha channel multiplies it (the baseColorTexture; :mod:`pbrkit.render.alpha`)
+    alpha_mode: str = "OPAQUE"
+    alpha_cutoff: float = 0.5
+    alpha: float = 1.0
+    alpha_texture: TextureRef | None = None
 
     @property
     def textured(self):
