@@ -259,7 +259,7 @@ def _renderer_cases(rng, m, dfg_table):
     coat_pref, sheen_pref = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
     out, ec = np.empty((N, 3)), np.empty((N, 3))
     realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
-                         np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, np.zeros(N),
+                         np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, np.zeros(N), np.zeros((1, 3)),
                          realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("pbrkit"), out, ec)
     nov = np.maximum(np.sum(n * v, axis=1), 1e-4)
@@ -278,7 +278,7 @@ def _renderer_cases(rng, m, dfg_table):
     # Charlie LUT's value per pixel; the core materials' rows take its core path (_engine_ibl)
     charlie = _f32(rng.uniform(0.0, 0.5, N))
     realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
-                         np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, charlie,
+                         np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, charlie, np.zeros((1, 3)),
                          realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("khronos"), out, ec)
     inputs = _inputs(m, _vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7])
@@ -320,7 +320,7 @@ def _sample_viewer_cases(rng, m):
     expected = np.array([[khronos_ibl.sample_viewer_extensions_ibl(
         params, q, float(m.base[q, k]), float(m.metallic[q]), float(m.roughness[q]), float(nov[q]), float(a[q]),
         float(b[q]), float(rad[q, k]), float(irr[q, k]), float(coat_rad[q, k]), float(sheen_rad[q, k]),
-        float(charlie[q]), k, *(float(x) for x in m.base[q])) for k in range(3)] for q in range(N)])
+        float(charlie[q]), k, *(float(x) for x in m.base[q]), 0.0) for k in range(3)] for q in range(N)])
     add(Case("sampleViewerExtensionsIBL", ("pbrkit_sampleViewerExtensionsIBL",),
              f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, vec3(b.w, c.w, h.w), "
              "a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, expected, atol=1e-6))

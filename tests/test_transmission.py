@@ -391,3 +391,61 @@ def test_a_plain_material_keeps_the_core_model_and_a_volume_its_outward_normals(
     assert params[0, COLUMNS.double_sided] == 1.0
     codes, params = _tables(transmission=1.0, thickness=1.0)
     assert params[0, COLUMNS.double_sided] == 0.0
+
+
+# ---------------------------------------------------------------- real time
+
+
+def test_refract_is_snells_law():
+    """GLSL's refract as the real-time lookups use it: the refracted direction is a unit
+    vector in the plane of incidence with sin t = eta sin i, on the far side; total
+    internal reflection gives 0."""
+    from pbrkit.render.transmission_ibl import ior_roughness, refract
+
+    rng = np.random.default_rng(7)
+    i = rng.normal(size=(200, 3))
+    i /= np.linalg.norm(i, axis=1, keepdims=True)
+    n = np.tile([0.0, 0.0, 1.0], (200, 1))
+    i[:, 2] = -np.abs(i[:, 2])  # arriving from above
+    for eta in (1.0 / 1.5, 1.5):
+        t = refract(i, n, np.full(200, eta))
+        sin_i = np.linalg.norm(np.cross(i, n), axis=1)
+        tir = eta * sin_i > 1.0
+        assert np.all(t[tir] == 0.0)
+        ok = ~tir
+        np.testing.assert_allclose(np.linalg.norm(t[ok], axis=1), 1.0, rtol=1e-12)
+        np.testing.assert_allclose(np.linalg.norm(np.cross(t[ok], n[ok]), axis=1), eta * sin_i[ok], atol=1e-12)
+        assert np.all(t[ok, 2] < 0.0)
+        np.testing.assert_allclose(np.einsum("ij,ij->i", np.cross(i[ok], n[ok]), t[ok]), 0.0, atol=1e-12)
+    np.testing.assert_allclose(ior_roughness(0.6, np.array([1.0, 1.25, 1.5, 2.0])), [0.0, 0.3, 0.6, 0.6])
+
+
+def test_realtime_transmission_under_a_constant_environment():
+    """Real time, a constant white environment (every lookup 1): the light a thin wall
+    lets through, weighted as the diffuse it replaces (baseColor x the diffuse's Fresnel
+    weight), equals that diffuse's E / pi = 1, so transmission 1 renders as transmission
+    0; a volume scales that part by attenuationColor^(thickness / attenuationDistance).
+    Under engine khronos the transmitted part is (1 - (F0 A + B)) baseColor x the light
+    (getIBLVolumeRefraction), F0 A + B the split-sum albedo (pbrkit's black dielectric)."""
+    from test_render import pixel_geometry, sphere_scene
+
+    from pbrkit.render.realtime import render_realtime
+
+    env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
+
+    def render(engine="pbrkit", base=(0.8, 0.5, 0.3), **kw):
+        scene = sphere_scene(MaterialSpec(name="m", roughness=0.3, base_color=base, **kw), env, size=16)
+        return render_realtime(scene, bake_size=16, engine=engine).image
+
+    mask, _, _ = pixel_geometry(sphere_scene(MaterialSpec(name="m"), env, size=16))
+    plain, black = render(), render(base=(0.0, 0.0, 0.0))
+    np.testing.assert_allclose(render(transmission=1.0), plain, rtol=1e-12, atol=1e-15)
+    volume = render(transmission=1.0, thickness=0.5, attenuation_color=(0.5, 0.8, 1.0), attenuation_distance=1.0)
+    np.testing.assert_allclose((volume - black)[mask], (plain - black)[mask] * np.sqrt([0.5, 0.8, 1.0]), rtol=1e-9)
+    half = render(transmission=0.5, thickness=0.5, attenuation_color=(0.5, 0.8, 1.0), attenuation_distance=1.0)
+    np.testing.assert_allclose((half - black)[mask], (plain - black)[mask] * (0.5 + 0.5 * np.sqrt([0.5, 0.8, 1.0])),
+                               rtol=1e-9)
+    k_plain, k_black = render("khronos"), render("khronos", base=(0.0, 0.0, 0.0))
+    k_glass = render("khronos", transmission=1.0)
+    expected = k_black + (1.0 - black) * (k_plain - k_black)
+    np.testing.assert_allclose(k_glass[mask], expected[mask], rtol=1e-6)  # the lookups: 1 to 3e-8

@@ -30,12 +30,15 @@ EXPLORE_PARAMETERS = {"--reflectance": "reflectance", "--anisotropy": "anisotrop
                       "--specular-tint": "specular_tint", "--sheen": "sheen", "--sheen-tint": "sheen_tint",
                       "--clearcoat": "clearcoat", "--clearcoat-gloss": "clearcoat_gloss",
                       "--sheen-roughness": "sheen_roughness", "--clearcoat-roughness": "clearcoat_roughness",
-                      "--specular": "specular", "--ior": "ior"}
+                      "--specular": "specular", "--ior": "ior", "--transmission": "transmission",
+                      "--iridescence": "iridescence", "--iridescence-ior": "iridescence_ior",
+                      "--iridescence-thickness": "iridescence_thickness_maximum"}
 #: The optional colour parameters: option -> Material field (R,G,B; sheen_color in [0, 1],
 #: specular_color >= 0).
 EXPLORE_COLOURS = {"--sheen-color": "sheen_color", "--specular-color": "specular_color"}
 #: The upper end of each parameter's range where it is not 1 (checked here; the material checks again).
-_HIGH = {"ior": float("inf"), "specular_color": float("inf")}
+_HIGH = {"ior": float("inf"), "specular_color": float("inf"), "iridescence_ior": float("inf"),
+         "iridescence_thickness_maximum": float("inf")}
 
 
 def _unit(option, value, lo=0.0, hi=1.0):
@@ -170,6 +173,16 @@ def register(app):
                                                           "default 1,1,1)."),
         ior: Optional[float] = typer.Option(None, "--ior", metavar="X",
                                             help="gltf only (KHR_materials_ior: 0 or >= 1; default 1.5)."),
+        transmission: Optional[float] = typer.Option(
+            None, "--transmission", metavar="X",
+            help="gltf only (KHR_materials_transmission: the diffuse it takes; default 0)."),
+        iridescence: Optional[float] = typer.Option(None, "--iridescence", metavar="X",
+                                                    help="gltf only (KHR_materials_iridescence; default 0)."),
+        iridescence_ior: Optional[float] = typer.Option(None, "--iridescence-ior", metavar="X",
+                                                        help="gltf only (the film's IOR, >= 1; default 1.3)."),
+        iridescence_thickness_maximum: Optional[float] = typer.Option(
+            None, "--iridescence-thickness", metavar="NM",
+            help="gltf only (the film's thickness in nm; default 400)."),
         distribution: str = _choice("ggx", "--distribution", EXPLORE_DISTRIBUTIONS, "distribution",
                                     "cook_torrance's D."),
         masking: str = _choice("height-correlated", "--masking", EXPLORE_MASKINGS, "masking",

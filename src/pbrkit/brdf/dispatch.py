@@ -33,7 +33,7 @@ from .shading.registry import COLUMNS, COMPILED, EXTENDED_CODES
 __all__ = ["make_bxdf", "emission_coat", "bxdf_f", "lobe_probabilities", "sample_wi", "bxdf_pdf", "specular_lobe",
            "specular_distribution", "specular_visibility", "bxdf_fresnel", "split_sum_f0", "split_sum_f90",
            "fresnel_constant", "ibl_has_diffuse", "ibl_diffuse_weight", "ibl_coat_roughness", "ibl_sheen_roughness",
-           "ibl_base_scale", "ibl_khronos_extensions", "ibl_has_extras",
+           "ibl_base_scale", "ibl_khronos_extensions", "ibl_has_extras", "ibl_transmission",
            "ibl_extras",
            "specialised", "SOURCES", "Sampling", "sampling", "SAMPLING_BY_MODEL", "family", "restricted",
            "core_substitute"]
@@ -227,6 +227,8 @@ ibl_sheen_roughness = _dispatch("ibl_sheen_roughness", ("b",),
 ibl_khronos_extensions = _dispatch(
     "ibl_khronos_extensions", ("b",),
     lambda i, m, ns: f"{_put(ns, f'k{i}', always if m.realtime.khronos_extensions else never)}(b)")
+ibl_transmission = _dispatch("ibl_transmission", ("b",),
+                             lambda i, m, ns: f"{_put(ns, f't{i}', m.realtime.transmission)}(b)")
 ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
                            lambda i, m, ns: f"{_put(ns, f'x{i}', always if m.realtime.extras else never)}(b)")
 

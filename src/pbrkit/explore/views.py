@@ -91,11 +91,15 @@ _HALF_PI = 0.5 * math.pi
 _QUARTER_PI = 0.25 * math.pi
 _N = np.array([0.0, 0.0, 1.0])
 
+#: Parameters that do not change a BRDF (the explorer's reflection): KHR_materials_volume's
+#: (the medium beneath a transmissive surface) and the thin film's thickness at texture
+#: value 0 (no effect without an iridescence thickness texture).
+NOT_REFLECTION = ("thickness", "attenuation_distance", "attenuation_color", "iridescence_thickness_minimum")
 #: The scalar Material parameters each model reads besides base_color, metallic and
 #: roughness (``reflectance``: dielectric f0 = 0.16 reflectance^2; glTF and URP fix f0
 #: at 0.04), from the models' declarations: the explorer's sliders.
-MODEL_PARAMETERS = {m.name: tuple(p.name for p in m.numbers if p.channels == 1 and p.name not in TEXTURED)
-                    for m in REGISTERED}
+MODEL_PARAMETERS = {m.name: tuple(p.name for p in m.numbers if p.channels == 1 and p.name not in TEXTURED
+                                   and p.name not in NOT_REFLECTION) for m in REGISTERED}
 #: Disney's extra parameters (Burley 2012, sec. 5.1), with their declared defaults.
 DISNEY_ONLY = {p.name: p.default for p in REGISTERED[[m.name for m in REGISTERED].index("disney")].numbers
                if p.name in MODEL_PARAMETERS["disney"] and all(m.declaration(p.name) is None
@@ -109,17 +113,20 @@ PARAMETER_RANGES = {p.name: (p.low, p.high, p.default) for p in PARAMETERS
 #: ``sheen_color``, ...).  Cook-Torrance's ``eta`` and ``k`` (no default: set by the
 #: ``conductor`` choice) are not among them.
 COLOUR_PARAMETERS = {m.name: tuple(p.name for p in m.numbers if p.channels == 3 and p.name not in TEXTURED
-                               and p.default is not None) for m in REGISTERED}
+                               and p.default is not None and p.name not in NOT_REFLECTION) for m in REGISTERED}
 #: (low, high, default) of every colour parameter (one channel's range; the default RGB).
 COLOUR_RANGES = {p.name: (p.low, p.high, tuple(p.default)) for p in PARAMETERS
                  if isinstance(p, Parameter) and p.channels == 3 and p.name in set().union(*COLOUR_PARAMETERS.values())}
 #: The explorer's slider ends where the declared range is open (a slider needs a finite
 #: end) or has a gap: KHR_materials_ior's ior, declared 0 or >= 1 (0: f0 = 1), from 1
 #: (f0 = 0) to 3 (f0 = 0.25; diamond's 2.42 inside); KHR_materials_specular's
-#: specular_color, declared [0, inf) (f0 = min(f0(ior) colour, 1) per channel), to 2.
+#: specular_color, declared [0, inf) (f0 = min(f0(ior) colour, 1) per channel), to 2;
+#: KHR_materials_iridescence's film IOR to 2.5 and thickness to 1200 nm (the sample
+#: models' range).
 #: A value outside a slider's ends is still a valid material (:func:`model_brdf` checks
 #: the declared range).
-SLIDER_LIMITS = {"ior": (1.0, 3.0), "specular_color": (0.0, 2.0)}
+SLIDER_LIMITS = {"ior": (1.0, 3.0), "specular_color": (0.0, 2.0), "iridescence_ior": (1.0, 2.5),
+                 "iridescence_thickness_maximum": (0.0, 1200.0)}
 #: The end of a slider over any other open range (a parameter declared later).
 SLIDER_UNBOUNDED_HIGH = 2.0
 #: (low, high) of every scalar and colour parameter's slider: the declared range, or

@@ -23,6 +23,11 @@ for :func:`pbrkit.render.realtime.render_realtime` with ``engine="khronos"``:
   :func:`pbrkit.brdf.fresnel.f_iridescence`, the same evaluation of the extension's
   README) applied to the bare prefiltered radiance (no split-sum albedo), no film at
   thickness 0; rgb_mix(a, b, t) = (1 - max3(t)) a + t b;
+- KHR_materials_transmission and _volume: ``f_diffuse = mix(f_diffuse,
+  f_specular_transmission, transmissionFactor)``, f_specular_transmission = (1 - (F0 A +
+  B)) x the transmitted light x baseColor (``getIBLVolumeRefraction``; the light is
+  :mod:`pbrkit.render.transmission_ibl`'s, the environment where the viewer reads its
+  transmission framebuffer);
 - KHR_materials_clearcoat: ``color = mix(color, clearcoat_brdf, clearcoat
   clearcoatFresnel)`` with clearcoat_brdf the GGX-prefiltered radiance at the coat's
   roughness alone (``getIBLRadianceGGX``: no split-sum albedo) and clearcoatFresnel =
@@ -43,7 +48,7 @@ from ..brdf.lobes.sheen import sheen_albedo_lookup
 from ..brdf.shading.registry import COLUMNS
 from ..core.jit import dual_use
 
-__all__ = ["sample_viewer_fresnel", "sample_viewer_base", "sample_viewer_extensions_ibl"]
+__all__ = ["sample_viewer_fresnel", "sample_viewer_layers", "sample_viewer_base", "sample_viewer_extensions_ibl"]
 
 _INV_PI = 1.0 / math.pi
 _IOR, _SPECULAR, _SPECULAR_COLOR = COLUMNS.ior, COLUMNS.specular, COLUMNS.specular_color
@@ -51,6 +56,7 @@ _SHEEN_COLOR, _SHEEN_ROUGHNESS = COLUMNS.sheen_color, COLUMNS.sheen_roughness
 _CLEARCOAT = COLUMNS.clearcoat
 _IRIDESCENCE, _FILM_IOR = COLUMNS.iridescence, COLUMNS.iridescence_ior
 _FILM_THICKNESS = COLUMNS.iridescence_thickness_maximum
+_TRANSMISSION = COLUMNS.transmission
 
 
 @dual_use(inline=True)
@@ -66,33 +72,44 @@ def sample_viewer_fresnel(nov, r, f0, weight, a, b):
 
 
 @dual_use(inline=True)
-def sample_viewer_base(nov, r, base, metallic, f0, weight, a, b, radiance, irradiance):
-    """One channel of the Sample Viewer's metallic-roughness IBL (pbr.frag): the
-    dielectric mix(base E / pi, radiance, W(F0, weight)), the metal radiance W(base, 1),
-    mixed by metallic (W :func:`sample_viewer_fresnel`)."""
+def sample_viewer_layers(nov, r, diffuse, base, metallic, f0, weight, a, b, radiance):
+    """One channel of the Sample Viewer's metallic-roughness IBL (pbr.frag) over the
+    diffuse radiance ``diffuse`` (f_diffuse): the dielectric mix(f_diffuse, radiance,
+    W(F0, weight)), the metal radiance W(base, 1), mixed by metallic (W
+    :func:`sample_viewer_fresnel`)."""
     w_d = sample_viewer_fresnel(nov, r, f0, weight, a, b)
-    dielectric = base * irradiance * _INV_PI * (1.0 - w_d) + radiance * w_d
+    dielectric = diffuse * (1.0 - w_d) + radiance * w_d
     metal = radiance * sample_viewer_fresnel(nov, r, base, 1.0, a, b)
     return dielectric + (metal - dielectric) * metallic
 
 
 @dual_use(inline=True)
+def sample_viewer_base(nov, r, base, metallic, f0, weight, a, b, radiance, irradiance):
+    """:func:`sample_viewer_layers` over the Lambertian f_diffuse = base E / pi."""
+    return sample_viewer_layers(nov, r, base * irradiance * _INV_PI, base, metallic, f0, weight, a, b, radiance)
+
+
+@dual_use(inline=True)
 def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radiance, irradiance, coat_radiance,
-                                 sheen_radiance, charlie_lut, c, base0, base1, base2):
+                                 sheen_radiance, charlie_lut, c, base0, base1, base2, transmitted):
     """Channel ``c`` of the Sample Viewer's IBL of a glTF material with extensions
     (module docstring): parameters from row ``q`` of the packed table ``params``,
     ``base`` the channel's base colour, the prefiltered ``radiance`` (GGX at r),
     ``irradiance`` E (the diffuse is base E / pi), the coat's and the sheen's
     prefiltered radiance, and ``charlie_lut`` the Charlie LUT's value at (n.v,
     sheenRoughness); (``base0``, ``base1``, ``base2``) the whole base colour (the film's
-    Fresnel over it)."""
+    Fresnel over it); ``transmitted`` the light through the surface
+    (:mod:`pbrkit.render.transmission_ibl`)."""
     ior = params[q, _IOR]
     f0_ior = ((ior - 1.0) / (ior + 1.0)) ** 2
     f0 = min(f0_ior * params[q, _SPECULAR_COLOR + c], 1.0)
     k = params[q, _IRIDESCENCE]
+    t = params[q, _TRANSMISSION]
+    diffuse = base * irradiance * _INV_PI
+    if t > 0.0:  # f_diffuse = mix(f_diffuse, getIBLVolumeRefraction(...), transmissionFactor), f90 1
+        diffuse = diffuse + ((1.0 - (f0 * a + b)) * transmitted * base - diffuse) * t
     if k > 0.0 and params[q, _FILM_THICKNESS] > 0.0:  # pbr.frag's MATERIAL_IRIDESCENCE branch
         w_d = sample_viewer_fresnel(nov, r, f0, params[q, _SPECULAR], a, b)
-        diffuse = base * irradiance * _INV_PI
         dielectric = diffuse * (1.0 - w_d) + radiance * w_d
         metal = radiance * sample_viewer_fresnel(nov, r, base, 1.0, a, b)
         film_ior = params[q, _FILM_IOR]
@@ -106,7 +123,7 @@ def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radian
         metal = metal + (radiance * m[c] - metal) * k
         color = dielectric + (metal - dielectric) * metallic
     else:
-        color = sample_viewer_base(nov, r, base, metallic, f0, params[q, _SPECULAR], a, b, radiance, irradiance)
+        color = sample_viewer_layers(nov, r, diffuse, base, metallic, f0, params[q, _SPECULAR], a, b, radiance)
     s0, s1, s2 = params[q, _SHEEN_COLOR], params[q, _SHEEN_COLOR + 1], params[q, _SHEEN_COLOR + 2]
     if s0 > 0.0 or s1 > 0.0 or s2 > 0.0:
         e = sheen_albedo_lookup(nov, params[q, _SHEEN_ROUGHNESS])

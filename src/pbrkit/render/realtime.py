@@ -56,6 +56,7 @@ from ..brdf.dispatch import (
     ibl_extras,
     ibl_has_diffuse,
     ibl_has_extras,
+    ibl_transmission,
     split_sum_f0,
 )
 from ..brdf.fresnel import f0_from_ior, f_schlick
@@ -76,6 +77,7 @@ from .geometry import Geometry
 from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary, _resolve
 from .punctual import punctual_radiance
+from .transmission_ibl import transmission_lookups
 
 __all__ = [
     "render_realtime",
@@ -398,14 +400,16 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
 
 @row_kernel(5)
 def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
-                coat_prefiltered, coat_roughness, sheen_prefiltered, charlie, sheen_table, diffuse_table,
+                coat_prefiltered, coat_roughness, sheen_prefiltered, charlie, transmitted, sheen_table, diffuse_table,
                 exact_diffuse, energy_compensation, engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
     energy-compensation factor (for the punctual lights).  ``engine`` (:data:`ENGINES`
     index) 1 is Filament's evaluation (``evaluateIBL``): the diffuse colour weighted
     by 1 - E per channel, E = DFG1 + F0 (DFG2 - DFG1) the specular albedo, in place of
     the model's own weighting; 2 and 3 are the metallic-roughness evaluations of
-    the Sample Viewer and three.js (:func:`_engine_ibl`)."""
+    the Sample Viewer and three.js (:func:`_engine_ibl`).  ``transmitted``: the light
+    through each hit (:func:`pbrkit.render.transmission_ibl.transmission_lookups`; read
+    only for a material that transmits)."""
     for i in range(start, stop):
         m = mat[i]
         b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
@@ -420,7 +424,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
                 out[i, c] = sample_viewer_extensions_ibl(mf, m, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1,
                                                          prefiltered[i, c], irradiance[i, c], coat_prefiltered[i, c],
                                                          sheen_prefiltered[i, c], charlie[i], c, base[i, 0],
-                                                         base[i, 1], base[i, 2]) * occlusion[i]
+                                                         base[i, 1], base[i, 2],
+                                                         transmitted[i, c] if ibl_transmission(b) > 0.0 else 0.0
+                                                         ) * occlusion[i]
                 ec_out[i, c] = 1.0
             continue
         if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE or engine == _ENGINE_BABYLON:
@@ -436,6 +442,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         f90 = split_sum_f90(b)
         extras = ibl_has_extras(b)
         base_scale = ibl_base_scale(b, nov)
+        transmits = ibl_transmission(b)
         spec_add = (0.0, 0.0, 0.0)
         diff_add = (0.0, 0.0, 0.0)
         if extras:  # the model's other lobes (Disney's clear coat and sheen)
@@ -464,6 +471,8 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             if diffuse_on:
                 w = (1.0 - albedo) * _INV_PI if engine == _ENGINE_FILAMENT else diffuse_weight
                 diff = b.diffuse_color[c] * w * irradiance[i, c]
+                if transmits > 0.0:  # KHR_materials_transmission: the light through it, weighted alike
+                    diff += transmits * b.base[c] * w * math.pi * transmitted[i, c]
             if extras:  # the model's base under its other lobes (glTF's sheen albedo scaling; 1 for Disney)
                 spec = spec * base_scale + spec_add[c]
                 diff = diff * base_scale + diff_add[c]
@@ -629,11 +638,15 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         timings["ibl_lookups"] = t4 - t3
         out = np.empty((count, 3))
         ec = np.empty((count, 3))
+        transmitted = transmission_lookups(mat_i, mat_f, s, v, scene.camera.position, sampler, env.to_env_frame,
+                                           levels, engine)
+        if transmitted.shape[0] > 1:
+            transmitted *= env.intensity
         ibl_kernel = for_materials(_ibl_kernel, mat_i)
         ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
                    s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                    np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                   sheen_prefiltered, charlie,
+                   sheen_prefiltered, charlie, transmitted,
                    sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
                    bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
@@ -647,7 +660,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             area = np.empty((count, 3))
             ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count if extended else 1, 3)),
-                       np.zeros(count if extended else 1), sheen_albedo_table(), fresnel_mix_albedo_table(),
+                       np.zeros(count if extended else 1), np.zeros((1, 3)), sheen_albedo_table(),
+                       fresnel_mix_albedo_table(),
                        diffuse_weight == "exact", bool(energy_compensation), 0, area, np.empty((count, 3)))
             out += area
             t6 = time.perf_counter()

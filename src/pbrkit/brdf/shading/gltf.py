@@ -77,7 +77,8 @@ __all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_
            "SPECULAR_SLOT", "IRIDESCENCE_SLOT", "TRANSMISSION_SLOT", "THICKNESS_SLOT", "SPECULAR_DV", "khr_fresnel",
            "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
            "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
-           "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale"]
+           "ibl_coat_roughness", "ibl_sheen_roughness", "ibl_extensions_extras", "ibl_extensions_base_scale",
+           "ibl_transmission"]
 
 #: The glTF 2.0 dielectric's IOR (Appendix B.3.4) and its normal reflectance
 #: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
@@ -351,6 +352,16 @@ def ibl_specular_diffuse_weight(b, nov, exact, table):
 
 
 @dual_use(inline=True)
+def ibl_transmission(b):
+    """KHR_materials_transmission in real time: the weight (1 - metallic) transmission on
+    baseColor x the diffuse's Fresnel weight x the transmitted light
+    (:mod:`pbrkit.render.transmission_ibl`): the specification's mix(diffuse_brdf,
+    specular_btdf, transmission) beneath the dielectric's fresnel_mix, the setup having
+    taken 1 - transmission of the diffuse colour."""
+    return (1.0 - b.metallic) * b.extra[TRANSMISSION_SLOT]
+
+
+@dual_use(inline=True)
 def _sheen_on(b):
     s = SHEEN_COLOR_SLOT
     return b.extra[s] > 0.0 or b.extra[s + 1] > 0.0 or b.extra[s + 2] > 0.0
@@ -467,5 +478,6 @@ MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with it
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
                        sheen_roughness=ibl_sheen_roughness, extras=ibl_extensions_extras,
-                       base_scale=ibl_extensions_base_scale, khronos_extensions=True), core=CORE,
+                       base_scale=ibl_extensions_base_scale, khronos_extensions=True,
+                       transmission=ibl_transmission), core=CORE,
               emission_coat=emission_coat)

@@ -34,6 +34,11 @@ def _unscaled(b, nov):
 
 
 @dual_use(inline=True)
+def _opaque(b):
+    return 0.0
+
+
+@dual_use(inline=True)
 def _uncoated(params, q, columns):
     return 0.0
 
@@ -53,7 +58,10 @@ class RealTime:
     ``base_scale(b, nov)``, the factor on the specular and diffuse IBL terms before
     the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling);
     ``khronos_extensions``: ``engine="khronos"`` evaluates the model's glTF material
-    extensions as the Sample Viewer does (:mod:`pbrkit.render.khronos_ibl`)."""
+    extensions as the Sample Viewer does (:mod:`pbrkit.render.khronos_ibl`);
+    ``transmission(b)``, the weight on base colour x diffuse weight x the light
+    transmitted through the surface (0: none; glTF's KHR_materials_transmission,
+    :mod:`pbrkit.render.transmission_ibl`)."""
 
     diffuse_weight: object = _one
     coat_roughness: object = _no_coat
@@ -61,6 +69,7 @@ class RealTime:
     extras: object = None
     base_scale: object = _unscaled
     khronos_extensions: bool = False
+    transmission: object = _opaque
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,0 +1,102 @@
+"""Real-time KHR_materials_transmission and KHR_materials_volume: the light a
+transmissive glTF material lets through, looked up in the prefiltered environment
+(issue 25's "transmission through the roughness-filtered environment with volume
+attenuation"), for :func:`pbrkit.render.realtime.render_realtime`.
+
+As the Khronos Sample Viewer does (``ibl.glsl``, ``getIBLVolumeRefraction``,
+``getVolumeTransmissionRay``, ``applyIorToRoughness``, ``applyVolumeAttenuation``):
+
+- the transmission ray: thin-walled (thickness 0) straight on, along -v; through a
+  volume, GLSL's refract(-v, n, 1 / ior) followed for ``thickness`` (the volume
+  README's thickness, in scene units: no node scale), one refraction only;
+- the roughness of the lookup: applyIorToRoughness, r' = r clamp(2 ior - 2, 0, 1)
+  (an ior near 1 does not blur what it lets through);
+- the volume's attenuation over that length: attenuationColor^(thickness /
+  attenuationDistance) (:func:`pbrkit.brdf.transmission.absorption`).
+
+Where the viewer reads its transmission framebuffer (the opaque scene rendered
+behind, mip-filtered) at the projection of the ray's exit point, pbrkit reads the
+environment: with ``engine="pbrkit"`` along the transmission ray's direction, with
+``engine="khronos"`` along the camera's ray through the exit point (what a
+framebuffer of the background shows there), each at the GGX-prefiltered level of
+r'.  Other objects behind a transmissive one are not seen through it in real time
+(the ground truth traces them).  The weights (the material's (1 - metallic)
+transmission baseColor and the Fresnel left to the base) are the kernels'
+(:func:`pbrkit.brdf.shading.gltf.ibl_transmission`,
+:func:`pbrkit.render.khronos_ibl.sample_viewer_extensions_ibl`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..brdf.shading.registry import COLUMNS, EXTENDED_CODES
+from ..brdf.transmission import absorption
+from ..core.jit import row_kernel
+from ..ibl.prefilter import level_of_roughness
+
+__all__ = ["refract", "ior_roughness", "transmission_lookups"]
+
+_TRANSMISSION, _THICKNESS, _IOR = COLUMNS.transmission, COLUMNS.thickness, COLUMNS.ior
+
+
+def refract(i, n, eta):
+    """GLSL's refract(I, N, eta) on arrays (..., 3) (The OpenGL Shading Language,
+    "Geometric Functions"): k = 1 - eta^2 (1 - (N.I)^2); 0 where k < 0 (total
+    internal reflection), else eta I - (eta N.I + sqrt k) N.  ``eta`` = n_1 / n_2."""
+    eta = np.asarray(eta, dtype=np.float64)[..., None]
+    cos = np.sum(n * i, axis=-1, keepdims=True)
+    k = 1.0 - eta * eta * (1.0 - cos * cos)
+    out = eta * i - (eta * cos + np.sqrt(np.maximum(k, 0.0))) * n
+    return np.where(k < 0.0, 0.0, out)
+
+
+def ior_roughness(r, ior):
+    """The Sample Viewer's applyIorToRoughness: r clamp(2 ior - 2, 0, 1), the perceptual
+    roughness at which the transmitted light is blurred."""
+    return np.asarray(r) * np.clip(2.0 * np.asarray(ior) - 2.0, 0.0, 1.0)
+
+
+@row_kernel(2)
+def _attenuation(start, stop, params, material, length, out):
+    for i in range(start, stop):
+        a = absorption(params, material[i], length[i])
+        out[i, 0] = a[0]
+        out[i, 1] = a[1]
+        out[i, 2] = a[2]
+
+
+def transmission_lookups(codes, params, surface, v, camera_position, sampler, to_env_frame, levels, engine):
+    """The light transmitted through each hit (N, 3): the prefiltered environment along
+    the transmission ray (module docstring) times the volume's attenuation, for the hits
+    of extended glTF materials with transmission > 0; zeros elsewhere.  A single zero
+    row where no hit transmits (the kernels then read none).  ``sampler(directions,
+    lods)`` reads the chain of ``levels`` levels, ``to_env_frame`` maps world
+    directions into the map's frame."""
+    material = surface.material
+    gltf = codes[material, 0] == EXTENDED_CODES["gltf"]
+    rows = np.flatnonzero(gltf & (params[material, _TRANSMISSION] > 0.0))
+    if rows.size == 0:
+        return np.zeros((1, 3))
+    m = material[rows]
+    n = surface.n[rows]
+    vv = v[rows]
+    ior = np.maximum(params[m, _IOR], 1.0)  # KHR_materials_ior's 0 (f0 1) refracts as 1
+    thickness = params[m, _THICKNESS]
+    bent = refract(-vv, n, 1.0 / ior)
+    bent = np.where(np.sum(bent * bent, axis=-1, keepdims=True) > 0.0, bent, -vv)
+    volume = (thickness > 0.0)[:, None]
+    if engine == "khronos":  # the background a framebuffer shows at the exit point's projection
+        exit_ = surface.p[rows] + bent * thickness[:, None]
+        toward = exit_ - np.asarray(camera_position, dtype=np.float64)
+        toward /= np.maximum(np.linalg.norm(toward, axis=-1, keepdims=True), 1e-300)
+        direction = np.where(volume, toward, -vv)
+    else:
+        direction = np.where(volume, bent, -vv)
+    lod = level_of_roughness(ior_roughness(surface.roughness[rows], ior), levels)
+    light = sampler(to_env_frame(np.ascontiguousarray(direction)), np.asarray(lod, dtype=np.float64))
+    att = np.empty((rows.size, 3))
+    _attenuation(params, np.ascontiguousarray(m), np.ascontiguousarray(thickness, dtype=np.float64), att)
+    out = np.zeros((material.size, 3))
+    out[rows] = light * att
+    return out
