@@ -288,6 +288,8 @@ GLTF_CASES = {
         "emissiveStrength": -1}}), "emissiveStrength"),
     "doubleSided string": (_set(["materials", 0, "doubleSided"], "yes"), "doubleSided must be true or false"),
     "alphaMode unknown": (_set(["materials", 0, "alphaMode"], "GLASS"), "alphaMode must be one of"),
+    "alphaCutoff negative": (_set(["materials", 0, "alphaCutoff"], -0.5), "materials[0].alphaCutoff must be"),
+    "alphaCutoff string": (_set(["materials", 0, "alphaCutoff"], "0.5"), "materials[0].alphaCutoff must be"),
     "wrapS unknown": (_set(["samplers", 0, "wrapS"], 1234), "samplers[0].wrapS must be one of"),
     "matrix of 15": (_set(["nodes", 0, "matrix"], [1.0] * 15), "nodes[0].matrix must be an array of 16"),
     "zero rotation": (_set(["nodes", 0, "rotation"], [0, 0, 0, 0]), "unit quaternion"),

@@ -41,7 +41,8 @@ def _png(pixels):
 
 
 def write_quad_glb(path, *, texture=None, mr_texture=None, normal_texture=None, sampler=None, node_matrix=None,
-                   extensions_required=(), uv=None, material_extras=None, light=None, alpha=None, base_alpha=1.0):
+                   extensions_required=(), uv=None, material_extras=None, light=None, alpha=None, base_alpha=1.0,
+                   emissive=(0.2, 0.1, 0.0)):
     """A unit quad in the XY plane (z = 0, facing +Z) with glTF UVs (v down: image top at +Y),
     placed by a parent node (translation (0, 0, -1)) and a child node (matrix or scale 2)."""
     import pygltflib as g
@@ -83,7 +84,7 @@ def write_quad_glb(path, *, texture=None, mr_texture=None, normal_texture=None, 
         gl_images.append(g.Image(bufferView=4 + len(gl_images), mimeType="image/png"))
         textures.append(g.Texture(source=len(gl_images) - 1))
         normal_info = g.NormalMaterialTexture(index=len(textures) - 1, scale=1.0)
-    material = g.Material(pbrMetallicRoughness=pbr, emissiveFactor=[0.2, 0.1, 0.0], doubleSided=True,
+    material = g.Material(pbrMetallicRoughness=pbr, emissiveFactor=list(emissive), doubleSided=True,
                           extensions=material_extras or {}, normalTexture=normal_info, **(alpha or {}))
     child = g.Node(mesh=0)
     if node_matrix is not None:
@@ -427,7 +428,8 @@ def test_a_cutout_lets_light_through_to_the_shadow_side(tmp_path, mode):
     """Shadow rays pass the cutouts too: a sun straight above a floor, a MASK quad laid
     flat between them (x in [-0.5, 0.5], z in [-1.5, -0.5]) transparent where x < 0: the
     floor under that half is lit as without the quad, under the other half not at all
-    (a black sky: the sun alone lights it; the camera looks under the quad)."""
+    (a black sky: the sun alone lights it; the quad emits nothing; the camera looks under
+    the quad)."""
     from pbrkit.render.scene import Light
 
     texture = np.zeros((2, 2, 4), dtype=np.uint8)
@@ -435,7 +437,7 @@ def test_a_cutout_lets_light_through_to_the_shadow_side(tmp_path, mode):
     texture[:, 1, 3] = 255
     flat = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], dtype=float)  # (x, y, 0) -> (x, 0, -y)
     path = write_quad_glb(tmp_path / "mask.glb", texture=texture, sampler=_NEAREST_CLAMP,
-                          alpha={"alphaMode": "MASK"}, node_matrix=flat)
+                          alpha={"alphaMode": "MASK"}, node_matrix=flat, emissive=(0.0, 0.0, 0.0))
     cam = Camera(position=(3.0, -0.6, -1.0), look_at=(0.0, -1.0, -1.0), fov=40.0, width=24, height=24)
     floor = MaterialSpec(name="floor", metallic=0.0, roughness=1.0, base_color=(0.5, 0.5, 0.5))
     sun = Light(type="directional", direction=(0.0, -1.0, 0.0), intensity=2.0)

@@ -59,7 +59,7 @@ def ray_uniform(origins, dirs, layer):
     """A number in [0, 1) per ray (N,), a hash of the bits of its origin and direction
     (N, 3) and the ``layer`` it crosses."""
     bits = np.ascontiguousarray(np.concatenate([origins, dirs], axis=1), dtype=np.float64).view(np.uint64)
-    h = np.full(bits.shape[0], np.uint64(0x9E3779B97F4A7C15) * np.uint64(layer + 1), dtype=np.uint64)
+    h = _mix64(np.full(bits.shape[0], layer, dtype=np.uint64) + np.uint64(0x9E3779B97F4A7C15))
     with np.errstate(over="ignore"):
         for c in range(bits.shape[1]):
             h = _mix64(h ^ bits[:, c])
@@ -113,10 +113,11 @@ def see_through(geometry, tables, hits, origins, dirs, rows, layer):
     return out
 
 
-def pass_through(geometry, tables, closest, hits, origins, dirs, tmax):
+def pass_through(geometry, tables, closest, hits, origins, dirs, tmax, salt=0):
     """``hits`` (the closest hits of rays o + t d, t < tmax) with every surface that the
     ray passes through (:func:`see_through`) replaced by the next one behind it, found
-    by ``closest(origins, dirs, tmax)`` from just beyond it."""
+    by ``closest(origins, dirs, tmax)`` from just beyond it.  ``salt`` (an integer)
+    draws other coverage decisions for the same rays (another Monte Carlo sample)."""
     origins = np.asarray(origins, dtype=np.float64)
     dirs = np.asarray(dirs, dtype=np.float64)
     n = origins.shape[0]
@@ -126,7 +127,7 @@ def pass_through(geometry, tables, closest, hits, origins, dirs, tmax):
     for layer in range(LAYERS):
         if pending.size == 0:
             break
-        through = pending[see_through(geometry, tables, hits, origins, dirs, pending, layer)]
+        through = pending[see_through(geometry, tables, hits, origins, dirs, pending, layer + LAYERS * salt)]
         if through.size == 0:
             break
         start = hits.t[through] + eps

@@ -144,13 +144,19 @@ class Geometry:
         _trace_batch(origins, dirs, 0.0, tmax, any_hit, self.spheres, *self.bvh, self.planes, t, kind, index)
         return origins, dirs, tmax, t, kind, index
 
-    def intersect(self, origins, dirs, tmax=None):
+    def intersect(self, origins, dirs, tmax=None, salt=0):
         """Closest hits of rays (N, 3) with unit directions, t in (0, tmax), through the
-        surfaces that glTF's alpha modes let rays pass (:mod:`pbrkit.render.alpha`)."""
+        surfaces that glTF's alpha modes let rays pass (:mod:`pbrkit.render.alpha`;
+        ``salt`` varies the coverage decisions of BLEND surfaces)."""
         hits = self._closest(origins, dirs, tmax)
         if self._coverage is not None:
-            hits = pass_through(self, self._coverage, self._closest, hits, origins, dirs, tmax)
+            hits = pass_through(self, self._coverage, self._closest, hits, origins, dirs, tmax, salt)
         return hits
+
+    @property
+    def blends(self):
+        """Whether a material has alphaMode BLEND (coverage varies from ray to ray)."""
+        return self._coverage is not None and bool(np.any(self._coverage[0] == 2))
 
     def _closest(self, origins, dirs, tmax=None):
         """Closest hits of rays (N, 3) with unit directions, t in (0, tmax)."""

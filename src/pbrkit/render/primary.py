@@ -41,11 +41,17 @@ class _Primary:
     hits: object = None     # the Hits of every ray (t, kind, index: G-buffers for styles)
 
 
-def _primary(scene, geometry):
+def _primary(scene, geometry, salt=0, rays=None):
+    """The primary hits of the camera's rays (``rays``: the indices of a subset, in the
+    order of :meth:`pbrkit.render.scene.Camera.ray_directions`; default all); ``salt``
+    varies the coverage of glTF BLEND surfaces (:mod:`pbrkit.render.alpha`) from one
+    Monte Carlo sample to the next."""
     cam = scene.camera
     dirs = cam.ray_directions().reshape(-1, 3)
+    if rays is not None:
+        dirs = dirs[rays]
     origins = np.broadcast_to(np.asarray(cam.position, dtype=np.float64), dirs.shape)
-    hits = geometry.intersect(origins, dirs)
+    hits = geometry.intersect(origins, dirs, salt=salt)
     emitted = None
     if len(geometry.area_lights):  # an area light in front of the surface hides it
         t, index, radiance = geometry.area_light_hits(origins, dirs, hits.t)

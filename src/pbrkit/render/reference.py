@@ -496,10 +496,13 @@ def _miss_batch(start, stop, strategy, pdf_b, d, env, out):
         out[i, 2] = le[2]
 
 
-def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, materials):
+def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, strategy, occlusion, materials,
+               scene=None):
     """Every sample of a scene with triangle meshes (Embree) as a loop over samples and
     bounces, each step on the whole wavefront of paths at once (:func:`_vertex_batch`,
-    then shadow rays, BRDF rays and what they meet); returns the :class:`Film`."""
+    then shadow rays, BRDF rays and what they meet); returns the :class:`Film`.  In a
+    scene with glTF BLEND surfaces each sample casts its primary rays again, so that
+    their coverage (:mod:`pbrkit.render.alpha`) is drawn per sample."""
     envs = environment_arrays(env)
     area = area_arrays(geometry)
     has_area = len(geometry.area_lights) > 0
@@ -509,20 +512,30 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
     transmits = bool(np.any(materials.params[:, _TRANSMISSION] > 0.0))
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
+    blend = scene is not None and geometry.blends
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
     ray_sub = np.arange(prim.dirs.shape[0]) % k2
     for j in range(spp):
         sub = j % k2
-        x = base_value[sub::k2].copy()  # rays are pixel-major: ray = pixel * k2 + sub
-        sel = np.flatnonzero(ray_sub[prim.rows] == sub)
-        rows = prim.rows[sel]
-        surf_p = prim.surface.p[sel]
-        surf_ng = prim.surface.ng[sel]
-        surf_n = prim.surface.n[sel]
-        surf_mat = prim.surface.material[sel]
-        surf_r = prim.surface.roughness[sel]
-        surf_m = prim.surface.metallic[sel]
-        surf_b = prim.surface.base_color[sel]
+        if blend:  # this sample's primary rays (ray = pixel * k2 + sub), their coverage drawn anew
+            ids = np.arange(sub, prim.dirs.shape[0], k2)
+            pj = _primary(scene, geometry, salt=j + 1, rays=ids)
+            x = _base_values(pj, geometry, env, materials)
+            rows = ids[pj.rows]
+            sj = pj.surface
+            surf_p, surf_ng, surf_n, surf_mat = sj.p, sj.ng, sj.n, sj.material
+            surf_r, surf_m, surf_b = sj.roughness, sj.metallic, sj.base_color
+        else:
+            x = base_value[sub::k2].copy()  # rays are pixel-major: ray = pixel * k2 + sub
+            sel = np.flatnonzero(ray_sub[prim.rows] == sub)
+            rows = prim.rows[sel]
+            surf_p = prim.surface.p[sel]
+            surf_ng = prim.surface.ng[sel]
+            surf_n = prim.surface.n[sel]
+            surf_mat = prim.surface.material[sel]
+            surf_r = prim.surface.roughness[sel]
+            surf_m = prim.surface.metallic[sel]
+            surf_b = prim.surface.base_color[sel]
         v = -prim.dirs[rows]
         pix = ray_pixel[rows]
         through = np.ones((rows.size, 3))
@@ -624,6 +637,20 @@ def _media_tables(materials):
     return volume, sigma
 
 
+def _base_values(prim, geometry, env, materials):
+    """The deterministic part of each primary ray (rays, 3): the background where it
+    misses, else the emission and the punctual lights at its hit."""
+    base_value = np.zeros((prim.dirs.shape[0], 3))
+    base_value[~prim.hit] = _background(prim, env)
+    if prim.rows.size:
+        s = prim.surface
+        v = -prim.dirs[prim.rows]
+        nov = np.einsum("ij,ij->i", s.n, v)
+        base_value[prim.rows] = emission_seen(materials.codes, materials.params, s.material, nov, s.emissive) + \
+            punctual_radiance(geometry, s, v, materials.codes, materials.params, None, True)
+    return base_value
+
+
 def _primary_points(prim, v):
     """The primary hits as :class:`pbrkit.render.records.Points`, one row per ray (rows
     of rays that missed: material -1, zeros)."""
@@ -675,16 +702,8 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     k2 = cam.supersample ** 2
     n_pixels = cam.width * cam.height
     materials = Materials(*material_tables(geometry.materials))
-    s = prim.surface
     v = -prim.dirs[prim.rows]
-    # deterministic part of each ray: background, or emission + punctual lights at the hit
-    base_value = np.zeros((prim.dirs.shape[0], 3))
-    base_value[~prim.hit] = _background(prim, env)
-    if prim.rows.size:
-        nov = np.einsum("ij,ij->i", s.n, v)
-        base_value[prim.rows] = emission_seen(materials.codes, materials.params, s.material, nov, s.emissive) + \
-            punctual_radiance(geometry, s, v, materials.codes, materials.params,
-                                                               None, True)
+    base_value = _base_values(prim, geometry, env, materials)
     t2 = time.perf_counter()
     code = STRATEGIES.index(strategy)
     # materials that transmit: the lane engine (direct lighting) does not handle them
@@ -693,7 +712,7 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
     if geometry.has_meshes or engine == "wavefront":
         film = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code, bool(occlusion),
-                          materials)
+                          materials, scene)
         engine_name = "wavefront" + (" (Embree)" if geometry.has_meshes else "")
     else:
         hits = _primary_points(prim, v)
