@@ -1,7 +1,7 @@
 """The Monte Carlo estimator of the ground truth (:mod:`pbrkit.render.reference`),
 written once as small scalar functions that every engine schedules: the fused
 kernel and the wavefront loop call them one sample at a time
-(:func:`pbrkit.render.reference._vertex`), the lane kernel in loops over lanes
+(:func:`pbrkit.render.vertex._vertex`), the lane kernel in loops over lanes
 (:mod:`pbrkit.render.lanes`).  They take scalars, tuples and the material's
 :class:`pbrkit.brdf.bxdf.BxDF`, never arrays, and are inlined where they are called
 (Numba IR, ``dual_use(inline=True)``), so that a loop over lanes that calls them

@@ -9,7 +9,7 @@ the environment the BxDF samples see, shadow and BxDF rays (:func:`_trace_lanes`
 the BVH for larger scenes), the area lights' shadows and the emission the BxDF
 samples meet (ray by ray: those loops stay scalar), then the pixel's sums in sample
 order (:mod:`pbrkit.render.film`).  It draws the same random numbers as the fused
-and wavefront engines (:func:`pbrkit.render.reference._vertex`), so it gives their
+and wavefront engines (:func:`pbrkit.render.vertex._vertex`), so it gives their
 numbers (tested), and the same bytes for any thread count.
 """
 
@@ -349,7 +349,7 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
                 # --- the BxDF (specialised for the materials of _VARIANTS)
                 _lanes_for_variant(variant[m], b, at, p_spec, p_coat, strategy, lanes, n_eval, ub, lb, mb, sb)
                 # --- the environment the BxDF samples see
-                for i in range(lanes):  # reference._env_miss, with the loads in the loop
+                for i in range(lanes):  # vertex._env_miss, with the loads in the loop
                     ei, ej = _env_texel(height, width, c, s, sb[_S_DIR, i], sb[_S_DIR + 1, i], sb[_S_DIR + 2, i])
                     w = emission_weight(strategy, sb[_S_PDF, i], _texel_pdf(func[ei, ej], total))
                     lb[_L_LE, i] = radiance[ei, ej, 0] * w
