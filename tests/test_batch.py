@@ -259,6 +259,10 @@ def test_rerun_skips_finished_inputs_and_force_redoes_them(inputs, scheduler, tm
     assert again.exit_code == 0 and "2 inputs: 0 done, 2 skipped, 0 failed" in again.stdout
     assert {name: (out / name / "manifest.json").stat().st_ino for name in first} == first  # untouched
     before = {name: tree(out / name) for name in first}
+    (out / "sky" / "sheen.ktx2").unlink()  # a bake missing one of its outputs is stale: redone
+    redo = batch("bake", *paths, "-o", out, *SMALL, "--scheduler", address)
+    assert redo.exit_code == 0 and status_of(out) == {"other": "skipped", "sky": "done"}
+    assert any("incomplete (no sheen.ktx2)" in n for i in summary_of(out)["inputs"] for n in i["notes"])
     forced = batch("bake", *paths, "-o", out, *SMALL, "--scheduler", address, "--force")
     assert forced.exit_code == 0 and status_of(out) == {"other": "done", "sky": "done"}
     assert all((out / name / "manifest.json").stat().st_ino != ino for name, ino in first.items())

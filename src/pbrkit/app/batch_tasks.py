@@ -72,7 +72,8 @@ def _existing(out):
 
 
 #: Files every bake folder has (:mod:`pbrkit.io.bake_files`); one missing makes the folder stale.
-_BAKE_FILES = ("specular.ktx2", "specular.dds", "irradiance.ktx2", "irradiance.dds", "brdf_lut.npy", "preview.png")
+_BAKE_FILES = ("specular.ktx2", "specular.dds", "irradiance.ktx2", "irradiance.dds", "brdf_lut.npy", "sheen.ktx2",
+               "sheen.dds", "sheen_lut.npy", "preview.png")
 
 
 def bake_state(out, input_name, sha256, options, targets):
