@@ -1,7 +1,8 @@
 """The GLSL of the extended glTF material (``pbrkit_khr_material.glsl``, issue 25 item 5):
 KHR_materials_ior and KHR_materials_specular, KHR_materials_clearcoat, the whole BRDF
 with KHR_materials_sheen, and the extensions' real-time IBL (pbrkit's and the Khronos
-Sample Viewer's), against pbrkit's Python in WebGL2 (headless Chromium, SwiftShader), as
+Sample Viewer's, with KHR_materials_transmission / _volume's transmitted light and the
+viewer's thin-film mix: :mod:`pbrkit.render.transmission_ibl`), against pbrkit's Python in WebGL2 (headless Chromium, SwiftShader), as
 tests/test_shaders.py and tests/test_shaders_khr.py check the other files: each function
 over a grid of float32 inputs, compared with :mod:`pbrkit.brdf.shading.gltf` (its
 extended ``setup``, ``_specular_mix_weight``, ``ibl_*``), :mod:`pbrkit.brdf.lobes.clearcoat`,
@@ -327,6 +328,75 @@ def _sample_viewer_cases(rng, m):
     return cases
 
 
+def _transmission_cases(rng):
+    """Real-time KHR_materials_transmission / _volume and the Sample Viewer's thin-film mix,
+    each against its Python counterpart at random inputs."""
+    from pbrkit.brdf.transmission import absorption
+    from pbrkit.render.transmission_ibl import ior_roughness, transmission_direction
+
+    cases = []
+    r, ior = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(1.0, 3.0, N))
+    ior[:8] = 1.0
+    cases.append(Case("iorRoughness", ("pbrkit_iorRoughness",), "vec4(pbrkit_iorRoughness(a.x, a.y), 0.0, 0.0, 0.0)",
+                      [_vec4s(r, ior)], ior_roughness(r.astype(float), ior.astype(float))[:, None], atol=1e-7))
+    n = _f32(_unit(rng))
+    v = _unit(rng)
+    v = _f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
+    thickness = _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.01, 2.0, N)))
+    direction = transmission_direction(n.astype(float), v.astype(float), ior.astype(float), thickness)
+    cases.append(Case("transmissionDirection", ("pbrkit_transmissionDirection",),
+                      "vec4(pbrkit_transmissionDirection(a.xyz, b.xyz, c.x, c.y), 0.0)",
+                      [_vec4s(n), _vec4s(v), _vec4s(ior, thickness)], direction, atol=1e-5))
+    colour = _f32(rng.uniform(0.05, 1.0, (N, 3)))
+    colour[:4] = 1.0
+    distance = _f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.1, 3.0, N)))
+    params = np.zeros((N, COLUMNS.double_sided + 1))
+    params[:, COLUMNS.attenuation_color:COLUMNS.attenuation_color + 3] = colour
+    params[:, COLUMNS.attenuation_distance] = distance
+    attenuation = np.array([absorption(params, q, float(thickness[q])) for q in range(N)])
+    cases.append(Case("volumeAttenuation", ("pbrkit_volumeAttenuation",),
+                      "vec4(pbrkit_volumeAttenuation(a.x, b.xyz, a.y), 0.0)", [_vec4s(thickness, distance),
+                                                                                _vec4s(colour)],
+                      attenuation, atol=1e-7))
+    base, metallic = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 1, N))
+    transmission, weight = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 1, N))
+    light = _f32(rng.uniform(0, 4, (N, 3)))
+    p = np.zeros((N, COLUMNS.double_sided + 1))
+    p[:, COLUMNS.transmission] = transmission
+    p[:, COLUMNS.specular] = 1.0
+    p[:, COLUMNS.ior] = 1.5
+    codes = np.zeros((1, 5), dtype=np.int64)
+    tw = np.array([gltf.ibl_transmission(gltf.setup(codes, 0, p, q, COLUMNS, 0.5, float(metallic[q]),
+                                                    *map(float, base[q]))) for q in range(N)])
+    cases.append(Case("transmissionIBL", ("pbrkit_transmissionIBL",),
+                      "vec4(pbrkit_transmissionIBL(a.xyz, a.w, b.x, b.y, c.xyz), 0.0)",
+                      [_vec4s(base, metallic), _vec4s(transmission, weight), _vec4s(light)],
+                      tw[:, None] * base * weight[:, None] * light, atol=1e-7))
+    diffuse, f0 = _f32(rng.uniform(0, 2, (N, 3))), _f32(rng.uniform(0, 1, (N, 3)))
+    ab = _f32(np.stack([rng.uniform(0, 0.9, N), rng.uniform(0, 0.1, N)], axis=1))
+    expected = np.array([[khronos_ibl.sample_viewer_transmission(float(diffuse[q, k]), float(transmission[q]),
+                                                                 float(f0[q, k]), float(ab[q, 0]), float(ab[q, 1]),
+                                                                 float(light[q, k]), float(base[q, k]))
+                          for k in range(3)] for q in range(N)])
+    cases.append(Case("sampleViewerTransmission", ("pbrkit_sampleViewerTransmission",),
+                      "vec4(pbrkit_sampleViewerTransmission(a.xyz, a.w, b.xyz, c.xy, h.xyz, d.xyz), 0.0)",
+                      [_vec4s(diffuse, transmission), _vec4s(f0), _vec4s(ab), _vec4s(base), _vec4s(), _vec4s(),
+                       _vec4s(), _vec4s(light)], expected, atol=1e-6))
+    nov, k = _f32(rng.uniform(0.05, 1.0, N)), _f32(rng.uniform(0, 1, N))
+    film_d, film_m = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 1, (N, 3)))
+    radiance = _f32(rng.uniform(0, 4, (N, 3)))
+    expected = np.array([[khronos_ibl.sample_viewer_film(
+        float(nov[q]), float(r[q]), float(diffuse[q, c]), float(base[q, c]), float(metallic[q]), float(f0[q, c]),
+        float(weight[q]), float(ab[q, 0]), float(ab[q, 1]), float(radiance[q, c]), float(k[q]), float(film_d[q, c]),
+        float(film_d[q].max()), float(film_m[q, c])) for c in range(3)] for q in range(N)])
+    cases.append(Case("sampleViewerFilm", ("pbrkit_sampleViewerFilm",),
+                      "vec4(pbrkit_sampleViewerFilm(a.x, a.y, b.xyz, c.xyz, a.z, d.xyz, a.w, e.xy, f.xyz, b.w, g.xyz, "
+                      "h.xyz), 0.0)",
+                      [_vec4s(nov, r, metallic, weight), _vec4s(diffuse, k), _vec4s(base), _vec4s(f0), _vec4s(ab),
+                       _vec4s(radiance), _vec4s(film_d), _vec4s(film_m)], expected, atol=1e-6))
+    return cases
+
+
 @pytest.fixture(scope="module")
 def webgl_material_results(tmp_path_factory):
     from pbrkit.albedo.tables import lookup_table
@@ -339,7 +409,7 @@ def webgl_material_results(tmp_path_factory):
     m = _materials(rng)
     bx = _bxdfs(m)
     cases = (_setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + _renderer_cases(rng, m, dfg)
-             + _sample_viewer_cases(rng, m))
+             + _sample_viewer_cases(rng, m) + _transmission_cases(rng))
     rg = np.stack([table, np.zeros_like(table)], axis=-1)  # the page uploads RG32F; E in .r
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
             "lut": {"width": table.shape[1], "height": table.shape[0], "data": rg.reshape(-1).tolist()},

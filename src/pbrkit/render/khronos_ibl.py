@@ -48,7 +48,8 @@ from ..brdf.lobes.sheen import sheen_albedo_lookup
 from ..brdf.shading.registry import COLUMNS
 from ..core.jit import dual_use
 
-__all__ = ["sample_viewer_fresnel", "sample_viewer_layers", "sample_viewer_base", "sample_viewer_extensions_ibl"]
+__all__ = ["sample_viewer_fresnel", "sample_viewer_layers", "sample_viewer_base", "sample_viewer_transmission",
+           "sample_viewer_film", "sample_viewer_extensions_ibl"]
 
 _INV_PI = 1.0 / math.pi
 _IOR, _SPECULAR, _SPECULAR_COLOR = COLUMNS.ior, COLUMNS.specular, COLUMNS.specular_color
@@ -90,6 +91,31 @@ def sample_viewer_base(nov, r, base, metallic, f0, weight, a, b, radiance, irrad
 
 
 @dual_use(inline=True)
+def sample_viewer_transmission(diffuse, transmission, f0, a, b, transmitted, base):
+    """One channel of the Sample Viewer's f_diffuse with KHR_materials_transmission:
+    mix(f_diffuse, f_specular_transmission, transmissionFactor), f_specular_transmission
+    = (1 - (F0 A + B)) x the transmitted light x baseColor (``getIBLVolumeRefraction``, f90
+    1; the light from :mod:`pbrkit.render.transmission_ibl`)."""
+    return diffuse + ((1.0 - (f0 * a + b)) * transmitted * base - diffuse) * transmission
+
+
+@dual_use(inline=True)
+def sample_viewer_film(nov, r, diffuse, base, metallic, f0, weight, a, b, radiance, k, film_d, film_d_max,
+                       film_m):
+    """One channel of pbr.frag's MATERIAL_IRIDESCENCE branch: the metal mix(W(base, 1)
+    radiance, radiance film_m, k) and the dielectric mix(mix(f_diffuse, radiance, W(F0,
+    weight)), rgb_mix(f_diffuse, radiance, film_d), k), mixed by metallic; film_d and film_m
+    the film's Fresnel at n.v over F0 and over the base colour (this channel's, and
+    ``film_d_max`` the largest channel of film_d: rgb_mix(a, b, t) = (1 - max3 t) a + t b)."""
+    w_d = sample_viewer_fresnel(nov, r, f0, weight, a, b)
+    dielectric = diffuse * (1.0 - w_d) + radiance * w_d
+    metal = radiance * sample_viewer_fresnel(nov, r, base, 1.0, a, b)
+    dielectric = dielectric + ((1.0 - film_d_max) * diffuse + film_d * radiance - dielectric) * k
+    metal = metal + (radiance * film_m - metal) * k
+    return dielectric + (metal - dielectric) * metallic
+
+
+@dual_use(inline=True)
 def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radiance, irradiance, coat_radiance,
                                  sheen_radiance, charlie_lut, c, base0, base1, base2, transmitted):
     """Channel ``c`` of the Sample Viewer's IBL of a glTF material with extensions
@@ -106,24 +132,17 @@ def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radian
     k = params[q, _IRIDESCENCE]
     t = params[q, _TRANSMISSION]
     diffuse = base * irradiance * _INV_PI
-    if t > 0.0:  # f_diffuse = mix(f_diffuse, getIBLVolumeRefraction(...), transmissionFactor), f90 1
-        diffuse = diffuse + ((1.0 - (f0 * a + b)) * transmitted * base - diffuse) * t
+    if t > 0.0:
+        diffuse = sample_viewer_transmission(diffuse, t, f0, a, b, transmitted, base)
+    color = sample_viewer_layers(nov, r, diffuse, base, metallic, f0, params[q, _SPECULAR], a, b, radiance)
     if k > 0.0 and params[q, _FILM_THICKNESS] > 0.0:  # pbr.frag's MATERIAL_IRIDESCENCE branch
-        w_d = sample_viewer_fresnel(nov, r, f0, params[q, _SPECULAR], a, b)
-        dielectric = diffuse * (1.0 - w_d) + radiance * w_d
-        metal = radiance * sample_viewer_fresnel(nov, r, base, 1.0, a, b)
-        film_ior = params[q, _FILM_IOR]
-        thickness = params[q, _FILM_THICKNESS]
-        d = f_iridescence(nov, film_ior, thickness, min(f0_ior * params[q, _SPECULAR_COLOR], 1.0),
+        d = f_iridescence(nov, params[q, _FILM_IOR], params[q, _FILM_THICKNESS],
+                          min(f0_ior * params[q, _SPECULAR_COLOR], 1.0),
                           min(f0_ior * params[q, _SPECULAR_COLOR + 1], 1.0),
                           min(f0_ior * params[q, _SPECULAR_COLOR + 2], 1.0))
-        m = f_iridescence(nov, film_ior, thickness, base0, base1, base2)
-        film_dielectric = (1.0 - max(d[0], max(d[1], d[2]))) * diffuse + d[c] * radiance
-        dielectric = dielectric + (film_dielectric - dielectric) * k
-        metal = metal + (radiance * m[c] - metal) * k
-        color = dielectric + (metal - dielectric) * metallic
-    else:
-        color = sample_viewer_layers(nov, r, diffuse, base, metallic, f0, params[q, _SPECULAR], a, b, radiance)
+        m = f_iridescence(nov, params[q, _FILM_IOR], params[q, _FILM_THICKNESS], base0, base1, base2)
+        color = sample_viewer_film(nov, r, diffuse, base, metallic, f0, params[q, _SPECULAR], a, b, radiance, k,
+                                   d[c], max(d[0], max(d[1], d[2])), m[c])
     s0, s1, s2 = params[q, _SHEEN_COLOR], params[q, _SHEEN_COLOR + 1], params[q, _SHEEN_COLOR + 2]
     if s0 > 0.0 or s1 > 0.0 or s2 > 0.0:
         e = sheen_albedo_lookup(nov, params[q, _SHEEN_ROUGHNESS])

@@ -35,7 +35,7 @@ from ..brdf.transmission import absorption
 from ..core.jit import row_kernel
 from ..ibl.prefilter import level_of_roughness
 
-__all__ = ["refract", "ior_roughness", "transmission_lookups"]
+__all__ = ["refract", "ior_roughness", "transmission_direction", "transmission_lookups"]
 
 _TRANSMISSION, _THICKNESS, _IOR = COLUMNS.transmission, COLUMNS.thickness, COLUMNS.ior
 
@@ -55,6 +55,15 @@ def ior_roughness(r, ior):
     """The Sample Viewer's applyIorToRoughness: r clamp(2 ior - 2, 0, 1), the perceptual
     roughness at which the transmitted light is blurred."""
     return np.asarray(r) * np.clip(2.0 * np.asarray(ior) - 2.0, 0.0, 1.0)
+
+
+def transmission_direction(n, v, ior, thickness):
+    """The transmission ray's direction (..., 3) (module docstring): -v through a thin wall
+    (``thickness`` 0), refract(-v, n, 1 / ior) into a volume (-v where that is total
+    internal reflection, which a ray from outside never meets)."""
+    bent = refract(-v, n, 1.0 / np.asarray(ior, dtype=np.float64))
+    bent = np.where(np.sum(bent * bent, axis=-1, keepdims=True) > 0.0, bent, -v)
+    return np.where((np.asarray(thickness) > 0.0)[..., None], bent, -v)
 
 
 @row_kernel(2)
@@ -83,16 +92,12 @@ def transmission_lookups(codes, params, surface, v, camera_position, sampler, to
     vv = v[rows]
     ior = np.maximum(params[m, _IOR], 1.0)  # KHR_materials_ior's 0 (f0 1) refracts as 1
     thickness = params[m, _THICKNESS]
-    bent = refract(-vv, n, 1.0 / ior)
-    bent = np.where(np.sum(bent * bent, axis=-1, keepdims=True) > 0.0, bent, -vv)
-    volume = (thickness > 0.0)[:, None]
+    direction = transmission_direction(n, vv, ior, thickness)
     if engine == "khronos":  # the background a framebuffer shows at the exit point's projection
-        exit_ = surface.p[rows] + bent * thickness[:, None]
+        exit_ = surface.p[rows] + direction * thickness[:, None]
         toward = exit_ - np.asarray(camera_position, dtype=np.float64)
         toward /= np.maximum(np.linalg.norm(toward, axis=-1, keepdims=True), 1e-300)
-        direction = np.where(volume, toward, -vv)
-    else:
-        direction = np.where(volume, bent, -vv)
+        direction = np.where((thickness > 0.0)[:, None], toward, -vv)
     lod = level_of_roughness(ior_roughness(surface.roughness[rows], ior), levels)
     light = sampler(to_env_frame(np.ascontiguousarray(direction)), np.asarray(lod, dtype=np.float64))
     att = np.empty((rows.size, 3))

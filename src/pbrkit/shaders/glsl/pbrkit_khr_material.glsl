@@ -2,7 +2,9 @@
 // KHR_materials_ior and KHR_materials_specular (the dielectric's F0 and F90, the diffuse's weight),
 // KHR_materials_clearcoat (the coat lobe and its Fresnel layering), the whole BRDF with
 // KHR_materials_sheen, and their real-time image-based lighting -- pbrkit's own
-// (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl).
+// (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl),
+// with KHR_materials_transmission / _volume's transmitted light (pbrkit.render.transmission_ibl)
+// and the viewer's KHR_materials_iridescence mix.
 //
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+: add your own version line, then pbrkit_brdf.glsl and
 // pbrkit_khr.glsl (whose F_Schlick, D_GGX, V_SmithGGX, sheen lobe and albedo scaling these call)
@@ -246,4 +248,78 @@ vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, pbrkit_KHRMaterial m, vec2 ab, 
     }
     float t = m.clearcoat * F_Schlick(NoV, f0Ior, 1.0);
     return color + (coatRadiance - color) * t;
+}
+
+// ------------------------------------------------------------ KHR_materials_transmission and _volume, real time
+
+// pbrkit_iorRoughness: the perceptual roughness at which transmitted light is blurred, r clamp(2 ior - 2, 0, 1).
+// source: glTF-Sample-Viewer ibl.glsl (applyIorToRoughness)
+// roughness: perceptual roughness r
+// pbrkit: pbrkit.render.transmission_ibl.ior_roughness
+float pbrkit_iorRoughness(float roughness, float ior) {
+    return roughness * clamp(ior * 2.0 - 2.0, 0.0, 1.0);
+}
+
+// pbrkit_transmissionDirection: the transmission ray: -v through a thin wall (thickness 0), refract(-v, n,
+//   1 / ior) into a volume (-v where refract gives 0).
+// source: glTF-Sample-Viewer ibl.glsl (getVolumeTransmissionRay); KHR_materials_volume README
+// roughness: none
+// pbrkit: pbrkit.render.transmission_ibl.transmission_direction
+vec3 pbrkit_transmissionDirection(vec3 n, vec3 v, float ior, float thickness) {
+    vec3 bent = refract(-v, n, 1.0 / ior);
+    return (thickness > 0.0 && dot(bent, bent) > 0.0) ? bent : -v;
+}
+
+// pbrkit_volumeAttenuation: the transmittance attenuationColor^(distance / attenuationDistance) over a path of
+//   that length in the volume; 1 for attenuationDistance 0 (glTF's +Infinity).
+// source: KHR_materials_volume README, "Attenuation"; glTF-Sample-Viewer ibl.glsl (applyVolumeAttenuation)
+// roughness: none
+// pbrkit: pbrkit.brdf.transmission.absorption
+vec3 pbrkit_volumeAttenuation(float distance, vec3 attenuationColor, float attenuationDistance) {
+    if (attenuationDistance <= 0.0) {
+        return vec3(1.0);
+    }
+    return pow(attenuationColor, vec3(distance / attenuationDistance));
+}
+
+// pbrkit_transmissionIBL: pbrkit's real-time transmission, added to the diffuse IBL: (1 - metallic) transmission
+//   baseColor diffuseWeight transmitted, diffuseWeight the diffuse's Fresnel weight (pbrkit_specularDiffuseWeightIBL,
+//   without 1 / pi) and transmitted the light along pbrkit_transmissionDirection (the prefiltered radiance at
+//   pbrkit_iorRoughness) times pbrkit_volumeAttenuation over the thickness.
+// source: KHR_materials_transmission README ("Transmission BTDF"); glTF-Sample-Viewer ibl.glsl (getIBLVolumeRefraction)
+// roughness: none (the lookup took pbrkit_iorRoughness)
+// pbrkit: pbrkit.brdf.shading.gltf.ibl_transmission, pbrkit.render.realtime._ibl_kernel
+vec3 pbrkit_transmissionIBL(vec3 baseColor, float metallic, float transmission, float diffuseWeight,
+                            vec3 transmitted) {
+    return (1.0 - metallic) * transmission * baseColor * diffuseWeight * transmitted;
+}
+
+// pbrkit_sampleViewerTransmission: the Sample Viewer's f_diffuse with transmission, mix(fDiffuse, (1 - (F0 A + B))
+//   transmitted baseColor, transmission) (f90 1).
+// source: glTF-Sample-Viewer pbr.frag and ibl.glsl (getIBLVolumeRefraction)
+// roughness: none
+// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_transmission
+vec3 pbrkit_sampleViewerTransmission(vec3 fDiffuse, float transmission, vec3 f0, vec2 ab, vec3 transmitted,
+                                     vec3 baseColor) {
+    return mix(fDiffuse, (1.0 - (f0 * ab.x + ab.y)) * transmitted * baseColor, transmission);
+}
+
+// ------------------------------------------------------------ KHR_materials_iridescence, the Sample Viewer's IBL
+
+// pbrkit_sampleViewerFilm: pbr.frag's MATERIAL_IRIDESCENCE branch: the metal mix(W(base, 1) radiance, radiance
+//   filmMetal, k) and the dielectric mix(mix(fDiffuse, radiance, W(F0, weight)), rgb_mix(fDiffuse, radiance,
+//   filmDielectric), k), mixed by metallic; filmDielectric and filmMetal the film's Fresnel (F_Iridescence) at n.v
+//   over F0 and over the base colour; rgb_mix(a, b, t) = (1 - max3(t)) a + t b.
+// source: glTF-Sample-Viewer pbr.frag and iridescence.glsl; KHR_materials_iridescence README
+// roughness: perceptual roughness r
+// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_film
+vec3 pbrkit_sampleViewerFilm(float NoV, float roughness, vec3 fDiffuse, vec3 baseColor, float metallic, vec3 f0,
+                             float weight, vec2 ab, vec3 radiance, float k, vec3 filmDielectric, vec3 filmMetal) {
+    vec3 w = pbrkit_sampleViewerFresnel(NoV, roughness, f0, weight, ab);
+    vec3 dielectric = fDiffuse * (1.0 - w) + radiance * w;
+    vec3 metal = radiance * pbrkit_sampleViewerFresnel(NoV, roughness, baseColor, 1.0, ab);
+    float dMax = max(filmDielectric.r, max(filmDielectric.g, filmDielectric.b));
+    dielectric = mix(dielectric, (1.0 - dMax) * fDiffuse + filmDielectric * radiance, k);
+    metal = mix(metal, radiance * filmMetal, k);
+    return mix(dielectric, metal, metallic);
 }
