@@ -146,8 +146,13 @@ def test_the_documentation_table_is_the_declarations():
 
 
 def test_the_explorer_controls_are_the_declarations():
+    """Every scalar parameter of a model is a control of the explorer, but those that do not
+    change its BRDF (the volume's, the thin film's minimum thickness: views.NOT_REFLECTION,
+    each a declared parameter)."""
+    assert set(views.NOT_REFLECTION) <= {p.name for p in PARAMETERS}
     for m in REGISTERED:
-        scalars = [p.name for p in m.numbers if p.channels == 1 and p.name not in ("metallic", "roughness")]
+        scalars = [p.name for p in m.numbers if p.channels == 1 and p.name not in ("metallic", "roughness")
+                   and p.name not in views.NOT_REFLECTION]
         assert list(views.MODEL_PARAMETERS[m.name]) == scalars
     for name, (low, high, default) in views.PARAMETER_RANGES.items():
         p = next(q for q in PARAMETERS if q.name == name)
