@@ -206,6 +206,12 @@ def test_a_clearcoat_texture_is_noted_as_not_supported_yet(tmp_path):
     ({"KHR_materials_iridescence": {"iridescenceIor": 0.5}}, "KHR_materials_iridescence.iridescenceIor"),
     ({"KHR_materials_iridescence": {"iridescenceThicknessMaximum": -1}},
      "KHR_materials_iridescence.iridescenceThicknessMaximum"),
+    ({"KHR_materials_iridescence": {"iridescenceFactor": 2.0}}, "KHR_materials_iridescence.iridescenceFactor"),
+    ({"KHR_materials_iridescence": {"iridescenceFactor": "1"}}, "KHR_materials_iridescence.iridescenceFactor"),
+    ({"KHR_materials_iridescence": {"iridescenceThicknessTexture": {"index": 9}}},
+     "KHR_materials_iridescence.iridescenceThicknessTexture"),
+    ({"KHR_materials_sheen": {"sheenColorTexture": {"index": 5}}}, "KHR_materials_sheen.sheenColorTexture"),
+    ({"KHR_materials_sheen": {"sheenRoughnessFactor": -0.1}}, "KHR_materials_sheen.sheenRoughnessFactor"),
 ])
 def test_bad_extension_fields_are_refused_naming_the_field(tmp_path, ext, fragment):
     from test_render_gltf import write_quad_glb
