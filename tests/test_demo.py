@@ -241,26 +241,29 @@ def test_npr_section_shows_the_grid_and_a_gltf_model_in_each_style(demo_dir):
 def test_gltf_extensions_scene_has_one_sphere_per_extension():
     """The section's materials: the core first (no extension: the core model's code), then
     each KHR_materials extension alone (its keys away from their defaults, the others at
-    theirs: the extended model's code), then all four together; the materials of the
+    theirs: the extended model's code), then the first four together; the materials of the
     brief (velvet sheen 0.5, car-paint coat 1 / 0.05 over roughness 0.5, specular 0.3
-    coloured, ior 2.4)."""
+    coloured, ior 2.4), a thin film and a thin transmissive wall."""
     from pbrkit.app.demo import GLTF_EXTENSION_MATERIALS, gltf_extensions_scene
     from pbrkit.brdf.shading.registry import BY_NAME, EXTENDED_CODES, MODELS, model_codes
     from pbrkit.render.scene import EnvironmentSpec
 
     keys = {"sheen": {"sheen_color", "sheen_roughness"}, "clearcoat": {"clearcoat", "clearcoat_roughness"},
-            "specular": {"specular", "specular_color"}, "ior": {"ior"}}
+            "specular": {"specular", "specular_color"}, "ior": {"ior"},
+            "iridescence": {"iridescence"},  # (its IOR 1.3 and 400 nm are the defaults)
+            "transmission": {"transmission"}}
     declared = BY_NAME["gltf"]
     scene = gltf_extensions_scene(48, EnvironmentSpec(color=(1.0, 1.0, 1.0)))
-    assert (scene.camera.width, scene.camera.height) == (48, 32) and len(scene.objects) == 6
+    assert (scene.camera.width, scene.camera.height) == (48, 24) and len(scene.objects) == 8
     names = [name for name, _, _ in GLTF_EXTENSION_MATERIALS]
-    assert names == ["core", "sheen", "clearcoat", "specular", "ior", "combined"]
+    assert names == ["core", "sheen", "clearcoat", "specular", "ior", "iridescence", "transmission", "combined"]
+    combined = set().union(*(keys[k] for k in ("sheen", "clearcoat", "specular", "ior")))
     for obj, (name, shows, _) in zip(scene.objects, GLTF_EXTENSION_MATERIALS):
         spec = scene.materials[obj.material]
         assert spec.model == "gltf" and shows
-        changed = {p.name for p in declared.parameters if p.name in keys["sheen"] | keys["clearcoat"]
-                   | keys["specular"] | keys["ior"] and np.any(np.asarray(getattr(spec, p.name)) != p.default)}
-        expected = set().union(*keys.values()) if name == "combined" else keys.get(name, set())
+        changed = {p.name for p in declared.parameters if p.name in set().union(*keys.values())
+                   and np.any(np.asarray(getattr(spec, p.name)) != p.default)}
+        expected = combined if name == "combined" else keys.get(name, set())
         assert changed == expected, name
         values = {p.name: getattr(spec, p.name) for p in declared.parameters}
         code = model_codes("gltf", values=values)[0]
