@@ -297,7 +297,8 @@ def test_gltf_extensions_section_shows_both_modes_and_their_errors(demo_dir):
         assert np.isfinite(e[key]), key
     assert e["mean_relative_error"] < 0.4 and e["flip"] < 0.3
     assert f"{100.0 * e['mean_relative_error']:.1f}%" in page and f"{e['flip']:.4f}" in page
-    assert [m["name"] for m in g["materials"]] == ["core", "sheen", "clearcoat", "specular", "ior", "combined"]
+    assert [m["name"] for m in g["materials"]] == ["core", "sheen", "clearcoat", "specular", "ior", "iridescence",
+                                                  "transmission", "combined"]
     for m in g["materials"]:
         for mode in ("realtime", "reference"):
             assert m["files"][mode] in parser.images and (demo_dir / m["files"][mode]).is_file()
