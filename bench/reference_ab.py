@@ -1,12 +1,13 @@
-"""Paired A/B timing of the ground truth on the built-in sphere grid (49 plain ``gltf``
-materials): two source trees (a base and a candidate) in two warm worker processes,
+"""Paired A/B timing of the ground truth and the real time on the built-in sphere grid (49
+plain ``gltf`` materials): two source trees (a base and a candidate) in two warm worker processes,
 called alternately (the order swapped every pair), so that both see the same load.
 
     python bench/reference_ab.py BASE_ROOT NEW_ROOT [--pairs 31]
 
 Each worker renders, after a warm-up (Numba compilation, or its disk cache), the
 sphere grid at 128 x 128 with the lane engine (direct lighting, 128 spp), the fused
-kernel (2 bounces, 32 spp) and the wavefront loop (2 bounces, 8 spp); the script prints
+kernel (2 bounces, 32 spp), the wavefront loop (2 bounces, 8 spp) and the real time at 512 x 512
+(a size-128 bake made once; the time of every stage after it); the script prints
 each case's median sampling time per tree, the median and interquartile range of the
 paired ratios new / base, and whether the images are identical.  Each tree gets its own
 Numba cache directory (``XDG_CACHE_HOME`` under the system's temporary directory).
@@ -24,7 +25,7 @@ import tempfile
 import numpy as np
 
 CASES = {"lanes": dict(spp=128, bounces=0), "fused": dict(spp=32, bounces=2),
-         "wavefront": dict(spp=8, bounces=2, engine="wavefront")}
+         "wavefront": dict(spp=8, bounces=2, engine="wavefront"), "realtime": None}
 
 
 def worker():
@@ -33,16 +34,31 @@ def worker():
     from pbrkit.render.reference import render_reference
     from pbrkit.render.scene import builtin_scene
 
+    from pbrkit.render.realtime import render_realtime
+
     scene = builtin_scene("spheres", 128, 128)
     geometry = Geometry(scene)
     env = EnvironmentLight(scene.environment)
-    for kw in CASES.values():
-        render_reference(scene, geometry=geometry, env=env, **kw)
+    large = builtin_scene("spheres", 512, 512)
+    large_geometry = Geometry(large)
+    baked = env.bake(size=128)
+
+    def realtime():
+        result = render_realtime(large, large_geometry, env, bake=baked)
+        timings = result.stats["timings"]
+        return sum(v for k, v in timings.items() if k not in ("load", "bake", "total")), result.image
+
+    for name, kw in CASES.items():
+        realtime() if kw is None else render_reference(scene, geometry=geometry, env=env, **kw)
     print("ready", flush=True)
     for line in sys.stdin:
         name, seed = line.split()
-        result = render_reference(scene, geometry=geometry, env=env, seed=int(seed), **CASES[name])
-        print(json.dumps([result.stats["timings"]["sampling"], float(result.image.mean())]), flush=True)
+        if CASES[name] is None:
+            seconds, image = realtime()
+        else:
+            result = render_reference(scene, geometry=geometry, env=env, seed=int(seed), **CASES[name])
+            seconds, image = result.stats["timings"]["sampling"], result.image
+        print(json.dumps([seconds, float(image.mean())]), flush=True)
 
 
 def main():
