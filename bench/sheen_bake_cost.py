@@ -1,6 +1,6 @@
 """What the sheen outputs (the Charlie-prefiltered chain and the sheen table) add to a
 size-256 bake of the bundled environment (issue 25's goal: at most 25 %): the same bake
-with and without them, interleaved in one process, medians of 5 after a warm-up.
+with and without them, interleaved in one process, medians of 9 after a warm-up.
 
     PYTHONPATH=src python bench/sheen_bake_cost.py
 """
@@ -14,7 +14,7 @@ from pbrkit.data import environment_path
 from pbrkit.ibl.bake import bake
 
 
-def main(repeats=5):
+def main(repeats=9):
     env = str(environment_path())
     for sheen in (True, False):
         bake(env, size=256, sheen=sheen)
