@@ -198,7 +198,6 @@ def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progr
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import write_bake
     from ..io.environment import load_environment
-    from ..render.compare import compare_images, relative_error_pixels
     from ..render.environment import EnvironmentLight
     from ..render.geometry import Geometry
     from ..render.realtime import APPROXIMATIONS, render_realtime
@@ -279,20 +278,14 @@ def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progr
     timings["glTF extensions"] = time.perf_counter() - t
     step("reference")
     t = time.perf_counter()
-    mask = rt.mask & ref.mask
-    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
-    rel = metrics.pop("relative_error_map")
-    valid = relative_error_pixels(ref.image, mask)
-    scale, p99, peak = error_scale(rel[valid])
+    mask, metrics, rel, valid, (scale, p99, peak) = _whole_image_errors(rt, ref)
     per_sphere = _per_sphere_errors(scene, rt, ref)
     timings["errors (incl. FLIP)"] = time.perf_counter() - t
     # the error split by approximation (summary["errors"]["split"], rendered by _split_table)
     t = time.perf_counter()
     metrics["split"] = approximation_split(scene, geometry, env, baked, rt.image, ref.image, ref.stderr, mask)
     timings["error split by approximation"] = time.perf_counter() - t
-    _png(out / "realtime.png", rt.image)
-    _png(out / "reference.png", ref.image)
-    plot_error_map(out / "error.png", rel, valid, scale, _ERROR_LABEL)
+    _write_comparison(out, "", rt, ref, rel, valid, scale)
     write_exr(out / "realtime.exr", rt.image.astype(np.float32))
     write_exr(out / "reference.exr", ref.image.astype(np.float32))
     write_exr(out / "reference_stderr.exr", ref.stderr.astype(np.float32))
@@ -436,7 +429,6 @@ def _area_light_comparison(out, size, spp, seed, before_reference=None):
     like), its images and error map written into ``out``; returns its summary.
     ``before_reference()``, if given, is called between the two renders (the demo's
     warm-up waits there for the ground truth's kernel)."""
-    from ..render.compare import compare_images, relative_error_pixels
     from ..render.environment import EnvironmentLight
     from ..render.geometry import Geometry
     from ..render.realtime import render_realtime
@@ -450,14 +442,8 @@ def _area_light_comparison(out, size, spp, seed, before_reference=None):
     if before_reference is not None:  # the demo's warm-up: the ground truth's kernel is compiled elsewhere
         before_reference()
     ref = render_reference(scene, spp=spp, seed=seed, geometry=geometry, env=env, occlusion=False)
-    mask = rt.mask & ref.mask
-    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
-    rel = metrics.pop("relative_error_map")
-    valid = relative_error_pixels(ref.image, mask)
-    scale, p99, peak = error_scale(rel[valid])
-    _png(out / "area_realtime.png", rt.image)
-    _png(out / "area_reference.png", ref.image)
-    plot_error_map(out / "area_error.png", rel, valid, scale, _ERROR_LABEL)
+    mask, metrics, rel, valid, (scale, p99, peak) = _whole_image_errors(rt, ref)
+    _write_comparison(out, "area_", rt, ref, rel, valid, scale)
     light = scene.area_lights[0]
     return {"image": {"width": scene.camera.width, "height": scene.camera.height},
             "light": {"type": light.type, "width": light.width, "height": light.height,
@@ -465,6 +451,26 @@ def _area_light_comparison(out, size, spp, seed, before_reference=None):
             "spp": int(spp), "errors": metrics,
             "error_map": {"scale_max": scale, "percentile_99": p99, "max": peak},
             "timings": {"realtime": rt.stats["timings"]["total"], "reference": ref.stats["timings"]["total"]}}
+
+
+def _whole_image_errors(rt, ref):
+    """A section's comparison of its real-time and ground-truth renders over the pixels both
+    cover: (mask, the errors of :func:`pbrkit.render.compare.compare_images` with HDR-FLIP,
+    the relative error map, its valid pixels, the map's (scale, 99th percentile, max))."""
+    from ..render.compare import compare_images, relative_error_pixels
+
+    mask = rt.mask & ref.mask
+    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
+    rel = metrics.pop("relative_error_map")
+    valid = relative_error_pixels(ref.image, mask)
+    return mask, metrics, rel, valid, error_scale(rel[valid])
+
+
+def _write_comparison(out, prefix, rt, ref, rel, valid, scale):
+    """``<prefix>realtime.png``, ``<prefix>reference.png`` and ``<prefix>error.png``."""
+    _png(out / f"{prefix}realtime.png", rt.image)
+    _png(out / f"{prefix}reference.png", ref.image)
+    plot_error_map(out / f"{prefix}error.png", rel, valid, scale, _ERROR_LABEL)
 
 
 #: The demo's glTF material extensions section: (name, what it shows, the material's keys)
@@ -555,14 +561,8 @@ def _gltf_extensions_comparison(out, environment, env, baked, size, spp, seed):
     geometry = Geometry(scene)
     rt = render_realtime(scene, geometry, env, bake=baked)
     ref = render_reference(scene, spp=spp, seed=seed, geometry=geometry, env=env, occlusion=False)
-    mask = rt.mask & ref.mask
-    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
-    rel = metrics.pop("relative_error_map")
-    valid = relative_error_pixels(ref.image, mask)
-    scale, p99, peak = error_scale(rel[valid])
-    _png(out / "gltf_realtime.png", rt.image)
-    _png(out / "gltf_reference.png", ref.image)
-    plot_error_map(out / "gltf_error.png", rel, valid, scale, _ERROR_LABEL)
+    mask, metrics, rel, valid, (scale, p99, peak) = _whole_image_errors(rt, ref)
+    _write_comparison(out, "gltf_", rt, ref, rel, valid, scale)
     (out / "gltf_extensions").mkdir(exist_ok=True)
     cam = scene.camera
     rows, cols = np.mgrid[0:cam.height, 0:cam.width] + 0.5
