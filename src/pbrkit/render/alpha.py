@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .primitives import KIND_TRIANGLE
+
 __all__ = ["MODES", "LAYERS", "coverage_tables", "ray_uniform", "see_through", "pass_through"]
 
 #: The alpha modes, in code order.
@@ -93,8 +95,6 @@ def _alpha(geometry, tables, hits, rows, material):
 
 def see_through(geometry, tables, hits, origins, dirs, rows, layer):
     """Which of the hits ``rows`` a ray passes through (module docstring)."""
-    from .primitives import KIND_TRIANGLE
-
     out = np.zeros(rows.size, dtype=bool)
     tri = np.flatnonzero(hits.kind[rows] == KIND_TRIANGLE)
     if tri.size == 0:
