@@ -1140,3 +1140,53 @@ def gltf_transmission_bsdf(l, v, base, metallic, roughness, transmission, ior=1.
     out = np.where(above[..., None], reflection, out)
     out = np.where(below[..., None], trans, out)
     return np.nan_to_num(out)
+
+
+def gltf_anisotropy_brdf(l, v, n, t, w, base, metallic, roughness, strength, rotation):
+    """glTF 2.0 with KHR_materials_anisotropy, written from the extension's README
+    ("Anisotropy", "Implementation") in world space: the tangent ``t`` (made
+    orthogonal to the normal ``n``) with handedness ``w`` spans TBN (B = w n x T, the
+    glTF specification's "Meshes"),
+
+        anisotropicT = normalize(TBN (cos(rotation), sin(rotation), 0))
+        anisotropicB = normalize(cross(n, anisotropicT))
+        at = mix(alphaRoughness, 1, strength^2),  ab = alphaRoughness
+        D = a2 w2^2 / pi,  a2 = at ab,  f = (ab T.h, at B.h, a2 N.h),  w2 = a2 / (f . f)
+        V = 0.5 / (N.L |(at T.v, ab B.v, N.v)| + N.v |(at T.l, ab B.l, N.l)|)
+
+    (the README's D_GGX_anisotropic and V_GGX_anisotropic, without its clamp of V),
+    times Schlick's F of f0 = mix(0.04, baseColor, metallic) at |V.H|, over the
+    diffuse (1 - metallic)(1 - F_0.04(V.H)) baseColor / pi of Appendix B."""
+    l, v, n, t = (np.asarray(x, dtype=float) for x in (l, v, n, t))
+    dot = lambda a, b: np.sum(a * b, axis=-1)  # noqa: E731
+    t = t - dot(t, n)[..., None] * n
+    t = t / np.linalg.norm(t, axis=-1, keepdims=True)
+    b_tbn = np.asarray(w, dtype=float)[..., None] * np.cross(n, t)
+    rotation = np.asarray(rotation, dtype=float)[..., None]
+    at_dir = np.cos(rotation) * t + np.sin(rotation) * b_tbn
+    at_dir = at_dir / np.linalg.norm(at_dir, axis=-1, keepdims=True)
+    ab_dir = np.cross(n, at_dir)
+    ab_dir = ab_dir / np.linalg.norm(ab_dir, axis=-1, keepdims=True)
+    alpha = _alpha(roughness)
+    s = np.asarray(strength, dtype=float)
+    at = _mix(alpha, 1.0, s * s)
+    ab = alpha
+    h = l + v
+    h = h / np.linalg.norm(h, axis=-1, keepdims=True)
+    nol, nov, noh, voh = dot(n, l), dot(n, v), dot(n, h), dot(v, h)
+    with np.errstate(all="ignore"):
+        a2 = at * ab
+        f = np.stack([ab * dot(at_dir, h), at * dot(ab_dir, h), a2 * noh], axis=-1)
+        w2 = a2 / np.sum(f * f, axis=-1)
+        d = a2 * w2 * w2 / np.pi
+        ggx_v = nol * np.linalg.norm(np.stack([at * dot(at_dir, v), ab * dot(ab_dir, v), nov], axis=-1), axis=-1)
+        ggx_l = nov * np.linalg.norm(np.stack([at * dot(at_dir, l), ab * dot(ab_dir, l), nol], axis=-1), axis=-1)
+        vis = 0.5 / (ggx_v + ggx_l)
+    base = np.asarray(base, dtype=float)
+    m = _rgb(metallic)
+    fc = ((1.0 - np.abs(voh)) ** 5)[..., None]
+    f0 = _mix(0.04, base, m)
+    spec = (d * vis)[..., None] * (f0 + (1.0 - f0) * fc)
+    diffuse = (1.0 - m) * (1.0 - (0.04 + 0.96 * fc)) * base / np.pi
+    out = spec + diffuse
+    return np.where(((nol > 0.0) & (nov > 0.0))[..., None], out, 0.0)

@@ -146,7 +146,7 @@ def sheen_bxdf(sheen_roughness, sheen_color=SHEEN_COLOR, diffuse=(1.0, 1.0, 1.0)
     extra = [0.0] * EXTRA_SLOTS
     extra[SHEEN_COLOR_SLOT:SHEEN_COLOR_SLOT + 3] = sheen_color
     extra[SHEEN_ROUGHNESS_SLOT] = sheen_roughness
-    return BxDF(0, 0, 0, 0, 0, 0.5, 0.25, 0.25, 0.25, False, 0.0, diffuse, diffuse, z3, 1.0, z3, z3, 0.04, z3,
+    return BxDF(0, 0, 0, 0, 0, 0.5, 0.25, 0.25, 0.25, False, 0.0, 0.0, diffuse, diffuse, z3, 1.0, z3, z3, 0.04, z3,
                 tuple(extra))
 
 

@@ -115,7 +115,7 @@ def _bxdf(base, metallic, roughness, sheen_color, sheen_roughness):
     f0 = tuple(d + (c - d) * metallic for c in base)
     # the extended model's slots: sheen (0-3), no clear coat (4-5), specular factor 1 (6)
     extra = tuple(sheen_color) + (sheen_roughness, 0.0, 1e-3, 1.0) + (0.0,) * (EXTRA_SLOTS - 7)
-    return BxDF(5, 0, 1, 0, 0, roughness, alpha, alpha, alpha, False, metallic, tuple(base),
+    return BxDF(5, 0, 1, 0, 0, roughness, alpha, alpha, alpha, False, 0.0, metallic, tuple(base),
                 tuple(c * (1.0 - metallic) for c in base), f0, 1.0, z3, z3, d, z3, extra)
 
 

@@ -39,7 +39,7 @@ def record(metallic=0.35, roughness=ROUGHNESS):
     """A BxDF with a diffuse colour RHO, a white constant F and an isotropic GGX lobe."""
     z3 = (0.0, 0.0, 0.0)
     alpha = max(roughness * roughness, 1e-3)
-    return BxDF(0, 0, 1, 5, 0, roughness, alpha, alpha, alpha, False, metallic, RHO, RHO, (0.04,) * 3, 1.0, z3, z3,
+    return BxDF(0, 0, 1, 5, 0, roughness, alpha, alpha, alpha, False, 0.0, metallic, RHO, RHO, (0.04,) * 3, 1.0, z3, z3,
                 0.04, (1.0, 1.0, 1.0), (0.0,) * EXTRA_SLOTS)
 
 
@@ -314,7 +314,7 @@ def test_eon_is_energy_preserving_reciprocal_and_lambert_when_smooth():
     values, _, _ = _harness(compose(EON))
     z3 = (0.0, 0.0, 0.0)
     for r in (0.0, 0.3, 1.0):
-        white = BxDF(0, 0, 0, 0, 3, r, 0.1, 0.1, 0.1, False, 0.0, (1.0,) * 3, (1.0,) * 3, z3, 1.0, z3, z3, 0.04,
+        white = BxDF(0, 0, 0, 0, 3, r, 0.1, 0.1, 0.1, False, 0.0, 0.0, (1.0,) * 3, (1.0,) * 3, z3, 1.0, z3, z3, 0.04,
                      z3, (0.0,) * EXTRA_SLOTS)
         for mu in (0.95, 0.5, 0.1):
             np.testing.assert_allclose(EON.albedo(white, mu), 1.0, rtol=1e-12)

@@ -38,7 +38,7 @@ def _sheen_bxdf(color, roughness):
     extra = [0.0] * EXTRA_SLOTS
     extra[SHEEN_COLOR_SLOT:SHEEN_COLOR_SLOT + 3] = [float(x) for x in color]
     extra[SHEEN_ROUGHNESS_SLOT] = float(roughness)
-    return BxDF(0, 0, 0, 0, 0, 0.5, 0.25, 0.25, 0.25, False, 0.0, z3, z3, z3, 1.0, z3, z3, 0.04, z3, tuple(extra))
+    return BxDF(0, 0, 0, 0, 0, 0.5, 0.25, 0.25, 0.25, False, 0.0, 0.0, z3, z3, z3, 1.0, z3, z3, 0.04, z3, tuple(extra))
 
 
 def reference_sheen_ibl(prefiltered, sheen_albedo, sheen_color):

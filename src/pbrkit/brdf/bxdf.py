@@ -29,7 +29,9 @@ from .fresnel import f0_metallic
 
 __all__ = [
     "C_MODEL", "C_DISTRIBUTION", "C_MASKING", "C_FRESNEL", "C_DIFFUSE", "CODE_COLUMNS", "EXTRA_SLOTS", "NO_EXTRA",
-    "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "tangent_frame", "lobe_bxdf", "metallic_workflow",
+    "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "tangent_frame", "shading_frame", "turned_frame", "into_turned",
+    "out_of_turned", "NO_TANGENT", "lobe_bxdf",
+    "metallic_workflow",
 ]
 
 #: Columns of a material's integer code row.
@@ -45,7 +47,9 @@ class BxDF(NamedTuple):
     """A material at one shading point, ready to evaluate and sample (a model's
     ``setup``).  ``model`` and the term codes are the code row's; ``alpha_x``,
     ``alpha_y`` are along the tangent and bitangent (equal to ``alpha`` unless
-    ``anisotropic``); ``f0`` is the metallic-workflow normal reflectance of the
+    ``anisotropic``); ``rotation``: the angle (radians, counter-clockwise about the
+    normal) from the frame's tangent to the direction of ``alpha_x`` (glTF's
+    anisotropyRotation; 0 for the other models); ``f0`` is the metallic-workflow normal reflectance of the
     Schlick-type Fresnel terms and ``f90`` their grazing value; ``diffuse_color``
     already carries the model's metallic weighting; ``eta``, ``k``: the complex IOR
     of the exact conductor Fresnel; ``dielectric_f0``: the dielectric's f0;
@@ -64,6 +68,7 @@ class BxDF(NamedTuple):
     alpha_x: float
     alpha_y: float
     anisotropic: bool
+    rotation: float
     metallic: float
     base: tuple
     diffuse_color: tuple
@@ -162,6 +167,74 @@ def tangent_frame(nx, ny, nz, anisotropic):
     return orthonormal_basis_xyz(nx, ny, nz)
 
 
+#: The tangent of a point that has none (a hit on an analytic shape): a zero vector,
+#: handedness +1 (:func:`shading_frame` then takes :func:`tangent_frame`'s).
+NO_TANGENT = (0.0, 0.0, 0.0, 1.0)
+
+
+@dual_use(inline=True)
+def shading_frame(nx, ny, nz, b, tangent):
+    """The tangent and bitangent of BxDF ``b`` at unit normal n.  Isotropic: any
+    frame (:func:`tangent_frame`).  Anisotropic: the surface's tangent ``tangent``
+    (x, y, z, w: a glTF TANGENT, w the handedness of B = w (n x T), glTF 2.0
+    specification, "Meshes") made orthogonal to n, or where it is zero
+    (:data:`NO_TANGENT`) :func:`tangent_frame`'s, turned by ``b.rotation`` in the
+    (T, B) plane: t = cos(rotation) T + sin(rotation) B, bitangent n x t
+    (KHR_materials_anisotropy's README, "Implementation": anisotropicT =
+    normalize(TBN (cos, sin, 0)), anisotropicB = normalize(cross(n, anisotropicT)))."""
+    if not b.anisotropic:
+        return tangent_frame(nx, ny, nz, False)
+    tx, ty, tz, tw = tangent
+    d = tx * nx + ty * ny + tz * nz
+    tx -= d * nx
+    ty -= d * ny
+    tz -= d * nz
+    length = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if length > 1e-12:
+        tx /= length
+        ty /= length
+        tz /= length
+        w = -1.0 if tw < 0.0 else 1.0
+        bx, by, bz = w * (ny * tz - nz * ty), w * (nz * tx - nx * tz), w * (nx * ty - ny * tx)
+    else:
+        (tx, ty, tz), (bx, by, bz) = tangent_frame(nx, ny, nz, True)
+    return turned_frame(nx, ny, nz, tx, ty, tz, bx, by, bz, b.rotation)
+
+
+@dual_use(inline=True)
+def turned_frame(nx, ny, nz, tx, ty, tz, bx, by, bz, rotation):
+    """The frame (t, n x t) at unit normal n whose tangent is T turned by ``rotation``
+    towards B: t = cos(rotation) T + sin(rotation) B (KHR_materials_anisotropy's
+    anisotropyRotation, counter-clockwise in the (T, B) plane)."""
+    if rotation != 0.0:
+        c = math.cos(rotation)
+        s = math.sin(rotation)
+        tx, ty, tz = c * tx + s * bx, c * ty + s * by, c * tz + s * bz
+    return (tx, ty, tz), (ny * tz - nz * ty, nz * tx - nx * tz, nx * ty - ny * tx)
+
+
+@dual_use(inline=True)
+def into_turned(b, x, y):
+    """Local coordinates (x along the tangent, y along the bitangent, normal +z) of a
+    direction in the frame of BxDF ``b``, its tangent turned by ``b.rotation``
+    (:func:`turned_frame`); :func:`out_of_turned` is the inverse."""
+    if b.rotation != 0.0:
+        c = math.cos(b.rotation)
+        s = math.sin(b.rotation)
+        return c * x + s * y, c * y - s * x
+    return x, y
+
+
+@dual_use(inline=True)
+def out_of_turned(b, x, y):
+    """:func:`into_turned` undone: from the turned frame back to the local one."""
+    if b.rotation != 0.0:
+        c = math.cos(b.rotation)
+        s = math.sin(b.rotation)
+        return c * x - s * y, s * x + c * y
+    return x, y
+
+
 
 
 @dual_use(inline=True)
@@ -173,7 +246,7 @@ def metallic_workflow(codes, row, roughness, alpha, metallic, b0, b1, b2, dielec
     f0 = (f0_metallic(b0, metallic, dielectric_f0), f0_metallic(b1, metallic, dielectric_f0),
           f0_metallic(b2, metallic, dielectric_f0))
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
-                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, z3, z3, dielectric_f0, z3,
+                alpha, False, 0.0, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, z3, z3, dielectric_f0, z3,
                 NO_EXTRA)
 
 
@@ -183,5 +256,5 @@ def lobe_bxdf(alpha):
     sqrt(alpha), white f0 and diffuse colour 0): what the lookup tables integrate the
     terms of (:mod:`pbrkit.albedo.tables`)."""
     z3 = (0.0, 0.0, 0.0)
-    return BxDF(0, 0, 0, 0, 0, math.sqrt(alpha), alpha, alpha, alpha, False, 1.0, z3, z3, z3, 1.0, z3, z3, 0.0, z3,
+    return BxDF(0, 0, 0, 0, 0, math.sqrt(alpha), alpha, alpha, alpha, False, 0.0, 1.0, z3, z3, z3, 1.0, z3, z3, 0.0, z3,
                 NO_EXTRA)

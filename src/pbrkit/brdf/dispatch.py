@@ -256,6 +256,6 @@ def specialised(b, codes):
     own: one of :data:`pbrkit.brdf.shading.registry.VARIANTS`) and made isotropic (the
     kernels specialise isotropic materials only), so that the dispatch functions
     inlined after it fold to that model's composition with those terms."""
-    return BxDF(codes[0], codes[1], codes[2], codes[3], codes[4], b.roughness, b.alpha, b.alpha, b.alpha, False,
+    return BxDF(codes[0], codes[1], codes[2], codes[3], codes[4], b.roughness, b.alpha, b.alpha, b.alpha, False, 0.0,
                 b.metallic, b.base, b.diffuse_color, b.f0, b.f90, b.eta, b.k, b.dielectric_f0, b.specular_color,
                 b.extra)

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..core.jit import dual_use, row_kernel
 from ..core.vec import dot, half_vector, orthonormal_basis_xyz, shading_frame
-from .bxdf import CODE_COLUMNS, cosines, isotropic_cosines, local_cosines
+from .bxdf import CODE_COLUMNS, cosines, into_turned, isotropic_cosines, local_cosines, out_of_turned, turned_frame
 from .dispatch import bxdf_f, bxdf_pdf, lobe_probabilities, make_bxdf, sample_wi
 from .shading.registry import COLUMNS, LAYOUT, MODEL_TERMS, MODELS, TERM_NAMES, model
 from .shading.registry import model_codes as _registry_codes
@@ -219,6 +219,7 @@ def _evaluate_kernel(start, stop, codes, table, index, base, metallic, roughness
         b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
         if b.anisotropic:
             (tx, ty, tz), (bx, by, bz) = _frame(n, t, i, has_tangent)
+            (tx, ty, tz), (bx, by, bz) = turned_frame(n[i, 0], n[i, 1], n[i, 2], tx, ty, tz, bx, by, bz, b.rotation)
             c = cosines(n[i, 0], n[i, 1], n[i, 2], tx, ty, tz, bx, by, bz, v[i, 0], v[i, 1], v[i, 2], l[i, 0],
                         l[i, 1], l[i, 2])
         else:  # isotropic lobes need no tangent frame
@@ -391,7 +392,8 @@ def _sample_kernel(start, stop, codes, table, index, base, metallic, roughness, 
         if wo[i, 2] <= 0.0:
             continue
         p_spec, p_coat = lobe_probabilities(b, wo[i, 2])
-        x, y, z = sample_wi(b, wo[i, 0], wo[i, 1], wo[i, 2], u[i, 0], u[i, 1], u[i, 2], p_spec, p_coat)
+        wox, woy = into_turned(b, wo[i, 0], wo[i, 1])  # the frame of a turned anisotropy direction
+        x, y, z = sample_wi(b, wox, woy, wo[i, 2], u[i, 0], u[i, 1], u[i, 2], p_spec, p_coat)
         length = np.sqrt(x * x + y * y + z * z)
         if length <= 0.0:
             continue
@@ -400,7 +402,8 @@ def _sample_kernel(start, stop, codes, table, index, base, metallic, roughness, 
         z /= length
         if z <= 0.0:
             continue
-        c = local_cosines(wo[i, 0], wo[i, 1], wo[i, 2], x, y, z)
+        c = local_cosines(wox, woy, wo[i, 2], x, y, z)
+        x, y = out_of_turned(b, x, y)
         pdf_ = bxdf_pdf(b, c, p_spec, p_coat)
         if pdf_ <= 0.0:
             continue
@@ -423,8 +426,9 @@ def _pdf_kernel(start, stop, codes, table, index, base, metallic, roughness, wo,
         if wo[i, 2] <= 0.0 or wi[i, 2] <= 0.0:
             continue
         p_spec, p_coat = lobe_probabilities(b, wo[i, 2])
-        out[i] = bxdf_pdf(b, local_cosines(wo[i, 0], wo[i, 1], wo[i, 2], wi[i, 0], wi[i, 1], wi[i, 2]), p_spec,
-                          p_coat)
+        wox, woy = into_turned(b, wo[i, 0], wo[i, 1])
+        wix, wiy = into_turned(b, wi[i, 0], wi[i, 1])
+        out[i] = bxdf_pdf(b, local_cosines(wox, woy, wo[i, 2], wix, wiy, wi[i, 2]), p_spec, p_coat)
 
 
 def _local_setup(model, material, wo, other, terms):

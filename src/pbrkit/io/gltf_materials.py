@@ -21,6 +21,8 @@ KHR_materials_transmission transmissionFactor       transmission       [0, 1]   
 KHR_materials_volume    thicknessFactor             thickness          [0, inf)     0
 KHR_materials_volume    attenuationDistance         attenuation_distance (0, inf)   +inf (0)
 KHR_materials_volume    attenuationColor            attenuation_color  [0, 1]^3     1
+KHR_materials_anisotropy anisotropyStrength         anisotropy_strength [0, 1]      0
+KHR_materials_anisotropy anisotropyRotation         anisotropy_rotation any real    0
 ======================  ==========================  =================  ===========  =========
 
 (:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
@@ -58,6 +60,8 @@ FACTORS = (
     ("KHR_materials_volume", "thicknessFactor", "thickness", 1, 0.0, None, 0.0),
     ("KHR_materials_volume", "attenuationDistance", "attenuation_distance", 1, 0.0, None, 0.0),
     ("KHR_materials_volume", "attenuationColor", "attenuation_color", 3, 0.0, 1.0, (1.0, 1.0, 1.0)),
+    ("KHR_materials_anisotropy", "anisotropyStrength", "anisotropy_strength", 1, 0.0, 1.0, 0.0),
+    ("KHR_materials_anisotropy", "anisotropyRotation", "anisotropy_rotation", 1, None, None, 0.0),
 )
 #: The textureInfos of each extension (checked; not applied yet).
 TEXTURES = {
@@ -68,6 +72,7 @@ TEXTURES = {
     "KHR_materials_iridescence": ("iridescenceTexture", "iridescenceThicknessTexture"),
     "KHR_materials_transmission": ("transmissionTexture",),
     "KHR_materials_volume": ("thicknessTexture",),
+    "KHR_materials_anisotropy": ("anisotropyTexture",),
 }
 UNLIT = "KHR_materials_unlit"
 #: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).

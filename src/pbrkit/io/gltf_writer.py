@@ -6,7 +6,8 @@ The layout is the glTF 2.0 specification's (Khronos, 2021): sec. 4.4 (the
 binary container: a 12-byte header, a JSON chunk padded with spaces and a BIN
 chunk padded with zeros, each to 4 bytes), sec. 3.6 (one buffer; a bufferView
 and an accessor per attribute, float32 VEC3 POSITION with its min / max, VEC3
-NORMAL, VEC2 TEXCOORD_0, uint32 indices), sec. 3.9 (materials'
+NORMAL, VEC2 TEXCOORD_0, VEC4 TANGENT (xyz unit, w = +-1 the bitangent's sign),
+uint32 indices), sec. 3.9 (materials'
 ``pbrMetallicRoughness`` factors and ``emissiveFactor``), sec. 3.10 (an optional perspective camera in a
 node of its own, :class:`GltfCamera`) and sec. 3.12 (extensions: a material's
 ``extensions`` object is written as given, e.g. ``{"KHR_materials_clearcoat":
@@ -43,7 +44,8 @@ class GltfPrimitive:
     ``metallic``, ``roughness``, ``emissive`` (``emissiveFactor``, linear RGB in
     [0, 1], written when not black), ``name`` and ``extensions`` (the material's glTF
     ``extensions`` object: extension name -> JSON object of strings, booleans,
-    finite numbers, lists and objects; None for none)."""
+    finite numbers, lists and objects; None for none), optional ``tangents`` (V, 4):
+    glTF's TANGENT, xyz unit and orthogonal to the normal, w = +-1 (B = w N x T)."""
 
     positions: np.ndarray
     normals: np.ndarray
@@ -55,6 +57,7 @@ class GltfPrimitive:
     name: str = "material"
     extensions: dict | None = None
     emissive: tuple = (0.0, 0.0, 0.0)
+    tangents: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -153,9 +156,18 @@ def _check(prim, k):
         if t.shape != (p.shape[0], 2):
             raise ValueError(f"primitive {k}: texcoords must have shape ({p.shape[0]}, 2); got {t.shape}")
         arrays.append(t)
+    tangents = None
+    if prim.tangents is not None:
+        tangents = np.asarray(prim.tangents, dtype=np.float64)
+        if tangents.shape != (p.shape[0], 4) or not np.all(np.isfinite(tangents)):
+            raise ValueError(f"primitive {k}: tangents must be finite, of shape ({p.shape[0]}, 4); got "
+                             f"{tangents.shape}")
+        if not (np.allclose(np.linalg.norm(tangents[:, :3], axis=1), 1.0, atol=1e-6)
+                and np.all(np.abs(tangents[:, 3]) == 1.0)):
+            raise ValueError(f"primitive {k}: tangents must have unit xyz and w = +-1")
     if not all(np.all(np.isfinite(a)) for a in arrays):
         raise ValueError(f"primitive {k}: positions, normals and texcoords must be finite")
-    return arrays, i.astype(np.uint32)
+    return arrays, i.astype(np.uint32), tangents
 
 
 def glb_bytes(primitives, camera=None, extensions_required=()):
@@ -183,11 +195,13 @@ def glb_bytes(primitives, camera=None, extensions_required=()):
         return len(accessors) - 1
 
     for k, prim in enumerate(primitives):
-        arrays, indices = _check(prim, k)
+        arrays, indices, tangents = _check(prim, k)
         attributes = {"POSITION": add(arrays[0], _FLOAT, "VEC3", _ARRAY_BUFFER, bounds=True),
                       "NORMAL": add(arrays[1], _FLOAT, "VEC3", _ARRAY_BUFFER)}
         if len(arrays) > 2:
             attributes["TEXCOORD_0"] = add(arrays[2], _FLOAT, "VEC2", _ARRAY_BUFFER)
+        if tangents is not None:
+            attributes["TANGENT"] = add(tangents, _FLOAT, "VEC4", _ARRAY_BUFFER)
         index = add(indices.reshape(-1), _UINT, "SCALAR", _ELEMENT_ARRAY_BUFFER)
         color = [float(x) for x in prim.base_color] + ([1.0] if len(prim.base_color) == 3 else [])
         material = {"name": str(prim.name), "pbrMetallicRoughness": {

@@ -57,8 +57,11 @@ class Hits:
 class Surface:
     """Shading data at hit points (N rows): position p, geometric normal ng and
     shading normal n (both facing the incoming ray for double-sided materials),
-    material index, the textured parameters, and ``uv``: the mesh's TEXCOORD_0 at
-    each hit (NaN where the hit has none: analytic shapes, meshes without it)."""
+    material index, the textured parameters, ``uv``: the mesh's TEXCOORD_0 at
+    each hit (NaN where the hit has none: analytic shapes, meshes without it), and
+    ``tangent`` (N, 4): the mesh's interpolated TANGENT (xyz, handedness w) where it
+    has one, else (0, 0, 0, 1) (:data:`pbrkit.brdf.bxdf.NO_TANGENT`: anisotropic
+    materials then take :func:`pbrkit.brdf.bxdf.tangent_frame`'s)."""
 
     p: np.ndarray
     ng: np.ndarray
@@ -70,6 +73,7 @@ class Surface:
     occlusion: np.ndarray
     emissive: np.ndarray
     uv: np.ndarray | None = None
+    tangent: np.ndarray | None = None
 
 
 class Geometry:
@@ -329,5 +333,8 @@ class Geometry:
                 if self.meshes[mi].texcoords:
                     with_uv[tri_rows[idx[tri_rows] == mi]] = True
             uv0[with_uv] = uv_sets[0][with_uv]
-        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0)
+        tangent_out = np.zeros((n_rows, 4))
+        tangent_out[:, 3] = 1.0
+        tangent_out[has_tangent] = tangents[has_tangent]
+        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangent_out)
 

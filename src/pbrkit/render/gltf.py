@@ -12,10 +12,13 @@ times the factors), normal (tangent space, +X right, +Y up, scaled by
 ``normalTexture.scale``), occlusion (R, applied as 1 + strength (R - 1))
 and emissive (sRGB, times emissiveFactor and
 ``KHR_materials_emissive_strength``), with the factors of
-``KHR_materials_sheen``, ``_clearcoat``, ``_specular`` and ``_ior`` as the
+``KHR_materials_sheen``, ``_clearcoat``, ``_specular``, ``_ior``,
+``_iridescence``, ``_transmission``, ``_volume`` and ``_anisotropy`` as the
 ``gltf`` model's parameters (:mod:`pbrkit.io.gltf_materials`; their textures
 are noted as not supported yet) and ``KHR_materials_unlit`` as emission of the
-base colour.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
+base colour.  TANGENT (or MikkTSpace tangents along the normal texture's UVs,
+or TEXCOORD_0 for an anisotropic material without a normal texture) gives the
+tangent frame of normal maps and of ``KHR_materials_anisotropy``.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
 colour's alpha (factor and texture) give cutouts and coverage in both render
 modes (:mod:`pbrkit.render.alpha`).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
 scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
@@ -655,6 +658,15 @@ def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
             ref = material.normal_texture
             p.tangents = mikktspace_tangents(p.positions, p.normals, ref.lookup_uv(p.texcoords[ref.texcoord]),
                                              p.triangles)
+        if np.any(np.asarray(material.spec.anisotropy_strength) > 0.0) and p.tangents is None:
+            # KHR_materials_anisotropy's direction is relative to the tangents: MikkTSpace's along
+            # TEXCOORD_0 (the README asks for TANGENT or a normal texture's), else the frame of
+            # pbrkit.brdf.bxdf.tangent_frame (noted)
+            if p.texcoords:
+                p.tangents = mikktspace_tangents(p.positions, p.normals, p.texcoords[0], p.triangles)
+            else:
+                reader.notes.append(f"{where}: materials[{mat_index}] is anisotropic but the primitive has no "
+                                    "TANGENT or TEXCOORD_0; its anisotropy follows the parallels about +Y")
         mesh = _world_mesh(p, world, mat_index)
         if not np.all(np.isfinite(mesh.positions)) or np.abs(mesh.positions).max() > np.finfo(np.float32).max:
             reader.fail(f"{where}: its vertices placed by nodes[{ni}] are not finite")

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..brdf.bxdf import CODE_COLUMNS
+from ..brdf.bxdf import CODE_COLUMNS, NO_TANGENT
 from ..brdf.dispatch import emission_coat, lobe_probabilities, sample_wi, specialised
 from ..brdf.lobes.clearcoat import coated_emission
 from ..brdf.shading.registry import COLUMNS, VARIANTS
@@ -293,7 +293,8 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
                 s1, q1 = shifted_add(k1, s1, q1, base_value[row, 1], n_sub)
                 s2, q2 = shifted_add(k2_, s2, q2, base_value[row, 2], n_sub)
                 continue
-            b, t, bt = hit_bxdf(mi, mf, m, rough[row], metal[row], base[row, 0], base[row, 1], base[row, 2], nx, ny, nz)
+            b, t, bt = hit_bxdf(mi, mf, m, rough[row], metal[row], base[row, 0], base[row, 1], base[row, 2], nx, ny, nz,
+                                NO_TANGENT)
             at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
             p_spec, p_coat = lobe_probabilities(b, nov)
             ox = px + eps * gx

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..brdf.bxdf import CODE_COLUMNS, cosines, isotropic_cosines, tangent_frame
+from ..brdf.bxdf import CODE_COLUMNS, cosines, isotropic_cosines, shading_frame
 from ..brdf.dispatch import make_bxdf, restricted
 from ..brdf.lobes.clearcoat import coated_emission
 from ..brdf.material import FIELDS
@@ -90,12 +90,13 @@ def emission_seen(codes, params, material, nov, emissive, f0=COAT_F0):
 
 
 @dual_use(inline=True)
-def hit_bxdf(codes, params, m, roughness, metallic, b0, b1, b2, nx, ny, nz):
+def hit_bxdf(codes, params, m, roughness, metallic, b0, b1, b2, nx, ny, nz, tangent):
     """The BxDF of material ``m`` at a hit with the textured roughness, metallic and
-    base colour, and the tangent and bitangent of its shading frame at normal n
-    (:func:`pbrkit.brdf.bxdf.tangent_frame`)."""
+    base colour, and the tangent and bitangent of its shading frame at normal n and
+    the surface's tangent ``tangent`` (x, y, z, w; :data:`pbrkit.brdf.bxdf.NO_TANGENT`
+    where it has none: :func:`pbrkit.brdf.bxdf.shading_frame`)."""
     b = make_bxdf(codes, m, params, m, roughness, metallic, b0, b1, b2)
-    t, bt = tangent_frame(nx, ny, nz, b.anisotropic)
+    t, bt = shading_frame(nx, ny, nz, b, tangent)
     return b, t, bt
 
 

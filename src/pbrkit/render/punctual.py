@@ -6,20 +6,31 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..brdf.bxdf import NO_TANGENT
 from ..brdf.dispatch import bxdf_f
 from ..core.jit import dual_use, row_kernel
 from .lights import light_arrays, light_incidence
 from .materials import for_materials, hit_bxdf, hit_cosines
 from .primitives import KIND_NONE, trace_analytic
 
-__all__ = ["punctual_at", "punctual_radiance"]
+__all__ = ["punctual_at", "punctual_radiance", "surface_tangents"]
+
+
+def surface_tangents(surface):
+    """The (N, 4) tangents of a :class:`pbrkit.render.geometry.Surface`, (0, 0, 0, 1)
+    (:data:`pbrkit.brdf.bxdf.NO_TANGENT`) where it has none."""
+    if surface.tangent is not None:
+        return surface.tangent
+    out = np.zeros((surface.p.shape[0], 4))
+    out[:, 3] = 1.0
+    return out
 
 # ============================================================ punctual lights
 
 
 @row_kernel(3)
-def _punctual_kernel(start, stop, mi, mf, mat, p, ng, n, v, rough, metal, base, ec, codes, values, li, out_dir, out_dist,
-                     out_value):
+def _punctual_kernel(start, stop, mi, mf, mat, p, ng, n, v, rough, metal, base, tan, ec, codes, values, li, out_dir,
+                     out_dist, out_value):
     """Unshadowed radiance from light li at each point, its direction and distance."""
     ct = codes[li, 0]
     cf = codes[li, 1]
@@ -36,7 +47,7 @@ def _punctual_kernel(start, stop, mi, mf, mat, p, ng, n, v, rough, metal, base, 
         if factor <= 0.0 or ng[i, 0] * lx + ng[i, 1] * ly + ng[i, 2] * lz <= 0.0:
             continue
         b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2])
+                            n[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
         c = hit_cosines(b, n[i, 0], n[i, 1], n[i, 2], t, bt, v[i, 0], v[i, 1], v[i, 2], lx, ly, lz)
         f = bxdf_f(b, c, ec[i, 0], ec[i, 1], ec[i, 2])
         e = factor * max(c.nol, 0.0)
@@ -50,7 +61,7 @@ def _punctual_analytic_batch(start, stop, mi, mf, mat, p, ng, n, v, rough, metal
                              lo, hi, skip, first, count, order, planes, out):
     for i in range(start, stop):
         b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2])
+                            n[i, 2], NO_TANGENT)
         r = punctual_at(b, t, bt, p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2], n[i, 0], n[i, 1], n[i, 2],
                         v[i, 0], v[i, 1], v[i, 2], ec[i, 0], ec[i, 1], ec[i, 2], codes, values, eps, shadows,
                         spheres, lo, hi, skip, first, count, order, planes)
@@ -76,7 +87,7 @@ def punctual_radiance(geometry, surface, v, mat_i, mat_f, ec=None, shadows=True)
                                  *geometry.bvh, geometry.planes, total)
         return total
     args = [np.ascontiguousarray(x) for x in (surface.p, surface.ng, surface.n, v, surface.roughness,
-                                              surface.metallic, surface.base_color)]
+                                              surface.metallic, surface.base_color, surface_tangents(surface))]
     direction = np.empty((count, 3))
     dist = np.empty(count)
     value = np.empty((count, 3))

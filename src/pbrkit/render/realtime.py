@@ -59,6 +59,7 @@ from ..brdf.dispatch import (
     ibl_transmission,
     split_sum_f0,
 )
+from ..brdf.bxdf import NO_TANGENT
 from ..brdf.fresnel import f0_from_ior, f_schlick
 from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0, gltf_fresnel_mix_weight
 from ..brdf.shading.registry import COLUMNS, EXTENDED_CODES, model
@@ -76,12 +77,13 @@ from .environment import EnvironmentLight
 from .geometry import Geometry
 from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _background, _primary, _resolve
-from .punctual import punctual_radiance
+from .punctual import punctual_radiance, surface_tangents
 from .transmission_ibl import transmission_lookups
 
 __all__ = [
     "render_realtime",
     "reflection_direction",
+    "khr_anisotropic_reflection",
     "sheen_albedo_table",
     "fresnel_mix_albedo_table",
     "DIFFUSE_WEIGHTS",
@@ -105,8 +107,9 @@ _ENGINE_FILAMENT = 1
 _ENGINE_KHRONOS = 2
 _ENGINE_THREE = 3
 _ENGINE_BABYLON = 4
-#: The parameter row's anisotropy column.
+#: The parameter row's anisotropy column, and KHR_materials_anisotropy's strength's.
 _ANISOTROPY = COLUMNS.anisotropy
+_ANISOTROPY_STRENGTH = COLUMNS.anisotropy_strength
 #: three.js's smallest perceptual roughness (``lights_physical_fragment``).
 _THREE_MIN_ROUGHNESS = 0.045
 
@@ -197,6 +200,38 @@ def reflection_direction(nx, ny, nz, vx, vy, vz, t, bt, anisotropy, roughness):
         nz /= length
     nov = nx * vx + ny * vy + nz * vz
     return 2.0 * nov * nx - vx, 2.0 * nov * ny - vy, 2.0 * nov * nz - vz
+
+
+@dual_use
+def khr_anisotropic_reflection(nx, ny, nz, vx, vy, vz, bt, strength, roughness):
+    """The direction the Khronos glTF Sample Viewer looks up the prefiltered
+    environment in for KHR_materials_anisotropy (its ``getIBLRadianceAnisotropy``,
+    after Filament's bent normal, McAuley 2015): with the anisotropy bitangent B
+    (across the direction of increased roughness), the anisotropic normal
+    a = (B x v) x B bent back towards n by the factor (1 - strength (1 - r))^4
+    (r perceptual roughness: no bend at r = 1 or strength 0), n' =
+    normalize(mix(a, n, factor)), and R = reflect(-v, n')."""
+    bx, by, bz = bt
+    ax = by * vz - bz * vy
+    ay = bz * vx - bx * vz
+    az = bx * vy - by * vx
+    qx = ay * bz - az * by
+    qy = az * bx - ax * bz
+    qz = ax * by - ay * bx
+    k = 1.0 - strength * (1.0 - roughness)
+    k = k * k * k * k
+    mx = qx + (nx - qx) * k
+    my = qy + (ny - qy) * k
+    mz = qz + (nz - qz) * k
+    length = math.sqrt(mx * mx + my * my + mz * mz)
+    if length > 0.0:
+        mx /= length
+        my /= length
+        mz /= length
+    else:
+        mx, my, mz = nx, ny, nz
+    d = mx * vx + my * vy + mz * vz
+    return 2.0 * d * mx - vx, 2.0 * d * my - vy, 2.0 * d * mz - vz
 
 
 @dual_use
@@ -303,16 +338,22 @@ def _sheen_lookups(bake, env, sampler, n, v, sheen_roughness, levels):
 
 
 @row_kernel(3)
-def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, out, coat_out, sheen_out):
+def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, tan, out, coat_out, sheen_out):
     """The lookup direction (:func:`reflection_direction`) of every pixel, and the
     perceptual roughness of its model's coat and sheen lookups (-1 without one,
     :func:`pbrkit.brdf.dispatch.ibl_coat_roughness`, :func:`~pbrkit.brdf.dispatch.ibl_sheen_roughness`)."""
     for i in range(start, stop):
         m = mat[i]
         b, t, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2])
-        anisotropy = mf[m, _ANISOTROPY] if b.anisotropic else 0.0
-        r = reflection_direction(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], t, bt, anisotropy, rough[i])
+                            n[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
+        strength = mf[m, _ANISOTROPY_STRENGTH] if b.anisotropic else 0.0
+        if strength > 0.0:
+            r = khr_anisotropic_reflection(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], bt, strength,
+                                           rough[i])
+        else:
+            anisotropy = mf[m, _ANISOTROPY] if b.anisotropic else 0.0
+            r = reflection_direction(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], t, bt, anisotropy,
+                                     rough[i])
         out[i, 0] = r[0]
         out[i, 1] = r[1]
         out[i, 2] = r[2]
@@ -413,7 +454,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
     for i in range(start, stop):
         m = mat[i]
         b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                           n[i, 2])
+                           n[i, 2], NO_TANGENT)
         nov = max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 1e-4)
         r = rough[i]
         t = lut_index[m]
@@ -490,7 +531,7 @@ def _area_specular_kernel(start, stop, mi, mf, mat, n, rough, metal, base, spec,
     keeps the f lobe."""
     for i in range(start, stop):
         b, _, _ = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                           n[i, 2])
+                           n[i, 2], NO_TANGENT)
         constant_f = fresnel_constant(b)
         f0s = split_sum_f0(b)
         for c in range(3):
@@ -592,7 +633,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         coat_roughness = np.empty(count)
         sheen_roughness = np.empty(count)
         for_materials(_reflection_kernel, mat_i)(mat_i, mat_f, mat, n_rows, v_rows, s.roughness, s.metallic,
-                                                 base_rows, refl, coat_roughness, sheen_roughness)
+                                                 base_rows, np.ascontiguousarray(surface_tangents(s)), refl,
+                                                 coat_roughness, sheen_roughness)
         chain = _engine_chain(bake, env, engine) if curve is not None else bake.specular
         levels = len(chain)
         key = (id(bake), engine)

@@ -80,7 +80,8 @@ class AreaArrays(NamedTuple):
 class Points(NamedTuple):
     """Shading points, one row each: position, geometric and shading normals, the
     direction towards the eye (N, 3), the material (N,) int64 (-1: none, a ray that
-    missed), the textured roughness and metallic (N,) and base colour (N, 3)."""
+    missed), the textured roughness and metallic (N,), base colour (N, 3) and the
+    surface's tangent (N, 4) (:attr:`pbrkit.render.geometry.Surface.tangent`)."""
 
     p: np.ndarray
     ng: np.ndarray
@@ -90,6 +91,7 @@ class Points(NamedTuple):
     roughness: np.ndarray
     metallic: np.ndarray
     base_color: np.ndarray
+    tangent: np.ndarray
 
 
 def environment_arrays(env):

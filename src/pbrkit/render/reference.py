@@ -57,6 +57,7 @@ from ..brdf.lobes.clearcoat import coated_emission
 from ..brdf.transmission import absorption, transmissive_material, volume_material
 from ..brdf.shading.registry import COLUMNS
 from ..core import checks
+from ..brdf.bxdf import NO_TANGENT
 from ..core.jit import run_in_threads, threaded_kernel
 from ..sampling.random import _path_key
 from .area_lights import area_light_hit
@@ -68,7 +69,7 @@ from .lanes import direct_lighting
 from .materials import COAT_F0, for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _primary
 from .primitives import KIND_NONE, KIND_SPHERE, analytic_surface, trace_analytic
-from .punctual import punctual_at
+from .punctual import punctual_at, surface_tangents
 from .records import Materials, Points, analytic_shapes, area_arrays, environment_arrays, punctual_lights
 from .vertex import _env_miss, _transmissive_vertex, _transmits, _vertex
 from .wavefront import _base_values, _wavefront
@@ -162,11 +163,11 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
                     if media and transmissive_material(mi, mf, m):
                         ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _transmissive_vertex(
                             key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r,
-                            me, b0, b1, b2)
+                            me, b0, b1, b2, NO_TANGENT)
                     else:
                         ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
                             key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, r,
-                            me, b0, b1, b2)
+                            me, b0, b1, b2, NO_TANGENT)
                     ox = px + eps * gx
                     oy = py + eps * gy
                     oz = pz + eps * gz
@@ -255,7 +256,7 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
                     me = mf[m, _METALLIC]
                     b0, b1, b2 = mf[m, _BASE_COLOR], mf[m, _BASE_COLOR + 1], mf[m, _BASE_COLOR + 2]
                     if codes.shape[0]:
-                        bh, th_, bth = hit_bxdf(mi, mf, m, r, me, b0, b1, b2, nx, ny, nz)
+                        bh, th_, bth = hit_bxdf(mi, mf, m, r, me, b0, b1, b2, nx, ny, nz, NO_TANGENT)
                         pr = punctual_at(bh, th_, bth, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, 1.0, 1.0,
                                          1.0, codes, values, eps, True, spheres, lo, hi, skip, first, count, order,
                                          planes)
@@ -287,7 +288,10 @@ def _primary_points(prim, v):
     rough[prim.rows] = s.roughness
     metal[prim.rows] = s.metallic
     base[prim.rows] = s.base_color
-    return Points(p, ng, n, vv, mat, rough, metal, base)
+    tangent = np.zeros((rays, 4))
+    tangent[:, 3] = 1.0
+    tangent[prim.rows] = surface_tangents(s)
+    return Points(p, ng, n, vv, mat, rough, metal, base, tangent)
 
 
 def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, strategy="mis", occlusion=True,

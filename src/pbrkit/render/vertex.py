@@ -31,11 +31,11 @@ __all__ = []
 
 @dual_use
 def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal,
-            b0, b1, b2):
+            b0, b1, b2, tangent):
     """The samples of one path vertex (the estimator of :mod:`pbrkit.render.estimator`
     with the random numbers of ``key``) at a point of material ``m`` with the textured
     roughness, metallic and base colour, geometric normal g, shading normal n, seen
-    from v.  Returns (environment direction (3), its contribution (3, unshadowed,
+    from v, and the surface's ``tangent`` (:func:`pbrkit.render.materials.hit_bxdf`).  Returns (environment direction (3), its contribution (3, unshadowed,
     MIS-weighted), area-light direction (3), the distance to the light, its
     contribution (3, unshadowed, MIS-weighted), BRDF direction (3), BRDF weight
     f cos / pdf (3), BRDF pdf); the contributions are 0 where a sample gives nothing,
@@ -51,7 +51,7 @@ def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, 
     nov = nx * vx + ny * vy + nz * vz
     if nov <= 0.0 or gx * vx + gy * vy + gz * vz <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
-    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz, tangent)
     at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
     p_spec, p_coat = lobe_probabilities(b, nov)
     # --- environment sample
@@ -86,7 +86,7 @@ def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, 
 
 @dual_use
 def _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz,
-                         rough, metal, b0, b1, b2):
+                         rough, metal, b0, b1, b2, tangent):
     """:func:`_vertex` of a material that transmits (the same random numbers): the view
     on either side of the surface (the side of its geometric and shading normals must
     agree), light samples on either side
@@ -96,7 +96,7 @@ def _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx,
     nov = nx * vx + ny * vy + nz * vz
     if nov * (gx * vx + gy * vy + gz * vz) <= 0.0:
         return z3, z3, z3, 0.0, z3, z3, z3, 0.0
-    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz)
+    b, t, bt = hit_bxdf(materials.codes, materials.params, m, rough, metal, b0, b1, b2, nx, ny, nz, tangent)
     at = Shading((nx, ny, nz), t, bt, (gx, gy, gz), (vx, vy, vz))
     p_t, p_spec, p_coat = transmissive_probabilities(b, nov)
     light_dir = z3

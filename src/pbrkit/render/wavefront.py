@@ -20,7 +20,7 @@ from .film import Film, shifted_add
 from .materials import emission_seen, for_materials
 from .primary import _background, _primary
 from .primitives import KIND_NONE
-from .punctual import punctual_radiance
+from .punctual import punctual_radiance, surface_tangents
 from .records import Points, area_arrays, environment_arrays
 from .vertex import _env_miss, _transmissive_vertex, _transmits, _vertex
 
@@ -60,6 +60,7 @@ def _vertex_batch(start, stop, seed, sample, bounce, strategy, media, pixel, poi
     rough = points.roughness
     metal = points.metallic
     base = points.base_color
+    tan = points.tangent
     light_dir = out.light_dir
     light_val = out.light_val
     area_dir = out.area_dir
@@ -74,12 +75,12 @@ def _vertex_batch(start, stop, seed, sample, bounce, strategy, media, pixel, poi
             ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _transmissive_vertex(
                 key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
                 n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
-                base[i, 2])
+                base[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
         else:
             ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
                 key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
                 n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
-                base[i, 2])
+                base[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
@@ -138,7 +139,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             rows = ids[pj.rows]
             sj = pj.surface
             surf_p, surf_ng, surf_n, surf_mat = sj.p, sj.ng, sj.n, sj.material
-            surf_r, surf_m, surf_b = sj.roughness, sj.metallic, sj.base_color
+            surf_r, surf_m, surf_b, surf_t = sj.roughness, sj.metallic, sj.base_color, surface_tangents(sj)
         else:
             x = base_value[sub::k2].copy()  # rays are pixel-major: ray = pixel * k2 + sub
             sel = np.flatnonzero(ray_sub[prim.rows] == sub)
@@ -150,6 +151,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             surf_r = prim.surface.roughness[sel]
             surf_m = prim.surface.metallic[sel]
             surf_b = prim.surface.base_color[sel]
+            surf_t = surface_tangents(prim.surface)[sel]
         v = -prim.dirs[rows]
         pix = ray_pixel[rows]
         through = np.ones((rows.size, 3))
@@ -160,7 +162,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 break
             vs = _vertex_samples(count)
             points = Points(*(np.ascontiguousarray(a) for a in (surf_p, surf_ng, surf_n, v, surf_mat, surf_r,
-                                                                 surf_m, surf_b)))
+                                                                 surf_m, surf_b, surf_t)))
             for_materials(_vertex_batch, materials.codes)(seed, j, bounce, strategy, transmits, pix.astype(np.int64),
                                                           points, materials, envs, area, vs)
             ldir, lval, adir, adist, aval, bdir, bw, bpdf = vs
@@ -233,6 +235,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             surf_p, surf_ng, surf_n = surface.p, surface.ng, surface.n
             surf_mat, surf_r, surf_m, surf_b = surface.material, surface.roughness, surface.metallic, \
                 surface.base_color
+            surf_t = surface_tangents(surface)
         if j == 0:
             shift = x.copy()
         total_sum, total_sq = shifted_add(shift, total_sum, total_sq, x, 1)

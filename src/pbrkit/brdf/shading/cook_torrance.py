@@ -70,7 +70,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     k = columns.k
     s = columns.specular_color
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
-                alpha_x, alpha_y, anisotropic, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0,
+                alpha_x, alpha_y, anisotropic, 0.0, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0,
                 (params[q, eta], params[q, eta + 1], params[q, eta + 2]),
                 (params[q, k], params[q, k + 1], params[q, k + 2]), f0d,
                 (params[q, s], params[q, s + 1], params[q, s + 2]), NO_EXTRA)

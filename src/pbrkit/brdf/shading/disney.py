@@ -94,7 +94,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
              s * (1.0 + (t2 - 1.0) * sht) * kd, 0.25 * params[q, columns.clearcoat],
              disney_clearcoat_alpha(params[q, columns.clearcoat_gloss]), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
-                alpha_x, alpha_y, anisotropic, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3,
+                alpha_x, alpha_y, anisotropic, 0.0, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3,
                 _Z3, f0d, _Z3, extra)
 
 

@@ -39,7 +39,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     f0 = (f0_metallic(b0, metallic, f0d), f0_metallic(b1, metallic, f0d), f0_metallic(b2, metallic, f0d))
     kd = 1.0 - metallic
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
-                alpha_x, alpha_y, anisotropic, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0,
+                alpha_x, alpha_y, anisotropic, 0.0, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0,
                 f90_filament(f0[0] + f0[1] + f0[2]), _Z3, _Z3, f0d, _Z3, NO_EXTRA)
 
 

@@ -67,13 +67,14 @@ from ..lobes.sheen import (SHEEN, SHEEN_COLOR_SLOT, SHEEN_ROUGHNESS_SLOT, sheen_
                            sheen_albedo_scaling)
 from ..operators import add, fresnel_coat, fresnel_mix, layer, mix, weighted
 from ..parameters import BASE_COLOR, METALLIC, ROUGHNESS, Parameter
-from ..terms import GGX, SCHLICK, SCHLICK_SPECULAR, SEPARABLE
+from ...microfacet.smith import g2_height_correlated, g2_separable, visibility
+from ..terms import GGX, SCHLICK, SCHLICK_SPECULAR, SEPARABLE, Masking
 from .model import Model, RealTime
 
 __all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION",
            "COMPOSITION", "SHEEN_COLOR", "SHEEN_ROUGHNESS", "CLEARCOAT", "CLEARCOAT_ROUGHNESS", "SPECULAR",
            "SPECULAR_COLOR", "IOR", "IRIDESCENCE", "IRIDESCENCE_IOR", "IRIDESCENCE_THICKNESS_MINIMUM",
-           "IRIDESCENCE_THICKNESS_MAXIMUM", "TRANSMISSION", "THICKNESS", "ATTENUATION_DISTANCE", "ATTENUATION_COLOR",
+           "IRIDESCENCE_THICKNESS_MAXIMUM", "TRANSMISSION", "ANISOTROPY_STRENGTH", "ANISOTROPY_ROTATION", "THICKNESS", "ATTENUATION_DISTANCE", "ATTENUATION_COLOR",
            "SPECULAR_SLOT", "IRIDESCENCE_SLOT", "TRANSMISSION_SLOT", "THICKNESS_SLOT", "SPECULAR_DV", "khr_fresnel",
            "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
            "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
@@ -133,6 +134,13 @@ ATTENUATION_DISTANCE = Parameter("attenuation_distance", 0.0, 0.0, math.inf, "sc
 ATTENUATION_COLOR = Parameter("attenuation_color", (1.0, 1.0, 1.0), 0.0, 1.0, "linear Rec.709",
                               "colour white light turns into after attenuation_distance in the medium, "
                               "KHR_materials_volume attenuationColor", channels=3)
+#: KHR_materials_anisotropy's factors (its README, "Properties"; strength 0: isotropic).
+ANISOTROPY_STRENGTH = Parameter("anisotropy_strength", 0.0, 0.0, 1.0, "",
+                                "roughness added along the anisotropy direction (alpha_t = mix(alpha, 1, "
+                                "strength^2), alpha_b = alpha), KHR_materials_anisotropy anisotropyStrength")
+ANISOTROPY_ROTATION = Parameter("anisotropy_rotation", 0.0, -math.inf, math.inf, "radians",
+                                "anisotropy direction, counter-clockwise from the tangent towards the bitangent, "
+                                "KHR_materials_anisotropy anisotropyRotation")
 #: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5), of the
 #: transmission factor and the volume's thickness (:mod:`pbrkit.brdf.transmission`), and of
 #: the thin film: its weight, IOR and thickness (nm).  The dielectric's IOR rides in the
@@ -196,9 +204,13 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
              params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s,
              transmission, params[q, columns.iridescence], params[q, columns.iridescence_ior],
              params[q, columns.iridescence_thickness_maximum], params[q, columns.thickness])
-    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha, alpha,
-                alpha, False, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, f90, (ior, ior, ior), z3,
-                max(d0, max(d1, d2)), (d0, d1, d2), extra)
+    # KHR_materials_anisotropy (its README, "Anisotropy"): alpha_t = mix(alpha, 1, strength^2)
+    # along the direction turned anisotropyRotation from the tangent, alpha_b = alpha across it
+    strength = params[q, columns.anisotropy_strength]
+    alpha_t = alpha + (1.0 - alpha) * (strength * strength)
+    return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
+                alpha_t, alpha, strength > 0.0, params[q, columns.anisotropy_rotation], metallic, (b0, b1, b2),
+                (b0 * kd, b1 * kd, b2 * kd), f0, f90, (ior, ior, ior), z3, max(d0, max(d1, d2)), (d0, d1, d2), extra)
 
 
 _SPECULAR = microfacet(GGX, SEPARABLE, SCHLICK)
@@ -296,9 +308,28 @@ def khr_fresnel(b, voh):
     return out[0], out[1], out[2]
 
 
+_GGX_LAMBDAS = GGX.lambdas
+
+
+@dual_use(inline=True)
+def _v_khr(b, c):
+    # B.3.2's separable Smith V of GGX, or for KHR_materials_anisotropy its README's
+    # V_GGX_anisotropic: the height-correlated Smith V of the anisotropic GGX
+    # (Heitz 2014, eq. 99 with the anisotropic Lambdas, eqs. 80 and 86), without the
+    # README's clamp to [0, 1] (a guard of 16-bit shaders; the exact V never exceeds it at
+    # the angles it is used)
+    lam_l, lam_v = _GGX_LAMBDAS(b, c)
+    if b.anisotropic:
+        return visibility(g2_height_correlated(lam_l, lam_v), c.nol, c.nov)
+    return visibility(g2_separable(lam_l, lam_v), c.nol, c.nov)
+
+
+#: The extended model's masking: :data:`pbrkit.brdf.terms.SEPARABLE` (the core's), and
+#: for an anisotropic material KHR_materials_anisotropy's height-correlated V (:func:`_v_khr`).
+KHR_MASKING = Masking("separable", "separable", v=_v_khr)
 #: The specular lobe with KHR_materials_specular's F90 (:data:`pbrkit.brdf.terms.SCHLICK_SPECULAR`):
 #: its D V, sampling and split-sum pieces, with the Fresnel :func:`khr_fresnel` in its value.
-_SPECULAR_F90 = microfacet(GGX, SEPARABLE, SCHLICK_SPECULAR)
+_SPECULAR_F90 = microfacet(GGX, KHR_MASKING, SCHLICK_SPECULAR)
 _DV_F90 = _SPECULAR_F90.parts.dv
 
 
@@ -473,7 +504,8 @@ def emission_coat(params, q, columns):
 MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with its KHR_materials extensions",
               (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS, CLEARCOAT, CLEARCOAT_ROUGHNESS, SPECULAR,
                SPECULAR_COLOR, IOR, IRIDESCENCE, IRIDESCENCE_IOR, IRIDESCENCE_THICKNESS_MINIMUM,
-               IRIDESCENCE_THICKNESS_MAXIMUM, TRANSMISSION, THICKNESS, ATTENUATION_DISTANCE, ATTENUATION_COLOR), setup,
+               IRIDESCENCE_THICKNESS_MAXIMUM, TRANSMISSION, THICKNESS, ATTENUATION_DISTANCE, ATTENUATION_COLOR,
+               ANISOTROPY_STRENGTH, ANISOTROPY_ROTATION), setup,
               EXTENDED_COMPOSITION,
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
