@@ -169,3 +169,77 @@ def test_the_frame_follows_the_tangent_handedness_and_rotation():
     # no tangent: the parallels about +Y (a parametric sphere's dp/dphi), turned
     t, _ = shading_frame.py_func(1.0, 0.0, 0.0, b, (0.0, 0.0, 0.0, 1.0))
     np.testing.assert_allclose(t, (0.0, -np.sin(0.3), np.cos(0.3)), atol=1e-15)
+
+
+# ------------------------------------------------------------------ glTF files
+
+
+def test_the_factors_and_tangents_are_read_from_gltf_files(tmp_path):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 0.7, "anisotropyRotation": -1.25}}
+    asset = load_gltf(write_quad_glb(tmp_path / "a.glb", material_extras=ext, extensions_required=tuple(ext)))
+    spec = asset.materials[0].spec
+    assert (spec.anisotropy_strength, spec.anisotropy_rotation) == (0.7, -1.25)
+    # without TANGENT the anisotropic quad gets MikkTSpace tangents along TEXCOORD_0
+    tangents = asset.meshes[0].tangents
+    assert tangents is not None and np.allclose(np.linalg.norm(tangents[:, :3], axis=1), 1.0)
+    assert np.allclose(np.abs(tangents[:, 3]), 1.0)
+    # any angle is the same direction as its remainder in [-pi, pi]
+    ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 0.7, "anisotropyRotation": 7.0}}
+    asset = load_gltf(write_quad_glb(tmp_path / "w.glb", material_extras=ext))
+    assert asset.materials[0].spec.anisotropy_rotation == pytest.approx(7.0 - 2.0 * np.pi, abs=1e-15)
+    # the extension without its factors: the README's defaults (isotropic)
+    asset = load_gltf(write_quad_glb(tmp_path / "d.glb", material_extras={"KHR_materials_anisotropy": {}}))
+    spec = asset.materials[0].spec
+    assert (spec.anisotropy_strength, spec.anisotropy_rotation) == (0.0, 0.0)
+    assert asset.meshes[0].tangents is None
+
+
+def test_an_anisotropy_texture_is_noted_as_not_supported_yet(tmp_path):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.gltf import load_gltf
+
+    texture = np.full((2, 2, 3), 200, dtype=np.uint8)
+    ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 1.0, "anisotropyTexture": {"index": 0}}}
+    asset = load_gltf(write_quad_glb(tmp_path / "t.glb", texture=texture, material_extras=ext))
+    assert asset.materials[0].spec.anisotropy_strength == 1.0
+    assert any("anisotropyTexture is not supported yet" in note for note in asset.notes)
+
+
+@pytest.mark.parametrize("ext, fragment", [
+    ({"KHR_materials_anisotropy": {"anisotropyStrength": 1.5}}, "KHR_materials_anisotropy.anisotropyStrength"),
+    ({"KHR_materials_anisotropy": {"anisotropyStrength": -0.1}}, "KHR_materials_anisotropy.anisotropyStrength"),
+    ({"KHR_materials_anisotropy": {"anisotropyRotation": "x"}}, "KHR_materials_anisotropy.anisotropyRotation"),
+    ({"KHR_materials_anisotropy": {"anisotropyRotation": [1.0]}}, "KHR_materials_anisotropy.anisotropyRotation"),
+    ({"KHR_materials_anisotropy": {"anisotropyTexture": {"index": 4}}},
+     "KHR_materials_anisotropy.anisotropyTexture"),
+    ({"KHR_materials_anisotropy": 1}, "KHR_materials_anisotropy"),
+])
+def test_bad_anisotropy_fields_are_refused_naming_the_field(tmp_path, ext, fragment):
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.core.errors import InputError
+    from pbrkit.render.gltf import load_gltf
+
+    with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as info:
+        load_gltf(write_quad_glb(tmp_path / "b.glb", material_extras=ext))
+    assert "\n" not in str(info.value)
+
+
+def test_the_glb_writer_writes_tangents_the_reader_reads(tmp_path):
+    from pbrkit.io.gltf_writer import GltfPrimitive, write_glb
+    from pbrkit.render.gltf import load_gltf
+
+    p = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    n = np.tile([0.0, 0.0, 1.0], (3, 1))
+    t = np.array([[0.6, 0.8, 0.0, -1.0]] * 3)
+    ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 0.5}}
+    write_glb(tmp_path / "t.glb", [GltfPrimitive(p, n, np.array([[0, 1, 2]]), tangents=t, extensions=ext)])
+    mesh = load_gltf(tmp_path / "t.glb").meshes[0]
+    np.testing.assert_allclose(mesh.tangents, t, atol=1e-7)
+    with pytest.raises(ValueError, match="tangents must have unit xyz"):
+        write_glb(tmp_path / "u.glb", [GltfPrimitive(p, n, np.array([[0, 1, 2]]), tangents=2 * t)])

@@ -475,7 +475,7 @@ def _write_comparison(out, prefix, rt, ref, rel, valid, scale):
 
 #: The demo's glTF material extensions section: (name, what it shows, the material's keys)
 #: of one sphere per KHR_materials extension of the ``gltf`` model, the core model first as
-#: the reference, and sheen, clear coat, specular and ior together last; a 4 x 2 grid, row by row.
+#: the reference, and sheen, clear coat, specular and ior together last; a 5 x 2 grid, row by row.
 GLTF_EXTENSION_MATERIALS = (
     ("core", "core glTF 2.0 (Appendix B), no extension: the clear-coat sphere's red metal-ish base, roughness 0.5, "
              "without its coat; the reference the others differ from",
@@ -500,6 +500,14 @@ GLTF_EXTENSION_MATERIALS = (
     ("transmission", "KHR_materials_transmission: a thin-walled light-blue dielectric that lets 90 % of what "
                      "enters through (roughness 0.15): the sky behind it, slightly blurred",
      dict(base_color=(0.8, 0.9, 1.0), metallic=0.0, roughness=0.15, transmission=0.9)),
+    ("volume", "KHR_materials_volume: a solid glass sphere (transmission 1, thickness 2: its diameter) of amber "
+               "attenuation at distance 1: the environment behind it refracted, upside down, and darkened along "
+               "the path",
+     dict(base_color=(1.0, 1.0, 1.0), metallic=0.0, roughness=0.05, transmission=1.0, thickness=2.0,
+          attenuation_distance=1.0, attenuation_color=(0.9, 0.6, 0.3))),
+    ("anisotropy", "KHR_materials_anisotropy: brushed metal, a grey metal of roughness 0.3 with strength 0.8 "
+                   "along the parallels: the reflections stretched around the sphere",
+     dict(base_color=(0.9, 0.9, 0.9), metallic=1.0, roughness=0.3, anisotropy_strength=0.8)),
     ("combined", "the first four together: a blue dielectric of ior 1.8 with specular 0.8 and a warm specular colour, "
                  "a grey sheen, under a clear coat of weight 0.8 and roughness 0.1",
      dict(base_color=(0.1, 0.25, 0.5), metallic=0.0, roughness=0.4, sheen_color=(0.6, 0.6, 0.6),
@@ -510,14 +518,14 @@ GLTF_EXTENSION_MATERIALS = (
 
 def gltf_extensions_scene(width, environment):
     """The scene of the demo's glTF extensions section: the spheres of
-    :data:`GLTF_EXTENSION_MATERIALS` (model ``gltf``) in a 4 x 2 grid, ``width`` x
-    (``width`` / 2) pixels, far camera (as the sphere grid's), lit by ``environment``
+    :data:`GLTF_EXTENSION_MATERIALS` (model ``gltf``) in a 5 x 2 grid, ``width`` x
+    (2 ``width`` / 5) pixels, far camera (as the sphere grid's), lit by ``environment``
     (an :class:`pbrkit.render.scene.EnvironmentSpec`)."""
     import math
 
     from ..render.scene import Camera, MaterialSpec, Scene, Sphere
 
-    cols, rows, spacing, distance = 4, 2, 2.4, 60.0
+    cols, rows, spacing, distance = 5, 2, 2.4, 60.0
     materials = {"default": MaterialSpec()}
     objects = []
     for k, (name, _, keys) in enumerate(GLTF_EXTENSION_MATERIALS):
@@ -525,7 +533,7 @@ def gltf_extensions_scene(width, environment):
         r, c = divmod(k, cols)
         objects.append(Sphere(center=((c - (cols - 1) / 2) * spacing, ((rows - 1) / 2 - r) * spacing, 0.0),
                               radius=1.0, material=name))
-    height = max(8, width // 2)
+    height = max(8, 2 * width // 5)
     half = ((rows - 1) / 2 * spacing + 1.0) * 1.06
     camera = Camera(position=(0.0, 0.0, distance), look_at=(0.0, 0.0, 0.0),
                     fov=2.0 * math.degrees(math.atan(half / (distance - 1.0))), width=width, height=height)

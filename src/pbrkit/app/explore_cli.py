@@ -32,13 +32,16 @@ EXPLORE_PARAMETERS = {"--reflectance": "reflectance", "--anisotropy": "anisotrop
                       "--sheen-roughness": "sheen_roughness", "--clearcoat-roughness": "clearcoat_roughness",
                       "--specular": "specular", "--ior": "ior", "--transmission": "transmission",
                       "--iridescence": "iridescence", "--iridescence-ior": "iridescence_ior",
-                      "--iridescence-thickness": "iridescence_thickness_maximum"}
+                      "--iridescence-thickness": "iridescence_thickness_maximum",
+                      "--anisotropy-strength": "anisotropy_strength", "--anisotropy-rotation": "anisotropy_rotation"}
 #: The optional colour parameters: option -> Material field (R,G,B; sheen_color in [0, 1],
 #: specular_color >= 0).
 EXPLORE_COLOURS = {"--sheen-color": "sheen_color", "--specular-color": "specular_color"}
 #: The upper end of each parameter's range where it is not 1 (checked here; the material checks again).
 _HIGH = {"ior": float("inf"), "specular_color": float("inf"), "iridescence_ior": float("inf"),
-         "iridescence_thickness_maximum": float("inf")}
+         "iridescence_thickness_maximum": float("inf"), "anisotropy_rotation": 3.141592653589793}
+#: The lower end where it is not 0.
+_LOW = {"anisotropy": -1.0, "anisotropy_rotation": -3.141592653589793}
 
 
 def _unit(option, value, lo=0.0, hi=1.0):
@@ -183,6 +186,12 @@ def register(app):
         iridescence_thickness_maximum: Optional[float] = typer.Option(
             None, "--iridescence-thickness", metavar="NM",
             help="gltf only (the film's thickness in nm; default 400)."),
+        anisotropy_strength: Optional[float] = typer.Option(
+            None, "--anisotropy-strength", metavar="X",
+            help="gltf only (KHR_materials_anisotropy; default 0)."),
+        anisotropy_rotation: Optional[float] = typer.Option(
+            None, "--anisotropy-rotation", metavar="RAD",
+            help="gltf only (from the tangent, in [-pi, pi]; default 0)."),
         distribution: str = _choice("ggx", "--distribution", EXPLORE_DISTRIBUTIONS, "distribution",
                                     "cook_torrance's D."),
         masking: str = _choice("height-correlated", "--masking", EXPLORE_MASKINGS, "masking",
@@ -257,7 +266,7 @@ def register(app):
         _unit("--roughness", roughness)
         rgb = _base_color(base_color)
         values = locals()
-        given = {name: _unit(option, values[name], -1.0 if name == "anisotropy" else 0.0, _HIGH.get(name, 1.0))
+        given = {name: _unit(option, values[name], _LOW.get(name, 0.0), _HIGH.get(name, 1.0))
                  for option, name in EXPLORE_PARAMETERS.items() if values[name] is not None}
         given.update({name: _base_color(values[name], option, _HIGH.get(name, 1.0))
                       for option, name in EXPLORE_COLOURS.items() if values[name] is not None})

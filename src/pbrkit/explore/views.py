@@ -203,7 +203,9 @@ class ModelBRDF:
 
     @property
     def anisotropic(self):
-        return float(self.spec.anisotropy) != 0.0
+        """Whether the lobe is anisotropic: ``anisotropy`` (Disney, Filament, Cook-Torrance)
+        or glTF's KHR_materials_anisotropy ``anisotropy_strength`` away from 0."""
+        return float(self.spec.anisotropy) != 0.0 or float(self.spec.anisotropy_strength) != 0.0
 
     def evaluate(self, l, v, n=None, t=None):
         """f (..., 3) of the model (:func:`pbrkit.brdf.models.evaluate`); ``n`` default +z,

@@ -22,7 +22,7 @@ KHR_materials_volume    thicknessFactor             thickness          [0, inf) 
 KHR_materials_volume    attenuationDistance         attenuation_distance (0, inf)   +inf (0)
 KHR_materials_volume    attenuationColor            attenuation_color  [0, 1]^3     1
 KHR_materials_anisotropy anisotropyStrength         anisotropy_strength [0, 1]      0
-KHR_materials_anisotropy anisotropyRotation         anisotropy_rotation any real    0
+KHR_materials_anisotropy anisotropyRotation         anisotropy_rotation any (wrapped to [-pi, pi]) 0
 ======================  ==========================  =================  ===========  =========
 
 (:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
@@ -35,6 +35,8 @@ is the parameter's 0 (JSON has no infinity; glTF's range excludes 0).  ``KHR_mat
 """
 
 from __future__ import annotations
+
+import math
 
 from .gltf_document import _check_texture_info, _number, _numbers, _object
 
@@ -122,6 +124,8 @@ def material_extension_values(ext, notes, index):
             values[parameter] = default
         else:
             values[parameter] = float(value) if n == 1 else tuple(float(x) for x in value)
+        if parameter == "anisotropy_rotation":  # any angle: the same direction in [-pi, pi]
+            values[parameter] = math.remainder(values[parameter], 2.0 * math.pi)
     for name, textures in TEXTURES.items():
         obj = ext.get(name) or {}
         for key in textures:

@@ -138,9 +138,9 @@ ATTENUATION_COLOR = Parameter("attenuation_color", (1.0, 1.0, 1.0), 0.0, 1.0, "l
 ANISOTROPY_STRENGTH = Parameter("anisotropy_strength", 0.0, 0.0, 1.0, "",
                                 "roughness added along the anisotropy direction (alpha_t = mix(alpha, 1, "
                                 "strength^2), alpha_b = alpha), KHR_materials_anisotropy anisotropyStrength")
-ANISOTROPY_ROTATION = Parameter("anisotropy_rotation", 0.0, -math.inf, math.inf, "radians",
+ANISOTROPY_ROTATION = Parameter("anisotropy_rotation", 0.0, -math.pi, math.pi, "radians",
                                 "anisotropy direction, counter-clockwise from the tangent towards the bitangent, "
-                                "KHR_materials_anisotropy anisotropyRotation")
+                                "KHR_materials_anisotropy anisotropyRotation (glTF files' any angle, wrapped)")
 #: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5), of the
 #: transmission factor and the volume's thickness (:mod:`pbrkit.brdf.transmission`), and of
 #: the thin film: its weight, IOR and thickness (nm).  The dielectric's IOR rides in the
