@@ -51,7 +51,7 @@ def test_write_shaders_files_and_manifest(tmp_path):
     for name in shaders.GLSL_FILES:
         text = (out / name).read_text()
         assert not re.search(r"^\s*#version", text, re.M)  # the user adds the version line
-        defined |= set(re.findall(r"^(?:float|vec[234]|pbrkit_Cosines)\s+(\w+)\s*\(", text, re.M))
+        defined |= set(re.findall(r"^(?:float|vec[234]|mat[234]|pbrkit_Cosines)\s+(\w+)\s*\(", text, re.M))
     assert listed == defined
     for entry in manifest["functions"]:
         assert entry["source"] and entry["roughness"] and entry["summary"], entry["name"]

@@ -44,8 +44,14 @@ group:
   and the extensions' real-time IBL: pbrkit's own (split sum with F90, the
   diffuse's F* weight, the coat's roughness, the sheen and coat terms and the
   base's scale, ``pbrkit_glTFExtendedIBL``) and the Khronos Sample Viewer's
-  (:mod:`pbrkit.render.khronos_ibl`); needs ``pbrkit_brdf.glsl`` and
-  ``pbrkit_khr.glsl`` before it.
+  (:mod:`pbrkit.render.khronos_ibl`); ``KHR_materials_anisotropy``: the frame
+  ``pbrkit_anisotropicFrame`` (a ``mat3``) of a glTF tangent and the rotation's
+  (cos, sin), alpha_t, the anisotropic GGX ``pbrkit_dGGXAnisotropic`` and
+  height-correlated ``pbrkit_vGGXAnisotropic``, the lobe
+  ``pbrkit_anisotropicSpecular``, the core material's ``BRDF_glTFAnisotropic``
+  and the Sample Viewer's bent-normal lookup ``pbrkit_anisotropicReflection``
+  (:func:`pbrkit.render.realtime.khr_anisotropic_reflection`); needs
+  ``pbrkit_brdf.glsl`` and ``pbrkit_khr.glsl`` before it.
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each
 function is preceded by a comment whose ``source:``, ``roughness:`` and
@@ -72,7 +78,7 @@ GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_
 #: Version of the manifest's layout.
 MANIFEST_VERSION = 1
 
-_TYPES = r"(?:float|vec[234]|bool|int|ivec[234]|pbrkit_Cosines)"
+_TYPES = r"(?:float|vec[234]|mat[234]|bool|int|ivec[234]|pbrkit_Cosines)"
 _DEFINITION = re.compile(rf"^({_TYPES})\s+([A-Za-z_][A-Za-z0-9_]*)\s*\(([^)]*)\)?", re.M)
 
 

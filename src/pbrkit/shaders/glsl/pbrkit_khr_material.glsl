@@ -4,7 +4,9 @@
 // KHR_materials_sheen, and their real-time image-based lighting -- pbrkit's own
 // (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl),
 // with KHR_materials_transmission / _volume's transmitted light (pbrkit.render.transmission_ibl)
-// and the viewer's KHR_materials_iridescence mix.
+// and the viewer's KHR_materials_iridescence mix; and KHR_materials_anisotropy (its frame, the
+// anisotropic GGX D and V, the specular lobe, the core material's BRDF and the Sample Viewer's
+// bent-normal lookup direction).
 //
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+: add your own version line, then pbrkit_brdf.glsl and
 // pbrkit_khr.glsl (whose F_Schlick, D_GGX, V_SmithGGX, sheen lobe and albedo scaling these call)
@@ -12,7 +14,9 @@
 // and is tested against it in WebGL2 (tests/test_shaders_khr_material.py).
 //
 // Roughness: the base and the coat take perceptual roughness r, alpha = max(r^2, 1e-3)
-// (pbrkit_alphaFromRoughness); the sheen's roughness is the Charlie one (pbrkit_charlieAlpha).
+// (pbrkit_alphaFromRoughness); the sheen's roughness is the Charlie one (pbrkit_charlieAlpha); the
+// anisotropic lobe has alpha_b = alpha across the anisotropy direction and alpha_t = mix(alpha, 1,
+// strength^2) along it.
 // E_sheen (sheenAlbedo below) is pbrkit_fetchSheenAlbedo or pbrkit_sampleSheenAlbedo at
 // (n.v, sheenRoughness).
 
@@ -322,4 +326,123 @@ vec3 pbrkit_sampleViewerFilm(float NoV, float roughness, vec3 fDiffuse, vec3 bas
     dielectric = mix(dielectric, (1.0 - dMax) * fDiffuse + filmDielectric * radiance, k);
     metal = mix(metal, radiance * filmMetal, k);
     return mix(dielectric, metal, metallic);
+}
+
+// ------------------------------------------------------------ KHR_materials_anisotropy
+
+// pbrkit_anisotropicFrame: the anisotropy's frame mat3(anisotropicT, anisotropicB, n) at unit normal n, from
+//   a glTF TANGENT (xyz, w the handedness): T = tangent.xyz made orthogonal to n and normalised, B = w (n x T)
+//   (w = -1 where tangent.w < 0, else 1), anisotropicT = normalize(direction.x T + direction.y B),
+//   anisotropicB = n x anisotropicT.  direction = (cos, sin) of anisotropyRotation (counter-clockwise from T
+//   towards B), the README's u_AnisotropyRotation: computed once per material on the CPU (the GPU's sin and
+//   cos need only be within 2^-11; SwiftShader's are off by up to 2e-4 on [-4, 4]), or a texture's
+//   direction turned by it.  tangent.xyz must not be zero or parallel to n (pbrkit then takes a frame of its
+//   own, tangent_frame's).
+// source: KHR_materials_anisotropy README, "Implementation" (anisotropicT = normalize(TBN (cos, sin, 0)), anisotropicB = normalize(cross(n, anisotropicT))); glTF 2.0 specification, "Meshes" (bitangent = cross(normal, tangent.xyz) tangent.w)
+// roughness: none
+// pbrkit: pbrkit.brdf.bxdf.shading_frame, pbrkit.brdf.bxdf.turned_frame
+mat3 pbrkit_anisotropicFrame(vec3 n, vec4 tangent, vec2 direction) {
+    vec3 t = normalize(tangent.xyz - dot(tangent.xyz, n) * n);
+    vec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+    t = normalize(direction.x * t + direction.y * b);
+    return mat3(t, cross(n, t), n);
+}
+
+// pbrkit_anisotropicAlphaT: the GGX alpha along anisotropicT, alpha_t = mix(alpha, 1, strength^2); across it
+//   (along anisotropicB) alpha_b = alpha.
+// source: KHR_materials_anisotropy README, "Implementation" (at = mix(alphaRoughness, 1.0, anisotropy * anisotropy), ab = alphaRoughness); glTF 2.0 specification, Appendix B.2.2 (alpha = r^2)
+// roughness: alpha (= max(r^2, 1e-3), pbrkit_alphaFromRoughness) -> alpha_t = alpha + (1 - alpha) strength^2, strength in [0, 1]
+// pbrkit: pbrkit.brdf.shading.gltf.setup
+float pbrkit_anisotropicAlphaT(float alpha, float strength) {
+    return alpha + (1.0 - alpha) * (strength * strength);
+}
+
+// pbrkit_dGGXAnisotropic: anisotropic GGX D = 1 / (pi a_t a_b ((t.h / a_t)^2 + (b.h / a_b)^2 + (n.h)^2)^2), written
+//   as the README's a2 w2^2 / pi, a2 = a_t a_b, f = (a_b t.h, a_t b.h, a2 n.h), w2 = a2 / (f.f) (no division by
+//   an alpha); 0 for n.h <= 0 (the README has no such guard).
+// source: Burley 2012, Appendix B.2, eq. 13; Heitz 2014, eq. 85; KHR_materials_anisotropy README, "Implementation" (D_GGX_anisotropic)
+// roughness: takes alpha_t (pbrkit_anisotropicAlphaT) and alpha_b (= alpha = max(r^2, 1e-3))
+// pbrkit: pbrkit.brdf.distributions.d_ggx_anisotropic
+float pbrkit_dGGXAnisotropic(float NoH, float ToH, float BoH, float alphaT, float alphaB) {
+    float a2 = alphaT * alphaB;
+    vec3 f = vec3(alphaB * ToH, alphaT * BoH, a2 * NoH);
+    float w2 = a2 / dot(f, f);
+    return NoH > 0.0 ? a2 * w2 * w2 * PBRKIT_INV_PI : 0.0;
+}
+
+// pbrkit_vGGXAnisotropic: the height-correlated Smith visibility of anisotropic GGX, G2 / (4 n.l n.v) with
+//   G2 = 1 / (1 + Lambda(l) + Lambda(v)), in the division-free form
+//   V = 0.5 / (n.l |(a_t t.v, a_b b.v, n.v)| + n.v |(a_t t.l, a_b b.l, n.l)|) (cosines clamped to [0, 1]);
+//   0 unless n.l > 0 and n.v > 0.  Not clamped: the README's V_GGX_anisotropic clamps V to [0, 1], which cuts
+//   the lobe wherever G2 > 4 n.l n.v (a smooth lobe where n.l n.v < 1/4); pbrkit does not clamp it.
+// source: Heitz 2014, eq. 99 with eqs. 80 and 86; KHR_materials_anisotropy README, "Implementation" (V_GGX_anisotropic, without its clamp)
+// roughness: takes alpha_t (pbrkit_anisotropicAlphaT) and alpha_b (= alpha = max(r^2, 1e-3))
+// pbrkit: pbrkit.brdf.masking.lambda_ggx_anisotropic, pbrkit.brdf.masking.g2_height_correlated, pbrkit.brdf.masking.visibility
+float pbrkit_vGGXAnisotropic(float NoL, float ToL, float BoL, float NoV, float ToV, float BoV, float alphaT,
+                             float alphaB) {
+    float cl = clamp(NoL, 0.0, 1.0);
+    float cv = clamp(NoV, 0.0, 1.0);
+    float lv = cl * length(vec3(alphaT * ToV, alphaB * BoV, cv));
+    float ll = cv * length(vec3(alphaT * ToL, alphaB * BoL, cl));
+    return (NoL > 0.0 && NoV > 0.0) ? 0.5 / max(lv + ll, 1e-30) : 0.0;
+}
+
+// pbrkit_anisotropicSpecular: the glTF specular lobe with KHR_materials_anisotropy, f (not f cos):
+//   pbrkit_dGGXAnisotropic pbrkit_vGGXAnisotropic F_Schlick(v.h; f0, f90) in the frame (anisotropicT, anisotropicB,
+//   n) of pbrkit_anisotropicFrame, alpha_b = max(r^2, 1e-3), alpha_t = pbrkit_anisotropicAlphaT; 0 unless n.l > 0
+//   and n.v > 0.  The core material: f0 = pbrkit_f0Metallic(baseColor, metallic, 0.04), f90 = 1; with
+//   KHR_materials_ior / _specular: pbrkit_f0MetallicKHR, pbrkit_f90MetallicKHR.  Anisotropic for any strength
+//   (pbrkit's model, and BRDF_glTFAnisotropic, take the core's separable V at strength 0).
+// source: KHR_materials_anisotropy README, "Implementation" (BRDF_specularAnisotropicGGX); glTF 2.0 specification, Appendix B.3.2; Schlick 1994
+// roughness: perceptual roughness r -> alpha_b = max(r^2, 1e-3) (pbrkit_alphaFromRoughness), alpha_t = alpha_b + (1 - alpha_b) strength^2
+// pbrkit: pbrkit.brdf.shading.gltf._v_khr, pbrkit.brdf.distributions.d_ggx_anisotropic, pbrkit.brdf.shading.gltf.khr_fresnel
+vec3 pbrkit_anisotropicSpecular(vec3 l, vec3 v, mat3 frame, vec3 f0, float f90, float roughness, float strength) {
+    pbrkit_Cosines c = pbrkit_cosines(l, v, frame[2]);
+    if (c.NoL <= 0.0 || c.NoV <= 0.0) return vec3(0.0);
+    vec3 h = normalize(l + v);  // |l + v| >= n.l + n.v > 0 here: pbrkit_cosines' h
+    float alphaB = pbrkit_alphaFromRoughness(roughness);
+    float alphaT = pbrkit_anisotropicAlphaT(alphaB, strength);
+    float d = pbrkit_dGGXAnisotropic(c.NoH, dot(frame[0], h), dot(frame[1], h), alphaT, alphaB);
+    float vis = pbrkit_vGGXAnisotropic(c.NoL, dot(frame[0], l), dot(frame[1], l), c.NoV, dot(frame[0], v),
+                                       dot(frame[1], v), alphaT, alphaB);
+    return (d * vis) * F_Schlick(c.VoH, f0, f90);
+}
+
+// BRDF_glTFAnisotropic: the glTF 2.0 metallic-roughness BRDF with KHR_materials_anisotropy, f (not f cos):
+//   (1 - metallic) base / pi (1 - F_Schlick(v.h; 0.04, 1)) (pbrkit_specularMixWeight of the core's 0.04) +
+//   pbrkit_anisotropicSpecular with f0 = mix(0.04, base, metallic), f90 = 1, in the frame pbrkit_anisotropicFrame
+//   of the glTF TANGENT and direction = (cos, sin) of anisotropyRotation; strength anisotropyStrength in [0, 1]
+//   (0: BRDF_glTF, the core's separable V, as pbrkit's model); 0 unless n.l > 0 and n.v > 0.
+// source: KHR_materials_anisotropy README, "Anisotropy" and "Implementation"; glTF 2.0 specification, Appendix B
+// roughness: perceptual roughness r -> alpha_b = max(r^2, 1e-3), alpha_t = alpha_b + (1 - alpha_b) strength^2
+// pbrkit: pbrkit.brdf.models.gltf, pbrkit.brdf.models.evaluate, pbrkit.brdf.shading.gltf.setup
+vec3 BRDF_glTFAnisotropic(vec3 l, vec3 v, vec3 n, vec4 tangent, vec3 baseColor, float metallic, float roughness,
+                          float strength, vec2 direction) {
+    if (strength <= 0.0) return BRDF_glTF(l, v, n, baseColor, metallic, roughness);
+    pbrkit_Cosines c = pbrkit_cosines(l, v, n);
+    if (c.NoL <= 0.0 || c.NoV <= 0.0) return vec3(0.0);
+    mat3 frame = pbrkit_anisotropicFrame(n, tangent, direction);
+    vec3 f0 = pbrkit_f0Metallic(baseColor, metallic, 0.04);
+    vec3 specular = pbrkit_anisotropicSpecular(l, v, frame, f0, 1.0, roughness, strength);
+    float diffuseWeight = Fd_Lambert(c.NoL) * pbrkit_specularMixWeight(c.VoH, vec3(0.04), 1.0);
+    return baseColor * (1.0 - metallic) * diffuseWeight + specular;
+}
+
+// pbrkit_anisotropicReflection: the direction the Sample Viewer looks the prefiltered environment up in for
+//   KHR_materials_anisotropy (at lod of r, as the isotropic lookup): the anisotropic normal a = (b x v) x b (b
+//   anisotropicB, across the direction of increased roughness) bent back towards n by k = (1 - strength (1 - r))^4,
+//   n' = normalize(mix(a, n, k)) (n where that is 0), R = reflect(-v, n').  The README's further
+//   normalize(mix(R, n', r^2)) is not applied (the Sample Viewer does not).
+// source: glTF-Sample-Viewer ibl.glsl (getIBLRadianceAnisotropy); KHR_materials_anisotropy README, "Image-based lighting" (bent normal); McAuley 2015 (Filament's bent normal)
+// roughness: perceptual roughness r (k = (1 - strength (1 - r))^4: no bend at r = 1 or strength 0)
+// pbrkit: pbrkit.render.realtime.khr_anisotropic_reflection
+vec3 pbrkit_anisotropicReflection(vec3 n, vec3 v, vec3 b, float strength, float roughness) {
+    vec3 a = cross(cross(b, v), b);
+    float k = 1.0 - strength * (1.0 - roughness);
+    k *= k;
+    k *= k;
+    vec3 m = a + (n - a) * k;
+    float len = length(m);
+    m = len > 0.0 ? m / len : n;
+    return reflect(-v, m);
 }
