@@ -1,13 +1,14 @@
 """Real-time KHR_materials_anisotropy against the ground truth (issue 25): metal
 spheres of increasing anisotropyStrength (and a turned direction) under the bundled
-environment, rendered by ``render_realtime`` (``engine`` pbrkit and khronos: the
-prefiltered environment looked up along the Sample Viewer's bent normal,
-:func:`pbrkit.render.realtime.khr_anisotropic_reflection`) and by the ground truth
-(``render_reference``: the anisotropic GGX lobe itself), compared per sphere in 8-bit
-sRGB levels (mean |grey| and the signed mean).  The column "isotropic lookup" is the
-real-time render of the same sphere at strength 0 (what a renderer that ignores the
-extension shows) against the anisotropic ground truth: how much of the elongated
-reflection the bent normal recovers.
+environment, rendered by ``render_realtime`` (``engine`` khronos: the split sum with
+the prefiltered environment looked up once along the Sample Viewer's bent normal,
+:func:`pbrkit.render.realtime.khr_anisotropic_reflection`, and the isotropic DFG;
+``engine`` pbrkit: filtered importance sampling of the lobe itself,
+:mod:`pbrkit.render.anisotropic_ibl`) and by the ground truth (``render_reference``:
+the anisotropic GGX lobe integrated against the environment), compared per sphere
+in 8-bit sRGB levels (mean |grey| and the signed mean).  The column "isotropic
+lookup" is the real-time render of the same sphere at strength 0 (what a renderer
+that ignores the extension shows) against the anisotropic ground truth.
 
     PYTHONPATH=src python bench/anisotropy_rt.py [--spp 256] [--size 96]
 

@@ -243,8 +243,7 @@ def test_gltf_extensions_scene_has_one_sphere_per_extension():
     each KHR_materials extension alone (its keys away from their defaults, the others at
     theirs: the extended model's code), then the first four together; the materials of the
     brief (velvet sheen 0.5, car-paint coat 1 / 0.05 over roughness 0.5, specular 0.3
-    coloured, ior 2.4), a thin film, a thin transmissive wall, a solid absorbing glass sphere
-    and a brushed metal."""
+    coloured, ior 2.4), a thin film, a thin transmissive wall and a brushed metal."""
     from pbrkit.app.demo import GLTF_EXTENSION_MATERIALS, gltf_extensions_scene
     from pbrkit.brdf.shading.registry import BY_NAME, EXTENDED_CODES, MODELS, model_codes
     from pbrkit.render.scene import EnvironmentSpec
@@ -253,14 +252,13 @@ def test_gltf_extensions_scene_has_one_sphere_per_extension():
             "specular": {"specular", "specular_color"}, "ior": {"ior"},
             "iridescence": {"iridescence"},  # (its IOR 1.3 and 400 nm are the defaults)
             "transmission": {"transmission"},
-            "volume": {"transmission", "thickness", "attenuation_distance", "attenuation_color"},
             "anisotropy": {"anisotropy_strength"}}
     declared = BY_NAME["gltf"]
     scene = gltf_extensions_scene(50, EnvironmentSpec(color=(1.0, 1.0, 1.0)))
-    assert (scene.camera.width, scene.camera.height) == (50, 20) and len(scene.objects) == 10
+    assert (scene.camera.width, scene.camera.height) == (50, 20) and len(scene.objects) == 9
     names = [name for name, _, _ in GLTF_EXTENSION_MATERIALS]
-    assert names == ["core", "sheen", "clearcoat", "specular", "ior", "iridescence", "transmission", "volume",
-                     "anisotropy", "combined"]
+    assert names == ["core", "sheen", "clearcoat", "specular", "ior", "iridescence", "transmission", "anisotropy",
+                     "combined"]
     combined = set().union(*(keys[k] for k in ("sheen", "clearcoat", "specular", "ior")))
     for obj, (name, shows, _) in zip(scene.objects, GLTF_EXTENSION_MATERIALS):
         spec = scene.materials[obj.material]
@@ -302,7 +300,7 @@ def test_gltf_extensions_section_shows_both_modes_and_their_errors(demo_dir):
     assert e["mean_relative_error"] < 0.4 and e["flip"] < 0.3
     assert f"{100.0 * e['mean_relative_error']:.1f}%" in page and f"{e['flip']:.4f}" in page
     assert [m["name"] for m in g["materials"]] == ["core", "sheen", "clearcoat", "specular", "ior", "iridescence",
-                                                  "transmission", "combined"]
+                                                  "transmission", "anisotropy", "combined"]
     for m in g["materials"]:
         for mode in ("realtime", "reference"):
             assert m["files"][mode] in parser.images and (demo_dir / m["files"][mode]).is_file()

@@ -267,7 +267,7 @@ def _renderer_cases(rng, m, dfg_table):
     out, ec = np.empty((N, 3)), np.empty((N, 3))
     realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
                          np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, np.zeros(N), np.zeros((1, 3)),
-                         realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
+                         np.zeros((1, 2)), False, realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("pbrkit"), out, ec)
     nov = np.maximum(np.sum(n * v, axis=1), 1e-4)
     dfg = np.array([[table_bilinear(tables, 0, nov[q], float(m.roughness[q]), k) for k in range(2)]
@@ -286,7 +286,7 @@ def _renderer_cases(rng, m, dfg_table):
     charlie = _f32(rng.uniform(0.0, 0.5, N))
     realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
                          np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, charlie, np.zeros((1, 3)),
-                         realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
+                         np.zeros((1, 2)), False, realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("khronos"), out, ec)
     inputs = _inputs(m, _vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7])
     cases.append(Case("sampleViewerExtensionsIBL_renderer", ("pbrkit_sampleViewerExtensionsIBL",),
@@ -445,6 +445,8 @@ def _anisotropy_material(base, metallic, roughness, strength, rotation, tangent,
     tangents of handedness +1, and the frame of (T, w = -1) turned by theta is the frame of (T, +1) turned by
     -theta (cos theta T + sin theta (-(n x T)), with anisotropicB = n x anisotropicT either way)."""
     turned = np.where(tangent[:, 3] < 0.0, -rotation, rotation)
+    # the same angle in the declared [-pi, pi] (float32 pi lies just above it)
+    turned = np.clip(np.remainder(turned + np.pi, 2.0 * np.pi) - np.pi, -np.pi, np.pi)
     return Material(base_color=base, metallic=metallic, roughness=roughness, anisotropy_strength=strength,
                     anisotropy_rotation=turned, **extensions)
 

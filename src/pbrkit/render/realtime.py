@@ -68,6 +68,7 @@ from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
 from ..brdf.lobes.sheen import sheen_albedo_lookups
+from .anisotropic_ibl import anisotropic_ibl
 from .area_lights import area_light_ltc
 from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 
@@ -441,8 +442,8 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
 
 @row_kernel(5)
 def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal, base, occlusion, prefiltered, irradiance,
-                coat_prefiltered, coat_roughness, sheen_prefiltered, charlie, transmitted, sheen_table, diffuse_table,
-                exact_diffuse, energy_compensation, engine, out, ec_out):
+                coat_prefiltered, coat_roughness, sheen_prefiltered, charlie, transmitted, dfg_sampled, sampled,
+                sheen_table, diffuse_table, exact_diffuse, energy_compensation, engine, out, ec_out):
     """Split-sum IBL per pixel (module docstring); writes the radiance and the
     energy-compensation factor (for the punctual lights).  ``engine`` (:data:`ENGINES`
     index) 1 is Filament's evaluation (``evaluateIBL``): the diffuse colour weighted
@@ -450,7 +451,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
     the model's own weighting; 2 and 3 are the metallic-roughness evaluations of
     the Sample Viewer and three.js (:func:`_engine_ibl`).  ``transmitted``: the light
     through each hit (:func:`pbrkit.render.transmission_ibl.transmission_lookups`; read
-    only for a material that transmits)."""
+    only for a material that transmits).  ``dfg_sampled`` (with ``sampled``): per pixel
+    the (DFG1, DFG2) of :func:`pbrkit.render.anisotropic_ibl.anisotropic_ibl` in place of
+    the table's (NaN: the table's)."""
     for i in range(start, stop):
         m = mat[i]
         b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
@@ -460,6 +463,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
         dfg2 = table_bilinear(tables, t, nov, r, 1)
+        if sampled and not math.isnan(dfg_sampled[i, 0]):  # an anisotropic lobe's own (pbrkit)
+            dfg1 = dfg_sampled[i, 0]
+            dfg2 = dfg_sampled[i, 1]
         if engine == _ENGINE_KHRONOS and ibl_khronos_extensions(b):  # the Sample Viewer's extensions
             for c in range(3):
                 out[i, c] = sample_viewer_extensions_ibl(mf, m, base[i, c], metal[i], r, nov, dfg2 - dfg1, dfg1,
@@ -619,7 +625,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         # lookup tables per material
         tables, lut_index, names = [], np.zeros(len(geometry.materials), dtype=np.int64), []
         for mi, m in enumerate(geometry.materials):
-            table, name = _lut_for(m.spec, bake.lut)
+            # the Sample Viewer reads its lut_ggx (the bake's height-correlated table) for every material
+            table, name = (np.asarray(bake.lut), "height-correlated") if engine == "khronos" else \
+                _lut_for(m.spec, bake.lut)
             if name not in names:
                 names.append(name)
                 tables.append(np.asarray(table, dtype=np.float64)[..., :2])
@@ -684,11 +692,21 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
                                            levels, engine)
         if transmitted.shape[0] > 1:
             transmitted *= env.intensity
+        dfg_sampled = np.zeros((1, 2))
+        anisotropic = np.flatnonzero(mat_f[s.material, _ANISOTROPY_STRENGTH] > 0.0) if engine == "pbrkit" and \
+            extended else np.zeros(0, dtype=np.int64)
+        if anisotropic.size:  # KHR_materials_anisotropy: filtered importance sampling of the lobe itself
+            lobe, d1, d2 = anisotropic_ibl(mat_i, mat_f, anisotropic, s, v_rows, surface_tangents(s), sampler,
+                                           env.to_env_frame, levels, env.intensity)
+            prefiltered[anisotropic] = lobe
+            dfg_sampled = np.full((count, 2), np.nan)
+            dfg_sampled[anisotropic, 0] = d1
+            dfg_sampled[anisotropic, 1] = d2
         ibl_kernel = for_materials(_ibl_kernel, mat_i)
         ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, rough_rows, s.metallic, base_rows,
                    s.occlusion, np.ascontiguousarray(prefiltered, dtype=np.float64),
                    np.ascontiguousarray(irradiance, dtype=np.float64), coat_prefiltered, coat_roughness,
-                   sheen_prefiltered, charlie, transmitted,
+                   sheen_prefiltered, charlie, transmitted, dfg_sampled, bool(anisotropic.size),
                    sheen_albedo_table(), fresnel_mix_albedo_table(), diffuse_weight == "exact",
                    bool(energy_compensation), ENGINES.index(engine), out, ec)
         t5 = time.perf_counter()
@@ -702,7 +720,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             area = np.empty((count, 3))
             ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count if extended else 1, 3)),
-                       np.zeros(count if extended else 1), np.zeros((1, 3)), sheen_albedo_table(),
+                       np.zeros(count if extended else 1), np.zeros((1, 3)), np.zeros((1, 2)), False,
+                       sheen_albedo_table(),
                        fresnel_mix_albedo_table(),
                        diffuse_weight == "exact", bool(energy_compensation), 0, area, np.empty((count, 3)))
             out += area

@@ -316,8 +316,10 @@ def _v_khr(b, c):
     # B.3.2's separable Smith V of GGX, or for KHR_materials_anisotropy its README's
     # V_GGX_anisotropic: the height-correlated Smith V of the anisotropic GGX
     # (Heitz 2014, eq. 99 with the anisotropic Lambdas, eqs. 80 and 86), without the
-    # README's clamp to [0, 1] (a guard of 16-bit shaders; the exact V never exceeds it at
-    # the angles it is used)
+    # README's clamp to [0, 1]: V = G2 / (4 n.l n.v) exceeds 1 where n.l n.v < G2 / 4 (2.3 at
+    # n.l = n.v = 0.3), which the clamp would cut; the exact V keeps the BRDF reciprocal
+    # and its albedo the quadrature's (the Sample Viewer clamps: its highlights beyond about
+    # 60 degrees differ)
     lam_l, lam_v = _GGX_LAMBDAS(b, c)
     if b.anisotropic:
         return visibility(g2_height_correlated(lam_l, lam_v), c.nol, c.nov)
