@@ -31,6 +31,7 @@ SPHERES = (
     ("volume, attenuation", dict(transmission=1.0, roughness=0.05, thickness=1.0, attenuation_distance=0.5,
                                  attenuation_color=(0.9, 0.5, 0.2))),
     ("half transmission, r 0.3", dict(transmission=0.5, roughness=0.3)),
+    ("volume, dispersion 1 (ior 1.8)", dict(transmission=1.0, roughness=0.05, thickness=1.0, ior=1.8, dispersion=1.0)),
 )
 
 

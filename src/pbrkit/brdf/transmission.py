@@ -74,6 +74,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..core.color import rec709_luminance
 from ..core.jit import dual_use
 from ..microfacet.dielectric import (
@@ -99,7 +101,8 @@ from .shading.gltf import (
 )
 from .shading.registry import COLUMNS
 
-__all__ = ["DELTA_PDF", "P_MIN", "transmissive_material", "volume_material",
+__all__ = ["DELTA_PDF", "P_MIN", "FRAUNHOFER_NM", "dispersion_iors", "sample_viewer_dispersion_iors",
+           "transmissive_material", "volume_material",
            "sigma_a", "absorption", "interface", "fresnel_tr", "transmissive_f", "transmissive_probabilities",
            "transmissive_pdf", "transmissive_sample"]
 
@@ -113,6 +116,37 @@ _TRANSMISSION = COLUMNS.transmission
 _THICKNESS = COLUMNS.thickness
 _ATT_DISTANCE = COLUMNS.attenuation_distance
 _ATT_COLOR = COLUMNS.attenuation_color
+
+
+#: The wavelengths (nm) of Fraunhofer's C, d and F lines, at which the Abbe number is
+#: defined (V_d = (n_d - 1) / (n_F - n_C)): each RGB channel's in the ground truth of
+#: KHR_materials_dispersion (:func:`dispersion_iors`).
+FRAUNHOFER_NM = (656.3, 587.6, 486.1)
+
+
+def dispersion_iors(ior, dispersion):
+    """The IOR of each colour channel (..., 3) of a KHR_materials_dispersion volume
+    (its README, "Overview"): Cauchy's n(lambda) = A + B / lambda^2 through n_d = ``ior``
+    at 587.6 nm with Abbe number V_d = 20 / ``dispersion``,
+    n(lambda) = max(n_d + (n_d - 1) / V_d (523655 / lambda^2 - 1.5168), 1),
+    at the Fraunhofer line of each channel (:data:`FRAUNHOFER_NM`: R at C, G at d, B at F,
+    the lines V_d is defined by): pbrkit's RGB reading of a spectral effect.
+    ``dispersion`` 0: ``ior`` in every channel."""
+    ior = np.asarray(ior, dtype=np.float64)[..., None]
+    d = np.asarray(dispersion, dtype=np.float64)[..., None]
+    lam = np.asarray(FRAUNHOFER_NM)
+    return np.where(d > 0.0, np.maximum(ior + (ior - 1.0) * d / 20.0 * (523655.0 / (lam * lam) - 1.5168), 1.0),
+                    ior + 0.0 * lam)
+
+
+def sample_viewer_dispersion_iors(ior, dispersion):
+    """KHR_materials_dispersion's real-time approximation (its README, "Implementation",
+    and the Sample Viewer's ``getIBLVolumeRefraction``): green at ``ior``, red and blue
+    half the F - C spread (n_d - 1) / V_d below and above, halfSpread = (ior - 1) 0.025
+    dispersion; (..., 3)."""
+    ior = np.asarray(ior, dtype=np.float64)[..., None]
+    half = (ior - 1.0) * 0.025 * np.asarray(dispersion, dtype=np.float64)[..., None]
+    return ior + half * np.array([-1.0, 0.0, 1.0])
 
 
 @dual_use(inline=True)

@@ -92,9 +92,10 @@ _QUARTER_PI = 0.25 * math.pi
 _N = np.array([0.0, 0.0, 1.0])
 
 #: Parameters that do not change a BRDF (the explorer's reflection): KHR_materials_volume's
-#: (the medium beneath a transmissive surface) and the thin film's thickness at texture
+#: and KHR_materials_dispersion's (the medium beneath a transmissive surface) and the thin film's thickness at texture
 #: value 0 (no effect without an iridescence thickness texture).
-NOT_REFLECTION = ("thickness", "attenuation_distance", "attenuation_color", "iridescence_thickness_minimum")
+NOT_REFLECTION = ("thickness", "attenuation_distance", "attenuation_color", "iridescence_thickness_minimum",
+                  "dispersion")
 #: The scalar Material parameters each model reads besides base_color, metallic and
 #: roughness (``reflectance``: dielectric f0 = 0.16 reflectance^2; glTF and URP fix f0
 #: at 0.04), from the models' declarations: the explorer's sliders.

@@ -23,6 +23,7 @@ KHR_materials_volume    attenuationDistance         attenuation_distance (0, inf
 KHR_materials_volume    attenuationColor            attenuation_color  [0, 1]^3     1
 KHR_materials_anisotropy anisotropyStrength         anisotropy_strength [0, 1]      0
 KHR_materials_anisotropy anisotropyRotation         anisotropy_rotation any (wrapped to [-pi, pi]) 0
+KHR_materials_dispersion dispersion                 dispersion         [0, inf)     0
 ======================  ==========================  =================  ===========  =========
 
 (:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
@@ -64,6 +65,7 @@ FACTORS = (
     ("KHR_materials_volume", "attenuationColor", "attenuation_color", 3, 0.0, 1.0, (1.0, 1.0, 1.0)),
     ("KHR_materials_anisotropy", "anisotropyStrength", "anisotropy_strength", 1, 0.0, 1.0, 0.0),
     ("KHR_materials_anisotropy", "anisotropyRotation", "anisotropy_rotation", 1, None, None, 0.0),
+    ("KHR_materials_dispersion", "dispersion", "dispersion", 1, 0.0, None, 0.0),
 )
 #: The textureInfos of each extension (checked; not applied yet).
 TEXTURES = {
@@ -75,6 +77,7 @@ TEXTURES = {
     "KHR_materials_transmission": ("transmissionTexture",),
     "KHR_materials_volume": ("thicknessTexture",),
     "KHR_materials_anisotropy": ("anisotropyTexture",),
+    "KHR_materials_dispersion": (),
 }
 UNLIT = "KHR_materials_unlit"
 #: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).

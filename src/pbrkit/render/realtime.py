@@ -10,7 +10,8 @@ shadow rays, as an ideal shadow map), plus split-sum image-based lighting
   as lerp(DFG1, DFG2, F0) = DFG1 + F0 (DFG2 - DFG1) (Filament sec. 5.3.4.3;
   f90 = 1).  The table's visibility matches the material's masking
   (height-correlated: the bake's table; separable; Schlick-GGX with
-  k = alpha / 2 for UE4, whose IBL uses that remap); F0 is the model's (the
+  k = alpha / 2 for UE4, whose IBL uses that remap; ``engine`` khronos: the
+  bake's, the Sample Viewer's lut_ggx); F0 is the model's (the
   metallic workflow's lerp, the exact conductor's F(1) for
   ``exact-conductor``, the constant colour S for ``fresnel = "none"``, where
   the albedo is S DFG2).  Optional energy compensation multiplies the
@@ -27,6 +28,10 @@ shadow rays, as an ideal shadow map), plus split-sum image-based lighting
   (:func:`fresnel_mix_albedo_table`), which is what a constant environment
   gives.
 - the glTF occlusion texture scales both IBL terms; emission is added.
+- KHR_materials_anisotropy: the lookup along the Sample Viewer's bent normal
+  (:func:`khr_anisotropic_reflection`), and for ``engine`` pbrkit filtered
+  importance sampling of the anisotropic lobe in place of the split sum's one
+  lookup and table (:mod:`pbrkit.render.anisotropic_ibl`).
 
 Known approximations of the real-time path (what ``compare`` measures,
 :data:`APPROXIMATIONS`): the split sum itself (n = v = r in the prefilter,

@@ -25,7 +25,12 @@ ch. 9):
   they go to, and inside a volume (a closed surface of thickness > 0, its normals
   outward) the Beer-Lambert transmittance of the real path length, internal
   reflections included.  Scenes with such materials run direct lighting in the fused
-  kernel rather than the lanes (punctual lights do not shine through them yet);
+  kernel rather than the lanes (punctual lights do not shine through them yet).
+  ``KHR_materials_dispersion`` volumes refract each colour channel with its own IOR
+  (:func:`pbrkit.brdf.transmission.dispersion_iors`): the scene is sampled once per
+  channel, every dispersive material at that channel's IOR (its reflection and
+  refraction alike, the material at that wavelength), and each pass gives its
+  channel, so a path never mixes wavelengths (three times the work);
 - visibility is traced, so the glTF occlusion texture (a real-time stand-in
   for it) is not applied; ``occlusion=False`` instead lets every surface see
   the whole environment unblocked by the other objects, as real-time IBL
@@ -58,12 +63,13 @@ from ..brdf.transmission import absorption, transmissive_material, volume_materi
 from ..brdf.shading.registry import COLUMNS
 from ..core import checks
 from ..brdf.bxdf import NO_TANGENT
+from ..brdf.transmission import dispersion_iors
 from ..core.jit import run_in_threads, threaded_kernel
 from ..sampling.random import _path_key
 from .area_lights import area_light_hit
 from .environment import EnvironmentLight
 from .estimator import STRATEGIES, area_emission, area_shadow_t, ray_origin
-from .film import film_estimate, new_film, shifted_add, store_pixel
+from .film import Film, film_estimate, new_film, shifted_add, store_pixel
 from .geometry import Geometry
 from .lanes import direct_lighting
 from .materials import COAT_F0, for_materials, hit_bxdf, material_tables
@@ -84,6 +90,9 @@ _ROUGHNESS = COLUMNS.roughness
 _METALLIC = COLUMNS.metallic
 _BASE_COLOR = COLUMNS.base_color
 _TRANSMISSION = COLUMNS.transmission
+_THICKNESS = COLUMNS.thickness
+_IOR = COLUMNS.ior
+_DISPERSION = COLUMNS.dispersion
 
 
 @threaded_kernel
@@ -294,6 +303,34 @@ def _primary_points(prim, v):
     return Points(p, ng, n, vv, mat, rough, metal, base, tangent)
 
 
+def _sample(scene, geometry, env, prim, v, materials, spp, bounces, seed, code, occlusion, engine):
+    """Every sample of the scene with ``materials`` (:class:`pbrkit.render.records.Materials`)
+    by the engine ``engine`` chooses (:func:`render_reference`): (:class:`Film`, the
+    engine's description)."""
+    cam = scene.camera
+    k2 = cam.supersample ** 2
+    n_pixels = cam.width * cam.height
+    base_value = _base_values(prim, geometry, env, materials)
+    # materials that transmit: the lane engine (direct lighting) does not handle them
+    media = bool(np.any(materials.params[:, _TRANSMISSION] > 0.0))
+    if geometry.has_meshes or engine == "wavefront":
+        film = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code, bool(occlusion),
+                          materials, scene)
+        return film, "wavefront" + (" (Embree)" if geometry.has_meshes else "")
+    hits = _primary_points(prim, v)
+    film = new_film(n_pixels)
+    envs = environment_arrays(env)
+    shapes = analytic_shapes(geometry)
+    area = area_arrays(geometry)
+    if bounces == 0 and not media:
+        direct_lighting(seed, spp, k2, code, occlusion, base_value, hits, materials, envs, shapes, area, film)
+        return film, "fused (analytic primitives; direct lighting in SIMD lanes)"
+    run_in_threads(for_materials(_fused_kernel, materials.codes), n_pixels, np.uint64(seed), spp, k2, bounces,
+                   code, bool(occlusion), media, base_value, hits, materials, envs, shapes, punctual_lights(geometry),
+                   area, film)
+    return film, "fused (analytic primitives)"
+
+
 def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, strategy="mis", occlusion=True,
                      engine="auto"):
     """Monte Carlo ground truth of ``scene`` (module docstring) with ``spp`` samples per
@@ -326,31 +363,26 @@ def render_reference(scene, spp=64, bounces=0, seed=0, geometry=None, env=None, 
     n_pixels = cam.width * cam.height
     materials = Materials(*material_tables(geometry.materials))
     v = -prim.dirs[prim.rows]
-    base_value = _base_values(prim, geometry, env, materials)
     t2 = time.perf_counter()
     code = STRATEGIES.index(strategy)
-    # materials that transmit: the lane engine (direct lighting) does not handle them
-    media = bool(np.any(materials.params[:, _TRANSMISSION] > 0.0))
     if engine == "fused" and geometry.has_meshes:
         raise ValueError("the fused engine handles spheres and planes only; this scene has triangle meshes")
-    if geometry.has_meshes or engine == "wavefront":
-        film = _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed, code, bool(occlusion),
-                          materials, scene)
-        engine_name = "wavefront" + (" (Embree)" if geometry.has_meshes else "")
-    else:
-        hits = _primary_points(prim, v)
-        film = new_film(n_pixels)
-        envs = environment_arrays(env)
-        shapes = analytic_shapes(geometry)
-        area = area_arrays(geometry)
-        if bounces == 0 and not media:
-            direct_lighting(seed, spp, k2, code, occlusion, base_value, hits, materials, envs, shapes, area, film)
-            engine_name = "fused (analytic primitives; direct lighting in SIMD lanes)"
-        else:
-            run_in_threads(for_materials(_fused_kernel, materials.codes), n_pixels, np.uint64(seed), spp, k2, bounces,
-                           code, bool(occlusion), media, base_value, hits, materials, envs, shapes,
-                           punctual_lights(geometry), area, film)
-            engine_name = "fused (analytic primitives)"
+    dispersive = np.flatnonzero((materials.params[:, _DISPERSION] > 0.0) & (materials.params[:, _TRANSMISSION] > 0.0)
+                                & (materials.params[:, _THICKNESS] > 0.0))
+    if dispersive.size == 0:
+        film, engine_name = _sample(scene, geometry, env, prim, v, materials, spp, bounces, seed, code, occlusion,
+                                    engine)
+    else:  # KHR_materials_dispersion: each channel's paths with its own IOR (module docstring)
+        iors = dispersion_iors(materials.params[dispersive, _IOR], materials.params[dispersive, _DISPERSION])
+        parts = []
+        for c in range(3):
+            params = materials.params.copy()
+            params[dispersive, _IOR] = iors[:, c]
+            channel, engine_name = _sample(scene, geometry, env, prim, v, Materials(materials.codes, params), spp,
+                                           bounces, seed, code, occlusion, engine)
+            parts.append(channel)
+        film = Film(*(np.stack([parts[c][k][:, c] for c in range(3)], axis=-1) for k in range(3)))
+        engine_name += ", a pass per colour channel (dispersion)"
     t3 = time.perf_counter()
     mean, stderr = film_estimate(film, spp)
     image = mean.reshape(cam.height, cam.width, 3)

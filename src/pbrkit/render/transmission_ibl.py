@@ -12,7 +12,13 @@ As the Khronos Sample Viewer does (``ibl.glsl``, ``getIBLVolumeRefraction``,
 - the roughness of the lookup: applyIorToRoughness, r' = r clamp(2 ior - 2, 0, 1)
   (an ior near 1 does not blur what it lets through);
 - the volume's attenuation over that length: attenuationColor^(thickness /
-  attenuationDistance) (:func:`pbrkit.brdf.transmission.absorption`).
+  attenuationDistance) (:func:`pbrkit.brdf.transmission.absorption`);
+- KHR_materials_dispersion: a lookup per colour channel, each along its own
+  refraction (the README's "Implementation"): ``engine="khronos"`` at the viewer's
+  IORs, ior -+ (ior - 1) 0.025 dispersion
+  (:func:`pbrkit.brdf.transmission.sample_viewer_dispersion_iors`), pbrkit at the
+  ground truth's, Cauchy's n(lambda) at the Fraunhofer lines
+  (:func:`pbrkit.brdf.transmission.dispersion_iors`).
 
 Where the viewer reads its transmission framebuffer (the opaque scene rendered
 behind, mip-filtered) at the projection of the ray's exit point, pbrkit reads the
@@ -31,13 +37,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..brdf.shading.registry import COLUMNS, EXTENDED_CODES
-from ..brdf.transmission import absorption
+from ..brdf.transmission import absorption, dispersion_iors, sample_viewer_dispersion_iors
 from ..core.jit import row_kernel
 from ..ibl.prefilter import level_of_roughness
 
 __all__ = ["refract", "ior_roughness", "transmission_direction", "transmission_lookups"]
 
-_TRANSMISSION, _THICKNESS, _IOR = COLUMNS.transmission, COLUMNS.thickness, COLUMNS.ior
+_TRANSMISSION, _THICKNESS, _IOR, _DISPERSION = (COLUMNS.transmission, COLUMNS.thickness, COLUMNS.ior,
+                                               COLUMNS.dispersion)
 
 
 def refract(i, n, eta):
@@ -90,16 +97,26 @@ def transmission_lookups(codes, params, surface, v, camera_position, sampler, to
     m = material[rows]
     n = surface.n[rows]
     vv = v[rows]
-    ior = np.maximum(params[m, _IOR], 1.0)  # KHR_materials_ior's 0 (f0 1) refracts as 1
     thickness = params[m, _THICKNESS]
-    direction = transmission_direction(n, vv, ior, thickness)
-    if engine == "khronos":  # the background a framebuffer shows at the exit point's projection
-        exit_ = surface.p[rows] + direction * thickness[:, None]
-        toward = exit_ - np.asarray(camera_position, dtype=np.float64)
-        toward /= np.maximum(np.linalg.norm(toward, axis=-1, keepdims=True), 1e-300)
-        direction = np.where((thickness > 0.0)[:, None], toward, -vv)
-    lod = level_of_roughness(ior_roughness(surface.roughness[rows], ior), levels)
-    light = sampler(to_env_frame(np.ascontiguousarray(direction)), np.asarray(lod, dtype=np.float64))
+
+    def lookup(ior):
+        ior = np.maximum(ior, 1.0)  # KHR_materials_ior's 0 (f0 1) refracts as 1
+        direction = transmission_direction(n, vv, ior, thickness)
+        if engine == "khronos":  # the background a framebuffer shows at the exit point's projection
+            exit_ = surface.p[rows] + direction * thickness[:, None]
+            toward = exit_ - np.asarray(camera_position, dtype=np.float64)
+            toward /= np.maximum(np.linalg.norm(toward, axis=-1, keepdims=True), 1e-300)
+            direction = np.where((thickness > 0.0)[:, None], toward, -vv)
+        lod = level_of_roughness(ior_roughness(surface.roughness[rows], ior), levels)
+        return sampler(to_env_frame(np.ascontiguousarray(direction)), np.asarray(lod, dtype=np.float64))
+
+    light = lookup(params[m, _IOR])
+    dispersion = params[m, _DISPERSION]
+    if np.any((dispersion > 0.0) & (thickness > 0.0)):  # KHR_materials_dispersion: a lookup per channel
+        iors = (sample_viewer_dispersion_iors if engine == "khronos" else dispersion_iors)(params[m, _IOR],
+                                                                                           dispersion)
+        for c in range(3):
+            light[:, c] = lookup(iors[:, c])[:, c]
     att = np.empty((rows.size, 3))
     _attenuation(params, np.ascontiguousarray(m), np.ascontiguousarray(thickness, dtype=np.float64), att)
     out = np.zeros((material.size, 3))

@@ -74,7 +74,7 @@ from .model import Model, RealTime
 __all__ = ["MODEL", "CORE", "GLTF_IOR", "GLTF_DIELECTRIC_F0", "gltf_fresnel_mix_weight", "SPECIFICATION",
            "COMPOSITION", "SHEEN_COLOR", "SHEEN_ROUGHNESS", "CLEARCOAT", "CLEARCOAT_ROUGHNESS", "SPECULAR",
            "SPECULAR_COLOR", "IOR", "IRIDESCENCE", "IRIDESCENCE_IOR", "IRIDESCENCE_THICKNESS_MINIMUM",
-           "IRIDESCENCE_THICKNESS_MAXIMUM", "TRANSMISSION", "ANISOTROPY_STRENGTH", "ANISOTROPY_ROTATION", "THICKNESS", "ATTENUATION_DISTANCE", "ATTENUATION_COLOR",
+           "IRIDESCENCE_THICKNESS_MAXIMUM", "TRANSMISSION", "ANISOTROPY_STRENGTH", "ANISOTROPY_ROTATION", "DISPERSION", "THICKNESS", "ATTENUATION_DISTANCE", "ATTENUATION_COLOR",
            "SPECULAR_SLOT", "IRIDESCENCE_SLOT", "TRANSMISSION_SLOT", "THICKNESS_SLOT", "SPECULAR_DV", "khr_fresnel",
            "SPECULAR_COMPOSITION", "SHEEN_COMPOSITION",
            "EXTENDED_COMPOSITION", "ibl_diffuse_weight", "ibl_specular_diffuse_weight",
@@ -141,6 +141,10 @@ ANISOTROPY_STRENGTH = Parameter("anisotropy_strength", 0.0, 0.0, 1.0, "",
 ANISOTROPY_ROTATION = Parameter("anisotropy_rotation", 0.0, -math.pi, math.pi, "radians",
                                 "anisotropy direction, counter-clockwise from the tangent towards the bitangent, "
                                 "KHR_materials_anisotropy anisotropyRotation (glTF files' any angle, wrapped)")
+#: KHR_materials_dispersion's factor (its README; 0: none): 20 / V_d, V_d the Abbe number.
+DISPERSION = Parameter("dispersion", 0.0, 0.0, math.inf, "", "20 / Abbe number of the volume's dielectric: each "
+                       "colour channel refracts with its own IOR (Cauchy's n(lambda) through ior at 587.6 nm), "
+                       "KHR_materials_dispersion dispersion")
 #: The BxDF ``extra`` slots of the specular factor (sheen: 0-3, clear coat: 4-5), of the
 #: transmission factor and the volume's thickness (:mod:`pbrkit.brdf.transmission`), and of
 #: the thin film: its weight, IOR and thickness (nm).  The dielectric's IOR rides in the
@@ -507,7 +511,7 @@ MODEL = Model("gltf", "the glTF 2.0 metallic-roughness BRDF (Appendix B) with it
               (BASE_COLOR, METALLIC, ROUGHNESS, SHEEN_COLOR, SHEEN_ROUGHNESS, CLEARCOAT, CLEARCOAT_ROUGHNESS, SPECULAR,
                SPECULAR_COLOR, IOR, IRIDESCENCE, IRIDESCENCE_IOR, IRIDESCENCE_THICKNESS_MINIMUM,
                IRIDESCENCE_THICKNESS_MAXIMUM, TRANSMISSION, THICKNESS, ATTENUATION_DISTANCE, ATTENUATION_COLOR,
-               ANISOTROPY_STRENGTH, ANISOTROPY_ROTATION), setup,
+               ANISOTROPY_STRENGTH, ANISOTROPY_ROTATION, DISPERSION), setup,
               EXTENDED_COMPOSITION,
               ("ggx", "separable", "schlick", "lambert"),
               RealTime(diffuse_weight=ibl_specular_diffuse_weight, coat_roughness=ibl_coat_roughness,
