@@ -198,7 +198,8 @@ def test_the_factors_and_tangents_are_read_from_gltf_files(tmp_path):
     assert asset.meshes[0].tangents is None
 
 
-def test_an_anisotropy_texture_is_noted_as_not_supported_yet(tmp_path):
+def test_an_anisotropy_texture_is_read(tmp_path):
+    """(Applied per shading point: tests/test_gltf_extension_textures.py.)"""
     from test_render_gltf import write_quad_glb
 
     from pbrkit.render.gltf import load_gltf
@@ -206,8 +207,10 @@ def test_an_anisotropy_texture_is_noted_as_not_supported_yet(tmp_path):
     texture = np.full((2, 2, 3), 200, dtype=np.uint8)
     ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 1.0, "anisotropyTexture": {"index": 0}}}
     asset = load_gltf(write_quad_glb(tmp_path / "t.glb", texture=texture, material_extras=ext))
-    assert asset.materials[0].spec.anisotropy_strength == 1.0
-    assert any("anisotropyTexture is not supported yet" in note for note in asset.notes)
+    material = asset.materials[0]
+    assert material.spec.anisotropy_strength == 1.0 and not asset.notes
+    (use, ref), = material.extension_textures
+    assert use[:2] == ("KHR_materials_anisotropy", "anisotropyTexture") and ref.texture == 0
 
 
 @pytest.mark.parametrize("ext, fragment", [

@@ -26,10 +26,12 @@ KHR_materials_anisotropy anisotropyRotation         anisotropy_rotation any (wra
 KHR_materials_dispersion dispersion                 dispersion         [0, inf)     0
 ======================  ==========================  =================  ===========  =========
 
-(:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), which are
-checked like every textureInfo but not applied yet (the renderer textures base
-colour, metallic, roughness, normal, occlusion and emission per shading point):
-a note says so and the factor applies alone.  attenuationDistance's default +Infinity
+(:data:`FACTORS`), and each extension's textures (:data:`TEXTURES`), checked like
+every textureInfo and applied per shading point as :data:`TEXTURE_USES` says (the
+READMEs' channels: a factor times a channel, the thin film's thickness mixed
+between its minimum and maximum, the anisotropy direction turned by the texture's
+and its strength scaled); clearcoatNormalTexture is not applied yet (the coat
+shares the shading normal): a note says so.  attenuationDistance's default +Infinity
 is the parameter's 0 (JSON has no infinity; glTF's range excludes 0).  ``KHR_materials_unlit`` (its README,
 "Implementation") renders the base colour as emission and no reflection
 (:func:`unlit_material`).
@@ -41,7 +43,7 @@ import math
 
 from .gltf_document import _check_texture_info, _number, _numbers, _object
 
-__all__ = ["FACTORS", "TEXTURES", "UNLIT", "MATERIAL_EXTENSIONS", "check_material_extensions",
+__all__ = ["FACTORS", "TEXTURES", "TEXTURE_USES", "UNLIT", "MATERIAL_EXTENSIONS", "check_material_extensions",
            "material_extension_values", "unlit_material"]
 
 #: (extension, property, parameter, components, low, high, default) of every factor.
@@ -79,6 +81,26 @@ TEXTURES = {
     "KHR_materials_anisotropy": ("anisotropyTexture",),
     "KHR_materials_dispersion": (),
 }
+#: How each extension texture changes its parameter per shading point (the READMEs,
+#: "Properties"): (extension, textureInfo key, sRGB, operation, parameter, channels), the
+#: operations ``scale`` (the factor times the channels: RGB or one of R, G, B, A = 0..3),
+#: ``thickness`` (KHR_materials_iridescence: thickness = mix(minimum, maximum, G)) and
+#: ``anisotropy`` (KHR_materials_anisotropy: strength times B, the direction (R, G) 2 - 1
+#: turned by the rotation).
+TEXTURE_USES = (
+    ("KHR_materials_sheen", "sheenColorTexture", True, "scale", "sheen_color", (0, 1, 2)),
+    ("KHR_materials_sheen", "sheenRoughnessTexture", False, "scale", "sheen_roughness", (3,)),
+    ("KHR_materials_clearcoat", "clearcoatTexture", False, "scale", "clearcoat", (0,)),
+    ("KHR_materials_clearcoat", "clearcoatRoughnessTexture", False, "scale", "clearcoat_roughness", (1,)),
+    ("KHR_materials_specular", "specularTexture", False, "scale", "specular", (3,)),
+    ("KHR_materials_specular", "specularColorTexture", True, "scale", "specular_color", (0, 1, 2)),
+    ("KHR_materials_iridescence", "iridescenceTexture", False, "scale", "iridescence", (0,)),
+    ("KHR_materials_iridescence", "iridescenceThicknessTexture", False, "thickness", "iridescence_thickness_maximum",
+     (1,)),
+    ("KHR_materials_transmission", "transmissionTexture", False, "scale", "transmission", (0,)),
+    ("KHR_materials_volume", "thicknessTexture", False, "scale", "thickness", (1,)),
+    ("KHR_materials_anisotropy", "anisotropyTexture", False, "anisotropy", "anisotropy_strength", (0, 1, 2)),
+)
 UNLIT = "KHR_materials_unlit"
 #: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).
 MATERIAL_EXTENSIONS = tuple(TEXTURES) + (UNLIT,)
@@ -116,7 +138,7 @@ def check_material_extensions(ext, where, index):
 def material_extension_values(ext, notes, index):
     """The ``gltf`` model's parameters of a (checked) material's ``extensions``: each
     factor present, or its default where its extension is present (:data:`FACTORS`);
-    a note in ``notes`` per texture not applied."""
+    a note in ``notes`` per texture not applied (clearcoatNormalTexture)."""
     values = {}
     for extension, key, parameter, n, _, _, default in FACTORS:
         obj = ext.get(extension)
@@ -129,11 +151,13 @@ def material_extension_values(ext, notes, index):
             values[parameter] = float(value) if n == 1 else tuple(float(x) for x in value)
         if parameter == "anisotropy_rotation":  # any angle: the same direction in [-pi, pi]
             values[parameter] = math.remainder(values[parameter], 2.0 * math.pi)
+    applied = {(e, k) for e, k, *_ in TEXTURE_USES}
     for name, textures in TEXTURES.items():
         obj = ext.get(name) or {}
         for key in textures:
-            if obj.get(key) is not None:
-                notes.append(f"material {index}: {name} {key} is not supported yet; its factor is used alone")
+            if obj.get(key) is not None and (name, key) not in applied:
+                notes.append(f"material {index}: {name} {key} is not supported yet (the coat shares the shading "
+                             "normal)")
     return values
 
 

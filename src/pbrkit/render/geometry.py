@@ -10,10 +10,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..brdf.shading.registry import COLUMNS
 from .alpha import coverage_tables, pass_through
 from .area_lights import area_light_arrays, area_light_hits
 from .gltf import load_gltf
-from .materials import bounds_volume
+from .materials import bounds_volume, material_tables
 from .primitives import (
     KIND_NONE,
     KIND_PLANE,
@@ -74,6 +75,10 @@ class Surface:
     emissive: np.ndarray
     uv: np.ndarray | None = None
     tangent: np.ndarray | None = None
+    #: With KHR_materials extension textures: (hit rows, {parameter column: (K,) values}) of
+    #: the hits whose extension parameters their textures change (:func:`pbrkit.render.
+    #: materials.per_hit_tables` makes the kernels' tables of them); None without them.
+    extension_values: tuple | None = None
 
 
 class Geometry:
@@ -115,6 +120,7 @@ class Geometry:
         self._factor_emissive = np.array([sp.emissive for sp in specs], dtype=np.float64).reshape(-1, 3)
         self._two_sided = np.array([sp.double_sided and not bounds_volume(sp) for sp in specs], dtype=bool)
         self._coverage = coverage_tables(self.materials)
+        self._tables = None  # the kernels' material tables, made when extension textures need them
         self._embree = None
         if self.meshes:
             from embreex import rtcore_scene
@@ -322,6 +328,7 @@ class Geometry:
         np.clip(base, 0.0, 1.0, out=base)
         np.clip(metallic, 0.0, 1.0, out=metallic)
         np.clip(rough, 0.0, 1.0, out=rough)
+        tables = self._extension_textures(mat, uv_sets)
         # double-sided materials face the incoming ray
         back = (np.einsum("ij,ij->i", ng, d) > 0.0) & self._two_sided[mat]
         ng[back] = -ng[back]
@@ -336,5 +343,45 @@ class Geometry:
         tangent_out = np.zeros((n_rows, 4))
         tangent_out[:, 3] = 1.0
         tangent_out[has_tangent] = tangents[has_tangent]
-        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangent_out)
+        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangent_out, tables)
+
+    def _extension_textures(self, mat, uv_sets):
+        """The KHR_materials extension textures at hits of materials ``mat`` with the
+        interpolated texture coordinates ``uv_sets``
+        (:data:`pbrkit.io.gltf_materials.TEXTURE_USES`): :attr:`Surface.extension_values`,
+        None where no hit's material has any."""
+        users = [mi for mi, m in enumerate(self.materials) if m.extension_textures]
+        if not users:
+            return None
+        rows = np.flatnonzero(np.isin(mat, users))
+        if rows.size == 0:
+            return None
+        if self._tables is None:
+            self._tables = material_tables(self.materials)
+        params = self._tables[1]
+        values = {}  # column -> per-row values (rows of `rows`)
+        for mi in users:
+            sel = np.flatnonzero(mat[rows] == mi)
+            if sel.size == 0:
+                continue
+            m = self.materials[mi]
+            for (_, key, _, op, parameter, channels), ref in m.extension_textures:
+                uv = uv_sets.get(ref.texcoord)
+                if uv is None:
+                    raise ValueError(f"material {m.spec.name!r} uses TEXCOORD_{ref.texcoord}, which its mesh lacks")
+                texel = m.textures[ref.texture].sample(ref.lookup_uv(uv[rows[sel]]))
+                column = getattr(COLUMNS, parameter)
+                for k, ch in enumerate(channels if op == "scale" else ()):
+                    values.setdefault(column + k, params[mat[rows], column + k].copy())[sel] *= texel[:, ch]
+                if op == "thickness":  # KHR_materials_iridescence: mix(minimum, maximum, G)
+                    low = params[mi, COLUMNS.iridescence_thickness_minimum]
+                    values.setdefault(column, params[mat[rows], column].copy())[sel] = \
+                        low + (params[mi, column] - low) * texel[:, channels[0]]
+                if op == "anisotropy":  # strength x B; the direction (R, G) 2 - 1 turned by the rotation
+                    values.setdefault(column, params[mat[rows], column].copy())[sel] *= texel[:, 2]
+                    turn = COLUMNS.anisotropy_rotation
+                    angle = np.arctan2(2.0 * texel[:, 1] - 1.0, 2.0 * texel[:, 0] - 1.0)
+                    rotation = values.setdefault(turn, params[mat[rows], turn].copy())
+                    rotation[sel] = np.remainder(rotation[sel] + angle + np.pi, 2.0 * np.pi) - np.pi
+        return rows, values
 

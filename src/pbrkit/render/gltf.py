@@ -15,7 +15,8 @@ and emissive (sRGB, times emissiveFactor and
 ``KHR_materials_sheen``, ``_clearcoat``, ``_specular``, ``_ior``,
 ``_iridescence``, ``_transmission``, ``_volume`` and ``_anisotropy`` as the
 ``gltf`` model's parameters (:mod:`pbrkit.io.gltf_materials`; their textures
-are noted as not supported yet) and ``KHR_materials_unlit`` as emission of the
+per shading point, :attr:`pbrkit.render.textures.SurfaceMaterial.extension_textures`,
+but clearcoatNormalTexture, noted as not supported yet) and ``KHR_materials_unlit`` as emission of the
 base colour.  TANGENT (or MikkTSpace tangents along the normal texture's UVs,
 or TEXCOORD_0 for an anisotropic material without a normal texture) gives the
 tangent frame of normal maps and of ``KHR_materials_anisotropy``.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
@@ -90,7 +91,7 @@ from ..io.gltf_extensions import (
     format_text,
     texture_transform,
 )
-from ..io.gltf_materials import MATERIAL_EXTENSIONS, UNLIT, material_extension_values, unlit_material
+from ..io.gltf_materials import MATERIAL_EXTENSIONS, TEXTURE_USES, UNLIT, material_extension_values, unlit_material
 from ..io.gltf_resources import MAX_IMAGE_BYTES, buffer_file_bytes, decode_image, uri_bytes
 from .lights import Light
 from .scene import MaterialSpec, trs_matrix
@@ -408,8 +409,12 @@ def _gltf_material(reader, index, cache):
         spec = MaterialSpec(name=name, **values)
     except ValueError as exc:
         reader.fail(f"materials[{index}]: {exc}")
+    # the KHR_materials extension textures (pbrkit.io.gltf_materials.TEXTURE_USES)
+    extension_textures = tuple((use, _texture_ref(reader, (ext.get(use[0]) or {}).get(use[1]), use[2], cache))
+                               for use in TEXTURE_USES if (ext.get(use[0]) or {}).get(use[1]) is not None)
     return SurfaceMaterial(spec, bct, mrt, nt, ot, et, alpha_mode=alpha_mode, alpha_cutoff=alpha_cutoff,
-                           alpha=float(bc[3]) if len(bc) > 3 else 1.0, alpha_texture=alpha_texture)
+                           alpha=float(bc[3]) if len(bc) > 3 else 1.0, alpha_texture=alpha_texture,
+                           extension_textures=extension_textures)
 
 
 def _texture_refs(material):
@@ -419,7 +424,8 @@ def _texture_refs(material):
              "baseColorTexture")
     refs = (material.base_color_texture, material.metallic_roughness_texture, material.normal_texture,
             material.occlusion_texture, material.emissive_texture, material.alpha_texture)
-    return [(n, r) for n, r in zip(names, refs) if r is not None]
+    return [(n, r) for n, r in zip(names, refs) if r is not None] + [
+        (f"extensions.{use[0]}.{use[1]}", ref) for use, ref in material.extension_textures]
 
 
 # ============================================================ geometry

@@ -17,7 +17,7 @@ from ..brdf.shading.model import _uncoated
 from ..brdf.shading.registry import COLUMNS, COMPILED, LAYOUT, REGISTERED, model_codes
 from ..core.jit import dual_use
 
-__all__ = ["material_tables", "hit_bxdf", "hit_cosines", "for_materials", "bounds_volume", "emission_seen",
+__all__ = ["material_tables", "per_hit_tables", "hit_bxdf", "hit_cosines", "for_materials", "bounds_volume", "emission_seen",
            "COAT_F0"]
 
 #: The f0 of the coat over the emission (KHR_materials_clearcoat: its fixed IOR 1.5).
@@ -55,6 +55,28 @@ def material_tables(materials):
                       double_sided=1.0 if s.double_sided and not bounds_volume(s, material) else 0.0)
         params[i] = LAYOUT.row(values)[0]
     return codes, params
+
+
+def per_hit_tables(codes, params, surface):
+    """The kernels' material tables for the hits of ``surface`` (a
+    :class:`pbrkit.render.geometry.Surface`) whose KHR_materials extension textures
+    change their parameters (:attr:`~pbrkit.render.geometry.Surface.extension_values`):
+    (codes (M + K, C), params (M + K, P), each hit's row (N,), each row's scene material
+    (M + K,)), a row per such hit after the M of ``codes`` and ``params`` (its
+    material's, the textured columns replaced); the tables themselves, ``surface.material``
+    and None without such hits."""
+    if surface.extension_values is None:
+        return codes, params, surface.material, None
+    rows, values = surface.extension_values
+    m = codes.shape[0]
+    material = surface.material
+    new_params = params[material[rows]].copy()
+    for column, v in values.items():
+        new_params[:, column] = v
+    out = material.copy()
+    out[rows] = m + np.arange(rows.size)
+    return (np.concatenate([codes, codes[material[rows]]]), np.concatenate([params, new_params]), out,
+            np.concatenate([np.arange(m), material[rows]]))
 
 
 def for_materials(fn, codes):

@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
@@ -81,7 +82,7 @@ from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 _EXTENDED = np.array(sorted(EXTENDED_CODES.values()), dtype=np.int64)
 from .environment import EnvironmentLight
 from .geometry import Geometry
-from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables
+from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables, per_hit_tables
 from .primary import RenderResult, _background, _primary, _resolve
 from .punctual import punctual_radiance, surface_tangents
 from .transmission_ibl import transmission_lookups
@@ -620,8 +621,10 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     prim = _primary(scene, geometry) if primary is None else primary
     t3 = time.perf_counter()
     timings["primary_rays"] = t3 - t2
-    s = prim.surface
     mat_i, mat_f = material_tables(geometry.materials)
+    # a row of the tables per hit whose KHR_materials extension textures change its parameters
+    mat_i, mat_f, hit_material, origin = per_hit_tables(mat_i, mat_f, prim.surface)
+    s = replace(prim.surface, material=hit_material, extension_values=None)
     count = prim.rows.size
     v = -prim.dirs[prim.rows]
     radiance = np.zeros((prim.dirs.shape[0], 3))
@@ -637,6 +640,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
                 names.append(name)
                 tables.append(np.asarray(table, dtype=np.float64)[..., :2])
             lut_index[mi] = names.index(name)
+        if origin is not None:  # the per-hit rows take their scene material's table
+            lut_index = lut_index[origin]
         tables = np.ascontiguousarray(np.stack(tables))
         mat = np.ascontiguousarray(s.material)
         n_rows = np.ascontiguousarray(s.n)

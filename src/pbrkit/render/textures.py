@@ -107,10 +107,14 @@ class SurfaceMaterial:
     alpha_cutoff: float = 0.5
     alpha: float = 1.0
     alpha_texture: TextureRef | None = None
+    #: the KHR_materials extension textures: (use, TextureRef) with ``use`` a row of
+    #: :data:`pbrkit.io.gltf_materials.TEXTURE_USES`
+    extension_textures: tuple = ()
 
     @property
     def textured(self):
-        return any(r is not None for r in (self.base_color_texture, self.metallic_roughness_texture,
-                                           self.normal_texture, self.occlusion_texture, self.emissive_texture))
+        return bool(self.extension_textures) or any(
+            r is not None for r in (self.base_color_texture, self.metallic_roughness_texture, self.normal_texture,
+                                    self.occlusion_texture, self.emissive_texture))
 
 

@@ -7,6 +7,7 @@ per-vertex estimator of :mod:`pbrkit.render.vertex`: the numbers of the fused ke
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -17,11 +18,11 @@ from ..core.jit import row_kernel
 from ..sampling.random import _path_key
 from .estimator import area_emission, area_shadow_t
 from .film import Film, shifted_add
-from .materials import emission_seen, for_materials
+from .materials import emission_seen, for_materials, per_hit_tables
 from .primary import _background, _primary
 from .primitives import KIND_NONE
 from .punctual import punctual_radiance, surface_tangents
-from .records import Points, area_arrays, environment_arrays
+from .records import Materials, Points, area_arrays, environment_arrays
 from .vertex import _env_miss, _transmissive_vertex, _transmits, _vertex
 
 __all__ = []
@@ -128,6 +129,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
     total_sum = np.zeros((n_pixels, 3))
     total_sq = np.zeros((n_pixels, 3))
     blend = scene is not None and geometry.blends
+    prim_tables, prim_material, prim_origin = _hit_tables(materials, prim.surface) if prim.rows.size else \
+        (materials, None, None)
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
     ray_sub = np.arange(prim.dirs.shape[0]) % k2
     for j in range(spp):
@@ -138,7 +141,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             x = _base_values(pj, geometry, env, materials)
             rows = ids[pj.rows]
             sj = pj.surface
-            surf_p, surf_ng, surf_n, surf_mat = sj.p, sj.ng, sj.n, sj.material
+            surf_tables, surf_mat, surf_origin = _hit_tables(materials, sj)
+            surf_p, surf_ng, surf_n = sj.p, sj.ng, sj.n
             surf_r, surf_m, surf_b, surf_t = sj.roughness, sj.metallic, sj.base_color, surface_tangents(sj)
         else:
             x = base_value[sub::k2].copy()  # rays are pixel-major: ray = pixel * k2 + sub
@@ -147,7 +151,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             surf_p = prim.surface.p[sel]
             surf_ng = prim.surface.ng[sel]
             surf_n = prim.surface.n[sel]
-            surf_mat = prim.surface.material[sel]
+            surf_tables, surf_mat, surf_origin = prim_tables, prim_material[sel], prim_origin
             surf_r = prim.surface.roughness[sel]
             surf_m = prim.surface.metallic[sel]
             surf_b = prim.surface.base_color[sel]
@@ -163,8 +167,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             vs = _vertex_samples(count)
             points = Points(*(np.ascontiguousarray(a) for a in (surf_p, surf_ng, surf_n, v, surf_mat, surf_r,
                                                                  surf_m, surf_b, surf_t)))
-            for_materials(_vertex_batch, materials.codes)(seed, j, bounce, strategy, transmits, pix.astype(np.int64),
-                                                          points, materials, envs, area, vs)
+            for_materials(_vertex_batch, surf_tables.codes)(seed, j, bounce, strategy, transmits,
+                                                            pix.astype(np.int64), points, surf_tables, envs, area, vs)
             ldir, lval, adir, adist, aval, bdir, bw, bpdf = vs
             for direction, value, tmax in ((ldir, lval, None), (adir, aval, adist)):
                 lit = np.flatnonzero(np.any(value > 0.0, axis=1))
@@ -185,7 +189,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             pix = pix[go]
             hits = geometry.intersect(origins, dirs) if occlusion else None
             if media:  # the medium of this segment (by the side of the boundary it leaves to), its transmittance
-                mat_go = surf_mat[go]
+                mat_go = surf_mat[go] if surf_origin is None else surf_origin[surf_mat[go]]  # scene materials
                 entering = np.sum(surf_ng[go] * dirs, axis=1) < 0.0
                 medium = np.where(volume[mat_go], np.where(entering, mat_go, -1), medium[go])
                 inside = np.flatnonzero(medium >= 0)
@@ -219,7 +223,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             if hit.size == 0:
                 break
             surface = geometry.surface(hits, origins, dirs, hit)
-            seen = emission_seen(materials.codes, materials.params, surface.material,
+            tables, hit_material, origin = _hit_tables(materials, surface)
+            surface = replace(surface, material=hit_material, extension_values=None)
+            seen = emission_seen(tables.codes, tables.params, surface.material,
                                  -np.einsum("ij,ij->i", surface.n, dirs[hit]), surface.emissive)
             np.add.at(x, pix[hit], through[hit] * seen)
             if bounce == bounces:
@@ -230,16 +236,25 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
                 medium = medium[hit]
             v = -dirs[hit]
             if geometry.lights:
-                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, materials.codes,
-                                                              materials.params))
+                np.add.at(x, pix, through * punctual_radiance(geometry, surface, v, tables.codes, tables.params))
             surf_p, surf_ng, surf_n = surface.p, surface.ng, surface.n
             surf_mat, surf_r, surf_m, surf_b = surface.material, surface.roughness, surface.metallic, \
                 surface.base_color
+            surf_tables, surf_origin = tables, origin
             surf_t = surface_tangents(surface)
         if j == 0:
             shift = x.copy()
         total_sum, total_sq = shifted_add(shift, total_sum, total_sq, x, 1)
     return Film(shift, total_sum, total_sq)
+
+
+def _hit_tables(materials, surface):
+    """The kernels' :class:`pbrkit.render.records.Materials` for the hits of ``surface``
+    (a row per hit whose extension textures change its parameters,
+    :func:`pbrkit.render.materials.per_hit_tables`), each hit's row in them, and each
+    row's scene material (None: ``materials`` itself, the rows the scene's)."""
+    codes, params, material, origin = per_hit_tables(materials.codes, materials.params, surface)
+    return (materials if origin is None else Materials(codes, params)), material, origin
 
 
 def _media_tables(materials):
@@ -260,9 +275,10 @@ def _base_values(prim, geometry, env, materials):
     base_value = np.zeros((prim.dirs.shape[0], 3))
     base_value[~prim.hit] = _background(prim, env)
     if prim.rows.size:
-        s = prim.surface
+        tables, material, _ = _hit_tables(materials, prim.surface)
+        s = replace(prim.surface, material=material, extension_values=None)
         v = -prim.dirs[prim.rows]
         nov = np.einsum("ij,ij->i", s.n, v)
-        base_value[prim.rows] = emission_seen(materials.codes, materials.params, s.material, nov, s.emissive) + \
-            punctual_radiance(geometry, s, v, materials.codes, materials.params, None, True)
+        base_value[prim.rows] = emission_seen(tables.codes, tables.params, s.material, nov, s.emissive) + \
+            punctual_radiance(geometry, s, v, tables.codes, tables.params, None, True)
     return base_value
