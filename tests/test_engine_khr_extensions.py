@@ -70,16 +70,11 @@ triangles against pbrkit's ray-traced ones, and 8-bit rounding (the gamma-2.2 to
 sRGB requantisation alone about 0.2); it is the same on every sphere, whatever
 the extension's factors.
 
-* sheen (144 x 96, 6 spheres): xfail while the Khronos target bakes no Charlie chain:
-  ``pbrkit-khronos.js`` binds 1 x 1 black textures for ``sheenEnvMap``, ``sheenLUT``
-  and ``sheenELUT``, so the viewer's ``f_sheen = getIBLRadianceCharlie(...)`` is 0
-  and its ``albedoSheenScaling = 1.0 - max3(sheenColor) * albedoSheenScalingLUT(...)``
-  is 1 (the base alone), while pbrkit's khronos path falls back to the GGX chain
-  and the sheen lobe's own albedo (``_sheen_lookups`` and ``_charlie_rows`` in
-  ``render/realtime.py``).  Measured 11.7 / 33: sheen roughness 0.3 5.1, 2.9, 2.6
-  and 0.8 27.5, 16.8, 15.2 (white, pink, blue), all of it the sheen pbrkit adds.
-  With the Charlie chain and LUTs baked and bound it is expected to meet the bound
-  of the others.
+* sheen (144 x 96, 6 spheres): 0.21 / 0.7, now that the Khronos target bakes the
+  Charlie chain and its LUTs (``khronos/charlie.ktx2``, ``sheenLUT``, ``sheenELUT``)
+  and ``pbrkit-khronos.js`` binds them.  Before, with 1 x 1 black textures bound, the
+  viewer showed the base alone (``f_sheen`` 0, ``albedoSheenScaling`` 1): 11.7 / 33,
+  all of it the sheen pbrkit adds.
 
 * anisotropy (192 x 192, 16 spheres): 0.39 / 1.33 / 0.44; per sphere (rows strength 0,
   0.5, 1, columns roughness 0, 0.25, 0.5, 1; then rotation 0 .. 3 pi/4) 0.45 0.24 0.23 0.82 |
@@ -156,7 +151,6 @@ RADIUS = 0.42
 RINGS, SEGMENTS = 32, 64
 ENGINE_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--engine", "khronos"]
 PBRKIT_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--diffuse", "cube", "--energy-compensation"]
-CHARLIE_MISSING = "the Khronos target does not bake the Charlie chain yet"
 
 def _material(base, roughness, extensions, metallic=0.0, emissive=(0.0, 0.0, 0.0)):
     return {"base_color": base, "metallic": metallic, "roughness": roughness, "extensions": extensions,
@@ -413,13 +407,11 @@ def test_the_viewer_renders_the_asset(renders, name):
 
 
 @pytest.mark.parametrize("name", list(ASSETS))
-def test_viewer_agrees_with_pbrkit_engine_khronos(renders, name, request):
+def test_viewer_agrees_with_pbrkit_engine_khronos(renders, name):
     """Mean |grey| within 0.5 levels, p95 within 2, per-channel mean within 0.6 over the
-    asset's sphere pixels (module docstring: measured 0.23 .. 0.24, 0.67, 0.31; the
-    anisotropy asset 0.39, 1.33, 0.44); the sheen case xfails while the bake has no
-    Charlie chain."""
-    if name == "sheen" and not renders["charlie"]:
-        request.node.add_marker(pytest.mark.xfail(reason=CHARLIE_MISSING, strict=False))
+    asset's sphere pixels (module docstring: measured 0.21 .. 0.24, 0.67, 0.31; the
+    anisotropy asset 0.39, 1.33, 0.44); the bake has the Charlie chain the sheen needs."""
+    assert renders["charlie"]
     r = renders[name]
     got = agreement(r["engine8"], r["khronos8"], r["mask"])
     got["spheres"] = per_sphere(r["engine8"], r["khronos8"], r["index"], r["mask"])
