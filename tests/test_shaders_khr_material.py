@@ -2,8 +2,9 @@
 KHR_materials_ior and KHR_materials_specular, KHR_materials_clearcoat, the whole BRDF
 with KHR_materials_sheen, and the extensions' real-time IBL (pbrkit's and the Khronos
 Sample Viewer's, with KHR_materials_transmission / _volume's transmitted light and the
-viewer's thin-film mix: :mod:`pbrkit.render.transmission_ibl`), and KHR_materials_anisotropy (its
-frame, D, V, specular lobe, BRDF and bent-normal IBL direction), against pbrkit's Python in WebGL2
+viewer's thin-film mix: :mod:`pbrkit.render.transmission_ibl`), KHR_materials_dispersion (each
+channel's IOR and lookup) and KHR_materials_anisotropy (its frame, D, V, specular lobe, BRDF
+and bent-normal IBL direction), against pbrkit's Python in WebGL2
 (headless Chromium, SwiftShader), as
 tests/test_shaders.py and tests/test_shaders_khr.py check the other files: each function
 over a grid of float32 inputs, compared with :mod:`pbrkit.brdf.shading.gltf` (its
@@ -12,11 +13,14 @@ extended ``setup``, ``_specular_mix_weight``, ``ibl_*``), :mod:`pbrkit.brdf.lobe
 material at random (l, v, n, material)), the real-time renderer's own IBL kernel
 (``pbrkit.render.realtime._ibl_kernel``, the whole IBL of the material) and
 :mod:`pbrkit.render.khronos_ibl`; the anisotropy's against :func:`pbrkit.brdf.bxdf.shading_frame`,
-:func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.render.realtime.khr_anisotropic_reflection`.
+:func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.render.realtime.khr_anisotropic_reflection`;
+the dispersion's against :mod:`pbrkit.brdf.transmission` and
+:func:`pbrkit.render.transmission_ibl.transmission_lookups`.
 
 The page's 2-D table (``u_lut``) is the E_sheen table, as in tests/test_shaders_khr.py:
 the BRDF and the IBL's scaling read E through ``pbrkit_fetchSheenAlbedo``.  Tolerances:
-1e-4 relative (+ an absolute floor where a value crosses or approaches 0).
+1e-4 relative (+ an absolute floor where a value crosses or approaches 0); the dispersion's
+IORs, directions and roughness absolute (a few float32 ulps).
 """
 
 from __future__ import annotations
@@ -403,6 +407,71 @@ def _transmission_cases(rng):
     return cases
 
 
+def _dispersion_cases(rng):
+    """KHR_materials_dispersion: each channel's IOR against pbrkit.brdf.transmission.dispersion_iors and
+    sample_viewer_dispersion_iors (ior in [1, 2.5] with 1 and KHR_materials_ior's 0 on a few rows, dispersion
+    in [0, 3] with 0, and on a few rows far above 3, where Cauchy's red IOR is clamped at 1), and each
+    channel's lookup (direction and roughness) against the renderer's own
+    pbrkit.render.transmission_ibl.transmission_lookups, whose sampler records what it is asked for."""
+    from pbrkit.brdf.transmission import dispersion_iors, sample_viewer_dispersion_iors
+    from pbrkit.render.geometry import Surface
+    from pbrkit.render.material_spec import MaterialSpec
+    from pbrkit.render.materials import material_tables
+    from pbrkit.render.transmission_ibl import transmission_lookups
+
+    cases = []
+    ior = _f32(rng.uniform(1.0, 2.5, N))
+    dispersion = _f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.0, 3.0, N)))
+    ior[:6], dispersion[:6] = (1.0, 1.0, 1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 3.0, 0.0, 0.5, 3.0)
+    dispersion[6:12] = _f32(rng.uniform(67.0, 150.0, 6))  # red below 1 unclamped (20 / 0.30106 = 66.4)
+    ior[12:16], dispersion[12:16] = 2.5, (0.0, 1.0, 3.0, 0.1)
+    iors = dispersion_iors(ior, dispersion)
+    assert np.all(iors[6:12, 0] == 1.0) and np.all(iors[12:, 0] > 1.0)
+    inputs = [_vec4s(ior, dispersion)]
+    # (rtol: float32's 523655 / lambda^2 - 1.5168 cancels to -1.6e-4 at the d line, its error of ~1e-7 magnified
+    # by (ior - 1) dispersion / 20, up to 11 on the rows far above 3)
+    cases.append(Case("dispersionIors", ("pbrkit_dispersionIors",), "vec4(pbrkit_dispersionIors(a.x, a.y), 0.0)",
+                      inputs, iors, rtol=1e-6, atol=1e-6))
+    cases.append(Case("sampleViewerDispersionIors", ("pbrkit_sampleViewerDispersionIors",),
+                      "vec4(pbrkit_sampleViewerDispersionIors(a.x, a.y), 0.0)", inputs,
+                      sample_viewer_dispersion_iors(ior, dispersion), rtol=0.0, atol=1e-6))
+
+    # the lookups: thin walls (thickness 0) on some rows, v above n, a channel per row
+    n = _unit(rng)
+    v = _unit(rng)
+    v = _f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
+    thickness = _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.01, 2.0, N)))
+    r = _f32(rng.uniform(0.0, 1.0, N))
+    r[16:20] = (0.0, 1.0, 0.0, 1.0)
+    channel = np.arange(N) % 3
+    specs = [SimpleNamespace(spec=MaterialSpec(name=f"m{q}", transmission=1.0, thickness=float(thickness[q]),
+                                   ior=float(ior[q]), dispersion=float(dispersion[q]))) for q in range(N)]
+    codes, params = material_tables(specs)
+    surface = Surface(_f32(rng.normal(size=(N, 3))), n, n, np.arange(N), np.ones((N, 3)), np.zeros(N), r,
+                      np.ones(N), np.zeros((N, 3)))
+    for engine, name, glsl_iors in (("pbrkit", "dispersionLookup", "pbrkit_dispersionIors"),
+                                    ("khronos", "dispersionLookup_khronos", "pbrkit_sampleViewerDispersionIors")):
+        asked = []
+
+        def sampler(directions, lod):  # what each lookup asks for: the plain one, then channels 0, 1, 2
+            asked.append((directions.copy(), lod.copy()))
+            return np.zeros((len(lod), 3))
+
+        transmission_lookups(codes, params, surface, v, (0.0, 0.0, 5.0), sampler, lambda d: d, 2, engine)
+        assert len(asked) == 4  # (levels 2: lod = the lookup's roughness)
+        rows = np.arange(N)
+        direction = np.stack([asked[1 + c][0] for c in range(3)])[channel, rows]
+        roughness = np.stack([asked[1 + c][1] for c in range(3)])[channel, rows]
+        expr = f"pbrkit_dispersionLookup(a.xyz, b.xyz, a.w, {glsl_iors}(c.x, c.y), c.z, int(c.w))"
+        inputs = [_vec4s(n, r), _vec4s(v), _vec4s(ior, dispersion, thickness, channel)]
+        covers = ("pbrkit_dispersionLookup", glsl_iors)
+        if engine == "pbrkit":  # the Sample Viewer's direction is the camera's ray to the exit point: not this one
+            cases.append(Case(name, covers, f"vec4({expr}.xyz, 0.0)", inputs, direction, rtol=0.0, atol=2e-6))
+        cases.append(Case(name + "_roughness", covers, f"vec4({expr}.w, 0.0, 0.0, 0.0)", inputs, roughness[:, None],
+                          rtol=0.0, atol=1e-6))
+    return cases
+
+
 def _tangents(rng, n):
     """Random glTF TANGENTs (N, 4) at the unit normals n: neither unit nor orthogonal to n (their part across
     n at least a fifth of their length), handedness w = -1 or +1 (and a few 0 and -0.5: the sign counts)."""
@@ -592,7 +661,8 @@ def webgl_material_results(tmp_path_factory):
     m = _materials(rng)
     bx = _bxdfs(m)
     cases = (_setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + _renderer_cases(rng, m, dfg)
-             + _sample_viewer_cases(rng, m) + _transmission_cases(rng) + _anisotropy_cases(rng))
+             + _sample_viewer_cases(rng, m) + _transmission_cases(rng) + _anisotropy_cases(rng)
+             + _dispersion_cases(rng))
     rg = np.stack([table, np.zeros_like(table)], axis=-1)  # the page uploads RG32F; E in .r
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
             "lut": {"width": table.shape[1], "height": table.shape[0], "data": rg.reshape(-1).tolist()},
@@ -610,7 +680,7 @@ def test_material_functions_are_listed():
     assert shaders.GLSL_FILES.index(FILE) > shaders.GLSL_FILES.index("pbrkit_khr.glsl")
     for name in ("BRDF_glTFExtended", "pbrkit_clearcoatBRDF", "pbrkit_dielectricF0", "pbrkit_glTFExtendedIBL",
                  "pbrkit_sampleViewerExtensionsIBL", "pbrkit_anisotropicFrame", "BRDF_glTFAnisotropic",
-                 "pbrkit_anisotropicReflection"):
+                 "pbrkit_anisotropicReflection", "pbrkit_dispersionIors", "pbrkit_dispersionLookup"):
         assert names[name] == FILE, name
 
 

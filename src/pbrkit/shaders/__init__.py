@@ -44,7 +44,11 @@ group:
   and the extensions' real-time IBL: pbrkit's own (split sum with F90, the
   diffuse's F* weight, the coat's roughness, the sheen and coat terms and the
   base's scale, ``pbrkit_glTFExtendedIBL``) and the Khronos Sample Viewer's
-  (:mod:`pbrkit.render.khronos_ibl`); ``KHR_materials_anisotropy``: the frame
+  (:mod:`pbrkit.render.khronos_ibl`), with ``KHR_materials_transmission`` /
+  ``_volume``'s transmitted light (:mod:`pbrkit.render.transmission_ibl`) and
+  ``KHR_materials_dispersion``'s IORs per channel (``pbrkit_dispersionIors``,
+  ``pbrkit_sampleViewerDispersionIors``: :mod:`pbrkit.brdf.transmission`) and
+  each channel's lookup ``pbrkit_dispersionLookup``; ``KHR_materials_anisotropy``: the frame
   ``pbrkit_anisotropicFrame`` (a ``mat3``) of a glTF tangent and the rotation's
   (cos, sin), alpha_t, the anisotropic GGX ``pbrkit_dGGXAnisotropic`` and
   height-correlated ``pbrkit_vGGXAnisotropic``, the lobe

@@ -3,10 +3,10 @@
 // KHR_materials_clearcoat (the coat lobe and its Fresnel layering), the whole BRDF with
 // KHR_materials_sheen, and their real-time image-based lighting -- pbrkit's own
 // (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl),
-// with KHR_materials_transmission / _volume's transmitted light (pbrkit.render.transmission_ibl)
-// and the viewer's KHR_materials_iridescence mix; and KHR_materials_anisotropy (its frame, the
-// anisotropic GGX D and V, the specular lobe, the core material's BRDF and the Sample Viewer's
-// bent-normal lookup direction).
+// with KHR_materials_transmission / _volume's transmitted light (pbrkit.render.transmission_ibl),
+// KHR_materials_dispersion's IORs and lookups per channel, and the viewer's KHR_materials_iridescence
+// mix; and KHR_materials_anisotropy (its frame, the anisotropic GGX D and V, the specular lobe, the
+// core material's BRDF and the Sample Viewer's bent-normal lookup direction).
 //
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+: add your own version line, then pbrkit_brdf.glsl and
 // pbrkit_khr.glsl (whose F_Schlick, D_GGX, V_SmithGGX, sheen lobe and albedo scaling these call)
@@ -289,7 +289,8 @@ vec3 pbrkit_volumeAttenuation(float distance, vec3 attenuationColor, float atten
 // pbrkit_transmissionIBL: pbrkit's real-time transmission, added to the diffuse IBL: (1 - metallic) transmission
 //   baseColor diffuseWeight transmitted, diffuseWeight the diffuse's Fresnel weight (pbrkit_specularDiffuseWeightIBL,
 //   without 1 / pi) and transmitted the light along pbrkit_transmissionDirection (the prefiltered radiance at
-//   pbrkit_iorRoughness) times pbrkit_volumeAttenuation over the thickness.
+//   pbrkit_iorRoughness; with KHR_materials_dispersion each channel along its own, pbrkit_dispersionLookup) times
+//   pbrkit_volumeAttenuation over the thickness.
 // source: KHR_materials_transmission README ("Transmission BTDF"); glTF-Sample-Viewer ibl.glsl (getIBLVolumeRefraction)
 // roughness: none (the lookup took pbrkit_iorRoughness)
 // pbrkit: pbrkit.brdf.shading.gltf.ibl_transmission, pbrkit.render.realtime._ibl_kernel
@@ -306,6 +307,47 @@ vec3 pbrkit_transmissionIBL(vec3 baseColor, float metallic, float transmission, 
 vec3 pbrkit_sampleViewerTransmission(vec3 fDiffuse, float transmission, vec3 f0, vec2 ab, vec3 transmitted,
                                      vec3 baseColor) {
     return mix(fDiffuse, (1.0 - (f0 * ab.x + ab.y)) * transmitted * baseColor, transmission);
+}
+
+// ------------------------------------------------------------ KHR_materials_dispersion, real time
+
+// pbrkit_dispersionIors: each colour channel's IOR of a KHR_materials_dispersion volume, Cauchy's n(lambda) through
+//   n_d = ior at 587.6 nm with Abbe number V_d = 20 / dispersion, max(n_d + (n_d - 1) dispersion / 20 (523655 /
+//   lambda^2 - 1.5168), 1), at the Fraunhofer lines the Abbe number is defined by (R at C 656.3 nm, G at d 587.6,
+//   B at F 486.1: pbrkit.brdf.transmission.FRAUNHOFER_NM); ior in every channel for dispersion 0 (not clamped:
+//   KHR_materials_ior's 0 stays 0; green is ior - 1.6e-4 (ior - 1) dispersion / 20, the README's constants).
+//   pbrkit's IORs, in the ground truth and in real time (engine "pbrkit").
+// source: KHR_materials_dispersion README, "Overview" (Cauchy's equation through the Abbe number, n(lambda) = max(n_d + (n_d - 1) / V_d (523655 / lambda^2 - 1.5168), 1))
+// roughness: none
+// pbrkit: pbrkit.brdf.transmission.dispersion_iors
+vec3 pbrkit_dispersionIors(float ior, float dispersion) {
+    const vec3 lambda = vec3(656.3, 587.6, 486.1);
+    vec3 cauchy = 523655.0 / (lambda * lambda) - 1.5168;
+    return dispersion > 0.0 ? max(ior + (ior - 1.0) * (dispersion / 20.0) * cauchy, vec3(1.0)) : vec3(ior);
+}
+
+// pbrkit_sampleViewerDispersionIors: KHR_materials_dispersion's real-time IORs, as the Sample Viewer takes them:
+//   green at ior, red and blue half the F - C spread below and above, ior -+ (ior - 1) 0.025 dispersion.
+// source: KHR_materials_dispersion README, "Implementation"; glTF-Sample-Viewer ibl.glsl (getIBLVolumeRefraction, halfSpread)
+// roughness: none
+// pbrkit: pbrkit.brdf.transmission.sample_viewer_dispersion_iors
+vec3 pbrkit_sampleViewerDispersionIors(float ior, float dispersion) {
+    float halfSpread = (ior - 1.0) * 0.025 * dispersion;
+    return vec3(ior - halfSpread, ior, ior + halfSpread);
+}
+
+// pbrkit_dispersionLookup: channel c's lookup of the transmitted light with KHR_materials_dispersion (channel c
+//   of what it reads is transmitted[c]): (pbrkit_transmissionDirection, pbrkit_iorRoughness) at that channel's IOR
+//   max(iors[c], 1) (KHR_materials_ior's 0 refracts as 1), the direction in .xyz and the lookup's perceptual
+//   roughness in .w; iors pbrkit_dispersionIors (engine "pbrkit") or pbrkit_sampleViewerDispersionIors.  A
+//   thin wall (thickness 0) looks up along -v, only the roughness per channel.  The Sample Viewer instead reads
+//   its framebuffer at the projection of position + direction thickness, at that roughness.
+// source: KHR_materials_dispersion README, "Implementation" (a refraction per channel); glTF-Sample-Viewer ibl.glsl (getIBLVolumeRefraction, getTransmissionSample)
+// roughness: perceptual roughness r -> r clamp(2 iors[c] - 2, 0, 1) (pbrkit_iorRoughness)
+// pbrkit: pbrkit.render.transmission_ibl.transmission_lookups
+vec4 pbrkit_dispersionLookup(vec3 n, vec3 v, float roughness, vec3 iors, float thickness, int channel) {
+    float ior = max(iors[channel], 1.0);
+    return vec4(pbrkit_transmissionDirection(n, v, ior, thickness), pbrkit_iorRoughness(roughness, ior));
 }
 
 // ------------------------------------------------------------ KHR_materials_iridescence, the Sample Viewer's IBL
