@@ -112,11 +112,15 @@ def transmission_lookups(codes, params, surface, v, camera_position, sampler, to
 
     light = lookup(params[m, _IOR])
     dispersion = params[m, _DISPERSION]
-    if np.any((dispersion > 0.0) & (thickness > 0.0)):  # KHR_materials_dispersion: a lookup per channel
+    # KHR_materials_dispersion: a lookup per channel where it applies (pbrkit: the volumes, as the
+    # ground truth; the viewer's getTransmissionSample: every dispersive material, its IORs
+    # blurring thin walls too)
+    dispersive = (dispersion > 0.0) & ((thickness > 0.0) | (engine == "khronos"))
+    if np.any(dispersive):
         iors = (sample_viewer_dispersion_iors if engine == "khronos" else dispersion_iors)(params[m, _IOR],
                                                                                            dispersion)
         for c in range(3):
-            light[:, c] = lookup(iors[:, c])[:, c]
+            light[:, c] = np.where(dispersive, lookup(iors[:, c])[:, c], light[:, c])
     att = np.empty((rows.size, 3))
     _attenuation(params, np.ascontiguousarray(m), np.ascontiguousarray(thickness, dtype=np.float64), att)
     out = np.zeros((material.size, 3))
