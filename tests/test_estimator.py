@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from pbrkit.brdf import models
+from pbrkit.brdf.bxdf import NO_TANGENT
 from pbrkit.brdf.dispatch import lobe_probabilities
 from pbrkit.render.estimator import (
     STRATEGY_BSDF,
@@ -117,7 +118,8 @@ def _estimator_samples(codes, params, rough, metal, base, n, v, u, light, pdf_l,
     bw = np.empty((count, 3))
     bpdf = np.empty(count)
     lval = np.empty((count, 3))
-    b, t, bt = hit_bxdf(codes, params, 0, rough, metal, base[0], base[1], base[2], n[0], n[1], n[2])
+    b, t, bt = hit_bxdf(codes, params, 0, rough, metal, base[0], base[1], base[2], n[0], n[1], n[2],
+                        NO_TANGENT)
     s = Shading((n[0], n[1], n[2]), t, bt, (n[0], n[1], n[2]), (v[0], v[1], v[2]))
     p_spec, p_coat = lobe_probabilities(b, n[0] * v[0] + n[1] * v[1] + n[2] * v[2])
     for i in range(count):

@@ -25,6 +25,7 @@ import numba
 import numpy as np
 import pytest
 
+from pbrkit.brdf.bxdf import NO_TANGENT
 from pbrkit.brdf.transmission import DELTA_PDF, transmissive_f, transmissive_pdf, transmissive_probabilities, \
     transmissive_sample
 from pbrkit.render.materials import hit_bxdf, material_tables
@@ -61,7 +62,8 @@ def _tables(**values):
 @numba.njit(error_model="numpy")
 def _evaluate(codes, params, rough, metal, base, wo, wi):
     """f (N, 3) and the mixture pdf (N) at the pairs (wo, wi[i]) of row 0's material."""
-    b, t, bt = hit_bxdf(codes, params, 0, rough, metal, base[0], base[1], base[2], 0.0, 0.0, 1.0)
+    b, t, bt = hit_bxdf(codes, params, 0, rough, metal, base[0], base[1], base[2], 0.0, 0.0, 1.0,
+                        NO_TANGENT)
     p_t, p_spec, p_coat = transmissive_probabilities(b, wo[2])
     f = np.empty((wi.shape[0], 3))
     pdf = np.empty(wi.shape[0])
@@ -76,7 +78,8 @@ def _evaluate(codes, params, rough, metal, base, wo, wi):
 
 @numba.njit(error_model="numpy")
 def _sample(codes, params, rough, metal, base, wo, u):
-    b, t, bt = hit_bxdf(codes, params, 0, rough, metal, base[0], base[1], base[2], 0.0, 0.0, 1.0)
+    b, t, bt = hit_bxdf(codes, params, 0, rough, metal, base[0], base[1], base[2], 0.0, 0.0, 1.0,
+                        NO_TANGENT)
     p_t, p_spec, p_coat = transmissive_probabilities(b, wo[2])
     wi = np.empty((u.shape[0], 3))
     w = np.empty((u.shape[0], 3))
