@@ -2,7 +2,7 @@
 spheres of increasing anisotropyStrength (and a turned direction) under the bundled
 environment, rendered by ``render_realtime`` (``engine`` khronos: the split sum with
 the prefiltered environment looked up once along the Sample Viewer's bent normal,
-:func:`pbrkit.render.realtime.khr_anisotropic_reflection`, and the isotropic DFG;
+:func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`, and the isotropic DFG;
 ``engine`` pbrkit: filtered importance sampling of the lobe itself,
 :mod:`pbrkit.render.anisotropic_ibl`) and by the ground truth (``render_reference``:
 the anisotropic GGX lobe integrated against the environment), compared per sphere

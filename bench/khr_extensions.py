@@ -231,7 +231,7 @@ def markdown(rows, spp, charlie, constant):
         "  (1.0 - clearcoatFactor * clearcoatFresnel) + color`): every column within a level; before it",
         "  was, pbrkit was 1.87 (coat 0.5) and 3.64 (coat 1) levels brighter than the viewer.",
         "- anisotropy: `--engine khronos` looks the chain up along the viewer's bent normal",
-        "  (`getIBLRadianceAnisotropy`: `pbrkit.render.realtime.khr_anisotropic_reflection`) and agrees",
+        "  (`getIBLRadianceAnisotropy`: `pbrkit.render.ibl_lookups.khr_anisotropic_reflection`) and agrees",
         "  with the viewer within the other assets' 0.2 .. 0.3 levels on every sphere but the mirrors",
         "  (roughness 0: sharp reflections of level 0) and the roughness-1 column, where the viewer's",
         "  `getIBLGGXFresnel` reads the bake's height-correlated `lut_ggx` and `--engine khronos` the",

@@ -80,7 +80,7 @@ the extension's factors.
   0.5, 1, columns roughness 0, 0.25, 0.5, 1; then rotation 0 .. 3 pi/4) 0.45 0.24 0.23 0.82 |
   0.47 0.26 0.24 0.78 | 0.41 0.26 0.22 0.77 | 0.28 0.26 0.24 0.31.  The spheres carry
   glTF TANGENT (:func:`_unit_sphere_tangents`), which both read.  pbrkit's
-  :func:`pbrkit.render.realtime.khr_anisotropic_reflection` is the viewer's
+  :func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection` is the viewer's
   ``getIBLRadianceAnisotropy``: the bent normal ``normalize(mix(cross(cross(B, v), B), n,
   pow(1.0 - anisotropy * (1.0 - roughness), 4.0)))`` with B the viewer's
   ``anisotropicB = cross(normalInfo.ng, anisotropicT)`` (its sign does not matter:

@@ -210,7 +210,8 @@ def test_an_anisotropy_texture_is_read(tmp_path):
     material = asset.materials[0]
     assert material.spec.anisotropy_strength == 1.0 and not asset.notes
     (use, ref), = material.extension_textures
-    assert use[:2] == ("KHR_materials_anisotropy", "anisotropyTexture") and ref.texture == 0
+    assert use[:2] == ("KHR_materials_anisotropy", "anisotropyTexture") and ref.texcoord == 0
+    assert material.textures[ref.texture].texels.shape == (2, 2, 4)  # decoded linear (not sRGB)
 
 
 @pytest.mark.parametrize("ext, fragment", [

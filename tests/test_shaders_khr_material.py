@@ -13,7 +13,7 @@ extended ``setup``, ``_specular_mix_weight``, ``ibl_*``), :mod:`pbrkit.brdf.lobe
 material at random (l, v, n, material)), the real-time renderer's own IBL kernel
 (``pbrkit.render.realtime._ibl_kernel``, the whole IBL of the material) and
 :mod:`pbrkit.render.khronos_ibl`; the anisotropy's against :func:`pbrkit.brdf.bxdf.shading_frame`,
-:func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.render.realtime.khr_anisotropic_reflection`;
+:func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`;
 the dispersion's against :mod:`pbrkit.brdf.transmission` and
 :func:`pbrkit.render.transmission_ibl.transmission_lookups`.
 
@@ -526,7 +526,7 @@ def _anisotropy_cases(rng):
     pbrkit's anisotropic GGX and the model's V (pbrkit.brdf.shading.gltf._v_khr), the specular lobe and the
     whole BRDF against pbrkit.brdf.models.evaluate("gltf", ..., t=tangent) (checked first against the
     README's transcription in tests/reference_brdf.py), and the bent-normal lookup direction against
-    pbrkit.render.realtime.khr_anisotropic_reflection."""
+    pbrkit.render.ibl_lookups.khr_anisotropic_reflection."""
     import reference_brdf as ref
     from test_shaders import _directions
 

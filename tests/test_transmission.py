@@ -429,7 +429,7 @@ def test_realtime_transmission_under_a_constant_environment():
     weight), equals that diffuse's E / pi = 1, so transmission 1 renders as transmission
     0; a volume scales that part by attenuationColor^(thickness / attenuationDistance).
     Under engine khronos the transmitted part is (1 - (F0 A + B)) baseColor x the light
-    (getIBLVolumeRefraction), F0 A + B the split-sum albedo (pbrkit's black dielectric)."""
+    (getIBLVolumeRefraction), F0 A + B the split-sum albedo of the viewer's lut_ggx."""
     from test_render import pixel_geometry, sphere_scene
 
     from pbrkit.render.realtime import render_realtime
@@ -450,5 +450,8 @@ def test_realtime_transmission_under_a_constant_environment():
                                rtol=1e-9)
     k_plain, k_black = render("khronos"), render("khronos", base=(0.0, 0.0, 0.0))
     k_glass = render("khronos", transmission=1.0)
-    expected = k_black + (1.0 - black) * (k_plain - k_black)
+    # F0 A + B of the viewer's lut_ggx (the bake's height-correlated table): pbrkit's split sum of
+    # filament's black dielectric (f0 0.16 reflectance^2 = 0.04, f90 1, that table)
+    split_sum = render(base=(0.0, 0.0, 0.0), model="filament")
+    expected = k_black + (1.0 - split_sum) * (k_plain - k_black)
     np.testing.assert_allclose(k_glass[mask], expected[mask], rtol=1e-6)  # the lookups: 1 to 3e-8

@@ -130,7 +130,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
     total_sq = np.zeros((n_pixels, 3))
     blend = scene is not None and geometry.blends
     prim_tables, prim_material, prim_origin = _hit_tables(materials, prim.surface) if prim.rows.size else \
-        (materials, None, None)
+        (materials, np.zeros(0, dtype=np.int64), None)
     ray_pixel = np.arange(prim.dirs.shape[0]) // k2
     ray_sub = np.arange(prim.dirs.shape[0]) % k2
     for j in range(spp):

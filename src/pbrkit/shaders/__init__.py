@@ -54,7 +54,7 @@ group:
   height-correlated ``pbrkit_vGGXAnisotropic``, the lobe
   ``pbrkit_anisotropicSpecular``, the core material's ``BRDF_glTFAnisotropic``
   and the Sample Viewer's bent-normal lookup ``pbrkit_anisotropicReflection``
-  (:func:`pbrkit.render.realtime.khr_anisotropic_reflection`); needs
+  (:func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`); needs
   ``pbrkit_brdf.glsl`` and ``pbrkit_khr.glsl`` before it.
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each

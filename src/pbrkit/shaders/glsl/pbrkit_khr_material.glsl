@@ -477,7 +477,7 @@ vec3 BRDF_glTFAnisotropic(vec3 l, vec3 v, vec3 n, vec4 tangent, vec3 baseColor, 
 //   normalize(mix(R, n', r^2)) is not applied (the Sample Viewer does not).
 // source: glTF-Sample-Viewer ibl.glsl (getIBLRadianceAnisotropy); KHR_materials_anisotropy README, "Image-based lighting" (bent normal); McAuley 2015 (Filament's bent normal)
 // roughness: perceptual roughness r (k = (1 - strength (1 - r))^4: no bend at r = 1 or strength 0)
-// pbrkit: pbrkit.render.realtime.khr_anisotropic_reflection
+// pbrkit: pbrkit.render.ibl_lookups.khr_anisotropic_reflection
 vec3 pbrkit_anisotropicReflection(vec3 n, vec3 v, vec3 b, float strength, float roughness) {
     vec3 a = cross(cross(b, v), b);
     float k = 1.0 - strength * (1.0 - roughness);
