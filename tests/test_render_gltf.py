@@ -459,3 +459,64 @@ def test_a_cutout_lets_light_through_to_the_shadow_side(tmp_path, mode):
     assert lit.sum() > 5 and dark.sum() > 5 and np.all(without[lit | dark] > 0.01)
     np.testing.assert_allclose(with_quad[lit], without[lit], rtol=1e-9)
     assert np.all(with_quad[dark] == 0.0)
+
+
+def test_vertex_colours_multiply_the_base_colour(tmp_path):
+    """COLOR_0 (glTF 2.0, "Meshes": VEC3 / VEC4, float or normalised unsigned bytes) times
+    the base colour at each hit, interpolated like the other attributes: an unlit quad
+    (its base colour as emission) whose corners are coloured shows, at the centre of
+    each triangle's corner pixels, the factor times the corner's colour; a VEC4 colour's
+    alpha under alphaMode MASK is noted as unused; a colour above 1 is refused."""
+    import pygltflib as g
+
+    from pbrkit.core.errors import InputError
+    from pbrkit.render.geometry import Geometry
+    from pbrkit.render.primary import _primary
+
+    def quad(path, colors, ctype, normalized=False, alpha=None):
+        path = write_quad_glb(path, material_extras=_UNLIT, alpha=alpha)
+        gltf = g.GLTF2().load(str(path))
+        blob = gltf.binary_blob()
+        data = np.asarray(colors, dtype=np.float32 if ctype == g.FLOAT else np.uint8)
+        offset = len(blob) + (-len(blob) % 4)
+        blob = blob + b"\0" * (offset - len(blob)) + data.tobytes()
+        gltf.bufferViews.append(g.BufferView(buffer=0, byteOffset=offset, byteLength=data.nbytes))
+        gltf.accessors.append(g.Accessor(bufferView=len(gltf.bufferViews) - 1, componentType=ctype, count=4,
+                                         type=g.VEC4 if data.shape[1] == 4 else g.VEC3, normalized=normalized))
+        gltf.meshes[0].primitives[0].attributes.COLOR_0 = len(gltf.accessors) - 1
+        gltf.buffers[0].byteLength = len(blob)
+        gltf.set_binary_blob(blob)
+        gltf.save_binary(str(path))
+        return path
+
+    colors = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]]
+    for name, path in (("float", quad(tmp_path / "f.glb", colors, g.FLOAT)),
+                       ("ubyte", quad(tmp_path / "u.glb", np.c_[np.asarray(colors) * 255, [255] * 4],
+                                      g.UNSIGNED_BYTE, normalized=True))):
+        scene = quad_scene(path, 2, 2, fov=10.0)  # the quad fills the view; 4 pixels
+        geometry = Geometry(scene)
+        prim = _primary(scene, geometry)
+        s = prim.surface
+        # unlit: the base colour (1, 0.5, 1) shows as emission, times the interpolated colour
+        shown = s.emissive / np.array([1.0, 0.5, 1.0])
+        assert shown.shape == (4, 3) and np.all(shown >= -1e-12) and np.all(shown <= 1.0 + 1e-12), name
+        assert np.ptp(shown, axis=0).min() > 0.2, name  # the four pixels see different colours
+        # the colour at each hit is the corners' colours mixed by the hit's barycentrics: the quad
+        # maps (x, y) in [-1, 1]^2 to uv bilinearly; here from the corners' colours at each hit's
+        # position (red at (-1, -1), green at (1, -1), blue at (1, 1), white at (-1, 1)), triangle
+        # (0, 1, 2) below the diagonal y = x, (0, 2, 3) above
+        x, y = s.p[:, 0], s.p[:, 1]
+        corner = np.asarray(colors, dtype=np.float64)
+        u, w = (x + 1.0) / 2.0, (y + 1.0) / 2.0
+        below = y <= x
+        expected = np.where(below[:, None], (1 - u)[:, None] * corner[0] + (u - w)[:, None] * corner[1]
+                            + w[:, None] * corner[2], (1 - w)[:, None] * corner[0] + (w - u)[:, None] * corner[3]
+                            + u[:, None] * corner[2])
+        np.testing.assert_allclose(shown, expected, atol=2e-6)
+    note_path = quad(tmp_path / "a.glb", np.c_[colors, [0.5] * 4], g.FLOAT, alpha={"alphaMode": "MASK"})
+    from pbrkit.render.gltf import load_gltf
+
+    assert any("COLOR_0's alpha is not used" in n for n in load_gltf(note_path).notes)
+    bad = quad(tmp_path / "b.glb", [[2.0, 0.0, 0.0]] * 4, g.FLOAT)
+    with pytest.raises(InputError, match=r"COLOR_0 has values outside \[0, 1\]"):
+        load_gltf(bad)

@@ -150,6 +150,8 @@ CORE_FORMATS = {
     "NORMAL": ("VEC3", ((_FLOAT, False),)),
     "TANGENT": ("VEC4", ((_FLOAT, False),)),
     "TEXCOORD": ("VEC2", ((_FLOAT, False), (_UBYTE, True), (_USHORT, True))),
+    "COLOR3": ("VEC3", ((_FLOAT, False), (_UBYTE, True), (_USHORT, True))),  # COLOR_n as VEC3
+    "COLOR4": ("VEC4", ((_FLOAT, False), (_UBYTE, True), (_USHORT, True))),  # COLOR_n as VEC4
     "indices": ("SCALAR", ((_UBYTE, False), (_USHORT, False), (_UINT, False))),
 }
 

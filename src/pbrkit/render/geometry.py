@@ -118,6 +118,7 @@ class Geometry:
         self._factor_metallic = np.array([sp.metallic for sp in specs], dtype=np.float64)
         self._factor_roughness = np.array([sp.roughness for sp in specs], dtype=np.float64)
         self._factor_emissive = np.array([sp.emissive for sp in specs], dtype=np.float64).reshape(-1, 3)
+        self._unlit = np.array([m.unlit for m in self.materials], dtype=bool)
         self._two_sided = np.array([sp.double_sided and not bounds_volume(sp) for sp in specs], dtype=bool)
         self._coverage = coverage_tables(self.materials)
         self._tables = None  # the kernels' material tables, made when extension textures need them
@@ -258,6 +259,7 @@ class Geometry:
         uv_sets = {}
         tangents = np.zeros((n_rows, 4))
         has_tangent = np.zeros(n_rows, dtype=bool)
+        vertex_color = None
         for mi in np.unique(idx[tri_rows]):
             sel = tri_rows[idx[tri_rows] == mi]
             mesh = self.meshes[mi]
@@ -278,6 +280,11 @@ class Geometry:
             for s_i, tc in enumerate(mesh.texcoords):
                 uv_sets.setdefault(s_i, np.zeros((n_rows, 2)))
                 uv_sets[s_i][sel] = w0 * tc[tri[:, 0]] + w1 * tc[tri[:, 1]] + w2 * tc[tri[:, 2]]
+            if mesh.colors is not None:  # COLOR_0, interpolated: it multiplies the base colour
+                if vertex_color is None:
+                    vertex_color = np.ones((n_rows, 3))
+                vertex_color[sel] = (w0 * mesh.colors[tri[:, 0]] + w1 * mesh.colors[tri[:, 1]]
+                                     + w2 * mesh.colors[tri[:, 2]])
             if mesh.tangents is not None:
                 tv = (w0 * mesh.tangents[tri[:, 0], :3] + w1 * mesh.tangents[tri[:, 1], :3]
                       + w2 * mesh.tangents[tri[:, 2], :3])
@@ -286,9 +293,13 @@ class Geometry:
                 has_tangent[sel] = True
         # material factors (gathered from per-material tables), then textures
         base[:] = self._factor_base[mat]
+        emissive[:] = self._factor_emissive[mat]
+        if vertex_color is not None:  # on the base colour, and where it shows as emission (unlit) there
+            base *= vertex_color
+            unlit = self._unlit[mat]
+            emissive[unlit] *= vertex_color[unlit]
         metallic[:] = self._factor_metallic[mat]
         rough[:] = self._factor_roughness[mat]
-        emissive[:] = self._factor_emissive[mat]
         textured = [mi for mi in range(len(self.materials)) if self.materials[mi].textured]
         for mi in (np.intersect1d(np.unique(mat), textured) if textured else ()):
             sel = np.flatnonzero(mat == mi)

@@ -6,7 +6,8 @@ scene's node hierarchy with matrix or TRS transforms (normals by the
 inverse transpose; the determinant's sign flips the tangent handedness),
 triangle, strip and fan primitives, accessors with byte strides, normalised
 integers and sparse substitution, flat normals when NORMAL is absent, and
-the metallic-roughness material with all its textures: baseColor (sRGB,
+the metallic-roughness material with all its textures and vertex colours
+(COLOR_0's RGB times the base colour): baseColor (sRGB,
 times baseColorFactor), metallicRoughness (G = roughness, B = metallic,
 times the factors), normal (tangent space, +X right, +Y up, scaled by
 ``normalTexture.scale``), occlusion (R, applied as 1 + strength (R - 1))
@@ -122,6 +123,7 @@ class Mesh:
     material: int                  # index into the asset's materials
     texcoords: tuple = ()          # (V, 2) per TEXCOORD_n
     tangents: np.ndarray | None = None  # (V, 4): xyz unit, w = +-1
+    colors: np.ndarray | None = None    # (V, 3) COLOR_0's RGB (linear, in [0, 1])
 
 
 @dataclass
@@ -414,7 +416,7 @@ def _gltf_material(reader, index, cache):
                                for use in TEXTURE_USES if (ext.get(use[0]) or {}).get(use[1]) is not None)
     return SurfaceMaterial(spec, bct, mrt, nt, ot, et, alpha_mode=alpha_mode, alpha_cutoff=alpha_cutoff,
                            alpha=float(bc[3]) if len(bc) > 3 else 1.0, alpha_texture=alpha_texture,
-                           extension_textures=extension_textures)
+                           extension_textures=extension_textures, unlit=ext.get(UNLIT) is not None)
 
 
 def _texture_refs(material):
@@ -466,6 +468,8 @@ class _Primitive:
     tangents: np.ndarray | None
     texcoords: list
     triangles: np.ndarray
+    colors: np.ndarray | None = None
+    color_alpha: bool = False  # COLOR_0 is VEC4 (its alpha is not used)
 
 
 def _read_primitive(reader, prim, where):
@@ -501,7 +505,14 @@ def _read_primitive(reader, prim, where):
     texcoords = []
     while attrs.get(f"TEXCOORD_{len(texcoords)}") is not None:
         texcoords.append(read(f"TEXCOORD_{len(texcoords)}", "TEXCOORD", 2))
-    return _Primitive(pos, read("NORMAL", "NORMAL", 3), read("TANGENT", "TANGENT", 4), texcoords, tri)
+    colors = None
+    if attrs.get("COLOR_0") is not None:  # VEC3 or VEC4 (glTF 2.0, "Meshes"); RGB multiplies the base colour
+        a = reader.items("accessors")[attrs["COLOR_0"]]
+        colors = read("COLOR_0", "COLOR4" if a.get("type") == "VEC4" else "COLOR3", 3)
+        if np.any((colors < 0.0) | (colors > 1.0)):
+            reader.fail(f"{where}.attributes.COLOR_0 has values outside [0, 1]")
+    return _Primitive(pos, read("NORMAL", "NORMAL", 3), read("TANGENT", "TANGENT", 4), texcoords, tri, colors,
+                      colors is not None and reader.items("accessors")[attrs["COLOR_0"]].get("type") == "VEC4")
 
 
 def _flat_shaded(p):
@@ -512,7 +523,8 @@ def _flat_shaded(p):
     fn = np.cross(pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]])
     fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
     return _Primitive(pos, np.repeat(fn, 3, axis=0), None if p.tangents is None else p.tangents[corners],
-                      [t[corners] for t in p.texcoords], tri)
+                      [t[corners] for t in p.texcoords], tri, None if p.colors is None else p.colors[corners],
+                      p.color_alpha)
 
 
 def _world_mesh(p, world, material_index):
@@ -529,7 +541,7 @@ def _world_mesh(p, world, material_index):
         t3 /= np.maximum(np.linalg.norm(t3, axis=1, keepdims=True), 1e-300)
         w = np.where(p.tangents[:, 3] < 0.0, -1.0, 1.0) * (1.0 if det > 0 else -1.0)
         wt = np.concatenate([t3, w[:, None]], axis=1)
-    return Mesh(wpos, wn, p.triangles.astype(np.int64), material_index, tuple(p.texcoords), wt)
+    return Mesh(wpos, wn, p.triangles.astype(np.int64), material_index, tuple(p.texcoords), wt, p.colors)
 
 
 def _scene_roots(reader):
@@ -654,6 +666,8 @@ def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
                 state["default_material"] = len(materials) - 1
             mat_index = state["default_material"]
         material = materials[mat_index]
+        if p.color_alpha and material.alpha_mode != "OPAQUE":
+            reader.notes.append(f"{where}: COLOR_0's alpha is not used for alphaMode {material.alpha_mode} yet")
         for name, ref in _texture_refs(material):
             if ref.texcoord >= len(p.texcoords):
                 reader.fail(f"{where}: materials[{mat_index}].{name} uses TEXCOORD_{ref.texcoord}, which the "

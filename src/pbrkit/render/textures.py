@@ -110,6 +110,8 @@ class SurfaceMaterial:
     #: the KHR_materials extension textures: (use, TextureRef) with ``use`` a row of
     #: :data:`pbrkit.io.gltf_materials.TEXTURE_USES`
     extension_textures: tuple = ()
+    #: KHR_materials_unlit: the base colour shows as emission (vertex colours multiply it there)
+    unlit: bool = False
 
     @property
     def textured(self):
