@@ -455,3 +455,41 @@ def test_realtime_transmission_under_a_constant_environment():
     split_sum = render(base=(0.0, 0.0, 0.0), model="filament")
     expected = k_black + (1.0 - split_sum) * (k_plain - k_black)
     np.testing.assert_allclose(k_glass[mask], expected[mask], rtol=1e-6)  # the lookups: 1 to 3e-8
+
+
+@pytest.mark.parametrize("mode", ["reference", "realtime"])
+def test_a_light_behind_a_thin_wall_shines_through_it(mode):
+    """A directional light below a thin transmissive plane (z = 0, normal +z), the camera
+    above, a black environment: each pixel is the light's E times f(v, l) |n.l| of the
+    READMEs' BSDF on the far side (reference_brdf.gltf_transmission_bsdf), in both modes
+    (the same punctual evaluation; the ground truth's shadow ray leaves from the light's
+    side); an opaque plane stays black."""
+    from pbrkit.render.realtime import render_realtime
+    from pbrkit.render.lights import Light
+
+    values = dict(base_color=(0.9, 0.6, 0.3), roughness=0.5, transmission=1.0)
+    to_light = np.array([0.3, -0.2, -1.0])
+    to_light /= np.linalg.norm(to_light)
+
+    def scene(**keys):
+        cam = Camera(position=(0.0, 0.4, 3.0), look_at=(0.0, 0.0, 0.0), fov=20.0, width=6, height=6)
+        light = Light(type="directional", color=(1.0, 0.9, 0.8), intensity=2.0, direction=tuple(-to_light))
+        return Scene(camera=cam, environment=EnvironmentSpec(color=(0.0, 0.0, 0.0)),
+                     materials={"default": MaterialSpec(), "w": MaterialSpec(name="w", **keys)},
+                     objects=(Plane(point=(0.0, 0.0, 0.0), normal=(0.0, 0.0, 1.0), material="w"),),
+                     lights=(light,))
+
+    def render(s):
+        return render_reference(s, spp=2, seed=1) if mode == "reference" else render_realtime(s, bake_size=8)
+
+    got = render(scene(**values))
+    s = scene(**values)
+    d = s.camera.ray_directions()[:, :, 0]
+    v = -d / np.linalg.norm(d, axis=-1, keepdims=True)
+    l = np.broadcast_to(to_light, v.shape)
+    f = ref.gltf_transmission_bsdf(l.reshape(-1, 3), v.reshape(-1, 3), np.array(values["base_color"]), 0.0,
+                                   values["roughness"], values["transmission"])
+    expected = (f * np.abs(to_light[2]) * 2.0 * np.array([1.0, 0.9, 0.8])).reshape(v.shape)
+    assert got.mask.all() and expected.min() > 1e-3
+    np.testing.assert_allclose(got.image, expected, rtol=1e-9, atol=1e-12)
+    assert np.all(render(scene(**dict(values, transmission=0.0))).image == 0.0)

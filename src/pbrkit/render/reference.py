@@ -25,7 +25,10 @@ ch. 9):
   they go to, and inside a volume (a closed surface of thickness > 0, its normals
   outward) the Beer-Lambert transmittance of the real path length, internal
   reflections included.  Scenes with such materials run direct lighting in the fused
-  kernel rather than the lanes (punctual lights do not shine through them yet).
+  kernel rather than the lanes; punctual lights shine through them from either side
+  (:func:`pbrkit.render.punctual.punctual_at`: a light behind a thin wall; a light
+  beyond a volume reaches its inside only by refraction, which shadow rays do not
+  connect).
   ``KHR_materials_dispersion`` volumes refract each colour channel with its own IOR
   (:func:`pbrkit.brdf.transmission.dispersion_iors`): the scene is sampled once per
   channel, every dispersive material at that channel's IOR (its reflection and
@@ -266,9 +269,9 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
                     b0, b1, b2 = mf[m, _BASE_COLOR], mf[m, _BASE_COLOR + 1], mf[m, _BASE_COLOR + 2]
                     if codes.shape[0]:
                         bh, th_, bth = hit_bxdf(mi, mf, m, r, me, b0, b1, b2, nx, ny, nz, NO_TANGENT)
-                        pr = punctual_at(bh, th_, bth, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, 1.0, 1.0,
-                                         1.0, codes, values, eps, True, spheres, lo, hi, skip, first, count, order,
-                                         planes)
+                        pr = punctual_at(mi, mf, m, bh, th_, bth, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, 1.0,
+                                         1.0, 1.0, codes, values, eps, True, spheres, lo, hi, skip, first, count,
+                                         order, planes)
                         x0 += t0 * pr[0]
                         x1 += t1 * pr[1]
                         x2 += t2 * pr[2]
