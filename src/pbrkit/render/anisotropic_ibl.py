@@ -33,6 +33,7 @@ from ..core.jit import row_kernel
 from ..ibl.prefilter import level_of_roughness
 from ..microfacet.ggx import d_ggx_anisotropic, lambda_ggx_anisotropic, warp_ggx_vndf_anisotropic
 from .materials import for_materials, hit_bxdf
+from .punctual import tangent_of
 
 __all__ = ["SAMPLES", "hammersley", "anisotropic_ibl"]
 
@@ -62,7 +63,7 @@ def _fis_kernel(start, stop, mi, mf, rows, mat, n, v, rough, metal, base, tan, u
     for j in range(start, stop):
         i = rows[j]
         b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
+                            n[i, 2], tangent_of(tan, i))
         wox = v[i, 0] * t[0] + v[i, 1] * t[1] + v[i, 2] * t[2]
         woy = v[i, 0] * bt[0] + v[i, 1] * bt[1] + v[i, 2] * bt[2]
         woz = max(v[i, 0] * n[i, 0] + v[i, 1] * n[i, 1] + v[i, 2] * n[i, 2], 1e-4)

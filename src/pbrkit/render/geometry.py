@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..brdf.bxdf import NO_TANGENT
 from ..brdf.shading.registry import COLUMNS
 from .alpha import coverage_tables, pass_through
 from .area_lights import area_light_arrays, area_light_hits
@@ -62,7 +63,8 @@ class Surface:
     each hit (NaN where the hit has none: analytic shapes, meshes without it), and
     ``tangent`` (N, 4): the mesh's interpolated TANGENT (xyz, handedness w) where it
     has one, else (0, 0, 0, 1) (:data:`pbrkit.brdf.bxdf.NO_TANGENT`: anisotropic
-    materials then take :func:`pbrkit.brdf.bxdf.tangent_frame`'s)."""
+    materials then take :func:`pbrkit.brdf.bxdf.tangent_frame`'s); None where no hit has
+    one."""
 
     p: np.ndarray
     ng: np.ndarray
@@ -351,10 +353,11 @@ class Geometry:
                 if self.meshes[mi].texcoords:
                     with_uv[tri_rows[idx[tri_rows] == mi]] = True
             uv0[with_uv] = uv_sets[0][with_uv]
-        tangent_out = np.zeros((n_rows, 4))
-        tangent_out[:, 3] = 1.0
-        tangent_out[has_tangent] = tangents[has_tangent]
-        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangent_out, tables)
+        if has_tangent.any():
+            tangents[~has_tangent] = NO_TANGENT
+        else:  # no mesh tangent: none (the kernels read one row of NO_TANGENT)
+            tangents = None
+        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangents, tables)
 
     def _extension_textures(self, mat, uv_sets):
         """The KHR_materials extension textures at hits of materials ``mat`` with the

@@ -14,17 +14,26 @@ from .lights import light_arrays, light_incidence
 from .materials import for_materials, hit_bxdf, hit_cosines
 from .primitives import KIND_NONE, trace_analytic
 
-__all__ = ["punctual_at", "punctual_radiance", "surface_tangents"]
+__all__ = ["punctual_at", "punctual_radiance", "surface_tangents", "tangent_of", "NO_TANGENTS"]
+
+
+#: The tangent rows of points that have none: one row of NO_TANGENT, which the kernels
+#: read for every point (:func:`tangent_of`).
+NO_TANGENTS = np.array([NO_TANGENT])
 
 
 def surface_tangents(surface):
-    """The (N, 4) tangents of a :class:`pbrkit.render.geometry.Surface`, (0, 0, 0, 1)
-    (:data:`pbrkit.brdf.bxdf.NO_TANGENT`) where it has none."""
-    if surface.tangent is not None:
-        return surface.tangent
-    out = np.zeros((surface.p.shape[0], 4))
-    out[:, 3] = 1.0
-    return out
+    """The tangents of a :class:`pbrkit.render.geometry.Surface` for the kernels: its
+    (N, 4) rows, or :data:`NO_TANGENTS` where it has none (:func:`tangent_of`)."""
+    return NO_TANGENTS if surface.tangent is None else surface.tangent
+
+
+@dual_use(inline=True)
+def tangent_of(tan, i):
+    """Row ``i`` of the tangents ``tan`` (N, 4) as a tuple, or its one row when it has one
+    (:data:`NO_TANGENTS`, or a single point's own)."""
+    j = min(i, tan.shape[0] - 1)
+    return tan[j, 0], tan[j, 1], tan[j, 2], tan[j, 3]
 
 # ============================================================ punctual lights
 
@@ -95,7 +104,7 @@ def _punctual_kernel(start, stop, mi, mf, mat, p, ng, n, v, rough, metal, base, 
         if factor <= 0.0 or (gl <= 0.0 and not _may_transmit(mi, mf, mat[i])):
             continue
         b, t, bt = hit_bxdf(mi, mf, mat[i], rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
+                            n[i, 2], tangent_of(tan, i))
         f, nol = _light_through(mi, mf, mat[i], b, t, bt, n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], lx,
                                 ly, lz, gl, ec[i, 0], ec[i, 1], ec[i, 2])
         e = factor * max(nol, 0.0)

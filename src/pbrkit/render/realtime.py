@@ -85,7 +85,7 @@ from .environment import EnvironmentLight
 from .geometry import Geometry
 from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables, per_hit_tables
 from .primary import RenderResult, _background, _primary, _resolve
-from .punctual import punctual_radiance, surface_tangents
+from .punctual import punctual_radiance, surface_tangents, tangent_of
 from .transmission_ibl import transmission_lookups
 
 __all__ = [
@@ -247,7 +247,7 @@ def _reflection_kernel(start, stop, mi, mf, mat, n, v, rough, metal, base, tan, 
     for i in range(start, stop):
         m = mat[i]
         b, t, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                            n[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
+                            n[i, 2], tangent_of(tan, i))
         strength = mf[m, _ANISOTROPY_STRENGTH] if b.anisotropic else 0.0
         if strength > 0.0:
             r = khr_anisotropic_reflection(n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], bt, strength,

@@ -81,7 +81,8 @@ class Points(NamedTuple):
     """Shading points, one row each: position, geometric and shading normals, the
     direction towards the eye (N, 3), the material (N,) int64 (-1: none, a ray that
     missed), the textured roughness and metallic (N,), base colour (N, 3) and the
-    surface's tangent (N, 4) (:attr:`pbrkit.render.geometry.Surface.tangent`)."""
+    surface's tangent (N, 4) (:attr:`pbrkit.render.geometry.Surface.tangent`), or one row
+    of NO_TANGENT for points without (:func:`pbrkit.render.punctual.tangent_of`)."""
 
     p: np.ndarray
     ng: np.ndarray

@@ -78,7 +78,7 @@ from .lanes import direct_lighting
 from .materials import COAT_F0, for_materials, hit_bxdf, material_tables
 from .primary import RenderResult, _primary
 from .primitives import KIND_NONE, KIND_SPHERE, analytic_surface, trace_analytic
-from .punctual import punctual_at, surface_tangents
+from .punctual import NO_TANGENTS, punctual_at
 from .records import Materials, Points, analytic_shapes, area_arrays, environment_arrays, punctual_lights
 from .vertex import _env_miss, _transmissive_vertex, _transmits, _vertex
 from .wavefront import _base_values, _wavefront
@@ -300,9 +300,11 @@ def _primary_points(prim, v):
     rough[prim.rows] = s.roughness
     metal[prim.rows] = s.metallic
     base[prim.rows] = s.base_color
-    tangent = np.zeros((rays, 4))
-    tangent[:, 3] = 1.0
-    tangent[prim.rows] = surface_tangents(s)
+    tangent = NO_TANGENTS  # analytic shapes: no tangent (the fused and lane kernels read none)
+    if s.tangent is not None:
+        tangent = np.zeros((rays, 4))
+        tangent[:, 3] = 1.0
+        tangent[prim.rows] = s.tangent
     return Points(p, ng, n, vv, mat, rough, metal, base, tangent)
 
 

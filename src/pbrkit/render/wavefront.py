@@ -21,7 +21,7 @@ from .film import Film, shifted_add
 from .materials import emission_seen, for_materials, per_hit_tables
 from .primary import _background, _primary
 from .primitives import KIND_NONE
-from .punctual import punctual_radiance, surface_tangents
+from .punctual import NO_TANGENTS, punctual_radiance, surface_tangents, tangent_of
 from .records import Materials, Points, area_arrays, environment_arrays
 from .vertex import _env_miss, _transmissive_vertex, _transmits, _vertex
 
@@ -76,12 +76,12 @@ def _vertex_batch(start, stop, seed, sample, bounce, strategy, media, pixel, poi
             ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _transmissive_vertex(
                 key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
                 n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
-                base[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
+                base[i, 2], tangent_of(tan, i))
         else:
             ldir, lval, adir, adist, aval, bdir, bw, pdf_b = _vertex(
                 key, strategy, materials, env, area, mat[i], p[i, 0], p[i, 1], p[i, 2], ng[i, 0], ng[i, 1], ng[i, 2],
                 n[i, 0], n[i, 1], n[i, 2], v[i, 0], v[i, 1], v[i, 2], rough[i], metal[i], base[i, 0], base[i, 1],
-                base[i, 2], (tan[i, 0], tan[i, 1], tan[i, 2], tan[i, 3]))
+                base[i, 2], tangent_of(tan, i))
         for a in range(3):
             light_dir[i, a] = ldir[a]
             light_val[i, a] = lval[a]
@@ -155,7 +155,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             surf_r = prim.surface.roughness[sel]
             surf_m = prim.surface.metallic[sel]
             surf_b = prim.surface.base_color[sel]
-            surf_t = surface_tangents(prim.surface)[sel]
+            surf_t = NO_TANGENTS if prim.surface.tangent is None else prim.surface.tangent[sel]
         v = -prim.dirs[rows]
         pix = ray_pixel[rows]
         through = np.ones((rows.size, 3))
