@@ -76,10 +76,11 @@ the extension's factors.
   viewer showed the base alone (``f_sheen`` 0, ``albedoSheenScaling`` 1): 11.7 / 33,
   all of it the sheen pbrkit adds.
 
-* anisotropy (192 x 192, 16 spheres): 0.39 / 1.33 / 0.44; per sphere (rows strength 0,
-  0.5, 1, columns roughness 0, 0.25, 0.5, 1; then rotation 0 .. 3 pi/4) 0.45 0.24 0.23 0.82 |
-  0.47 0.26 0.24 0.78 | 0.41 0.26 0.22 0.77 | 0.28 0.26 0.24 0.31.  The spheres carry
-  glTF TANGENT (:func:`_unit_sphere_tangents`), which both read.  pbrkit's
+* anisotropy (192 x 192, 16 spheres): 0.28 / 0.7 (bench/khr_extensions.md; 0.39 / 1.33 /
+  0.44 before ``--engine khronos`` read the viewer's table, below); per sphere (rows
+  strength 0, 0.5, 1, columns roughness 0, 0.25, 0.5, 1; then rotation 0 .. 3 pi/4) 0.45
+  0.24 0.23 0.22 | 0.47 0.26 0.25 0.21 | 0.41 0.26 0.22 0.21 | 0.28 0.26 0.24 0.31.  The
+  spheres carry glTF TANGENT (:func:`_unit_sphere_tangents`), which both read.  pbrkit's
   :func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection` is the viewer's
   ``getIBLRadianceAnisotropy``: the bent normal ``normalize(mix(cross(cross(B, v), B), n,
   pow(1.0 - anisotropy * (1.0 - roughness), 4.0)))`` with B the viewer's
@@ -92,14 +93,11 @@ the extension's factors.
   roughness > 0 (0.5 .. 0.65 at roughness 0); without the bend it is 7 .. 53 levels
   off, with the rotation's sign flipped 65 .. 69 (pi/4, 3 pi/4).  What is left: the
   mirrors (roughness 0, 0.41 .. 0.47: level 0's sharp reflections, as the coats over
-  ior 2 and 3 above), and the roughness-1 column (0.77 .. 0.82, the viewer brighter by
-  +0.73 .. +0.79 towards the rim; the same on an isotropic metal without the extension,
-  +0.41 at roughness 0.9, +0.11 at 0.75): the viewer's ``getIBLGGXFresnel`` reads the
-  bake's ``lut_ggx`` (height-correlated Smith) for every material where ``--engine
-  khronos`` reads the table of the ``gltf`` model's masking (``_lut_for``: the
-  separable Smith of the glTF BRDF, Appendix B), darker at high roughness and grazing
-  n.v (5 % at roughness 1 near the rim).  With the separable table the transcription is
-  pbrkit's image (linear, 1e-4 on average); with the bake's, the viewer's (0.01 levels).
+  ior 2 and 3 above).  The roughness-1 column was 0.77 .. 0.82 (the viewer brighter by
+  +0.73 .. +0.79 towards the rim, the same on an isotropic metal) while ``--engine
+  khronos`` read the table of the ``gltf`` model's separable masking where the viewer's
+  ``getIBLGGXFresnel`` reads the bake's height-correlated ``lut_ggx`` for every material:
+  it now reads that one too (``render_realtime``), 0.21 .. 0.22.
 
 * coated_emission (144 x 48, 3 spheres): the emission beneath a clear coat, darkened by
   1 - clearcoat clearcoat_fresnel(n.v) (the KHR_materials_clearcoat README, "Emission";
