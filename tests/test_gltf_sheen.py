@@ -255,7 +255,8 @@ def test_khr_materials_sheen_is_read_from_gltf_files(tmp_path):
     assert load_gltf(write_quad_glb(tmp_path / "n.glb")).materials[0].spec.sheen_color == (0.0, 0.0, 0.0)
 
 
-def test_a_sheen_texture_is_noted_as_not_supported_yet(tmp_path):
+def test_a_sheen_texture_is_read(tmp_path):
+    """(Applied per shading point, sRGB-decoded: tests/test_gltf_extension_textures.py.)"""
     from test_render_gltf import write_quad_glb
 
     from pbrkit.render.gltf import load_gltf
@@ -264,8 +265,10 @@ def test_a_sheen_texture_is_noted_as_not_supported_yet(tmp_path):
     sheen = {"sheenColorFactor": [1.0, 1.0, 1.0], "sheenColorTexture": {"index": 0}}
     asset = load_gltf(write_quad_glb(tmp_path / "t.glb", texture=texture,
                                      material_extras={"KHR_materials_sheen": sheen}))
-    assert asset.materials[0].spec.sheen_color == (1.0, 1.0, 1.0)
-    assert any("sheenColorTexture is not supported yet" in note for note in asset.notes)
+    material = asset.materials[0]
+    assert material.spec.sheen_color == (1.0, 1.0, 1.0) and not asset.notes
+    (use, ref), = material.extension_textures
+    assert use[:3] == ("KHR_materials_sheen", "sheenColorTexture", True)  # sRGB
 
 
 @pytest.mark.parametrize("sheen, fragment", [
