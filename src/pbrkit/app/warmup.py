@@ -7,15 +7,16 @@ its first run compiling on one core.  When the cache holds none of the demo's
 kernels and the machine has two or more cores, :meth:`WarmUp.start` launches a
 second process (:func:`run_worker`, ``python -m pbrkit.app.warmup``) that
 compiles the kernels of the demo's later steps (:data:`STEPS`: the ground
-truth, the area-light scene, the styles, the furnace report) by running each of
+truth, the area-light scene, the styles, the glTF material extensions, the furnace
+report) by running each of
 them small (16^2 pixels, 2 samples), while the demo bakes and renders in real
 time.  Each of those steps is claimed by whichever process reaches it first
 (a marker file created exclusively, :meth:`WarmUp.claim`): the demo runs a
 step it claimed at once, compiling its kernels itself, and waits for the
 worker to finish a step the worker claimed (:meth:`WarmUp.wait`), then loads
 its kernels from the cache.  The worker waits for the demo's bake and
-real-time render (:meth:`WarmUp.signal`) before the styles, which use their
-kernels.  So no kernel is compiled twice, and both cores compile.
+real-time render (:meth:`WarmUp.signal`) before the styles and the glTF
+extensions, which use their kernels.  So no kernel is compiled twice, and both cores compile.
 
 The demo's results do not depend on it: the kernels are the same whoever
 compiles them, and the worker writes only into its own temporary folder.  If
@@ -36,7 +37,7 @@ from pathlib import Path
 __all__ = ["STEPS", "WarmUp", "kernels_cached", "run_worker"]
 
 #: The demo steps the worker runs small, in its order; the demo waits for each.
-STEPS = ("reference", "area", "npr", "furnace")
+STEPS = ("reference", "area", "npr", "gltf", "furnace")
 #: The demo steps after which the demo signals the worker (their kernels are cached).
 SIGNALS = ("bake", "realtime")
 #: How long the worker waits for a demo signal before giving up (seconds).
@@ -159,7 +160,7 @@ def run_worker(folder, env_path):
     from ..render.geometry import Geometry
     from ..render.reference import render_reference
     from ..render.scene import EnvironmentSpec, builtin_scene
-    from .demo import DEMO_LEVELS, FURNACE_LOBES, _area_light_comparison, _npr_gallery
+    from .demo import DEMO_LEVELS, FURNACE_LOBES, _area_light_comparison, _gltf_extensions_comparison, _npr_gallery
     from .report import furnace_report
 
     folder = Path(folder)
@@ -172,19 +173,28 @@ def run_worker(folder, env_path):
     geometry = Geometry(scene)
     env = EnvironmentLight(scene.environment)
 
-    def styles():
+    def demo_bake():  # after the demo's bake and real-time render (their kernels cached)
         if not all(_wait_for_demo(folder, step) for step in SIGNALS):
             raise RuntimeError("the demo stopped before its real-time render")
-        baked = bake_environment(load_environment(env_path), size=1 << (DEMO_LEVELS - 1), min_size=1)
-        env.bake_data = baked
+        if env.bake_data is None:
+            env.bake_data = bake_environment(load_environment(env_path), size=1 << (DEMO_LEVELS - 1), min_size=1)
+        return env.bake_data
+
+    def styles():
+        baked = demo_bake()
         _npr_gallery(work, scene, env, baked, size)
+
+    def gltf():
+        baked = demo_bake()
+        _gltf_extensions_comparison(work, scene.environment, env, baked, 2 * size, 2, 0)
 
     def furnace():
         lobes = [name for name in FURNACE_LOBES if name in furnace_lobes()]
         furnace_report(work / "furnace", n_mu=2, roughness=np.linspace(0.0, 1.0, 2), samples=8, seed=0, lobes=lobes)
 
     runs = {"reference": lambda: render_reference(scene, spp=2, seed=0, geometry=geometry, env=env, occlusion=False),
-            "area": lambda: _area_light_comparison(work, size, 2, 0), "npr": styles, "furnace": furnace}
+            "area": lambda: _area_light_comparison(work, size, 2, 0), "npr": styles, "gltf": gltf,
+            "furnace": furnace}
     for step in STEPS:
         if _demo_gone(folder):
             return
