@@ -423,6 +423,25 @@ def test_refract_is_snells_law():
     np.testing.assert_allclose(ior_roughness(0.6, np.array([1.0, 1.25, 1.5, 2.0])), [0.0, 0.3, 0.6, 0.6])
 
 
+def test_sample_viewer_background_is_its_cube_seen_from_behind_the_centre():
+    """The Sample Viewer's background (``cubemap.vert``: the view's translation replaced by
+    (0, 0, 0, 0.1), so clip w = -z_view + 0.1): along the viewing direction the same
+    direction; on the cube's front face the ray from 0.1 behind the centre, tan 1.1 times
+    the camera ray's; unit directions, and a turned camera turns nothing but e."""
+    from pbrkit.render.transmission_ibl import sample_viewer_background_direction
+
+    forward = np.array([0.0, 0.0, -1.0])
+    np.testing.assert_allclose(sample_viewer_background_direction(forward, forward), forward, atol=1e-15)
+    angle = np.radians([1.0, 5.0, 14.0, 30.0])
+    d = np.stack([np.sin(angle), np.zeros(4), -np.cos(angle)], axis=-1)
+    a = sample_viewer_background_direction(d, forward)
+    np.testing.assert_allclose(np.linalg.norm(a, axis=-1), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(a[:, 0] / -a[:, 2], 1.1 * np.tan(angle), rtol=1e-12)
+    # looking along +X: the cube's +X face, e = (-0.1, 0, 0)
+    a = sample_viewer_background_direction(np.array([np.cos(0.2), np.sin(0.2), 0.0]), np.array([2.0, 0.0, 0.0]))
+    np.testing.assert_allclose(a[1] / a[0], 1.1 * np.tan(0.2), rtol=1e-12)
+
+
 def test_realtime_transmission_under_a_constant_environment():
     """Real time, a constant white environment (every lookup 1): the light a thin wall
     lets through, weighted as the diffuse it replaces (baseColor x the diffuse's Fresnel

@@ -594,7 +594,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         out = np.empty((count, 3))
         ec = np.empty((count, 3))
         transmitted = transmission_lookups(mat_i, mat_f, s, v, scene.camera.position, sampler, env.to_env_frame,
-                                           levels, engine)
+                                           levels, engine, camera_forward=scene.camera.basis()[2])
         if transmitted.shape[0] > 1:
             transmitted *= env.intensity
         dfg_sampled = np.zeros((1, 2))

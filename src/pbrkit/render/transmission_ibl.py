@@ -25,8 +25,14 @@ behind, mip-filtered) at the projection of the ray's exit point, pbrkit reads th
 environment: with ``engine="pbrkit"`` along the transmission ray's direction, with
 ``engine="khronos"`` along the camera's ray through the exit point (what a
 framebuffer of the background shows there), each at the GGX-prefiltered level of
-r'.  Other objects behind a transmissive one are not seen through it in real time
-(the ground truth traces them).  The weights (the material's (1 - metallic)
+r'.  That background is the viewer's ``cubemap.vert``: the unit cube [-1, 1]^3 with the
+view's translation replaced by ``mat[3] = vec4(0.0, 0.0, 0.0, 0.1)``, so clip w =
+-z_view + 0.1 and a pixel shows the cube's point on the ray from 0.1 behind the cube's
+centre (along the camera's +Z) rather than the ray from the centre: near the view axis
+the directions it shows lie 1.1 times as far from the axis
+(:func:`sample_viewer_background_direction`, what ``engine="khronos"`` reads when the
+camera's viewing direction is given).  Other objects behind a transmissive one are not
+seen through it in real time (the ground truth traces them).  The weights (the material's (1 - metallic)
 transmission baseColor and the Fresnel left to the base) are the kernels'
 (:func:`pbrkit.brdf.shading.gltf.ibl_transmission`,
 :func:`pbrkit.render.khronos_ibl.sample_viewer_extensions_ibl`).
@@ -41,7 +47,8 @@ from ..brdf.transmission import absorption, dispersion_iors, sample_viewer_dispe
 from ..core.jit import row_kernel
 from ..ibl.prefilter import level_of_roughness
 
-__all__ = ["refract", "ior_roughness", "transmission_direction", "transmission_lookups"]
+__all__ = ["refract", "ior_roughness", "transmission_direction", "sample_viewer_background_direction",
+           "transmission_lookups"]
 
 _TRANSMISSION, _THICKNESS, _IOR, _DISPERSION = (COLUMNS.transmission, COLUMNS.thickness, COLUMNS.ior,
                                                COLUMNS.dispersion)
@@ -73,6 +80,20 @@ def transmission_direction(n, v, ior, thickness):
     return np.where((np.asarray(thickness) > 0.0)[..., None], bent, -v)
 
 
+def sample_viewer_background_direction(d, forward):
+    """The environment direction (..., 3) the Sample Viewer's background (``cubemap.vert``,
+    module docstring) shows along the camera's world rays ``d`` (..., 3, unit), the camera
+    looking along ``forward``: the point where the ray from e = -0.1 forward along d
+    leaves the cube [-1, 1]^3, normalised."""
+    d = np.asarray(d, dtype=np.float64)
+    f = np.asarray(forward, dtype=np.float64)
+    e = -0.1 * f / np.linalg.norm(f)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(np.abs(d) > 1e-12, (np.where(d > 0.0, 1.0, -1.0) - e) / d, np.inf).min(axis=-1)
+    a = e + t[..., None] * d
+    return a / np.linalg.norm(a, axis=-1, keepdims=True)
+
+
 @row_kernel(2)
 def _attenuation(start, stop, params, material, length, out):
     for i in range(start, stop):
@@ -82,13 +103,16 @@ def _attenuation(start, stop, params, material, length, out):
         out[i, 2] = a[2]
 
 
-def transmission_lookups(codes, params, surface, v, camera_position, sampler, to_env_frame, levels, engine):
+def transmission_lookups(codes, params, surface, v, camera_position, sampler, to_env_frame, levels, engine,
+                         camera_forward=None):
     """The light transmitted through each hit (N, 3): the prefiltered environment along
     the transmission ray (module docstring) times the volume's attenuation, for the hits
     of extended glTF materials with transmission > 0; zeros elsewhere.  A single zero
     row where no hit transmits (the kernels then read none).  ``sampler(directions,
     lods)`` reads the chain of ``levels`` levels, ``to_env_frame`` maps world
-    directions into the map's frame."""
+    directions into the map's frame.  ``camera_forward``: the camera's viewing direction,
+    with which ``engine="khronos"`` reads the viewer's background
+    (:func:`sample_viewer_background_direction`); without it the camera's ray itself."""
     material = surface.material
     gltf = codes[material, 0] == EXTENDED_CODES["gltf"]
     rows = np.flatnonzero(gltf & (params[material, _TRANSMISSION] > 0.0))
@@ -107,6 +131,8 @@ def transmission_lookups(codes, params, surface, v, camera_position, sampler, to
             toward = exit_ - np.asarray(camera_position, dtype=np.float64)
             toward /= np.maximum(np.linalg.norm(toward, axis=-1, keepdims=True), 1e-300)
             direction = np.where((thickness > 0.0)[:, None], toward, -vv)
+            if camera_forward is not None:
+                direction = sample_viewer_background_direction(direction, camera_forward)
         lod = level_of_roughness(ior_roughness(surface.roughness[rows], ior), levels)
         return sampler(to_env_frame(np.ascontiguousarray(direction)), np.asarray(lod, dtype=np.float64))
 

@@ -1,10 +1,12 @@
 // A sphere grid (a glTF written by tests/test_engine_render_khronos.py) rendered by the
 // Khronos glTF Sample Viewer 1.1.0 with a pbrkit bake loaded by the module pbrkit ships
 // (loadPbrkitEnvironment), environmentRotation 0 (pbrkit's frame), tone map "None"
-// (the viewer then writes pow(c, 1 / 2.2), clamped), no punctual lights, no background;
+// (the viewer then writes pow(c, 1 / 2.2), clamped), no punctual lights, no background (but with background=1);
 // the canvas is read back as 8-bit RGBA.  Query: folder (khronos folder under /data),
 // gltf (file under /data), width, height, intensity (renderingParameters.iblIntensity),
-// nosheen (1: load without the sheen files).
+// nosheen (1: load without the sheen files), background (1: renderEnvironmentMap with
+// blurEnvironmentMap false, the bake's level 0 drawn behind everything, into the canvas
+// and into the transmission framebuffer that getIBLVolumeRefraction reads; default: none).
 import { GltfView, ResourceLoader } from "@khronosgroup/gltf-viewer";
 import { report } from "/pages/readback.js";
 import { loadPbrkitEnvironment } from "/pbrkit-js/pbrkit-khronos.js";
@@ -34,7 +36,8 @@ report(async () => {
   state.sceneIndex = 0;
   state.cameraIndex = 0;
   Object.assign(state.renderingParameters, {
-    toneMap: "None (Linear mapping, clamped at 1.0)", exposure: 1.0, renderEnvironmentMap: false,
+    toneMap: "None (Linear mapping, clamped at 1.0)", exposure: 1.0,
+    renderEnvironmentMap: q.get("background") === "1", blurEnvironmentMap: false,
     clearColor: [0, 0, 0, 1], usePunctual: false, useIBL: true, environmentRotation: 0,
     iblIntensity: Number(q.get("intensity") || 1),
   });
