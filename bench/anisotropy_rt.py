@@ -25,7 +25,7 @@ import numpy as np
 
 from pbrkit.render.realtime import render_realtime
 from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import Camera, EnvironmentSpec, MaterialSpec, Scene, Sphere, bundled_environment
+from transmission_rt import sphere_columns, sphere_row, srgb8
 
 #: (label, material keys): one sphere each, left to right (a grey metal, roughness 0.3).
 SPHERES = (
@@ -38,24 +38,9 @@ SPHERES = (
 
 
 def scene(size, isotropic=False):
-    materials = {"default": MaterialSpec()}
-    objects = []
-    for k, (_, keys) in enumerate(SPHERES):
-        name = f"s{k}"
-        keys = dict(dict(roughness=0.3), **keys)
-        if isotropic:
-            keys.update(anisotropy_strength=0.0, anisotropy_rotation=0.0)
-        materials[name] = MaterialSpec(name=name, base_color=(0.9, 0.9, 0.9), metallic=1.0, **keys)
-        objects.append(Sphere(center=(1.2 * (k - (len(SPHERES) - 1) / 2), 0.0, 0.0), radius=0.5, material=name))
-    cam = Camera(position=(0.0, 0.0, 12.0), look_at=(0.0, 0.0, 0.0), fov=7.0, width=size * len(SPHERES) // 2,
-                 height=size // 2)
-    return Scene(camera=cam, environment=EnvironmentSpec(file=str(bundled_environment()), intensity=0.5),
-                 materials=materials, objects=tuple(objects))
-
-
-def srgb8(x):
-    x = np.clip(x, 0.0, 1.0)
-    return np.round(255.0 * np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1.0 / 2.4) - 0.055))
+    spheres = [(label, dict(keys, anisotropy_strength=0.0, anisotropy_rotation=0.0) if isotropic else keys)
+               for label, keys in SPHERES]
+    return sphere_row(spheres, size, base_color=(0.9, 0.9, 0.9), metallic=1.0, roughness=0.3)
 
 
 def main():
@@ -69,11 +54,7 @@ def main():
     t_truth = time.perf_counter() - t
     rt = {e: render_realtime(s, bake_size=128, engine=e) for e in ("pbrkit", "khronos")}
     rt["isotropic"] = render_realtime(scene(args.size, isotropic=True), bake_size=128, engine="pbrkit")
-    cam = s.camera
-    centres = np.array([o.center for o in s.objects])
-    _, cols = cam.project(centres)  # each pixel's sphere: the nearest projected centre along x
-    column = np.broadcast_to(np.argmin(np.abs(np.arange(cam.width)[:, None] + 0.5 - cols[None, :]), axis=1),
-                             (cam.height, cam.width))
+    column = sphere_columns(s)
     mask = truth.mask & rt["pbrkit"].mask
     ref8 = srgb8(truth.image).mean(-1)
     print(f"ground truth {args.spp} spp, direct ({t_truth:.1f} s); 8-bit sRGB levels, mean |grey| "

@@ -19,6 +19,7 @@ import time
 
 import numpy as np
 
+from pbrkit.core.color import linear_to_srgb
 from pbrkit.render.realtime import render_realtime
 from pbrkit.render.reference import render_reference
 from pbrkit.render.scene import Camera, EnvironmentSpec, MaterialSpec, Scene, Sphere, bundled_environment
@@ -35,22 +36,37 @@ SPHERES = (
 )
 
 
-def scene(size):
+def sphere_row(spheres, size, **base):
+    """A row of spheres (radius 0.5), one per (label, material keys) of ``spheres`` over the
+    material keys ``base``, under the bundled environment (intensity 0.5), far camera;
+    ``size`` x ``size`` / 2 pixels per two spheres."""
     materials = {"default": MaterialSpec()}
     objects = []
-    for k, (_, keys) in enumerate(SPHERES):
+    for k, (_, keys) in enumerate(spheres):
         name = f"s{k}"
-        materials[name] = MaterialSpec(name=name, base_color=(1.0, 1.0, 1.0), metallic=0.0, **keys)
-        objects.append(Sphere(center=(1.2 * (k - (len(SPHERES) - 1) / 2), 0.0, 0.0), radius=0.5, material=name))
-    cam = Camera(position=(0.0, 0.0, 12.0), look_at=(0.0, 0.0, 0.0), fov=7.0, width=size * len(SPHERES) // 2,
+        materials[name] = MaterialSpec(name=name, **{**base, **keys})
+        objects.append(Sphere(center=(1.2 * (k - (len(spheres) - 1) / 2), 0.0, 0.0), radius=0.5, material=name))
+    cam = Camera(position=(0.0, 0.0, 12.0), look_at=(0.0, 0.0, 0.0), fov=7.0, width=size * len(spheres) // 2,
                  height=size // 2)
     return Scene(camera=cam, environment=EnvironmentSpec(file=str(bundled_environment()), intensity=0.5),
                  materials=materials, objects=tuple(objects))
 
 
+def scene(size):
+    return sphere_row(SPHERES, size, base_color=(1.0, 1.0, 1.0), metallic=0.0)
+
+
+def sphere_columns(s):
+    """Each pixel's sphere of a :func:`sphere_row` scene: the nearest projected centre along x."""
+    cam = s.camera
+    _, cols = cam.project(np.array([o.center for o in s.objects]))
+    return np.broadcast_to(np.argmin(np.abs(np.arange(cam.width)[:, None] + 0.5 - cols[None, :]), axis=1),
+                           (cam.height, cam.width))
+
+
 def srgb8(x):
-    x = np.clip(x, 0.0, 1.0)
-    return np.round(255.0 * np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1.0 / 2.4) - 0.055))
+    """8-bit sRGB levels of linear values (clipped to [0, 1])."""
+    return np.round(255.0 * linear_to_srgb(np.clip(x, 0.0, 1.0)))
 
 
 def main():
@@ -63,11 +79,7 @@ def main():
     truth = render_reference(s, spp=args.spp, bounces=8)
     t_truth = time.perf_counter() - t
     rt = {e: render_realtime(s, bake_size=128, engine=e) for e in ("pbrkit", "khronos")}
-    cam = s.camera
-    centres = np.array([o.center for o in s.objects])
-    _, cols = cam.project(centres)  # each pixel's sphere: the nearest projected centre along x
-    column = np.broadcast_to(np.argmin(np.abs(np.arange(cam.width)[:, None] + 0.5 - cols[None, :]), axis=1),
-                             (cam.height, cam.width))
+    column = sphere_columns(s)
     mask = truth.mask & rt["pbrkit"].mask
     ref8 = srgb8(truth.image).mean(-1)
     print(f"ground truth {args.spp} spp, 8 bounces ({t_truth:.1f} s); 8-bit sRGB levels, mean |grey| "

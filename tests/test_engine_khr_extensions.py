@@ -393,17 +393,17 @@ def viewer_image(name, bake_dir):
     return gamma22_to_srgb8(np.ascontiguousarray(rgba[..., :3]))
 
 
-def asset_index(name):
-    """Per pixel the index of the sphere its centre ray hits (-1: none), from the
-    analytic spheres under pbrkit's camera."""
+def asset_hits(name):
+    """pbrkit's camera of the asset and, per pixel centre, the index of the analytic
+    sphere hit (-1: none), its unit normal and the ray's direction."""
     from pbrkit.render.scene import Camera
 
     cam = asset_camera(name)
     camera = Camera(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in cam.items()})
     h, w = cam["height"], cam["width"]
     d = camera.ray_directions(*np.meshgrid(np.arange(h) + 0.5, np.arange(w) + 0.5, indexing="ij"))
-    origin = np.asarray(cam["position"])
-    index, nearest = np.full((h, w), -1), np.full((h, w), np.inf)
+    origin = np.asarray(cam["position"], np.float64)
+    index, nearest, normal = np.full((h, w), -1), np.full((h, w), np.inf), np.zeros((h, w, 3))
     for i, s in enumerate(asset_spheres(name)):
         oc = origin - np.asarray(s["center"])
         b = d @ oc
@@ -411,7 +411,14 @@ def asset_index(name):
         t = np.where(disc > 0, -b - np.sqrt(np.maximum(disc, 0.0)), np.inf)
         closer = t < nearest
         nearest[closer], index[closer] = t[closer], i
-    return index
+        normal[closer] = ((origin + t[..., None] * d - s["center"]) / s["radius"])[closer]
+    return camera, index, normal, d
+
+
+def asset_index(name):
+    """Per pixel the index of the sphere its centre ray hits (-1: none), from the
+    analytic spheres under pbrkit's camera (:func:`asset_hits`)."""
+    return asset_hits(name)[1]
 
 
 def charlie_baked(bake_dir):

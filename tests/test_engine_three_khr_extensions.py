@@ -151,6 +151,7 @@ from test_engine_khr_extensions import (
     ASSETS,
     INTENSITY,
     asset_camera,
+    asset_hits,
     asset_index,
     asset_size,
     asset_spheres,
@@ -208,28 +209,6 @@ def three_images(root, names, bake_name="bake"):
 #: the order of the module docstring's table.
 TERMS = ("roughness", "lookup", "irradiance", "dfg", "fresnel", "coat_f0", "coat", "sheen")
 _MIRROR = np.array([-1.0, 1.0, 1.0])  # the three chain is stored x mirrored (pbrkit-three.js)
-
-
-def asset_hits(name):
-    """pbrkit's camera of the asset and, per pixel centre, the index of the analytic
-    sphere hit (-1: none), its unit normal and the ray's direction."""
-    from pbrkit.render.scene import Camera
-
-    cam = asset_camera(name)
-    camera = Camera(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in cam.items()})
-    h, w = cam["height"], cam["width"]
-    d = camera.ray_directions(*np.meshgrid(np.arange(h) + 0.5, np.arange(w) + 0.5, indexing="ij"))
-    origin = np.asarray(cam["position"], np.float64)
-    index, nearest, normal = np.full((h, w), -1), np.full((h, w), np.inf), np.zeros((h, w, 3))
-    for i, s in enumerate(asset_spheres(name)):
-        oc = origin - np.asarray(s["center"])
-        b = d @ oc
-        disc = b * b - (oc @ oc - s["radius"] ** 2)
-        t = np.where(disc > 0, -b - np.sqrt(np.maximum(disc, 0.0)), np.inf)
-        closer = t < nearest
-        nearest[closer], index[closer] = t[closer], i
-        normal[closer] = ((origin + t[..., None] * d - s["center"]) / s["radius"])[closer]
-    return camera, index, normal, d
 
 
 class Lookups:

@@ -20,6 +20,16 @@ __all__ = ["reflection_direction", "khr_anisotropic_reflection", "three_roughnes
 THREE_MIN_ROUGHNESS = 0.045
 
 
+@dual_use(inline=True)
+def _anisotropic_normal(dx, dy, dz, vx, vy, vz):
+    # the anisotropic normal (d x v) x d of a grain direction d (McAuley 2015): n bent
+    # within the plane of d and v (unnormalised)
+    ax = dy * vz - dz * vy
+    ay = dz * vx - dx * vz
+    az = dx * vy - dy * vx
+    return ay * dz - az * dy, az * dx - ax * dz, ax * dy - ay * dx
+
+
 @dual_use
 def reflection_direction(nx, ny, nz, vx, vy, vz, t, bt, anisotropy, roughness):
     """The direction a shader looks up the prefiltered environment in: the mirror
@@ -34,12 +44,7 @@ def reflection_direction(nx, ny, nz, vx, vy, vz, t, bt, anisotropy, roughness):
             dx, dy, dz = bt
         else:
             dx, dy, dz = t
-        ax = dy * vz - dz * vy
-        ay = dz * vx - dx * vz
-        az = dx * vy - dy * vx
-        qx = ay * dz - az * dy
-        qy = az * dx - ax * dz
-        qz = ax * dy - ay * dx
+        qx, qy, qz = _anisotropic_normal(dx, dy, dz, vx, vy, vz)
         bend = abs(anisotropy) * min(max(5.0 * roughness, 0.0), 1.0)
         nx = nx + (qx - nx) * bend
         ny = ny + (qy - ny) * bend
@@ -61,13 +66,7 @@ def khr_anisotropic_reflection(nx, ny, nz, vx, vy, vz, bt, strength, roughness):
     a = (B x v) x B bent back towards n by the factor (1 - strength (1 - r))^4
     (r perceptual roughness: no bend at r = 1 or strength 0), n' =
     normalize(mix(a, n, factor)), and R = reflect(-v, n')."""
-    bx, by, bz = bt
-    ax = by * vz - bz * vy
-    ay = bz * vx - bx * vz
-    az = bx * vy - by * vx
-    qx = ay * bz - az * by
-    qy = az * bx - ax * bz
-    qz = ax * by - ay * bx
+    qx, qy, qz = _anisotropic_normal(bt[0], bt[1], bt[2], vx, vy, vz)
     k = 1.0 - strength * (1.0 - roughness)
     k = k * k * k * k
     mx = qx + (nx - qx) * k
