@@ -943,7 +943,7 @@ def gltf_sheen_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughnes
 
 def gltf_khr_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughness, clearcoat, clearcoat_roughness,
                   specular, specular_color, ior, e_table, iridescence=0.0, iridescence_ior=1.3,
-                  iridescence_thickness=400.0, iridescent_fresnel=None):
+                  iridescence_thickness=400.0, iridescent_fresnel=None, clearcoat_normal=None):
     """glTF 2.0 with KHR_materials_ior, KHR_materials_specular, KHR_materials_sheen and
     KHR_materials_clearcoat, written from the extensions' READMEs:
 
@@ -969,7 +969,11 @@ def gltf_khr_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughness,
 
     ``iridescent_fresnel(cos, film_ior, thickness, f0 (..., 3))`` -> (..., 3) is given
     (the thin film's Fresnel is checked against an Airy summation in test_thin_film.py;
-    here the layering around it is transcribed)."""
+    here the layering around it is transcribed).  ``clearcoat_normal`` (N, 3), unit, in the
+    local frame: KHR_materials_clearcoat's clearcoatNormal ("Roughness and normal are taken
+    from clearcoatNormal and clearcoatRoughness"; fresnel_coat's ``normal`` "affects the
+    top layer, but not the base"): the coat's D, G and |V.Nc| about it, 0 unless L.Nc > 0
+    and V.Nc > 0 (None: the shading normal)."""
     g = Geometry(l, v)
     alpha = _alpha(roughness)
     base = np.asarray(base, dtype=float)
@@ -999,8 +1003,20 @@ def gltf_khr_brdf(l, v, base, metallic, roughness, sheen_color, sheen_roughness,
         e = sheen_albedo_bilinear(e_table, g.nov, sheen_roughness)
         sheen_material = color * sheen_brdf[..., None] + material * (1.0 - np.max(color, axis=-1) * e)[..., None]
         alpha_c = _alpha(clearcoat_roughness)
-        coat = d_ggx(g.noh, g.sin2h, alpha_c) * _smith_ggx_visibility_separable(g.nol, g.nov, alpha_c)
-        coat_weight = np.asarray(clearcoat, dtype=float) * (0.04 + 0.96 * (1.0 - np.abs(g.nov)) ** 5)
+        if clearcoat_normal is None:
+            coat = d_ggx(g.noh, g.sin2h, alpha_c) * _smith_ggx_visibility_separable(g.nol, g.nov, alpha_c)
+            coat_weight = np.asarray(clearcoat, dtype=float) * (0.04 + 0.96 * (1.0 - np.abs(g.nov)) ** 5)
+        else:
+            nc = np.asarray(clearcoat_normal, dtype=float)
+            h = np.asarray(l, dtype=float) + np.asarray(v, dtype=float)
+            h = h / np.linalg.norm(h, axis=-1, keepdims=True)
+            nol_c = np.sum(np.asarray(l) * nc, axis=-1)
+            nov_c = np.sum(np.asarray(v) * nc, axis=-1)
+            noh_c = np.sum(h * nc, axis=-1)
+            coat = d_ggx(noh_c, 1.0 - noh_c * noh_c, alpha_c) * _smith_ggx_visibility_separable(nol_c, nov_c,
+                                                                                                    alpha_c)
+            coat = np.where((nol_c > 0.0) & (nov_c > 0.0), coat, 0.0)
+            coat_weight = np.asarray(clearcoat, dtype=float) * (0.04 + 0.96 * (1.0 - np.abs(nov_c)) ** 5)
         f = _mix(sheen_material, coat[..., None], _rgb(coat_weight))
     return g.only_above(f)
 

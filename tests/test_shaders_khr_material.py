@@ -331,7 +331,8 @@ def _sample_viewer_cases(rng, m):
     expected = np.array([[khronos_ibl.sample_viewer_extensions_ibl(
         params, q, float(m.base[q, k]), float(m.metallic[q]), float(m.roughness[q]), float(nov[q]), float(a[q]),
         float(b[q]), float(rad[q, k]), float(irr[q, k]), float(coat_rad[q, k]), float(sheen_rad[q, k]),
-        float(charlie[q]), k, *(float(x) for x in m.base[q]), 0.0) for k in range(3)] for q in range(N)])
+        float(charlie[q]), k, *(float(x) for x in m.base[q]), 0.0, float(nov[q])) for k in range(3)]
+        for q in range(N)])
     add(Case("sampleViewerExtensionsIBL", ("pbrkit_sampleViewerExtensionsIBL",),
              f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, vec3(b.w, c.w, h.w), "
              "a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, expected, atol=1e-6))

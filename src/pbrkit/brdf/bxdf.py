@@ -30,7 +30,7 @@ from .fresnel import f0_metallic
 __all__ = [
     "C_MODEL", "C_DISTRIBUTION", "C_MASKING", "C_FRESNEL", "C_DIFFUSE", "CODE_COLUMNS", "EXTRA_SLOTS", "NO_EXTRA",
     "BxDF", "Cosines", "cosines", "isotropic_cosines", "local_cosines", "tangent_frame", "shading_frame", "turned_frame", "into_turned",
-    "out_of_turned", "NO_TANGENT", "lobe_bxdf",
+    "out_of_turned", "NO_TANGENT", "lobe_bxdf", "with_extra",
     "metallic_workflow",
 ]
 
@@ -38,7 +38,7 @@ __all__ = [
 C_MODEL, C_DISTRIBUTION, C_MASKING, C_FRESNEL, C_DIFFUSE = range(5)
 CODE_COLUMNS = 5
 #: How many values of its own a model can keep in a BxDF (:attr:`BxDF.extra`).
-EXTRA_SLOTS = 12
+EXTRA_SLOTS = 15
 #: The ``extra`` of a model that keeps none.
 NO_EXTRA = (0.0,) * EXTRA_SLOTS
 
@@ -235,6 +235,15 @@ def out_of_turned(b, x, y):
     return x, y
 
 
+
+
+@dual_use(inline=True)
+def with_extra(b, extra):
+    """BxDF ``b`` with its :attr:`BxDF.extra` replaced (a NamedTuple's ``_replace``,
+    which compiled code lacks)."""
+    return BxDF(b.model, b.distribution, b.masking, b.fresnel, b.diffuse, b.roughness, b.alpha, b.alpha_x, b.alpha_y,
+                b.anisotropic, b.rotation, b.metallic, b.base, b.diffuse_color, b.f0, b.f90, b.eta, b.k,
+                b.dielectric_f0, b.specular_color, extra)
 
 
 @dual_use(inline=True)

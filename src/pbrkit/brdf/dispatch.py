@@ -220,8 +220,8 @@ ibl_diffuse_weight = _dispatch(
     lambda i, m, ns: f"{_put(ns, f'w{i}', m.realtime.diffuse_weight)}(b, nov, exact, table)")
 ibl_coat_roughness = _dispatch("ibl_coat_roughness", ("b",),
                                lambda i, m, ns: f"{_put(ns, f'c{i}', m.realtime.coat_roughness)}(b)")
-ibl_base_scale = _dispatch("ibl_base_scale", ("b", "nov"),
-                           lambda i, m, ns: f"{_put(ns, f's{i}', m.realtime.base_scale)}(b, nov)")
+ibl_base_scale = _dispatch("ibl_base_scale", ("b", "nov", "coat_nov"),
+                           lambda i, m, ns: f"{_put(ns, f's{i}', m.realtime.base_scale)}(b, nov, coat_nov)")
 ibl_sheen_roughness = _dispatch("ibl_sheen_roughness", ("b",),
                                 lambda i, m, ns: f"{_put(ns, f'r{i}', m.realtime.sheen_roughness)}(b)")
 ibl_khronos_extensions = _dispatch(
@@ -234,17 +234,17 @@ ibl_has_extras = _dispatch("ibl_has_extras", ("b",),
 
 
 @dual_use(inline=True)
-def _no_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
+def _no_extras(b, nov, coat_nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
                radiance):
     z = (0.0, 0.0, 0.0)
     return z, z
 
 
 ibl_extras = _dispatch(
-    "ibl_extras", ("b", "nov", "coat_dfg1", "coat_dfg2", "sheen_table", "irradiance", "coat_prefiltered",
+    "ibl_extras", ("b", "nov", "coat_nov", "coat_dfg1", "coat_dfg2", "sheen_table", "irradiance", "coat_prefiltered",
                    "sheen_prefiltered", "dfg1", "dfg2", "radiance"),
-    lambda i, m, ns: f"{_put(ns, f'e{i}', m.realtime.extras or _no_extras)}(b, nov, coat_dfg1, coat_dfg2, "
-                     "sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2, radiance)")
+    lambda i, m, ns: f"{_put(ns, f'e{i}', m.realtime.extras or _no_extras)}(b, nov, coat_nov, coat_dfg1, "
+                     "coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2, radiance)")
 
 
 # ----------------------------------------------------------------- specialised

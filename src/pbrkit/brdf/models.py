@@ -28,7 +28,8 @@ from ..core.jit import dual_use, row_kernel
 from ..core.vec import dot, half_vector, orthonormal_basis_xyz, shading_frame
 from .bxdf import CODE_COLUMNS, cosines, into_turned, isotropic_cosines, local_cosines, out_of_turned, turned_frame
 from .dispatch import bxdf_f, bxdf_pdf, lobe_probabilities, make_bxdf, sample_wi
-from .shading.registry import COLUMNS, LAYOUT, MODEL_TERMS, MODELS, TERM_NAMES, model
+from .lobes.clearcoat import coat_in_frame, coat_tilted
+from .shading.registry import COLUMNS, LAYOUT, MODEL_TERMS, MODELS, SURFACE, TERM_NAMES, model
 from .shading.registry import model_codes as _registry_codes
 
 DISTRIBUTIONS = TERM_NAMES["distribution"]
@@ -128,7 +129,7 @@ def _check_for_model(name, material, terms):
 #: The parameters the NumPy kernels read from the material's row (the other three,
 #: base colour, metallic and roughness, come per element as the renderer's textures).
 _ROW_FIELDS = tuple(p.name for p in LAYOUT.parameters
-                    if p.name not in ("base_color", "metallic", "roughness", "emissive", "double_sided"))
+                    if p.name not in ("base_color", "metallic", "roughness") and p not in SURFACE)
 
 
 class _Packed(NamedTuple):
@@ -161,13 +162,21 @@ def parameter_rows(material, rows_shape=()):
     return LAYOUT.row({name: getattr(material, name) for name in _ROW_FIELDS}, rows_shape)
 
 
-def _pack(material, shape):
+def _pack(material, shape, coat_normal=None):
     """:class:`_Packed` of a material broadcast to ``shape``: one table row when every
-    parameter other than base colour, metallic and roughness is a scalar, else a row
-    per element."""
+    parameter other than base colour, metallic and roughness is a scalar (and no
+    ``coat_normal`` (..., 3) is given: the clear coat's own normal, the rows'
+    ``coat_normal``), else a row per element."""
     count = int(np.prod(shape))
-    rows_shape = shape if any(len(_field_shape(material, name)) for name in _ROW_FIELDS) else ()
+    per_element = coat_normal is not None or any(len(_field_shape(material, name)) for name in _ROW_FIELDS)
+    rows_shape = shape if per_element else ()
     table = parameter_rows(material, rows_shape)
+    if coat_normal is not None:
+        c = _rows(coat_normal, shape)
+        length = np.linalg.norm(c, axis=1)
+        if not np.all(np.isfinite(c)) or np.any(np.abs(length - 1.0) > 1e-6):
+            raise ValueError("coat_normal must be unit vectors (..., 3)")
+        table[:, COLUMNS.coat_normal:COLUMNS.coat_normal + 3] = c
     # the table row of element i is index[i], or row 0 for every element when index has one entry
     index = np.arange(count, dtype=np.int64) if table.shape[0] > 1 else np.zeros(1, dtype=np.int64)
 
@@ -217,9 +226,10 @@ def _evaluate_kernel(start, stop, codes, table, index, base, metallic, roughness
     for i in range(start, stop):
         row = index[i] if per_element else 0
         b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
-        if b.anisotropic:
+        if b.anisotropic or coat_tilted(b):  # a tangent frame: the anisotropic lobe's, the coat normal's
             (tx, ty, tz), (bx, by, bz) = _frame(n, t, i, has_tangent)
             (tx, ty, tz), (bx, by, bz) = turned_frame(n[i, 0], n[i, 1], n[i, 2], tx, ty, tz, bx, by, bz, b.rotation)
+            b = coat_in_frame(b, n[i, 0], n[i, 1], n[i, 2], (tx, ty, tz), (bx, by, bz))
             c = cosines(n[i, 0], n[i, 1], n[i, 2], tx, ty, tz, bx, by, bz, v[i, 0], v[i, 1], v[i, 2], l[i, 0],
                         l[i, 1], l[i, 2])
         else:  # isotropic lobes need no tangent frame
@@ -255,13 +265,15 @@ def evaluate_rows(codes, params, l, v, n, t=None):
     return out
 
 
-def evaluate(model, l, v, n, material, t=None, **terms):
+def evaluate(model, l, v, n, material, t=None, coat_normal=None, **terms):
     """The BRDF value f (..., 3) of ``model`` (a name of
     :data:`pbrkit.brdf.shading.registry.MODELS`; ``terms`` choose cook_torrance's
     ``distribution``, ``masking``, ``fresnel`` and ``diffuse``, and
     filament's ``diffuse``) for unit directions l, v, n (..., 3) and tangent
-    ``t`` (default: :func:`pbrkit.core.vec.orthonormal_basis`).  Values outside the
-    model's own ranges, or a combination it does not have, raise ``ValueError``."""
+    ``t`` (default: :func:`pbrkit.core.vec.orthonormal_basis`); ``coat_normal``
+    (..., 3, unit): the ``gltf`` clear coat's own normal (KHR_materials_clearcoat's
+    clearcoatNormal; default: n).  Values outside the model's own ranges, or a
+    combination it does not have, raise ``ValueError``."""
     codes = model_codes(model, material=material, **terms)
     _check_for_model(model, material, terms)
     l, v, n = (np.asarray(x, dtype=np.float64) for x in (l, v, n))
@@ -269,11 +281,14 @@ def evaluate(model, l, v, n, material, t=None, **terms):
     if t is not None:
         t = np.asarray(t, dtype=np.float64)
         shapes.append(t.shape[:-1])
+    if coat_normal is not None:
+        coat_normal = np.asarray(coat_normal, dtype=np.float64)
+        shapes.append(coat_normal.shape[:-1])
     shape = np.broadcast_shapes(*shapes)
     out = np.empty((int(np.prod(shape)), 3))
     n_rows = _rows(n, shape)
     t_rows = n_rows if t is None else _rows(t, shape)
-    pk = _pack(material, shape)
+    pk = _pack(material, shape, coat_normal)
     _evaluate_kernel(codes, pk.table, pk.index, pk.base, pk.metallic, pk.roughness, _rows(l, shape), _rows(v, shape),
                      n_rows, t_rows, t is not None, out)
     return out.reshape(shape + (3,))
@@ -379,12 +394,19 @@ def disney(l, v, n, material, t=None):
 # ------------------------------------------------------ sampling and pdf
 
 
+@dual_use(inline=True)
+def _local_coat(b):
+    # a coat normal given in the local frame, in the frame turned by b.rotation (into_turned)
+    (tx, ty, tz), (bx, by, bz) = turned_frame(0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, b.rotation)
+    return coat_in_frame(b, 0.0, 0.0, 1.0, (tx, ty, tz), (bx, by, bz))
+
+
 @row_kernel(6)
 def _sample_kernel(start, stop, codes, table, index, base, metallic, roughness, wo, u, out_wi, out_pdf, out_weight):
     per_element = index.shape[0] > 1
     for i in range(start, stop):
         row = index[i] if per_element else 0
-        b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
+        b = _local_coat(make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2]))
         for a in range(3):
             out_wi[i, a] = 0.0
             out_weight[i, a] = 0.0
@@ -421,7 +443,7 @@ def _pdf_kernel(start, stop, codes, table, index, base, metallic, roughness, wo,
     per_element = index.shape[0] > 1
     for i in range(start, stop):
         row = index[i] if per_element else 0
-        b = make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2])
+        b = _local_coat(make_bxdf(codes, 0, table, row, roughness[i], metallic[i], base[i, 0], base[i, 1], base[i, 2]))
         out[i] = 0.0
         if wo[i, 2] <= 0.0 or wi[i, 2] <= 0.0:
             continue
@@ -431,24 +453,29 @@ def _pdf_kernel(start, stop, codes, table, index, base, metallic, roughness, wo,
         out[i] = bxdf_pdf(b, local_cosines(wox, woy, wo[i, 2], wix, wiy, wi[i, 2]), p_spec, p_coat)
 
 
-def _local_setup(model, material, wo, other, terms):
+def _local_setup(model, material, wo, other, terms, coat_normal):
     codes = model_codes(model, material=material, **terms)
     _check_for_model(model, material, terms)
     wo = np.asarray(wo, dtype=np.float64)
     other = np.asarray(other, dtype=np.float64)
-    shape = np.broadcast_shapes(wo.shape[:-1], other.shape[:-1], _material_shape(material))
-    return codes, shape, _pack(material, shape), _rows(wo, shape)
+    shapes = [wo.shape[:-1], other.shape[:-1], _material_shape(material)]
+    if coat_normal is not None:
+        coat_normal = np.asarray(coat_normal, dtype=np.float64)
+        shapes.append(coat_normal.shape[:-1])
+    shape = np.broadcast_shapes(*shapes)
+    return codes, shape, _pack(material, shape, coat_normal), _rows(wo, shape)
 
 
-def sample(model, material, wo, u, **terms):
+def sample(model, material, wo, u, coat_normal=None, **terms):
     """Sample the light direction of ``model`` for the local view ``wo`` (..., 3)
     (normal +z, tangent +x, unit) with uniform numbers ``u`` (..., 3) in
     [0, 1): u[..., 0] picks the lobe (:func:`pbrkit.brdf.dispatch.lobe_probabilities`),
     u[..., 1:] place the direction (:func:`pbrkit.brdf.dispatch.sample_wi`).
     Returns (wi (..., 3), pdf (...), weight f cos / pdf (..., 3)); a failed
     sample (the direction below the horizon, or wo.z <= 0) has wi = 0,
-    pdf = 0 and weight 0."""
-    codes, shape, pk, wo_rows = _local_setup(model, material, wo, np.asarray(u)[..., :3], terms)
+    pdf = 0 and weight 0.  ``coat_normal`` (..., 3, unit, local): the ``gltf`` clear
+    coat's own normal (default +z)."""
+    codes, shape, pk, wo_rows = _local_setup(model, material, wo, np.asarray(u)[..., :3], terms, coat_normal)
     u = np.asarray(u, dtype=np.float64)
     if u.shape[-1] != 3 or np.any((u < 0.0) | (u > 1.0)) or not np.all(np.isfinite(u)):
         raise ValueError("u must have 3 components in [0, 1] in its last axis")
@@ -460,11 +487,11 @@ def sample(model, material, wo, u, **terms):
     return wi.reshape(shape + (3,)), pdf_.reshape(shape), weight.reshape(shape + (3,))
 
 
-def pdf(model, material, wo, wi, **terms):
+def pdf(model, material, wo, wi, coat_normal=None, **terms):
     """Solid-angle pdf (...) with which :func:`sample` draws the local light
     direction ``wi`` for the view ``wo`` (both (..., 3), unit, normal +z); 0
-    below the horizon."""
-    codes, shape, pk, wo_rows = _local_setup(model, material, wo, wi, terms)
+    below the horizon; ``coat_normal`` as :func:`sample`'s."""
+    codes, shape, pk, wo_rows = _local_setup(model, material, wo, wi, terms, coat_normal)
     out = np.empty(wo_rows.shape[0])
     _pdf_kernel(codes, *pk, wo_rows, _rows(wi, shape), out)
     return out.reshape(shape)

@@ -158,18 +158,25 @@ def fresnel_mix(ior, base, layer_):
                 _scaled(base.leaves, weight_base) + _scaled(layer_.leaves, weight_layer))
 
 
-def fresnel_coat(ior, weight, base, layer_):
-    """f = (1 - t) f_base + t f_layer with t = weight(b) F(n.v), F = f0 + (1 - f0)(1 -
-    |n.v|)^5, f0 = ((1 - ior) / (1 + ior))^2: ``KHR_materials_clearcoat``'s
+@dual_use(inline=True)
+def _shading_nov(bx, c):
+    return c.nov
+
+
+def fresnel_coat(ior, weight, base, layer_, normal_cosine=None):
+    """f = (1 - t) f_base + t f_layer with t = weight(b) F(n_c.v), F = f0 + (1 - f0)(1 -
+    |n_c.v|)^5, f0 = ((1 - ior) / (1 + ior))^2: ``KHR_materials_clearcoat``'s
     ``fresnel_coat(normal, ior, weight, base, layer)`` (its README, "Layering"; the
-    Fresnel of the view's cosine to the coat's normal, not of v.h, which keeps the
+    Fresnel of the view's cosine to the coat's normal n_c, not of v.h, which keeps the
     layering energy conserving).  ``weight(b)`` is a material parameter in [0, 1]
-    (clearcoatFactor); the coat's normal is the shading normal.  Estimates scale by
-    1 - t(n.v) and t(n.v)."""
+    (clearcoatFactor); ``normal_cosine(b, c)`` gives n_c.v (None: the shading normal's
+    n.v), the ``normal`` that "affects the top layer, but not the base".  Estimates
+    scale by 1 - t(n.v) and t(n.v) at the shading normal's n.v."""
     base = _as_node(base)
     layer_ = _as_node(layer_)
     fb, fl = base.value, layer_.value
     f0 = f0_from_ior(ior)
+    cosine = _shading_nov if normal_cosine is None else normal_cosine
 
     @dual_use(inline=True)
     def coat(bx, nov):
@@ -177,7 +184,7 @@ def fresnel_coat(ior, weight, base, layer_):
 
     @dual_use(inline=True)
     def value(bx, c, ec, w):
-        t = coat(bx, c.nov)
+        t = coat(bx, cosine(bx, c))
         x = fb(bx, c, ec, w * (1.0 - t))
         y = fl(bx, c, ec, w * t)
         return x[0] + y[0], x[1] + y[1], x[2] + y[2]

@@ -90,6 +90,7 @@ from ..microfacet.dielectric import (
 from ..microfacet.ggx import pdf_ggx_vndf, warp_ggx_vndf
 from ..sampling.warps import pdf_light_from_half, reflect_xyz
 from .bxdf import local_cosines
+from .lobes.clearcoat import coat_local_nov
 from .dispatch import bxdf_f, bxdf_pdf, lobe_probabilities, sample_wi
 from .fresnel import f_schlick
 from .shading.gltf import (
@@ -254,7 +255,7 @@ def _value(b, front, thin, eta, wox, woy, woz, wix, wiy, wiz):
         d = b.diffuse_color
         return dv + d[0] * k, dv + d[1] * k, dv + d[2] * k
     if wiz < 0.0:
-        scale = ibl_extensions_base_scale(b, woz) if front else 1.0
+        scale = ibl_extensions_base_scale(b, woz, coat_local_nov(b, wox, woy, woz)) if front else 1.0
         if thin:
             c = local_cosines(wox, woy, woz, wix, wiy, -wiz)
             k = SPECULAR_DV(b, c) * (1.0 - fresnel_tr(b, c.voh, eta))
@@ -363,7 +364,7 @@ def transmissive_sample(b, wox, woy, woz, u_lobe, u1, u2, p_t, p_spec, p_coat):
         lz /= norm
     if ok and delta:
         # the smooth interface's refraction: f |cos| = (1 - F_TR(n.v)) tint S / eta^2 over its probability p_t
-        scale = ibl_extensions_base_scale(b, vz) if front else 1.0
+        scale = ibl_extensions_base_scale(b, vz, coat_local_nov(b, wox, woy, vz)) if front else 1.0
         w = _tint(b, (1.0 - fresnel_tr(b, vz, eta)) * scale / (eta * eta * p_t))
         return lx, ly, lz * sign, w, DELTA_PDF
     f = _value(b, front, thin, eta, wox, woy, vz, lx, ly, lz)

@@ -30,8 +30,8 @@ KHR_materials_dispersion dispersion                 dispersion         [0, inf) 
 every textureInfo and applied per shading point as :data:`TEXTURE_USES` says (the
 READMEs' channels: a factor times a channel, the thin film's thickness mixed
 between its minimum and maximum, the anisotropy direction turned by the texture's
-and its strength scaled); clearcoatNormalTexture is not applied yet (the coat
-shares the shading normal): a note says so.  attenuationDistance's default +Infinity
+and its strength scaled, the clear coat's normal from its clearcoatNormalTexture).
+attenuationDistance's default +Infinity
 is the parameter's 0 (JSON has no infinity; glTF's range excludes 0).  ``KHR_materials_unlit`` (its README,
 "Implementation") renders the base colour as emission and no reflection
 (:func:`unlit_material`).
@@ -69,7 +69,7 @@ FACTORS = (
     ("KHR_materials_anisotropy", "anisotropyRotation", "anisotropy_rotation", 1, None, None, 0.0),
     ("KHR_materials_dispersion", "dispersion", "dispersion", 1, 0.0, None, 0.0),
 )
-#: The textureInfos of each extension (checked; not applied yet).
+#: The textureInfos of each extension (checked, and applied as :data:`TEXTURE_USES` says).
 TEXTURES = {
     "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture"),
     "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"),
@@ -84,9 +84,11 @@ TEXTURES = {
 #: How each extension texture changes its parameter per shading point (the READMEs,
 #: "Properties"): (extension, textureInfo key, sRGB, operation, parameter, channels), the
 #: operations ``scale`` (the factor times the channels: RGB or one of R, G, B, A = 0..3),
-#: ``thickness`` (KHR_materials_iridescence: thickness = mix(minimum, maximum, G)) and
+#: ``thickness`` (KHR_materials_iridescence: thickness = mix(minimum, maximum, G)),
 #: ``anisotropy`` (KHR_materials_anisotropy: strength times B, the direction (R, G) 2 - 1
-#: turned by the rotation).
+#: turned by the rotation) and ``coat_normal`` (KHR_materials_clearcoat: the coat's own
+#: normal, a normal texture with its ``scale`` in the mesh's tangent space,
+#: :func:`pbrkit.render.textures.tangent_space_normal`).
 TEXTURE_USES = (
     ("KHR_materials_sheen", "sheenColorTexture", True, "scale", "sheen_color", (0, 1, 2)),
     ("KHR_materials_sheen", "sheenRoughnessTexture", False, "scale", "sheen_roughness", (3,)),
@@ -100,6 +102,7 @@ TEXTURE_USES = (
     ("KHR_materials_transmission", "transmissionTexture", False, "scale", "transmission", (0,)),
     ("KHR_materials_volume", "thicknessTexture", False, "scale", "thickness", (1,)),
     ("KHR_materials_anisotropy", "anisotropyTexture", False, "anisotropy", "anisotropy_strength", (0, 1, 2)),
+    ("KHR_materials_clearcoat", "clearcoatNormalTexture", False, "coat_normal", "coat_normal", (0, 1, 2)),
 )
 UNLIT = "KHR_materials_unlit"
 #: The material extensions pbrkit reads (an ``extensionsRequired`` entry it honours).
@@ -131,6 +134,9 @@ def check_material_extensions(ext, where, index):
         for key in textures:
             if obj.get(key) is not None:
                 _check_texture_info(obj[key], f"{w}.{key}", index)
+        if name == "KHR_materials_clearcoat" and isinstance(obj.get("clearcoatNormalTexture"), dict) and \
+                obj["clearcoatNormalTexture"].get("scale") is not None:  # a normalTextureInfo
+            _number(obj["clearcoatNormalTexture"]["scale"], f"{w}.clearcoatNormalTexture.scale")
     if ext.get(UNLIT) is not None:
         _object(ext[UNLIT], f"{where}.{UNLIT}")
 
@@ -138,7 +144,8 @@ def check_material_extensions(ext, where, index):
 def material_extension_values(ext, notes, index):
     """The ``gltf`` model's parameters of a (checked) material's ``extensions``: each
     factor present, or its default where its extension is present (:data:`FACTORS`);
-    a note in ``notes`` per texture not applied (clearcoatNormalTexture)."""
+    a note in ``notes`` per texture not applied (none today: every one of
+    :data:`TEXTURES` has its :data:`TEXTURE_USES` row)."""
     values = {}
     for extension, key, parameter, n, _, _, default in FACTORS:
         obj = ext.get(extension)
@@ -156,8 +163,7 @@ def material_extension_values(ext, notes, index):
         obj = ext.get(name) or {}
         for key in textures:
             if obj.get(key) is not None and (name, key) not in applied:
-                notes.append(f"material {index}: {name} {key} is not supported yet (the coat shares the shading "
-                             "normal)")
+                notes.append(f"material {index}: {name} {key} is not supported yet")
     return values
 
 

@@ -26,7 +26,7 @@ from .primitives import (
     sphere_normal_and_point,
 )
 from .scene import GltfObject, Plane, Sphere
-from .textures import SurfaceMaterial
+from .textures import SurfaceMaterial, tangent_space_normal
 
 __all__ = [
     "Hits",
@@ -123,6 +123,12 @@ class Geometry:
         self._unlit = np.array([m.unlit for m in self.materials], dtype=bool)
         self._two_sided = np.array([sp.double_sided and not bounds_volume(sp) for sp in specs], dtype=bool)
         self._coverage = coverage_tables(self.materials)
+        # the coated glTF materials whose coat has a normal of its own: a clearcoatNormalTexture, or
+        # the unmapped normal under a base normalTexture (_extension_textures)
+        self._coat_normals = {mi for mi, m in enumerate(self.materials)
+                              if m.spec.model == "gltf" and np.any(np.asarray(m.spec.clearcoat) > 0.0)
+                              and (m.normal_texture is not None
+                                   or any(use[3] == "coat_normal" for use, _ in m.extension_textures))}
         self._tables = None  # the kernels' material tables, made when extension textures need them
         self._embree = None
         if self.meshes:
@@ -302,6 +308,7 @@ class Geometry:
             emissive[unlit] *= vertex_color[unlit]
         metallic[:] = self._factor_metallic[mat]
         rough[:] = self._factor_roughness[mat]
+        vertex_n = n.copy() if self._coat_normals else None  # a clear coat's normal is not normal-mapped
         textured = [mi for mi in range(len(self.materials)) if self.materials[mi].textured]
         for mi in (np.intersect1d(np.unique(mat), textured) if textured else ()):
             sel = np.flatnonzero(mat == mi)
@@ -327,25 +334,19 @@ class Geometry:
                 emissive[sel] *= lookup(m.emissive_texture)[:, :3]
             if m.normal_texture is not None:
                 ref = m.normal_texture
-                c = lookup(ref)[:, :3] * 2.0 - 1.0
-                c[:, :2] *= ref.scale
-                nn = n[sel]
-                tt = tangents[sel, :3]
-                tt = tt - np.sum(tt * nn, axis=1, keepdims=True) * nn
-                tt /= np.maximum(np.linalg.norm(tt, axis=1, keepdims=True), 1e-300)
-                bb = np.cross(nn, tt) * tangents[sel, 3:4]
-                mapped = c[:, 0:1] * tt + c[:, 1:2] * bb + c[:, 2:3] * nn
-                length = np.linalg.norm(mapped, axis=1, keepdims=True)
-                ok = has_tangent[sel][:, None] & (length > 1e-12)
-                n[sel] = np.where(ok, mapped / np.maximum(length, 1e-300), nn)
+                n[sel] = tangent_space_normal(lookup(ref), ref.scale, n[sel], tangents[sel], has_tangent[sel])
         np.clip(base, 0.0, 1.0, out=base)
         np.clip(metallic, 0.0, 1.0, out=metallic)
         np.clip(rough, 0.0, 1.0, out=rough)
-        tables = self._extension_textures(mat, uv_sets)
+        tables = self._extension_textures(mat, uv_sets, vertex_n, tangents, has_tangent)
         # double-sided materials face the incoming ray
         back = (np.einsum("ij,ij->i", ng, d) > 0.0) & self._two_sided[mat]
         ng[back] = -ng[back]
         n[back] = -n[back]
+        if tables is not None and COLUMNS.coat_normal in tables[1]:  # the coat's normal faces the ray too
+            flip = back[tables[0]]
+            for k in range(3):
+                tables[1][COLUMNS.coat_normal + k][flip] *= -1.0
         uv0 = np.full((n_rows, 2), np.nan)
         if 0 in uv_sets:
             with_uv = np.zeros(n_rows, dtype=bool)
@@ -359,12 +360,17 @@ class Geometry:
             tangents = None
         return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangents, tables)
 
-    def _extension_textures(self, mat, uv_sets):
+    def _extension_textures(self, mat, uv_sets, vertex_n, tangents, has_tangent):
         """The KHR_materials extension textures at hits of materials ``mat`` with the
         interpolated texture coordinates ``uv_sets``
         (:data:`pbrkit.io.gltf_materials.TEXTURE_USES`): :attr:`Surface.extension_values`,
-        None where no hit's material has any."""
-        users = [mi for mi, m in enumerate(self.materials) if m.extension_textures]
+        None where no hit's material has any.  The clear coat's own normal
+        (``coat_normal``; KHR_materials_clearcoat's README, "Clearcoat"): its
+        clearcoatNormalTexture in the tangent space of the unmapped normal ``vertex_n``
+        and the mesh ``tangents``, or without one under a base normalTexture the unmapped
+        normal ("no normal mapping is applied to the clear coat layer, even if normal
+        mapping is applied to the base material")."""
+        users = [mi for mi, m in enumerate(self.materials) if m.extension_textures or mi in self._coat_normals]
         if not users:
             return None
         rows = np.flatnonzero(np.isin(mat, users))
@@ -391,11 +397,20 @@ class Geometry:
                     low = params[mi, COLUMNS.iridescence_thickness_minimum]
                     values.setdefault(column, params[mat[rows], column].copy())[sel] = \
                         low + (params[mi, column] - low) * texel[:, channels[0]]
+                if op == "coat_normal":  # KHR_materials_clearcoat's clearcoatNormalTexture
+                    r = rows[sel]
+                    c = tangent_space_normal(texel, ref.scale, vertex_n[r], tangents[r], has_tangent[r])
+                    for k in range(3):
+                        values.setdefault(column + k, params[mat[rows], column + k].copy())[sel] = c[:, k]
                 if op == "anisotropy":  # strength x B; the direction (R, G) 2 - 1 turned by the rotation
                     values.setdefault(column, params[mat[rows], column].copy())[sel] *= texel[:, 2]
                     turn = COLUMNS.anisotropy_rotation
                     angle = np.arctan2(2.0 * texel[:, 1] - 1.0, 2.0 * texel[:, 0] - 1.0)
                     rotation = values.setdefault(turn, params[mat[rows], turn].copy())
                     rotation[sel] = np.remainder(rotation[sel] + angle + np.pi, 2.0 * np.pi) - np.pi
+            if mi in self._coat_normals and not any(use[3] == "coat_normal" for use, _ in m.extension_textures):
+                column = COLUMNS.coat_normal  # under a base normal map, the coat keeps the unmapped normal
+                for k in range(3):
+                    values.setdefault(column + k, params[mat[rows], column + k].copy())[sel] = vertex_n[rows[sel], k]
         return rows, values
 

@@ -17,10 +17,10 @@ and emissive (sRGB, times emissiveFactor and
 ``_iridescence``, ``_transmission``, ``_volume`` and ``_anisotropy`` as the
 ``gltf`` model's parameters (:mod:`pbrkit.io.gltf_materials`; their textures
 per shading point, :attr:`pbrkit.render.textures.SurfaceMaterial.extension_textures`,
-but clearcoatNormalTexture, noted as not supported yet) and ``KHR_materials_unlit`` as emission of the
-base colour.  TANGENT (or MikkTSpace tangents along the normal texture's UVs,
-or TEXCOORD_0 for an anisotropic material without a normal texture) gives the
-tangent frame of normal maps and of ``KHR_materials_anisotropy``.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
+the clear coat's own normal from clearcoatNormalTexture) and ``KHR_materials_unlit`` as
+emission of the base colour.  TANGENT (or MikkTSpace tangents along the normal texture's
+UVs, else the clearcoatNormalTexture's, or TEXCOORD_0 for an anisotropic material without
+a normal texture) gives the tangent frame of normal maps and of ``KHR_materials_anisotropy``.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
 colour's alpha (factor and texture) give cutouts and coverage in both render
 modes (:mod:`pbrkit.render.alpha`).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
 scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
@@ -412,7 +412,8 @@ def _gltf_material(reader, index, cache):
     except ValueError as exc:
         reader.fail(f"materials[{index}]: {exc}")
     # the KHR_materials extension textures (pbrkit.io.gltf_materials.TEXTURE_USES)
-    extension_textures = tuple((use, _texture_ref(reader, (ext.get(use[0]) or {}).get(use[1]), use[2], cache))
+    extension_textures = tuple((use, _texture_ref(reader, (ext.get(use[0]) or {}).get(use[1]), use[2], cache,
+                                                  "scale" if use[3] == "coat_normal" else None))
                                for use in TEXTURE_USES if (ext.get(use[0]) or {}).get(use[1]) is not None)
     return SurfaceMaterial(spec, bct, mrt, nt, ot, et, alpha_mode=alpha_mode, alpha_cutoff=alpha_cutoff,
                            alpha=float(bc[3]) if len(bc) > 3 else 1.0, alpha_texture=alpha_texture,
@@ -672,10 +673,12 @@ def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
             if ref.texcoord >= len(p.texcoords):
                 reader.fail(f"{where}: materials[{mat_index}].{name} uses TEXCOORD_{ref.texcoord}, which the "
                             "primitive lacks")
-        if material.normal_texture is not None and p.tangents is None:
-            # tangents along the UVs the normal texture is looked up at (its KHR_texture_transform
-            # applied: an affine map, exact per vertex), as the Khronos sample viewer derives them
-            ref = material.normal_texture
+        coat_ref = next((ref for use, ref in material.extension_textures if use[3] == "coat_normal"), None)
+        if (material.normal_texture is not None or coat_ref is not None) and p.tangents is None:
+            # tangents along the UVs the normal texture (else the clearcoatNormalTexture) is looked up
+            # at (its KHR_texture_transform applied: an affine map, exact per vertex), as the Khronos
+            # sample viewer derives them
+            ref = material.normal_texture if material.normal_texture is not None else coat_ref
             p.tangents = mikktspace_tangents(p.positions, p.normals, ref.lookup_uv(p.texcoords[ref.texcoord]),
                                              p.triangles)
         if np.any(np.asarray(material.spec.anisotropy_strength) > 0.0) and p.tangents is None:

@@ -117,7 +117,7 @@ def sample_viewer_film(nov, r, diffuse, base, metallic, f0, weight, a, b, radian
 
 @dual_use(inline=True)
 def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radiance, irradiance, coat_radiance,
-                                 sheen_radiance, charlie_lut, c, base0, base1, base2, transmitted):
+                                 sheen_radiance, charlie_lut, c, base0, base1, base2, transmitted, coat_nov):
     """Channel ``c`` of the Sample Viewer's IBL of a glTF material with extensions
     (module docstring): parameters from row ``q`` of the packed table ``params``,
     ``base`` the channel's base colour, the prefiltered ``radiance`` (GGX at r),
@@ -125,7 +125,8 @@ def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radian
     prefiltered radiance, and ``charlie_lut`` the Charlie LUT's value at (n.v,
     sheenRoughness); (``base0``, ``base1``, ``base2``) the whole base colour (the film's
     Fresnel over it); ``transmitted`` the light through the surface
-    (:mod:`pbrkit.render.transmission_ibl`)."""
+    (:mod:`pbrkit.render.transmission_ibl`); ``coat_nov`` the view's cosine to the coat's
+    normal (``clampedDot(clearcoatNormal, v)``, the clearcoatFresnel's)."""
     ior = params[q, _IOR]
     f0_ior = ((ior - 1.0) / (ior + 1.0)) ** 2
     f0 = min(f0_ior * params[q, _SPECULAR_COLOR + c], 1.0)
@@ -147,5 +148,5 @@ def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radian
     if s0 > 0.0 or s1 > 0.0 or s2 > 0.0:
         e = sheen_albedo_lookup(nov, params[q, _SHEEN_ROUGHNESS])
         color = params[q, _SHEEN_COLOR + c] * charlie_lut * sheen_radiance + color * (1.0 - max(s0, max(s1, s2)) * e)
-    t = params[q, _CLEARCOAT] * f_schlick(nov, f0_ior, 1.0)
+    t = params[q, _CLEARCOAT] * f_schlick(coat_nov, f0_ior, 1.0)
     return color + (coat_radiance - color) * t

@@ -10,14 +10,15 @@ import numpy as np
 
 from ..brdf.bxdf import CODE_COLUMNS, cosines, isotropic_cosines, shading_frame
 from ..brdf.dispatch import make_bxdf, restricted
-from ..brdf.lobes.clearcoat import coated_emission
+from ..brdf.lobes.clearcoat import coat_in_frame, coat_tilted, coated_emission
 from ..brdf.material import FIELDS
 from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0
 from ..brdf.shading.model import _uncoated
 from ..brdf.shading.registry import COLUMNS, COMPILED, LAYOUT, REGISTERED, model_codes
 from ..core.jit import dual_use
 
-__all__ = ["material_tables", "per_hit_tables", "hit_bxdf", "hit_cosines", "for_materials", "bounds_volume", "emission_seen",
+__all__ = ["material_tables", "per_hit_tables", "hit_bxdf", "hit_cosines", "coat_normals", "for_materials",
+           "bounds_volume", "emission_seen",
            "COAT_F0"]
 
 #: The f0 of the coat over the emission (KHR_materials_clearcoat: its fixed IOR 1.5).
@@ -79,6 +80,20 @@ def per_hit_tables(codes, params, surface):
             np.concatenate([np.arange(m), material[rows]]))
 
 
+def coat_normals(params, material, n):
+    """The clear coat's world-space normal at hits of rows ``material`` (N,) of the table
+    ``params`` with shading normals ``n`` (N, 3): the row's ``coat_normal``
+    (KHR_materials_clearcoat's clearcoatNormal, :func:`pbrkit.brdf.lobes.clearcoat.coat_in_frame`),
+    or ``n`` where it is 0 (the coat has no normal of its own)."""
+    c = params[material, COLUMNS.coat_normal:COLUMNS.coat_normal + 3]
+    own = np.any(c != 0.0, axis=1)
+    if not own.any():
+        return n
+    out = np.array(n, dtype=np.float64)
+    out[own] = c[own] / np.linalg.norm(c[own], axis=1, keepdims=True)
+    return out
+
+
 def for_materials(fn, codes):
     """The kernel ``fn`` compiled for the models of the material code table ``codes``
     (:func:`material_tables`): the registered models' cores, and the extended forms
@@ -116,16 +131,19 @@ def hit_bxdf(codes, params, m, roughness, metallic, b0, b1, b2, nx, ny, nz, tang
     """The BxDF of material ``m`` at a hit with the textured roughness, metallic and
     base colour, and the tangent and bitangent of its shading frame at normal n and
     the surface's tangent ``tangent`` (x, y, z, w; :data:`pbrkit.brdf.bxdf.NO_TANGENT`
-    where it has none: :func:`pbrkit.brdf.bxdf.shading_frame`)."""
+    where it has none: :func:`pbrkit.brdf.bxdf.shading_frame`); a coat's own normal
+    (the row's ``coat_normal``) in that frame's coordinates
+    (:func:`pbrkit.brdf.lobes.clearcoat.coat_in_frame`)."""
     b = make_bxdf(codes, m, params, m, roughness, metallic, b0, b1, b2)
     t, bt = shading_frame(nx, ny, nz, b, tangent)
-    return b, t, bt
+    return coat_in_frame(b, nx, ny, nz, t, bt), t, bt
 
 
 @dual_use(inline=True)
 def hit_cosines(b, nx, ny, nz, t, bt, vx, vy, vz, lx, ly, lz):
     """:func:`pbrkit.brdf.bxdf.cosines` in the frame (n, t, bt) of a hit, without
-    the tangent components for an isotropic BxDF ``b``."""
-    if b.anisotropic:
+    the tangent components for an isotropic BxDF ``b`` whose coat (if any) has no
+    normal of its own."""
+    if b.anisotropic or coat_tilted(b):
         return cosines(nx, ny, nz, t[0], t[1], t[2], bt[0], bt[1], bt[2], vx, vy, vz, lx, ly, lz)
     return isotropic_cosines(nx, ny, nz, vx, vy, vz, lx, ly, lz)

@@ -73,6 +73,7 @@ from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
+from ..brdf.lobes.clearcoat import coat_local_nov
 from ..brdf.lobes.sheen import sheen_albedo_lookups
 from .anisotropic_ibl import anisotropic_ibl
 from .area_lights import area_light_ltc
@@ -83,7 +84,8 @@ from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
 _EXTENDED = np.array(sorted(EXTENDED_CODES.values()), dtype=np.int64)
 from .environment import EnvironmentLight
 from .geometry import Geometry
-from .materials import COAT_F0, emission_seen, for_materials, hit_bxdf, material_tables, per_hit_tables
+from .materials import (COAT_F0, coat_normals, emission_seen, for_materials, hit_bxdf, material_tables,
+                        per_hit_tables)
 from .primary import RenderResult, _background, _primary, _resolve
 from .punctual import punctual_radiance, surface_tangents, tangent_of
 from .transmission_ibl import transmission_lookups
@@ -357,9 +359,12 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
     the table's (NaN: the table's)."""
     for i in range(start, stop):
         m = mat[i]
-        b, _, _ = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
-                           n[i, 2], NO_TANGENT)
+        b, tt, bt = hit_bxdf(mi, mf, m, rough[i], metal[i], base[i, 0], base[i, 1], base[i, 2], n[i, 0], n[i, 1],
+                             n[i, 2], NO_TANGENT)
         nov = max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 1e-4)
+        # the view's cosine to the coat's normal (KHR_materials_clearcoat's clearcoatNormal): n.v without one
+        coat_nov = max(coat_local_nov(b, tt[0] * v[i, 0] + tt[1] * v[i, 1] + tt[2] * v[i, 2],
+                                      bt[0] * v[i, 0] + bt[1] * v[i, 1] + bt[2] * v[i, 2], nov), 1e-4)
         r = rough[i]
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
@@ -373,8 +378,8 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
                                                          prefiltered[i, c], irradiance[i, c], coat_prefiltered[i, c],
                                                          sheen_prefiltered[i, c], charlie[i], c, base[i, 0],
                                                          base[i, 1], base[i, 2],
-                                                         transmitted[i, c] if ibl_transmission(b) > 0.0 else 0.0
-                                                         ) * occlusion[i]
+                                                         transmitted[i, c] if ibl_transmission(b) > 0.0 else 0.0,
+                                                         coat_nov) * occlusion[i]
                 ec_out[i, c] = 1.0
             continue
         if engine == _ENGINE_KHRONOS or engine == _ENGINE_THREE or engine == _ENGINE_BABYLON:
@@ -389,7 +394,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
         f0s = split_sum_f0(b)
         f90 = split_sum_f90(b)
         extras = ibl_has_extras(b)
-        base_scale = ibl_base_scale(b, nov)
+        base_scale = ibl_base_scale(b, nov, coat_nov)
         transmits = ibl_transmission(b)
         spec_add = (0.0, 0.0, 0.0)
         diff_add = (0.0, 0.0, 0.0)
@@ -397,9 +402,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             c1 = 0.0
             c2 = 0.0
             if coat_roughness[i] >= 0.0:
-                c1 = table_bilinear(tables, t, nov, coat_roughness[i], 0)
-                c2 = table_bilinear(tables, t, nov, coat_roughness[i], 1)
-            spec_add, diff_add = ibl_extras(b, nov, c1, c2, sheen_table,
+                c1 = table_bilinear(tables, t, coat_nov, coat_roughness[i], 0)
+                c2 = table_bilinear(tables, t, coat_nov, coat_roughness[i], 1)
+            spec_add, diff_add = ibl_extras(b, nov, coat_nov, c1, c2, sheen_table,
                                             (irradiance[i, 0], irradiance[i, 1], irradiance[i, 2]),
                                             (coat_prefiltered[i, 0], coat_prefiltered[i, 1], coat_prefiltered[i, 2]),
                                             (sheen_prefiltered[i, 0], sheen_prefiltered[i, 1], sheen_prefiltered[i, 2]),
@@ -572,9 +577,10 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         prefiltered = sampler(env.to_env_frame(refl), lod) * env.intensity
         coat_prefiltered = np.zeros((count, 3))
         coated = np.flatnonzero(coat_roughness >= 0.0)
-        if coated.size:  # Disney's clear coat: a second lookup at its own roughness, about the unbent normal
-            nov = np.sum(s.n[coated] * v[coated], axis=1, keepdims=True)
-            coat_dir = 2.0 * nov * s.n[coated] - v[coated]
+        if coated.size:  # a clear coat: a second lookup at its own roughness, about its own (unbent) normal
+            cn = coat_normals(mat_f, s.material[coated], s.n[coated])
+            nov = np.sum(cn * v[coated], axis=1, keepdims=True)
+            coat_dir = 2.0 * nov * cn - v[coated]
             coat_prefiltered[coated] = sampler(env.to_env_frame(coat_dir),
                                                level_of_roughness(coat_roughness[coated], levels)) * env.intensity
         # the sheen's lookups: only the extended forms' extras read them (a scene without one passes
@@ -637,7 +643,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         # the emission, beneath the coat of a KHR_materials_clearcoat material (its README's
         # f0 0.04; the Sample Viewer's from the material's IOR under engine khronos)
         coat_f0 = COAT_F0 if engine != "khronos" else f0_from_ior(mat_f[s.material, COLUMNS.ior])
-        out += emission_seen(mat_i, mat_f, s.material, np.einsum("ij,ij->i", n_rows, v_rows), s.emissive, coat_f0)
+        out += emission_seen(mat_i, mat_f, s.material,
+                             np.einsum("ij,ij->i", coat_normals(mat_f, s.material, n_rows), v_rows), s.emissive, coat_f0)
         radiance[prim.rows] = out
         timings["punctual"] = time.perf_counter() - t5
     image, mask = _resolve(scene, radiance, prim.hit)

@@ -29,6 +29,7 @@ __all__ = [
     "Texture",
     "TextureRef",
     "SurfaceMaterial",
+    "tangent_space_normal",
 ]
 
 # ================================================================ textures
@@ -120,3 +121,22 @@ class SurfaceMaterial:
                                     self.occlusion_texture, self.emissive_texture))
 
 
+
+
+def tangent_space_normal(texel, scale, n, tangents, has_tangent):
+    """The normals (N, 3) a normal texture gives: the texels' RGB (N, >= 3) as (2 RGB - 1)
+    with x, y times ``scale`` in the tangent space (T, B, N) of unit normals ``n`` (N, 3)
+    and tangents ``tangents`` (N, 4: T and the handedness w of B = w (N x T)), T made
+    orthogonal to N, normalised (glTF 2.0 specification, "Materials", normalTexture and
+    normalTextureInfo.scale; the same for KHR_materials_clearcoat's clearcoatNormalTexture).
+    ``n`` itself where a hit has no tangent (``has_tangent`` False) or the texel maps to 0."""
+    c = np.array(texel[:, :3], dtype=np.float64) * 2.0 - 1.0
+    c[:, :2] *= scale
+    tt = tangents[:, :3]
+    tt = tt - np.sum(tt * n, axis=1, keepdims=True) * n
+    tt = tt / np.maximum(np.linalg.norm(tt, axis=1, keepdims=True), 1e-300)
+    bb = np.cross(n, tt) * tangents[:, 3:4]
+    mapped = c[:, 0:1] * tt + c[:, 1:2] * bb + c[:, 2:3] * n
+    length = np.linalg.norm(mapped, axis=1, keepdims=True)
+    ok = has_tangent[:, None] & (length > 1e-12)
+    return np.where(ok, mapped / np.maximum(length, 1e-300), n)

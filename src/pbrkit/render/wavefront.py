@@ -18,7 +18,7 @@ from ..core.jit import row_kernel
 from ..sampling.random import _path_key
 from .estimator import area_emission, area_shadow_t
 from .film import Film, shifted_add
-from .materials import emission_seen, for_materials, per_hit_tables
+from .materials import coat_normals, emission_seen, for_materials, per_hit_tables
 from .primary import _background, _primary
 from .primitives import KIND_NONE
 from .punctual import NO_TANGENTS, punctual_radiance, surface_tangents, tangent_of
@@ -226,7 +226,8 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
             tables, hit_material, origin = _hit_tables(materials, surface)
             surface = replace(surface, material=hit_material, extension_values=None)
             seen = emission_seen(tables.codes, tables.params, surface.material,
-                                 -np.einsum("ij,ij->i", surface.n, dirs[hit]), surface.emissive)
+                                 -np.einsum("ij,ij->i", coat_normals(tables.params, surface.material, surface.n),
+                                            dirs[hit]), surface.emissive)
             np.add.at(x, pix[hit], through[hit] * seen)
             if bounce == bounces:
                 break
@@ -278,7 +279,7 @@ def _base_values(prim, geometry, env, materials):
         tables, material, _ = _hit_tables(materials, prim.surface)
         s = replace(prim.surface, material=material, extension_values=None)
         v = -prim.dirs[prim.rows]
-        nov = np.einsum("ij,ij->i", s.n, v)
+        nov = np.einsum("ij,ij->i", coat_normals(tables.params, s.material, s.n), v)
         base_value[prim.rows] = emission_seen(tables.codes, tables.params, s.material, nov, s.emissive) + \
             punctual_radiance(geometry, s, v, tables.codes, tables.params, None, True)
     return base_value

@@ -92,7 +92,7 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     sht = params[q, columns.sheen_tint]
     extra = (params[q, columns.subsurface], s * (1.0 + (t0 - 1.0) * sht) * kd, s * (1.0 + (t1 - 1.0) * sht) * kd,
              s * (1.0 + (t2 - 1.0) * sht) * kd, 0.25 * params[q, columns.clearcoat],
-             disney_clearcoat_alpha(params[q, columns.clearcoat_gloss]), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+             disney_clearcoat_alpha(params[q, columns.clearcoat_gloss]), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     return BxDF(codes[row, 0], codes[row, 1], codes[row, 2], codes[row, 3], codes[row, 4], roughness, alpha,
                 alpha_x, alpha_y, anisotropic, 0.0, metallic, (b0, b1, b2), (b0 * kd, b1 * kd, b2 * kd), f0, 1.0, _Z3,
                 _Z3, f0d, _Z3, extra)
@@ -111,13 +111,14 @@ def ibl_coat_roughness(b):
 
 
 @dual_use(inline=True)
-def ibl_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
+def ibl_extras(b, nov, coat_nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2,
               radiance):
     """The clear coat and the sheen in real time: the coat's split sum with f0 0.04,
     0.25 clearcoat (DFG1 + 0.04 (DFG2 - DFG1)) at its roughness times its own
     prefiltered lookup, and the sheen colour times the sheen lobe's albedo table
     (:func:`pbrkit.render.realtime.sheen_albedo_table`) times E(n) / pi.  Returns
-    (specular RGB, diffuse RGB) to add."""
+    (specular RGB, diffuse RGB) to add.  The coat has no normal of its own
+    (``coat_nov`` is n.v)."""
     coat = 0.0
     if b.extra[CLEARCOAT_SLOT] > 0.0:
         coat = b.extra[CLEARCOAT_SLOT] * (coat_dfg1 + 0.04 * (coat_dfg2 - coat_dfg1))

@@ -60,7 +60,7 @@ from ...microfacet.roughness import alpha_from_roughness
 from ..fresnel import f0_from_ior, f0_metallic, f_iridescence, f_schlick
 from ..lobes import Lobe, lobe_width, quadrature_albedo
 from ..lobes.clearcoat import CLEARCOAT as CLEARCOAT_LOBE
-from ..lobes.clearcoat import CLEARCOAT_ALPHA_SLOT, CLEARCOAT_SLOT, clearcoat_weight
+from ..lobes.clearcoat import CLEARCOAT_ALPHA_SLOT, CLEARCOAT_SLOT, clearcoat_weight, coat_nov
 from ..lobes.diffuse import LAMBERT
 from ..lobes.microfacet import microfacet
 from ..lobes.sheen import (SHEEN, SHEEN_COLOR_SLOT, SHEEN_ROUGHNESS_SLOT, sheen_albedo_lookup,
@@ -184,8 +184,9 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     # dielectric_f90 = specular), mixed with the metal's (base colour, 1) by metallic;
     # dielectric_f0 holds max3 of the dielectric F0 (the diffuse weight's); the sheen's colour
     # and roughness, the coat's weight and alpha, the specular factor, the transmission factor,
-    # the thin film and the volume's thickness in the extra slots (pbrkit.brdf.lobes.sheen,
-    # pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT, TRANSMISSION_SLOT, IRIDESCENCE_SLOT...); the
+    # the thin film, the volume's thickness and the coat's world-space normal (0: the shading
+    # normal; pbrkit.brdf.lobes.clearcoat.coat_in_frame turns it local) in the extra slots
+    # (pbrkit.brdf.lobes.sheen, pbrkit.brdf.lobes.clearcoat, SPECULAR_SLOT, ...); the
     # dielectric's F0 colour as the BxDF's specular colour and its IOR as its eta;
     # KHR_materials_transmission's mix(diffuse_brdf, specular_btdf, transmission) takes
     # 1 - transmission of the diffuse (its README, "Transmission BTDF"; the BTDF itself is
@@ -207,7 +208,8 @@ def setup(codes, row, params, q, columns, roughness, metallic, b0, b1, b2):
     extra = (params[q, h], params[q, h + 1], params[q, h + 2], params[q, columns.sheen_roughness],
              params[q, columns.clearcoat], alpha_from_roughness(params[q, columns.clearcoat_roughness]), s,
              transmission, params[q, columns.iridescence], params[q, columns.iridescence_ior],
-             params[q, columns.iridescence_thickness_maximum], params[q, columns.thickness])
+             params[q, columns.iridescence_thickness_maximum], params[q, columns.thickness],
+             params[q, columns.coat_normal], params[q, columns.coat_normal + 1], params[q, columns.coat_normal + 2])
     # KHR_materials_anisotropy (its README, "Anisotropy"): alpha_t = mix(alpha, 1, strength^2)
     # along the direction turned anisotropyRotation from the tangent, alpha_b = alpha across it
     strength = params[q, columns.anisotropy_strength]
@@ -358,9 +360,10 @@ SPECULAR_COMPOSITION = add(weighted(_specular_mix_weight, LAMBERT), _SPECULAR_KH
 #: The sheen rides on the diffuse lobe's cosine samples.
 SHEEN_COMPOSITION = layer(SHEEN, SPECULAR_COMPOSITION)
 #: With KHR_materials_clearcoat on top of the sheen (the sheen README: "clearcoat is layered
-#: on top of sheen"): ``mix(material, clearcoat_brdf, clearcoat clearcoat_fresnel(n.v))``
+#: on top of sheen"): ``mix(material, clearcoat_brdf, clearcoat clearcoat_fresnel(n_c.v))``,
+#: n_c the coat's normal (:func:`pbrkit.brdf.lobes.clearcoat.coat_nov`)
 #: (:func:`pbrkit.brdf.operators.fresnel_coat` at IOR 1.5, :data:`pbrkit.brdf.lobes.clearcoat.CLEARCOAT`).
-EXTENDED_COMPOSITION = fresnel_coat(GLTF_IOR, clearcoat_weight, SHEEN_COMPOSITION, CLEARCOAT_LOBE)
+EXTENDED_COMPOSITION = fresnel_coat(GLTF_IOR, clearcoat_weight, SHEEN_COMPOSITION, CLEARCOAT_LOBE, coat_nov)
 
 
 @dual_use(inline=True)
@@ -457,7 +460,7 @@ def _iridescence_ibl(b, nov, dfg1, dfg2, irradiance, radiance, scale):
 
 
 @dual_use(inline=True)
-def ibl_extensions_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered,
+def ibl_extensions_extras(b, nov, coat_nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, coat_prefiltered,
                           sheen_prefiltered, dfg1, dfg2, radiance):
     """The extensions' image-based lighting, as the Khronos Sample Viewer evaluates
     them: the sheen, sheenColor E_sheen(n.v, sheenRoughness) times the sheen's
@@ -467,26 +470,29 @@ def ibl_extensions_extras(b, nov, coat_dfg1, coat_dfg2, sheen_table, irradiance,
     (KHR_materials_iridescence), the base's split-sum albedo of each part (dielectric,
     metal) mixed towards the film's Fresnel at n.v times DFG2 by iridescenceFactor, and
     the diffuse weight's largest dielectric Fresnel likewise (the Sample Viewer's
-    Fresnel at n.v, on pbrkit's split sum).  Returns (specular RGB, diffuse RGB) to add
-    to the base scaled by :func:`ibl_extensions_base_scale`."""
-    t = _coat(b, nov)
+    Fresnel at n.v, on pbrkit's split sum).  The coat's Fresnel and DFG2 are at the
+    view's cosine to its normal, ``coat_nov`` (:func:`pbrkit.brdf.lobes.clearcoat.coat_local_nov`).
+    Returns (specular RGB, diffuse RGB) to add to the base scaled by
+    :func:`ibl_extensions_base_scale`."""
+    t = _coat(b, coat_nov)
     e = 0.0
     if _sheen_on(b):
         e = sheen_albedo_lookup(nov, b.extra[SHEEN_ROUGHNESS_SLOT]) * (1.0 - t)
     s = SHEEN_COLOR_SLOT
     k = t * coat_dfg2
-    fs, fd = _iridescence_ibl(b, nov, dfg1, dfg2, irradiance, radiance, ibl_extensions_base_scale(b, nov))
+    fs, fd = _iridescence_ibl(b, nov, dfg1, dfg2, irradiance, radiance, ibl_extensions_base_scale(b, nov, coat_nov))
     return ((b.extra[s] * e * sheen_prefiltered[0] + k * coat_prefiltered[0] + fs[0],
              b.extra[s + 1] * e * sheen_prefiltered[1] + k * coat_prefiltered[1] + fs[1],
              b.extra[s + 2] * e * sheen_prefiltered[2] + k * coat_prefiltered[2] + fs[2]), fd)
 
 
 @dual_use(inline=True)
-def ibl_extensions_base_scale(b, nov):
+def ibl_extensions_base_scale(b, nov, coat_nov):
     """The factor on the base's IBL terms: KHR_materials_sheen's sheen_albedo_scaling 1 -
     max3(sheenColor) E(n.v) (:func:`pbrkit.brdf.lobes.sheen.sheen_albedo_scaling`) times
-    KHR_materials_clearcoat's 1 - clearcoat clearcoat_fresnel(n.v); 1.0 without either."""
-    scale = 1.0 - _coat(b, nov)
+    KHR_materials_clearcoat's 1 - clearcoat clearcoat_fresnel(n_c.v), ``coat_nov`` the
+    view's cosine to the coat's normal; 1.0 without either."""
+    scale = 1.0 - _coat(b, coat_nov)
     if _sheen_on(b):
         s = SHEEN_COLOR_SLOT
         scale *= sheen_albedo_scaling(max(b.extra[s], max(b.extra[s + 1], b.extra[s + 2])), nov,

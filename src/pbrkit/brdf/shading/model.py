@@ -29,7 +29,7 @@ def _no_coat(b):
 
 
 @dual_use(inline=True)
-def _unscaled(b, nov):
+def _unscaled(b, nov, coat_nov):
     return 1.0
 
 
@@ -50,12 +50,15 @@ class RealTime:
     the weight on diffuse_color E(n) / pi (1 unless the diffuse lobe is weighted,
     glTF's 1 - F(v.h)); ``coat_roughness(b)``, the perceptual roughness of a second
     prefiltered lookup for a coat (-1: none); ``sheen_roughness(b)``, that of a third,
-    in the sheen's (Charlie) chain (-1: none); ``extras(b, nov, coat_dfg1, coat_dfg2,
+    in the sheen's (Charlie) chain (-1: none); ``extras(b, nov, coat_nov, coat_dfg1, coat_dfg2,
     sheen_table, irradiance, coat_prefiltered, sheen_prefiltered, dfg1, dfg2, radiance)``
     -> (specular RGB, diffuse RGB) added for the model's other lobes (``None``: there
     are none), with the DFG table at the coat's roughness, the RGB irradiance, coat and
-    sheen lookups, and the base's DFG and RGB prefiltered radiance;
-    ``base_scale(b, nov)``, the factor on the specular and diffuse IBL terms before
+    sheen lookups, and the base's DFG and RGB prefiltered radiance; ``coat_nov`` the
+    view's cosine to the coat's own normal (the shading normal's n.v where it has none,
+    :func:`pbrkit.brdf.lobes.clearcoat.coat_local_nov`), at which the coat's DFG lookups
+    are made too;
+    ``base_scale(b, nov, coat_nov)``, the factor on the specular and diffuse IBL terms before
     the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling);
     ``khronos_extensions``: ``engine="khronos"`` evaluates the model's glTF material
     extensions as the Sample Viewer does (:mod:`pbrkit.render.khronos_ibl`);

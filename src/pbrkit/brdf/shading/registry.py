@@ -48,7 +48,10 @@ MODEL_TERMS = {m.name: m.terms for m in REGISTERED if any(t is not None for t in
 PARAMETERS = union(p for m in REGISTERED for p in m.parameters)
 #: Per-material values of the renderer beside the BRDF's, packed in the same row.
 SURFACE = (Parameter("emissive", (0.0, 0.0, 0.0), 0.0, math.inf, "cd / m^2", "emitted radiance", channels=3),
-           Parameter("double_sided", 1.0, 0.0, 1.0, "", "1: both sides shade (glTF doubleSided)"))
+           Parameter("double_sided", 1.0, 0.0, 1.0, "", "1: both sides shade (glTF doubleSided)"),
+           Parameter("coat_normal", (0.0, 0.0, 0.0), -1.0, 1.0, "", "world-space normal of the clear coat at a "
+                     "hit (KHR_materials_clearcoat's clearcoatNormalTexture, or the geometry's normal under a "
+                     "base normal map); 0: the shading normal", channels=3))
 #: The packed parameter row of the compiled kernels.
 LAYOUT = Layout(PARAMETERS, SURFACE)
 COLUMNS = LAYOUT.columns
