@@ -179,16 +179,20 @@ def test_the_extensions_are_read_from_gltf_files(tmp_path):
     assert asset.materials[0].spec.ior == 0.0
 
 
-def test_a_clearcoat_texture_is_noted_as_not_supported_yet(tmp_path):
+def test_every_clearcoat_texture_is_applied_without_a_note(tmp_path):
+    """(clearcoatNormalTexture per hit: tests/test_gltf_clearcoat_normal.py.)"""
     from test_render_gltf import write_quad_glb
 
     from pbrkit.render.gltf import load_gltf
 
     texture = np.full((2, 2, 3), 200, dtype=np.uint8)
-    ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}}
+    ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 0},
+                                       "clearcoatRoughnessTexture": {"index": 0},
+                                       "clearcoatNormalTexture": {"index": 0}}}
     asset = load_gltf(write_quad_glb(tmp_path / "t.glb", texture=texture, material_extras=ext))
-    assert asset.materials[0].spec.clearcoat == 1.0
-    assert any("clearcoatNormalTexture is not supported yet" in note for note in asset.notes)
+    assert asset.materials[0].spec.clearcoat == 1.0 and not asset.notes
+    assert [use[1] for use, _ in asset.materials[0].extension_textures] == [
+        "clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"]
 
 
 @pytest.mark.parametrize("ext, fragment", [

@@ -466,7 +466,8 @@ def test_vertex_colours_multiply_the_base_colour(tmp_path):
     the base colour at each hit, interpolated like the other attributes: an unlit quad
     (its base colour as emission) whose corners are coloured shows, at the centre of
     each triangle's corner pixels, the factor times the corner's colour; a VEC4 colour's
-    alpha under alphaMode MASK is noted as unused; a colour above 1 is refused."""
+    alpha multiplies the base colour's alpha (a MASK cutout where it falls below the
+    cutoff); a colour above 1 is refused."""
     import pygltflib as g
 
     from pbrkit.core.errors import InputError
@@ -513,10 +514,21 @@ def test_vertex_colours_multiply_the_base_colour(tmp_path):
                             + w[:, None] * corner[2], (1 - w)[:, None] * corner[0] + (w - u)[:, None] * corner[3]
                             + u[:, None] * corner[2])
         np.testing.assert_allclose(shown, expected, atol=2e-6)
-    note_path = quad(tmp_path / "a.glb", np.c_[colors, [0.5] * 4], g.FLOAT, alpha={"alphaMode": "MASK"})
+    # a VEC4 colour's alpha multiplies the base colour's under alphaMode MASK: alpha 0.2 at the
+    # bottom corners, 0.9 at the top ones, linear in y over the quad, cut below 0.5 (y < -1/7)
     from pbrkit.render.gltf import load_gltf
 
-    assert any("COLOR_0's alpha is not used" in n for n in load_gltf(note_path).notes)
+    cut = quad(tmp_path / "a.glb", np.c_[colors, [0.2, 0.2, 0.9, 0.9]], g.FLOAT, alpha={"alphaMode": "MASK"})
+    assert not load_gltf(cut).notes
+    scene = quad_scene(cut, 16, 16, fov=30.0)
+    prim = _primary(scene, Geometry(scene))
+    origin = np.asarray(scene.camera.position)
+    t = (-1.0 - origin[2]) / prim.dirs[:, 2]  # the quad's plane z = -1
+    x, y = (origin[None, :2] + t[:, None] * prim.dirs[:, :2]).T
+    alpha_y = 0.2 + 0.7 * (y + 1.0) / 2.0
+    inside = (np.abs(x) < 0.999) & (np.abs(y) < 0.999) & (np.abs(alpha_y - 0.5) > 1e-3)
+    assert inside.sum() > 50 and (alpha_y[inside] < 0.5).any() and (alpha_y[inside] >= 0.5).any()
+    np.testing.assert_array_equal(prim.hit[inside], alpha_y[inside] >= 0.5)
     bad = quad(tmp_path / "b.glb", [[2.0, 0.0, 0.0]] * 4, g.FLOAT)
     with pytest.raises(InputError, match=r"COLOR_0 has values outside \[0, 1\]"):
         load_gltf(bad)

@@ -3,8 +3,10 @@
 (:meth:`pbrkit.render.geometry.Geometry.intersect` and ``occluded``).
 
 The alpha of a surface point is baseColorFactor's alpha times the alpha channel of
-the baseColorTexture (linear; vertex colours are not read), at the hit's texture
-coordinates (the texture's own sampler and ``KHR_texture_transform``):
+the baseColorTexture (linear), at the hit's texture coordinates (the texture's own
+sampler and ``KHR_texture_transform``), times a VEC4 COLOR_0's alpha interpolated
+over the triangle (glTF 2.0, "Meshes": COLOR_0 "acts as an additional linear
+multiplier to base color", its alpha included):
 
 - ``OPAQUE``: alpha is ignored (the rendered output is fully opaque);
 - ``MASK``: a point whose alpha is below ``alphaCutoff`` (default 0.5) is not there,
@@ -68,9 +70,24 @@ def ray_uniform(origins, dirs, layer):
     return (h >> np.uint64(11)).astype(np.float64) * (1.0 / 9007199254740992.0)
 
 
+def _vertex_alpha(geometry, hits, rows, alpha):
+    """``alpha`` (rows,) times COLOR_0's alpha interpolated at the hits ``rows`` on meshes
+    that have one."""
+    for gi in np.unique(hits.index[rows]):
+        mesh = geometry.meshes[gi]
+        if mesh.alphas is None:
+            continue
+        at = np.flatnonzero(hits.index[rows] == gi)
+        tri = mesh.indices[hits.prim[rows[at]]]
+        w1 = hits.b1[rows[at]]
+        w2 = hits.b2[rows[at]]
+        alpha[at] *= (1.0 - w1 - w2) * mesh.alphas[tri[:, 0]] + w1 * mesh.alphas[tri[:, 1]] + w2 * mesh.alphas[tri[:, 2]]
+    return alpha
+
+
 def _alpha(geometry, tables, hits, rows, material):
     """alpha (rows,) at the triangle hits ``rows`` of materials ``material``."""
-    alpha = tables[2][material].copy()
+    alpha = _vertex_alpha(geometry, hits, rows, tables[2][material].copy())
     for mi in np.unique(material):
         m = geometry.materials[mi]
         ref = m.alpha_texture

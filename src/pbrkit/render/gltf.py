@@ -124,6 +124,7 @@ class Mesh:
     texcoords: tuple = ()          # (V, 2) per TEXCOORD_n
     tangents: np.ndarray | None = None  # (V, 4): xyz unit, w = +-1
     colors: np.ndarray | None = None    # (V, 3) COLOR_0's RGB (linear, in [0, 1])
+    alphas: np.ndarray | None = None    # (V,) COLOR_0's alpha (VEC4): it multiplies the base colour's
 
 
 @dataclass
@@ -469,8 +470,7 @@ class _Primitive:
     tangents: np.ndarray | None
     texcoords: list
     triangles: np.ndarray
-    colors: np.ndarray | None = None
-    color_alpha: bool = False  # COLOR_0 is VEC4 (its alpha is not used)
+    colors: np.ndarray | None = None   # (V, 3) COLOR_0's RGB, or (V, 4) with its alpha (VEC4)
 
 
 def _read_primitive(reader, prim, where):
@@ -509,11 +509,11 @@ def _read_primitive(reader, prim, where):
     colors = None
     if attrs.get("COLOR_0") is not None:  # VEC3 or VEC4 (glTF 2.0, "Meshes"); RGB multiplies the base colour
         a = reader.items("accessors")[attrs["COLOR_0"]]
-        colors = read("COLOR_0", "COLOR4" if a.get("type") == "VEC4" else "COLOR3", 3)
+        colors = read("COLOR_0", "COLOR4" if a.get("type") == "VEC4" else "COLOR3",
+                      4 if a.get("type") == "VEC4" else 3)
         if np.any((colors < 0.0) | (colors > 1.0)):
             reader.fail(f"{where}.attributes.COLOR_0 has values outside [0, 1]")
-    return _Primitive(pos, read("NORMAL", "NORMAL", 3), read("TANGENT", "TANGENT", 4), texcoords, tri, colors,
-                      colors is not None and reader.items("accessors")[attrs["COLOR_0"]].get("type") == "VEC4")
+    return _Primitive(pos, read("NORMAL", "NORMAL", 3), read("TANGENT", "TANGENT", 4), texcoords, tri, colors)
 
 
 def _flat_shaded(p):
@@ -524,8 +524,7 @@ def _flat_shaded(p):
     fn = np.cross(pos[tri[:, 1]] - pos[tri[:, 0]], pos[tri[:, 2]] - pos[tri[:, 0]])
     fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-300)
     return _Primitive(pos, np.repeat(fn, 3, axis=0), None if p.tangents is None else p.tangents[corners],
-                      [t[corners] for t in p.texcoords], tri, None if p.colors is None else p.colors[corners],
-                      p.color_alpha)
+                      [t[corners] for t in p.texcoords], tri, None if p.colors is None else p.colors[corners])
 
 
 def _world_mesh(p, world, material_index):
@@ -542,7 +541,9 @@ def _world_mesh(p, world, material_index):
         t3 /= np.maximum(np.linalg.norm(t3, axis=1, keepdims=True), 1e-300)
         w = np.where(p.tangents[:, 3] < 0.0, -1.0, 1.0) * (1.0 if det > 0 else -1.0)
         wt = np.concatenate([t3, w[:, None]], axis=1)
-    return Mesh(wpos, wn, p.triangles.astype(np.int64), material_index, tuple(p.texcoords), wt, p.colors)
+    colors = None if p.colors is None else np.ascontiguousarray(p.colors[:, :3])
+    alphas = None if p.colors is None or p.colors.shape[1] < 4 else np.ascontiguousarray(p.colors[:, 3])
+    return Mesh(wpos, wn, p.triangles.astype(np.int64), material_index, tuple(p.texcoords), wt, colors, alphas)
 
 
 def _scene_roots(reader):
@@ -667,8 +668,6 @@ def _node_meshes(reader, ni, mesh_index, world, materials, cache, state):
                 state["default_material"] = len(materials) - 1
             mat_index = state["default_material"]
         material = materials[mat_index]
-        if p.color_alpha and material.alpha_mode != "OPAQUE":
-            reader.notes.append(f"{where}: COLOR_0's alpha is not used for alphaMode {material.alpha_mode} yet")
         for name, ref in _texture_refs(material):
             if ref.texcoord >= len(p.texcoords):
                 reader.fail(f"{where}: materials[{mat_index}].{name} uses TEXCOORD_{ref.texcoord}, which the "
