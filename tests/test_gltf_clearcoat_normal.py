@@ -261,3 +261,35 @@ def test_bad_coat_normal_textures_are_refused_naming_the_field(tmp_path, info, f
     with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as exc:
         load_gltf(write_quad_glb(tmp_path / "b.glb", texture=_texture(), material_extras=ext))
     assert "\n" not in str(exc.value)
+
+
+def test_real_time_area_lights_take_the_coat_normal(tmp_path):
+    """The coat's LTC term about its own normal: a coat normal texture that encodes (almost)
+    the unmapped normal renders (almost) as no texture under a rect light and the
+    environment; a tilted one moves the coat's highlight (the image changes)."""
+    from dataclasses import replace
+
+    from test_gltf_extension_textures import _scene
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.render.area_lights import AreaLight
+    from pbrkit.render.realtime import render_realtime
+
+    light = AreaLight(type="rect", position=(0.0, 1.5, 3.0), normal=(0.0, -0.45, -0.9), width=1.0, height=0.5,
+                      intensity=6.0)
+
+    def render(name, info, texel):
+        ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.6}}
+        if info is not None:
+            ext["KHR_materials_clearcoat"]["clearcoatNormalTexture"] = info
+        texture = np.broadcast_to(np.array(texel, dtype=np.uint8), (2, 2, 3)).copy()
+        path = write_quad_glb(tmp_path / f"{name}.glb", texture=texture, material_extras=ext)
+        scene = replace(_scene(path, 12, 12, color=(0.2, 0.2, 0.2)), area_lights=(light,))
+        return render_realtime(scene, bake_size=16).image
+
+    plain = render("plain", None, (128, 128, 255))
+    flat = render("flat", {"index": 0}, (128, 128, 255))  # (0.004, 0.004, 1): the normal, to 0.3 degrees
+    tilted = render("tilted", {"index": 0}, TEXEL)
+    assert np.abs(plain).max() > 0.0
+    np.testing.assert_allclose(flat, plain, rtol=0.01, atol=1e-3 * plain.max())
+    assert np.abs(tilted - plain).max() > 0.05 * plain.max()

@@ -628,6 +628,11 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             for_materials(_area_specular_kernel, mat_i)(mat_i, mat_f, mat, n_rows, s.roughness, s.metallic,
                                                         base_rows, lt.specular, lt.fresnel, lt.split, spec)
             irr, coat = lt.irradiance, lt.coat
+            cn = coat_normals(mat_f, s.material, n_rows)
+            tilted = np.flatnonzero((coat_roughness >= 0.0) & np.any(cn != n_rows, axis=1))
+            if tilted.size:  # a coat with its own normal: its lobe's LTC in the coat's frame
+                coat[tilted] = area_light_ltc(geometry.area_lights, s.p[tilted], cn[tilted], v_rows[tilted],
+                                              coat_roughness[tilted]).specular
             area = np.empty((count, 3))
             ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
                        np.ones(count), spec, irr, coat, coat_roughness, np.zeros((count if extended else 1, 3)),
