@@ -144,13 +144,13 @@ N = 512
 
 @dataclass
 class Case:
-    """A GLSL expression (a vec4 of the inputs a, b, ..., h) over N rows of inputs and
+    """A GLSL expression (a vec4 of the inputs a, b, ..., l) over N rows of inputs and
     the pbrkit values it must equal: |gl - expected| <= rtol |expected| + atol."""
 
     name: str
     covers: tuple
     expr: str
-    inputs: list  # up to 8 arrays (N, 4) float32
+    inputs: list  # up to 12 arrays (N, 4) float32
     expected: np.ndarray  # (N, C) float64
     rtol: float = 1e-4
     atol: float = 0.0

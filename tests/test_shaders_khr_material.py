@@ -1,6 +1,8 @@
 """The GLSL of the extended glTF material (``pbrkit_khr_material.glsl``, issue 25 item 5):
-KHR_materials_ior and KHR_materials_specular, KHR_materials_clearcoat, the whole BRDF
-with KHR_materials_sheen, and the extensions' real-time IBL (pbrkit's and the Khronos
+KHR_materials_ior and KHR_materials_specular, KHR_materials_clearcoat (with the coat's own
+normal from a clearcoatNormalTexture), the whole BRDF with KHR_materials_sheen (and with the
+coat's normal, against :func:`pbrkit.brdf.models.evaluate`'s ``coat_normal``), and the
+extensions' real-time IBL, the coat's Fresnel at n_c.v (pbrkit's and the Khronos
 Sample Viewer's, with KHR_materials_transmission / _volume's transmitted light and the
 viewer's thin-film mix: :mod:`pbrkit.render.transmission_ibl`), KHR_materials_dispersion (each
 channel's IOR and lookup) and KHR_materials_anisotropy (its frame, D, V, specular lobe, BRDF
@@ -15,7 +17,9 @@ material at random (l, v, n, material)), the real-time renderer's own IBL kernel
 :mod:`pbrkit.render.khronos_ibl`; the anisotropy's against :func:`pbrkit.brdf.bxdf.shading_frame`,
 :func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`;
 the dispersion's against :mod:`pbrkit.brdf.transmission` and
-:func:`pbrkit.render.transmission_ibl.transmission_lookups`.
+:func:`pbrkit.render.transmission_ibl.transmission_lookups`; the coat's normal against
+:func:`pbrkit.render.textures.tangent_space_normal`.  The cases of the functions that take
+a tangent frame (anisotropy, the coat's normal) are in tests/shader_frame_cases.py.
 
 The page's 2-D table (``u_lut``) is the E_sheen table, as in tests/test_shaders_khr.py:
 the BRDF and the IBL's scaling read E through ``pbrkit_fetchSheenAlbedo``.  Tolerances:
@@ -31,20 +35,21 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from engine_pages import needs_engines, run_page
-from test_shaders import WIDTH, N, Case, _alphas, _cosines, _f32, _unit, _vec4s, assert_cases_match
+from shader_frame_cases import anisotropy_cases, clearcoat_normal_cases
+from test_shaders import WIDTH, N, Case, _cosines, _f32, _unit, _vec4s, assert_cases_match
 from test_shaders_khr import _sheen_bxdf
 
 from pbrkit import shaders
 from pbrkit.brdf import models
-from pbrkit.brdf.bxdf import Cosines
+from pbrkit.brdf.bxdf import EXTRA_SLOTS, Cosines
 from pbrkit.brdf.fresnel import f0_from_ior
 from pbrkit.brdf.lobes import Lobe
-from pbrkit.brdf.lobes.clearcoat import CLEARCOAT, clearcoat_weight
+from pbrkit.brdf.lobes.clearcoat import CLEARCOAT, CLEARCOAT_ALPHA_SLOT, CLEARCOAT_SLOT, clearcoat_weight
 from pbrkit.brdf.lobes.sheen import SHEEN_TABLE_FILE
 from pbrkit.brdf.material import Material
 from pbrkit.brdf.operators import fresnel_coat
 from pbrkit.brdf.shading import gltf
-from pbrkit.brdf.shading.registry import COLUMNS
+from pbrkit.brdf.shading.registry import COLUMNS, LAYOUT
 from pbrkit.core.jit import dual_use
 from pbrkit.microfacet.roughness import alpha_from_roughness
 from pbrkit.render import khronos_ibl
@@ -83,16 +88,17 @@ def _material_inputs(m):
             _vec4s(m.clearcoat, m.clearcoat_roughness, m.specular, m.ior), _vec4s(m.specular_color, m.roughness)]
 
 
-def _inputs(m, a=None, b=None, c=None, h=None):
-    """The page's eight inputs: the case's a, b, c, h around the material's d, e, f, g."""
+def _inputs(m, a=None, b=None, c=None, h=None, i=None):
+    """The page's inputs: the case's a, b, c, h (and i) around the material's d, e, f, g."""
     none = _vec4s()
-    return [none if x is None else x for x in (a, b, c)] + _material_inputs(m) + [none if h is None else h]
+    return ([none if x is None else x for x in (a, b, c)] + _material_inputs(m) + [none if h is None else h]
+            + ([] if i is None else [i]))
 
 
 def _params(m):
     """pbrkit's packed parameter rows (registry COLUMNS) of the materials."""
     c = COLUMNS
-    p = np.zeros((N, c.double_sided + 1))
+    p = np.zeros((N, LAYOUT.size))
     p[:, c.base_color:c.base_color + 3] = m.base
     p[:, c.metallic], p[:, c.roughness] = m.metallic, m.roughness
     p[:, c.sheen_color:c.sheen_color + 3], p[:, c.sheen_roughness] = m.sheen_color, m.sheen_roughness
@@ -147,8 +153,9 @@ def _setup_cases(rng, m, bx):
     cr[:3] = (0.0, 1.0, 0.03)
     expected = []
     for q in range(N):
-        extra = (0.0, 0.0, 0.0, 0.0, 1.0, float(alpha_from_roughness(cr[q])), 0.0, 0.0)
-        b = _sheen_bxdf((0.0, 0.0, 0.0), 0.0)._replace(extra=extra)
+        extra = [0.0] * EXTRA_SLOTS  # (the coat normal's slots 0: the shading normal)
+        extra[CLEARCOAT_SLOT], extra[CLEARCOAT_ALPHA_SLOT] = 1.0, float(alpha_from_roughness(cr[q]))
+        b = _sheen_bxdf((0.0, 0.0, 0.0), 0.0)._replace(extra=tuple(extra))
         expected.append(CLEARCOAT.value(b, _c(nol[q], nov[q], noh[q]), (1.0, 1.0, 1.0), 1.0)[0])
     add(Case("clearcoatBRDF", ("pbrkit_clearcoatBRDF",), "pbrkit_clearcoatBRDF(a.x, a.y, a.z, a.w)",
              [_vec4s(noh, nol, nov, cr)], np.array(expected)[:, None], atol=1e-30))
@@ -182,6 +189,45 @@ def _brdf_case(rng):
                 _inputs(m, _vec4s(l), _vec4s(v), _vec4s(n)), models.gltf(l, v, n, material), rtol=1e-4, atol=1e-6)
 
 
+def _coat_normal_brdf_case(rng):
+    """The whole material with the coat's own normal n_c: BRDF_glTFExtendedCoatNormal against
+    pbrkit.brdf.models.evaluate("gltf", ..., coat_normal=n_c) at _brdf_case's directions, n_c = n on a few
+    rows, n tilted by up to 64 degrees on most (n_c.l or n_c.v <= 0 on some: no coat lobe, the weight at
+    |n_c.v|) and near the coat's mirror direction h = normalize(l + v) on a quarter.  Where n.h or n_c.h
+    exceeds 0.99 the base's or the coat's roughness is at least 0.3 (as the near-mirror rows of BRDF_glTF's
+    case: D's peak is too steep for float32's h at smaller r)."""
+    from test_shaders import _directions
+
+    l, v, n = _directions(rng)
+    h = l + v
+    length = np.linalg.norm(h, axis=1, keepdims=True)
+    h = h / np.maximum(length, 1e-300)
+    nc = n + _unit(rng) * rng.uniform(0.0, 0.9, (N, 1))  # tilted by up to asin(0.9), 64 degrees
+    near = (rng.uniform(size=N) < 0.25) & (length[:, 0] > 1e-3)
+    nc[near] = h[near] + 0.05 * rng.normal(size=(int(near.sum()), 3))
+    nc = _f32(nc / np.linalg.norm(nc, axis=1, keepdims=True))
+    nc[:8] = n[:8]
+    m = _materials(rng)
+    noh, ncoh = np.sum(n * h, axis=1), np.sum(nc * h, axis=1)
+    m.roughness = np.where(noh > 0.99, _f32(rng.uniform(0.3, 1.0, N)), m.roughness)
+    m.clearcoat_roughness = np.where(ncoh > 0.99, _f32(rng.uniform(0.3, 1.0, N)), m.clearcoat_roughness)
+    material = Material(base_color=m.base, metallic=m.metallic, roughness=m.roughness, sheen_color=m.sheen_color,
+                        sheen_roughness=m.sheen_roughness, clearcoat=m.clearcoat,
+                        clearcoat_roughness=m.clearcoat_roughness, specular=m.specular,
+                        specular_color=m.specular_color, ior=m.ior)
+    expected = models.evaluate("gltf", l, v, n, material, coat_normal=nc)
+    # the tilted coat counts: on many lit rows its value differs from the shading normal's coat
+    lit = (np.sum(n * l, axis=1) > 0.0) & (np.sum(n * v, axis=1) > 0.0) & (m.clearcoat > 0.0)
+    plain = models.gltf(l, v, n, material)
+    differs = lit & ~np.all(np.isclose(expected, plain, rtol=1e-3, atol=1e-9), axis=1)
+    coat_lit = (np.sum(nc * l, axis=1) > 0.0) & (np.sum(nc * v, axis=1) > 0.0)
+    assert differs.sum() > N // 4 and (differs & coat_lit).sum() > N // 8 and (differs & ~coat_lit).sum() > 10
+    return Case("BRDF_glTFExtendedCoatNormal", ("BRDF_glTFExtendedCoatNormal",),
+                f"vec4(BRDF_glTFExtendedCoatNormal(a.xyz, b.xyz, c.xyz, h.xyz, {MATERIAL}, "
+                "pbrkit_fetchSheenAlbedo(u_lut, dot(c.xyz, b.xyz), e.w)), 0.0)",
+                _inputs(m, _vec4s(l), _vec4s(v), _vec4s(n), _vec4s(nc)), expected, rtol=1e-4, atol=1e-6)
+
+
 def reference_albedo_f90(dfg, f0, f90):
     """The split sum with F90 of pbrkit.render.realtime's _ibl_kernel, albedo = DFG1 F90 + F0
     (DFG2 - DFG1), transcribed: the kernel's line has no Python function of its own."""
@@ -191,16 +237,19 @@ def reference_albedo_f90(dfg, f0, f90):
 def _ibl_cases(rng, m, bx, dfg_table):
     """pbrkit's real-time IBL of the material (engine "pbrkit").  Inputs: a = (n.v, DFG at (n.v, r),
     the coat's DFG2), b, c, h = (prefiltered, irradiance, the coat's prefiltered) RGB, the sheen's
-    prefiltered RGB in (b.w, c.w, h.w); E_sheen from the table at (n.v, sheenRoughness)."""
+    prefiltered RGB in (b.w, c.w, h.w), i.x = n_c.v (the view's cosine to the coat's own normal, drawn
+    apart from n.v); E_sheen from the table at (n.v, sheenRoughness)."""
     cases = []
     add = cases.append
     nov = _f32(np.maximum(_cosines(rng, 0.0), 1e-4))  # the renderer's floor
+    coat_nov = _f32(np.maximum(_cosines(rng, 0.0)[rng.permutation(N)], 1e-4))
+    coat_nov[:4] = nov[:4]  # and the coat about the shading normal
     j, i = rng.integers(0, dfg_table.shape[0], (2, N)), rng.integers(0, dfg_table.shape[1], (2, N))
     dfg, coat_dfg = _f32(dfg_table[j[0], i[0]]), _f32(dfg_table[j[1], i[1]])
     pref, irr = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
     coat_pref, sheen_pref = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
     inputs = _inputs(m, _vec4s(nov, dfg, coat_dfg[:, 1]), _vec4s(pref, sheen_pref[:, 0]),
-                     _vec4s(irr, sheen_pref[:, 1]), _vec4s(coat_pref, sheen_pref[:, 2]))
+                     _vec4s(irr, sheen_pref[:, 1]), _vec4s(coat_pref, sheen_pref[:, 2]), _vec4s(coat_nov))
     e_sheen = "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)"
     sheen = "vec3(b.w, c.w, h.w)"
 
@@ -215,17 +264,17 @@ def _ibl_cases(rng, m, bx, dfg_table):
              weight[:, None], atol=1e-7))
     add(Case("clearcoatRoughnessIBL", ("pbrkit_clearcoatRoughnessIBL",), "pbrkit_clearcoatRoughnessIBL(f.x, f.y)",
              inputs, np.array([gltf.ibl_coat_roughness(b) for b in bx])[:, None]))
-    scale = np.array([gltf.ibl_extensions_base_scale(b, float(nov[q])) for q, b in enumerate(bx)])
+    scale = np.array([gltf.ibl_extensions_base_scale(b, float(nov[q]), float(coat_nov[q])) for q, b in enumerate(bx)])
     add(Case("extensionsIBLBaseScale", ("pbrkit_extensionsIBLBaseScale",),
-             f"pbrkit_extensionsIBLBaseScale(a.x, f.x, e.xyz, {e_sheen})", inputs, scale[:, None],
+             f"pbrkit_extensionsIBLBaseScale(i.x, f.x, e.xyz, {e_sheen})", inputs, scale[:, None],
              atol=2e-6))  # 1 - cE crosses 0 (as sheenAlbedoScaling in tests/test_shaders_khr.py)
     table = np.zeros((2, 2))
-    extras = np.array([gltf.ibl_extensions_extras(b, float(nov[q]), float(coat_dfg[q, 0]), float(coat_dfg[q, 1]),
-                                                  table, tuple(irr[q]), tuple(coat_pref[q]), tuple(sheen_pref[q]),
-                                                  0.5, 0.9, (1.0, 1.0, 1.0))[0]  # no film: the base's DFG unused
-                       for q, b in enumerate(bx)])
+    extras = np.array([gltf.ibl_extensions_extras(b, float(nov[q]), float(coat_nov[q]), float(coat_dfg[q, 0]),
+                                                  float(coat_dfg[q, 1]), table, tuple(irr[q]), tuple(coat_pref[q]),
+                                                  tuple(sheen_pref[q]), 0.5, 0.9, (1.0, 1.0, 1.0))[0]
+                       for q, b in enumerate(bx)])  # (no film: the base's DFG unused)
     add(Case("extensionsIBL", ("pbrkit_extensionsIBL",),
-             f"vec4(pbrkit_extensionsIBL(a.x, f.x, a.w, h.xyz, e.xyz, {e_sheen}, {sheen}), 0.0)", inputs, extras,
+             f"vec4(pbrkit_extensionsIBL(i.x, f.x, a.w, h.xyz, e.xyz, {e_sheen}, {sheen}), 0.0)", inputs, extras,
              atol=1e-6))
 
     # the whole of it, as _ibl_kernel composes those functions for engine "pbrkit" (no energy compensation)
@@ -233,17 +282,18 @@ def _ibl_cases(rng, m, bx, dfg_table):
     expected = (pref * reference_albedo_f90(dfg, f0, f90) + diffuse_color * (weight / np.pi)[:, None] * irr) \
         * scale[:, None] + extras
     add(Case("glTFExtendedIBL", ("pbrkit_glTFExtendedIBL",),
-             f"vec4(pbrkit_glTFExtendedIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, {e_sheen}, "
-             f"{sheen}), 0.0)", inputs, expected, atol=1e-6))
+             f"vec4(pbrkit_glTFExtendedIBL(a.x, i.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
+             f"{e_sheen}, {sheen}), 0.0)", inputs, expected, atol=1e-6))
     return cases
 
 
 def _renderer_cases(rng, m, dfg_table):
     """pbrkit_glTFExtendedIBL and pbrkit_sampleViewerExtensionsIBL against the renderer itself:
     pbrkit.render.realtime's _ibl_kernel (engines "pbrkit", no energy compensation, and "khronos") on
-    the materials packed as a scene's (material_tables), at random (n, v); the kernel's own n.v (floored
-    at 1e-4), DFG lookups at (n.v, r) and at (n.v, the coat's roughness from its _reflection_kernel)
-    are the GLSL's inputs, as _ibl_cases lays them out."""
+    the materials packed as a scene's (material_tables), at random (n, v), most with a coat normal of their
+    own (the rows' coat_normal: n tilted); the kernel's own n.v and n_c.v (floored at 1e-4), DFG lookups at
+    (n.v, r) and at (n_c.v, the coat's roughness from its _reflection_kernel) are the GLSL's inputs, as
+    _ibl_cases lays them out."""
     from pbrkit.albedo.tables import table_bilinear
     from pbrkit.brdf.bxdf import NO_TANGENT
     from pbrkit.render import realtime
@@ -259,6 +309,11 @@ def _renderer_cases(rng, m, dfg_table):
     mi, mf = material_tables(specs)
     n, v = _unit(rng), _unit(rng)
     v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v)
+    nc = n + _unit(rng) * rng.uniform(0.0, 1.0, (N, 1))
+    nc /= np.linalg.norm(nc, axis=1, keepdims=True)
+    own = rng.uniform(size=N) < 0.8
+    mf[own, COLUMNS.coat_normal:COLUMNS.coat_normal + 3] = nc[own]
+    nc[~own] = n[~own]
     mat = np.arange(N)
     base = np.ascontiguousarray(m.base)
     refl, coat_r, sheen_r = np.empty((N, 3)), np.empty(N), np.empty(N)
@@ -274,14 +329,16 @@ def _renderer_cases(rng, m, dfg_table):
                          np.zeros((1, 2)), False, realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("pbrkit"), out, ec)
     nov = np.maximum(np.sum(n * v, axis=1), 1e-4)
+    coat_nov = np.maximum(np.sum(nc * v, axis=1), 1e-4)
+    assert np.mean(np.abs(coat_nov - nov) > 0.05) > 0.5
     dfg = np.array([[table_bilinear(tables, 0, nov[q], float(m.roughness[q]), k) for k in range(2)]
                     for q in range(N)])
-    coat2 = np.array([table_bilinear(tables, 0, nov[q], coat_r[q], 1) if coat_r[q] >= 0.0 else 0.0
+    coat2 = np.array([table_bilinear(tables, 0, coat_nov[q], coat_r[q], 1) if coat_r[q] >= 0.0 else 0.0
                       for q in range(N)])
     inputs = _inputs(m, _vec4s(nov, dfg, coat2), _vec4s(pref, sheen_pref[:, 0]), _vec4s(irr, sheen_pref[:, 1]),
-                     _vec4s(coat_pref, sheen_pref[:, 2]))
+                     _vec4s(coat_pref, sheen_pref[:, 2]), _vec4s(coat_nov))
     cases = [Case("glTFExtendedIBL_renderer", ("pbrkit_glTFExtendedIBL",),
-                  f"vec4(pbrkit_glTFExtendedIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
+                  f"vec4(pbrkit_glTFExtendedIBL(a.x, i.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
                   "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w), vec3(b.w, c.w, h.w)), 0.0)", inputs, out.copy(),
                   atol=1e-6)]
 
@@ -292,9 +349,9 @@ def _renderer_cases(rng, m, dfg_table):
                          np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, charlie, np.zeros((1, 3)),
                          np.zeros((1, 2)), False, realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("khronos"), out, ec)
-    inputs = _inputs(m, _vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7])
+    inputs = _inputs(m, _vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7], inputs[8])
     cases.append(Case("sampleViewerExtensionsIBL_renderer", ("pbrkit_sampleViewerExtensionsIBL",),
-                      f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, "
+                      f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, i.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, "
                       "vec3(b.w, c.w, h.w), a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, out.copy(),
                       atol=1e-6))
     return cases
@@ -303,16 +360,18 @@ def _renderer_cases(rng, m, dfg_table):
 def _sample_viewer_cases(rng, m):
     """The Sample Viewer's IBL (pbrkit.render.khronos_ibl).  Inputs: a = (n.v, Karis' (A, B), the Charlie
     LUT's value), b, c, h = (radiance, irradiance, the coat's radiance) RGB, the sheen's radiance RGB in
-    (b.w, c.w, h.w)."""
+    (b.w, c.w, h.w), i.x = n_c.v (drawn apart from n.v)."""
     cases = []
     add = cases.append
     nov = _f32(np.maximum(_cosines(rng, 0.0), 1e-4))
     ab = _f32(rng.uniform(0.0, 0.5, (N, 2)))  # A + B <= 1: E_ms >= 0
     charlie = _f32(rng.uniform(0.0, 0.5, N))
+    coat_nov = _f32(np.maximum(_cosines(rng, 0.0)[rng.permutation(N)], 1e-4))
+    coat_nov[:4] = nov[:4]
     rad, irr = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
     coat_rad, sheen_rad = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
     inputs = _inputs(m, _vec4s(nov, ab, charlie), _vec4s(rad, sheen_rad[:, 0]), _vec4s(irr, sheen_rad[:, 1]),
-                     _vec4s(coat_rad, sheen_rad[:, 2]))
+                     _vec4s(coat_rad, sheen_rad[:, 2]), _vec4s(coat_nov))
     a, b = ab[:, 0], ab[:, 1]
     f0 = np.minimum(f0_from_ior(m.ior)[:, None] * m.specular_color, 1.0)
     rows = [(float(nov[q]), float(m.roughness[q]), float(a[q]), float(b[q])) for q in range(N)]  # scalar helpers
@@ -331,11 +390,11 @@ def _sample_viewer_cases(rng, m):
     expected = np.array([[khronos_ibl.sample_viewer_extensions_ibl(
         params, q, float(m.base[q, k]), float(m.metallic[q]), float(m.roughness[q]), float(nov[q]), float(a[q]),
         float(b[q]), float(rad[q, k]), float(irr[q, k]), float(coat_rad[q, k]), float(sheen_rad[q, k]),
-        float(charlie[q]), k, *(float(x) for x in m.base[q]), 0.0, float(nov[q])) for k in range(3)]
+        float(charlie[q]), k, *(float(x) for x in m.base[q]), 0.0, float(coat_nov[q])) for k in range(3)]
         for q in range(N)])
     add(Case("sampleViewerExtensionsIBL", ("pbrkit_sampleViewerExtensionsIBL",),
-             f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, vec3(b.w, c.w, h.w), "
-             "a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, expected, atol=1e-6))
+             f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, i.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, "
+             "vec3(b.w, c.w, h.w), a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, expected, atol=1e-6))
     return cases
 
 
@@ -361,7 +420,7 @@ def _transmission_cases(rng):
     colour = _f32(rng.uniform(0.05, 1.0, (N, 3)))
     colour[:4] = 1.0
     distance = _f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.1, 3.0, N)))
-    params = np.zeros((N, COLUMNS.double_sided + 1))
+    params = np.zeros((N, LAYOUT.size))
     params[:, COLUMNS.attenuation_color:COLUMNS.attenuation_color + 3] = colour
     params[:, COLUMNS.attenuation_distance] = distance
     attenuation = np.array([absorption(params, q, float(thickness[q])) for q in range(N)])
@@ -372,7 +431,7 @@ def _transmission_cases(rng):
     base, metallic = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 1, N))
     transmission, weight = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 1, N))
     light = _f32(rng.uniform(0, 4, (N, 3)))
-    p = np.zeros((N, COLUMNS.double_sided + 1))
+    p = np.zeros((N, LAYOUT.size))
     p[:, COLUMNS.transmission] = transmission
     p[:, COLUMNS.specular] = 1.0
     p[:, COLUMNS.ior] = 1.5
@@ -473,183 +532,6 @@ def _dispersion_cases(rng):
     return cases
 
 
-def _tangents(rng, n):
-    """Random glTF TANGENTs (N, 4) at the unit normals n: neither unit nor orthogonal to n (their part across
-    n at least a fifth of their length), handedness w = -1 or +1 (and a few 0 and -0.5: the sign counts)."""
-    t = rng.normal(size=(N, 3)) * rng.uniform(0.5, 2.0, (N, 1))
-    for _ in range(100):
-        across = t - np.sum(t * n, axis=1, keepdims=True) * n
-        bad = np.linalg.norm(across, axis=1) < 0.2 * np.linalg.norm(t, axis=1)
-        if not bad.any():
-            break
-        t[bad] = rng.normal(size=(int(bad.sum()), 3))
-    w = np.where(rng.uniform(size=N) < 0.5, -1.0, 1.0)
-    w[4:8] = (0.0, -0.5, 0.0, -0.5)
-    return _f32(np.concatenate([t, w[:, None]], axis=1))
-
-
-def _rotations(rng):
-    """anisotropyRotation in [-4, 4] radians (float32), with 0 and the quarter turns on a few rows."""
-    rotation = rng.uniform(-4.0, 4.0, N)
-    rotation[:16] = (0.0, 0.0, 0.0, 0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi, 0.0, np.pi / 2, np.pi, 3.0,
-                     2 * np.pi, -2 * np.pi, 1.0, -1.0)
-    return _f32(rotation)
-
-
-def _direction(rotation):
-    """The GLSL's direction (cos, sin) of each rotation, computed on the CPU (the README's u_AnisotropyRotation)."""
-    return np.stack([np.cos(rotation), np.sin(rotation)], axis=1)
-
-
-def _frames(n, tangent, rotation):
-    """pbrkit's anisotropy frame (t, b) of each row (pbrkit.brdf.bxdf.shading_frame)."""
-    from pbrkit.brdf.bxdf import shading_frame
-
-    frames = [shading_frame.py_func(*n[q], SimpleNamespace(anisotropic=True, rotation=float(rotation[q])),
-                                    tuple(tangent[q])) for q in range(N)]
-    return np.array([f[0] for f in frames]), np.array([f[1] for f in frames])
-
-
-def _anisotropy_material(base, metallic, roughness, strength, rotation, tangent, **extensions):
-    """The Material of the rows, its rotation turned for handedness w < 0: pbrkit.brdf.models.evaluate takes
-    tangents of handedness +1, and the frame of (T, w = -1) turned by theta is the frame of (T, +1) turned by
-    -theta (cos theta T + sin theta (-(n x T)), with anisotropicB = n x anisotropicT either way)."""
-    turned = np.where(tangent[:, 3] < 0.0, -rotation, rotation)
-    # the same angle in the declared [-pi, pi] (float32 pi lies just above it)
-    turned = np.clip(np.remainder(turned + np.pi, 2.0 * np.pi) - np.pi, -np.pi, np.pi)
-    return Material(base_color=base, metallic=metallic, roughness=roughness, anisotropy_strength=strength,
-                    anisotropy_rotation=turned, **extensions)
-
-
-def _anisotropy_cases(rng):
-    """KHR_materials_anisotropy: the frame against pbrkit.brdf.bxdf.shading_frame (tangents not unit, not
-    orthogonal to n, of either handedness, turned), alpha_t against the model's setup, D and V against
-    pbrkit's anisotropic GGX and the model's V (pbrkit.brdf.shading.gltf._v_khr), the specular lobe and the
-    whole BRDF against pbrkit.brdf.models.evaluate("gltf", ..., t=tangent) (checked first against the
-    README's transcription in tests/reference_brdf.py), and the bent-normal lookup direction against
-    pbrkit.render.ibl_lookups.khr_anisotropic_reflection."""
-    import reference_brdf as ref
-    from test_shaders import _directions
-
-    from pbrkit.brdf import distributions
-    from pbrkit.brdf.bxdf import Cosines as FrameCosines
-    from pbrkit.brdf.shading.gltf import _v_khr
-    from pbrkit.render.realtime import khr_anisotropic_reflection
-
-    cases = []
-    add = cases.append
-    n = _unit(rng)
-    tangent, rotation = _tangents(rng, n), _rotations(rng)
-    t, b = _frames(n, tangent, rotation)
-    inputs = [_vec4s(n), tangent, _vec4s(_direction(rotation))]
-    add(Case("anisotropicFrame_t", ("pbrkit_anisotropicFrame",), "pbrkit_anisotropicFrame(a.xyz, b, c.xy)[0]",
-             inputs, t, rtol=0.0, atol=1e-6))
-    add(Case("anisotropicFrame_b", ("pbrkit_anisotropicFrame",), "pbrkit_anisotropicFrame(a.xyz, b, c.xy)[1]",
-             inputs, b, rtol=0.0, atol=1e-6))
-
-    r, strength = _f32(rng.uniform(0.0, 1.0, N)), _f32(rng.uniform(0.0, 1.0, N))
-    r[:4], strength[:6] = (0.0, 1.0, 0.0, 0.5), (0.0, 1.0, 1.0, 0.0, 1.0, 0.0)
-    params = np.zeros((N, COLUMNS.double_sided + 1))
-    params[:, COLUMNS.anisotropy_strength] = strength
-    codes = np.zeros((1, 5), dtype=np.int64)
-    alpha_t = np.array([gltf.setup(codes, 0, params, q, COLUMNS, float(r[q]), 0.0, 0.0, 0.0, 0.0).alpha_x
-                        for q in range(N)])
-    add(Case("anisotropicAlphaT", ("pbrkit_anisotropicAlphaT",),
-             "pbrkit_anisotropicAlphaT(pbrkit_alphaFromRoughness(a.x), a.y)", [_vec4s(r, strength)],
-             alpha_t[:, None], atol=1e-7))
-
-    # D and V at directions in the frame: n.x from tests/test_shaders.py's cosines (many near 1 and 0), the
-    # azimuth uniform; alpha_b from 1e-3 to 1, alpha_t = mix(alpha_b, 1, s^2)
-    def local(lo):
-        c = _cosines(rng, lo)[rng.permutation(N)]
-        phi = rng.uniform(0.0, 2.0 * np.pi, N)
-        s = np.sqrt(np.maximum(1.0 - c * c, 0.0))
-        return c, _f32(s * np.cos(phi)), _f32(s * np.sin(phi))
-
-    alpha_b = _alphas(rng)
-    alpha_t = _f32(alpha_b + (1.0 - alpha_b) * rng.uniform(0.0, 1.0, N) ** 2)
-    noh, toh, boh = local(-0.2)
-    add(Case("dGGXAnisotropic", ("pbrkit_dGGXAnisotropic",), "pbrkit_dGGXAnisotropic(a.x, a.y, a.z, b.x, b.y)",
-             [_vec4s(noh, toh, boh), _vec4s(alpha_t, alpha_b)],
-             distributions.d_ggx_anisotropic(noh, toh, boh, alpha_t, alpha_b)[:, None]))
-    (nol, tol, bol), (nov, tov, bov) = local(-0.2), local(-0.2)
-    bxdf = gltf.setup(codes, 0, params, 1, COLUMNS, 0.5, 0.0, 0.0, 0.0, 0.0)  # an anisotropic BxDF (strength 1)
-    assert bxdf.anisotropic
-    expected = np.array([_v_khr.py_func(bxdf._replace(alpha_x=float(alpha_t[q]), alpha_y=float(alpha_b[q])),
-                                        FrameCosines(*map(float, (nol[q], nov[q], 0.0, 0.0, tol[q], bol[q], tov[q],
-                                                                  bov[q], 0.0, 0.0)))) for q in range(N)])
-    add(Case("vGGXAnisotropic", ("pbrkit_vGGXAnisotropic",), "pbrkit_vGGXAnisotropic(a.x, a.y, a.z, b.x, b.y, b.z, "
-             "c.x, c.y)", [_vec4s(nol, tol, bol), _vec4s(nov, tov, bov), _vec4s(alpha_t, alpha_b)],
-             expected[:, None], atol=1e-30))
-
-    # the specular lobe and the whole material at tests/test_shaders.py's directions (the near-mirror half at
-    # r >= 0.3, as BRDF_glTF's case)
-    l, v, n = _directions(rng)
-    mirror = np.arange(N) >= N // 2
-    tangent, rotation = _tangents(rng, n), _rotations(rng)
-    rough = _f32(rng.uniform(np.where(mirror, 0.3, 0.03), 1.0))
-    strength = _f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(0.01, 1.0, N)))
-    # the lobe: metals (f0 = base colour, f90 1) and, on odd rows, black dielectrics with KHR_materials_specular
-    # (f0 = min(f0(ior) specularColor, 1) specular, f90 = specular): no diffuse either way
-    odd = np.arange(N) % 2 == 1
-    f0 = _f32(rng.uniform(0, 1, (N, 3)))
-    specular, specular_color = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 2, (N, 3)))
-    ior = _f32(rng.uniform(1.0, 3.0, N))
-    dielectric_f0 = _f32(np.minimum(f0_from_ior(ior)[:, None] * specular_color, 1.0) * specular[:, None])
-    f0 = np.where(odd[:, None], dielectric_f0, f0)
-    f90 = np.where(odd, specular, 1.0)
-    material = _anisotropy_material(np.where(odd[:, None], 0.0, f0), np.where(odd, 0.0, 1.0), rough, strength,
-                                    rotation, tangent, specular=np.where(odd, specular, 1.0),
-                                    specular_color=np.where(odd[:, None], specular_color, 1.0),
-                                    ior=np.where(odd, ior, 1.5))
-    expected = models.evaluate("gltf", l, v, n, material, t=tangent[:, :3])
-    # (1e-6: float32 unit vectors are unit to ~1e-7, where the README's form of V and pbrkit's differ)
-    metal = ~odd
-    with np.errstate(invalid="ignore"):  # its h at l = -v (row 1)
-        readme = ref.gltf_anisotropy_brdf(l[metal], v[metal], n[metal], tangent[metal, :3],
-                                          np.where(tangent[metal, 3] < 0.0, -1.0, 1.0), f0[metal], 1.0, rough[metal],
-                                          strength[metal], rotation[metal])
-    assert np.allclose(expected[metal], readme, rtol=1e-6, atol=1e-9)
-    add(Case("anisotropicSpecular", ("pbrkit_anisotropicSpecular",),
-             "pbrkit_anisotropicSpecular(a.xyz, b.xyz, pbrkit_anisotropicFrame(c.xyz, d, f.xy), e.xyz, e.w, b.w, c.w)",
-             [_vec4s(l), _vec4s(v, rough), _vec4s(n, strength), tangent, _vec4s(f0, f90), _vec4s(_direction(rotation))],
-             expected,
-             rtol=1e-4, atol=1e-6))
-
-    base = _f32(rng.uniform(0, 1, (N, 3)))
-    metallic = _f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
-    strength = _f32(np.where(rng.uniform(size=N) < 0.15, 0.0, strength))  # 0: the core model (BRDF_glTF)
-    material = _anisotropy_material(base, metallic, rough, strength, rotation, tangent)
-    expected = models.evaluate("gltf", l, v, n, material, t=tangent[:, :3])
-    on = strength > 0.0
-    with np.errstate(invalid="ignore"):
-        readme = ref.gltf_anisotropy_brdf(l[on], v[on], n[on], tangent[on, :3],
-                                          np.where(tangent[on, 3] < 0.0, -1.0, 1.0), base[on], metallic[on], rough[on],
-                                          strength[on], rotation[on])
-    assert np.allclose(expected[on], readme, rtol=1e-6, atol=1e-9)
-    add(Case("BRDF_glTFAnisotropic", ("BRDF_glTFAnisotropic",),
-             "BRDF_glTFAnisotropic(a.xyz, b.xyz, c.xyz, d, e.xyz, e.w, b.w, c.w, f.xy)",
-             [_vec4s(l), _vec4s(v, rough), _vec4s(n, strength), tangent, _vec4s(base, metallic),
-              _vec4s(_direction(rotation))],
-             expected, rtol=1e-4, atol=1e-6))
-
-    # the lookup direction: v above n, anisotropicB of a turned frame, strength and r in [0, 1] with their ends
-    n = _unit(rng)
-    v = _unit(rng)
-    v = _f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
-    tangent, rotation = _tangents(rng, n), _rotations(rng)
-    _, b = _frames(n, tangent, rotation)
-    b = _f32(b)
-    strength, r = _f32(rng.uniform(0.0, 1.0, N)), _f32(rng.uniform(0.0, 1.0, N))
-    strength[:8], r[:8] = (0.0, 1.0, 1.0, 0.0, 1.0, 0.5, 1.0, 0.0), (0.0, 0.0, 1.0, 1.0, 0.5, 0.0, 0.0, 0.5)
-    expected = np.array([khr_anisotropic_reflection(*n[q], *v[q], tuple(b[q]), float(strength[q]),
-                                                    float(r[q])) for q in range(N)])
-    add(Case("anisotropicReflection", ("pbrkit_anisotropicReflection",),
-             "pbrkit_anisotropicReflection(a.xyz, b.xyz, c.xyz, a.w, b.w)",
-             [_vec4s(n, strength), _vec4s(v, r), _vec4s(b)], expected, rtol=0.0, atol=2e-6))
-    return cases
-
-
 @pytest.fixture(scope="module")
 def webgl_material_results(tmp_path_factory):
     from pbrkit.albedo.tables import lookup_table
@@ -662,8 +544,8 @@ def webgl_material_results(tmp_path_factory):
     m = _materials(rng)
     bx = _bxdfs(m)
     cases = (_setup_cases(rng, m, bx) + [_brdf_case(rng)] + _ibl_cases(rng, m, bx, dfg) + _renderer_cases(rng, m, dfg)
-             + _sample_viewer_cases(rng, m) + _transmission_cases(rng) + _anisotropy_cases(rng)
-             + _dispersion_cases(rng))
+             + _sample_viewer_cases(rng, m) + _transmission_cases(rng) + anisotropy_cases(rng)
+             + _dispersion_cases(rng) + clearcoat_normal_cases(rng) + [_coat_normal_brdf_case(rng)])
     rg = np.stack([table, np.zeros_like(table)], axis=-1)  # the page uploads RG32F; E in .r
     spec = {"files": [f"shaders/{name}" for name in shaders.GLSL_FILES], "width": WIDTH,
             "lut": {"width": table.shape[1], "height": table.shape[0], "data": rg.reshape(-1).tolist()},
@@ -679,7 +561,8 @@ def test_material_functions_are_listed():
     names = {f["name"]: f["file"] for f in shaders.functions()}
     assert FILE in shaders.GLSL_FILES
     assert shaders.GLSL_FILES.index(FILE) > shaders.GLSL_FILES.index("pbrkit_khr.glsl")
-    for name in ("BRDF_glTFExtended", "pbrkit_clearcoatBRDF", "pbrkit_dielectricF0", "pbrkit_glTFExtendedIBL",
+    for name in ("BRDF_glTFExtended", "BRDF_glTFExtendedCoatNormal", "pbrkit_clearcoatNormal", "pbrkit_clearcoatBRDF",
+                 "pbrkit_dielectricF0", "pbrkit_glTFExtendedIBL",
                  "pbrkit_sampleViewerExtensionsIBL", "pbrkit_anisotropicFrame", "BRDF_glTFAnisotropic",
                  "pbrkit_anisotropicReflection", "pbrkit_dispersionIors", "pbrkit_dispersionLookup"):
         assert names[name] == FILE, name

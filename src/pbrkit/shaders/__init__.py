@@ -39,9 +39,12 @@ group:
 - ``pbrkit_khr_material.glsl``: the extended glTF material of
   :mod:`pbrkit.brdf.shading.gltf` (``KHR_materials_ior`` and ``_specular``: the
   dielectric's F0 and F90 and the diffuse's weight; ``KHR_materials_clearcoat``:
-  the coat lobe ``pbrkit_clearcoatBRDF`` and its Fresnel layering; the whole BRDF
-  ``BRDF_glTFExtended`` with the sheen, its factors in a ``pbrkit_KHRMaterial``)
-  and the extensions' real-time IBL: pbrkit's own (split sum with F90, the
+  the coat lobe ``pbrkit_clearcoatBRDF``, its Fresnel layering and its own normal
+  from a clearcoatNormalTexture, ``pbrkit_clearcoatNormal``; the whole BRDF
+  ``BRDF_glTFExtended`` with the sheen, its factors in a ``pbrkit_KHRMaterial``,
+  and ``BRDF_glTFExtendedCoatNormal`` with the coat about its own normal)
+  and the extensions' real-time IBL, the coat's Fresnel at the view's cosine to
+  the coat's normal: pbrkit's own (split sum with F90, the
   diffuse's F* weight, the coat's roughness, the sheen and coat terms and the
   base's scale, ``pbrkit_glTFExtendedIBL``) and the Khronos Sample Viewer's
   (:mod:`pbrkit.render.khronos_ibl`), with ``KHR_materials_transmission`` /

@@ -3,9 +3,9 @@
 //
 // /data/cases.json: {files: [...], width: W, cases: [{name, expr, count, inputs:
 // [in0, in1, ...]}], lut: {width, height, data}, cube: {size, levels: [faces...]},
-// sh: [27 floats]}.  Case k's inputs are up to eight arrays of 4 * count floats,
-// uploaded as RGBA32F textures u_in0..u_in7 (W texels wide, sample i at texel
-// (i % W, i / W)); its fragment shader reads them as vec4 a, b, ..., h and writes
+// sh: [27 floats]}.  Case k's inputs are up to twelve arrays of 4 * count floats,
+// uploaded as RGBA32F textures u_in0..u_in11 (W texels wide, sample i at texel
+// (i % W, i / W)); its fragment shader reads them as vec4 a, b, ..., l and writes
 // expr (a float or vector, padded to a vec4) into an RGBA32F framebuffer, read back with readPixels.
 const fail = (message) => { window.__pbrkitError = String(message); };
 
@@ -34,7 +34,9 @@ function program(gl, vertex, fragmentSource, name) {
   return p;
 }
 
-const INPUTS = 8;  // texture units 0..7; the table on 8, the cube on 9
+const INPUTS = 12;  // texture units 0..7 and 10..13; the table on 8, the cube on 9
+const NAMES = "abcdefghijkl";
+const inputUnit = (k) => (k < 8 ? k : k + 2);
 const SCRATCH_UNIT = 15;  // textures are created on this unit, so that creating one unbinds nothing in use
 
 function floatTexture(gl, width, height, data, filter, format = gl.RGBA32F) {
@@ -112,7 +114,7 @@ vec4 pad4(vec3 x) { return vec4(x, 0.0); }
 vec4 pad4(vec4 x) { return x; }
 void main() {
   ivec2 q = ivec2(gl_FragCoord.xy);
-${[..."abcdefgh"].map((v, k) => `  vec4 ${v} = texelFetch(u_in${k}, q, 0);`).join("\n")}
+${[...NAMES].map((v, k) => `  vec4 ${v} = texelFetch(u_in${k}, q, 0);`).join("\n")}
   o_value = pad4(${c.expr});
 }`;
     const p = program(gl, vertex, source, c.name);
@@ -125,9 +127,9 @@ ${[..."abcdefgh"].map((v, k) => `  vec4 ${v} = texelFetch(u_in${k}, q, 0);`).joi
     }
     const target = floatTexture(gl, W, H, null, gl.NEAREST);
     for (let k = 0; k < INPUTS; k++) {
-      gl.activeTexture(gl.TEXTURE0 + k);
+      gl.activeTexture(gl.TEXTURE0 + inputUnit(k));
       gl.bindTexture(gl.TEXTURE_2D, textures[k]);
-      gl.uniform1i(gl.getUniformLocation(p, `u_in${k}`), k);
+      gl.uniform1i(gl.getUniformLocation(p, `u_in${k}`), inputUnit(k));
     }
     if (lut) {
       gl.activeTexture(gl.TEXTURE8);

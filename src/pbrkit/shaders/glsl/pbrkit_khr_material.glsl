@@ -1,6 +1,7 @@
 // pbrkit_khr_material.glsl: the extended glTF material of pbrkit (pbrkit.brdf.shading.gltf) in GLSL:
 // KHR_materials_ior and KHR_materials_specular (the dielectric's F0 and F90, the diffuse's weight),
-// KHR_materials_clearcoat (the coat lobe and its Fresnel layering), the whole BRDF with
+// KHR_materials_clearcoat (the coat lobe and its Fresnel layering, about the coat's own normal from a
+// clearcoatNormalTexture where it has one), the whole BRDF with
 // KHR_materials_sheen, and their real-time image-based lighting -- pbrkit's own
 // (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl),
 // with KHR_materials_transmission / _volume's transmitted light (pbrkit.render.transmission_ibl),
@@ -85,8 +86,9 @@ float pbrkit_clearcoatBRDF(float NoH, float NoL, float NoV, float clearcoatRough
     return D_GGX(NoH, alpha) * V_SmithGGX(NoL, NoV, alpha);
 }
 
-// pbrkit_clearcoatWeight: the coat's weight over the material, clearcoat F_Schlick(n.v; 0.04, 1) (the coat's
-//   IOR 1.5; the view's cosine to the normal, not v.h).
+// pbrkit_clearcoatWeight: the coat's weight over the material, clearcoat F_Schlick(n_c.v; 0.04, 1) (the coat's
+//   IOR 1.5; the view's cosine to the coat's normal n_c, not v.h).  NoV: |n_c.v| (F_Schlick clamps its cosine
+//   to [0, 1], the README's abs(dot(V, normal)) takes the magnitude); n.v where the coat has no normal of its own.
 // source: KHR_materials_clearcoat README, "Layering" (clearcoat * clearcoat_fresnel); Schlick 1994
 // roughness: none
 // pbrkit: pbrkit.brdf.operators.fresnel_coat
@@ -102,18 +104,32 @@ vec3 pbrkit_fresnelCoat(vec3 base, vec3 coat, float t) {
     return base * (1.0 - t) + coat * t;
 }
 
+// pbrkit_clearcoatNormal: the coat's own normal n_c from a clearcoatNormalTexture texel (RGB, as sampled),
+//   normalize(mat3(t, b, ng) ((2 texel - 1) (scale, scale, 1))); ng where that is 0.  (t, b, ng) the
+//   orthonormal tangent frame of the unmapped normal ng (the interpolated geometry normal, not the base's
+//   normal-mapped one): t the glTF TANGENT made orthogonal to ng and normalised, b = w (ng x t).  Without a
+//   clearcoatNormalTexture the coat's normal is ng itself ("no normal mapping is applied to the clear coat
+//   layer, even if normal mapping is applied to the base material").
+// source: KHR_materials_clearcoat README, "Clearcoat" (clearcoatNormalTexture, its scale); glTF 2.0 specification, "Materials" (normalTextureInfo.scale); glTF-Sample-Viewer material_info.glsl (getClearcoatNormal)
+// roughness: none
+// pbrkit: pbrkit.render.textures.tangent_space_normal
+vec3 pbrkit_clearcoatNormal(vec3 t, vec3 b, vec3 ng, vec3 texel, float scale) {
+    vec3 mapped = mat3(t, b, ng) * ((texel * 2.0 - 1.0) * vec3(scale, scale, 1.0));
+    float len = length(mapped);
+    return len > 1e-12 ? mapped / len : ng;
+}
+
 // ------------------------------------------------------------ the material
 
-// BRDF_glTFExtended: the glTF material with KHR_materials_ior, _specular, _sheen and _clearcoat, f (not f cos):
-//   material = (1 - metallic) base / pi pbrkit_specularMixWeight + D_GGX V_SmithGGX F_Schlick(v.h; F0, F90)
-//   (F0 pbrkit_f0MetallicKHR of pbrkit_dielectricF0, F90 pbrkit_f90MetallicKHR), under the sheen
-//   sheenColor D_Charlie V_Charlie + material (1 - max3(sheenColor) sheenAlbedo), under the coat
-//   pbrkit_fresnelCoat(.., pbrkit_clearcoatBRDF, clearcoat F_Schlick(n.v; 0.04, 1)); 0 unless n.l > 0 and n.v > 0.
-//   sheenAlbedo: E_sheen at (n.v, sheenRoughness) (any value without sheen).
-// source: glTF 2.0 specification, Appendix B; KHR_materials_specular, KHR_materials_ior, KHR_materials_sheen and KHR_materials_clearcoat READMEs
+// BRDF_glTFExtendedCoatNormal: BRDF_glTFExtended with the coat's own normal coatNormal = n_c (unit; from
+//   pbrkit_clearcoatNormal, or the unmapped normal under a base normal map): the base and the sheen about the
+//   shading normal n, the coat lobe pbrkit_clearcoatBRDF at n_c.h, n_c.l, n_c.v (0 unless n_c.l > 0 and
+//   n_c.v > 0) and its weight clearcoat F_Schlick(|n_c.v|; 0.04, 1) over the base (pbrkit_clearcoatWeight);
+//   0 unless n.l > 0 and n.v > 0.  coatNormal = n: BRDF_glTFExtended.
+// source: KHR_materials_clearcoat README, "Clearcoat" (clearcoatNormal) and "Layering" (fresnel_coat(clearcoatNormal, ...)); glTF 2.0 specification, Appendix B
 // roughness: alpha = max(r^2, 1e-3) for the base, max(clearcoatRoughness^2, 1e-3) for the coat, sheenRoughness^2 for the sheen
-// pbrkit: pbrkit.brdf.models.gltf, pbrkit.brdf.shading.gltf.EXTENDED_COMPOSITION
-vec3 BRDF_glTFExtended(vec3 l, vec3 v, vec3 n, pbrkit_KHRMaterial m, float sheenAlbedo) {
+// pbrkit: pbrkit.brdf.models.evaluate, pbrkit.brdf.lobes.clearcoat.clearcoat_value, pbrkit.brdf.lobes.clearcoat.coat_cosines, pbrkit.brdf.lobes.clearcoat.coat_nov
+vec3 BRDF_glTFExtendedCoatNormal(vec3 l, vec3 v, vec3 n, vec3 coatNormal, pbrkit_KHRMaterial m, float sheenAlbedo) {
     pbrkit_Cosines c = pbrkit_cosines(l, v, n);
     if (c.NoL <= 0.0 || c.NoV <= 0.0) return vec3(0.0);
     float alpha = pbrkit_alphaFromRoughness(m.roughness);
@@ -125,8 +141,24 @@ vec3 BRDF_glTFExtended(vec3 l, vec3 v, vec3 n, pbrkit_KHRMaterial m, float sheen
     vec3 material = m.baseColor * (1.0 - m.metallic) * diffuseWeight + specular;
     vec3 sheen = pbrkit_sheenBRDF(m.sheenColor, m.sheenRoughness, c.NoH, c.NoL, c.NoV);
     material = sheen + material * pbrkit_sheenAlbedoScaling(m.sheenColor, sheenAlbedo);
-    float coat = m.clearcoat > 0.0 ? pbrkit_clearcoatBRDF(c.NoH, c.NoL, c.NoV, m.clearcoatRoughness) : 0.0;
-    return pbrkit_fresnelCoat(material, vec3(coat), pbrkit_clearcoatWeight(m.clearcoat, c.NoV));
+    pbrkit_Cosines cc = pbrkit_cosines(l, v, coatNormal);  // n_c.l, n_c.v, n_c.h (v.h as c's)
+    bool coated = m.clearcoat > 0.0 && cc.NoL > 0.0 && cc.NoV > 0.0;
+    float coat = coated ? pbrkit_clearcoatBRDF(cc.NoH, cc.NoL, cc.NoV, m.clearcoatRoughness) : 0.0;
+    return pbrkit_fresnelCoat(material, vec3(coat), pbrkit_clearcoatWeight(m.clearcoat, abs(cc.NoV)));
+}
+
+// BRDF_glTFExtended: the glTF material with KHR_materials_ior, _specular, _sheen and _clearcoat, f (not f cos):
+//   material = (1 - metallic) base / pi pbrkit_specularMixWeight + D_GGX V_SmithGGX F_Schlick(v.h; F0, F90)
+//   (F0 pbrkit_f0MetallicKHR of pbrkit_dielectricF0, F90 pbrkit_f90MetallicKHR), under the sheen
+//   sheenColor D_Charlie V_Charlie + material (1 - max3(sheenColor) sheenAlbedo), under the coat
+//   pbrkit_fresnelCoat(.., pbrkit_clearcoatBRDF, clearcoat F_Schlick(n.v; 0.04, 1)); 0 unless n.l > 0 and n.v > 0.
+//   sheenAlbedo: E_sheen at (n.v, sheenRoughness) (any value without sheen).  The coat about the shading
+//   normal n: BRDF_glTFExtendedCoatNormal(l, v, n, n, m, sheenAlbedo).
+// source: glTF 2.0 specification, Appendix B; KHR_materials_specular, KHR_materials_ior, KHR_materials_sheen and KHR_materials_clearcoat READMEs
+// roughness: alpha = max(r^2, 1e-3) for the base, max(clearcoatRoughness^2, 1e-3) for the coat, sheenRoughness^2 for the sheen
+// pbrkit: pbrkit.brdf.models.gltf, pbrkit.brdf.shading.gltf.EXTENDED_COMPOSITION
+vec3 BRDF_glTFExtended(vec3 l, vec3 v, vec3 n, pbrkit_KHRMaterial m, float sheenAlbedo) {
+    return BRDF_glTFExtendedCoatNormal(l, v, n, n, m, sheenAlbedo);
 }
 
 // ------------------------------------------------------------ image-based lighting, pbrkit's
@@ -160,27 +192,31 @@ float pbrkit_clearcoatRoughnessIBL(float clearcoat, float clearcoatRoughness) {
     return clearcoat > 0.0 ? sqrt(pbrkit_alphaFromRoughness(clearcoatRoughness)) : -1.0;
 }
 
-// pbrkit_extensionsIBLBaseScale: the factor on the base's IBL (specular and diffuse): (1 - clearcoat F_Schlick(n.v;
-//   0.04, 1)) times, with a sheen (any sheenColor channel > 0), 1 - max3(sheenColor) sheenAlbedo.
-// source: KHR_materials_clearcoat README, "Layering"; KHR_materials_sheen README, "Albedo-scaling technique"
+// pbrkit_extensionsIBLBaseScale: the factor on the base's IBL (specular and diffuse): (1 - clearcoat
+//   F_Schlick(n_c.v; 0.04, 1)) times, with a sheen (any sheenColor channel > 0), 1 - max3(sheenColor) sheenAlbedo.
+//   coatNoV: n_c.v, the view's cosine to the coat's normal (n.v where the coat has none of its own; the
+//   renderer floors it at 1e-4); sheenAlbedo: E_sheen at the shading normal's (n.v, sheenRoughness).
+// source: KHR_materials_clearcoat README, "Layering" (fresnel_coat(clearcoatNormal, ...)); KHR_materials_sheen README, "Albedo-scaling technique"
 // roughness: none (sheenAlbedo took the sheen roughness)
 // pbrkit: pbrkit.brdf.shading.gltf.ibl_extensions_base_scale
-float pbrkit_extensionsIBLBaseScale(float NoV, float clearcoat, vec3 sheenColor, float sheenAlbedo) {
-    float scale = 1.0 - pbrkit_clearcoatWeight(clearcoat, NoV);
+float pbrkit_extensionsIBLBaseScale(float coatNoV, float clearcoat, vec3 sheenColor, float sheenAlbedo) {
+    float scale = 1.0 - pbrkit_clearcoatWeight(clearcoat, coatNoV);
     bool sheen = any(greaterThan(sheenColor, vec3(0.0)));
     return sheen ? scale * pbrkit_sheenAlbedoScaling(sheenColor, sheenAlbedo) : scale;
 }
 
 // pbrkit_extensionsIBL: the sheen's and the coat's IBL radiance, added to the base's scaled by
 //   pbrkit_extensionsIBLBaseScale: sheenColor sheenAlbedo (1 - t) sheenPrefiltered + t coatDFG2 coatPrefiltered,
-//   t = clearcoat F_Schlick(n.v; 0.04, 1), coatDFG2 the DFG table's second channel (the white lobe's albedo) at
-//   (n.v, pbrkit_clearcoatRoughnessIBL), the prefiltered radiances at the sheen's and the coat's roughness.
+//   t = clearcoat F_Schlick(n_c.v; 0.04, 1), coatDFG2 the DFG table's second channel (the white lobe's albedo) at
+//   (n_c.v, pbrkit_clearcoatRoughnessIBL), the prefiltered radiances at the sheen's and the coat's roughness (the
+//   coat's looked up along reflect(-v, n_c)).  coatNoV: n_c.v, the view's cosine to the coat's normal (n.v where
+//   the coat has none of its own); sheenAlbedo: E_sheen at the shading normal's (n.v, sheenRoughness).
 // source: glTF-Sample-Viewer ibl.glsl (getIBLRadianceCharlie, getIBLRadianceGGX); KHR_materials_clearcoat and KHR_materials_sheen READMEs; Karis 2013 split sum
 // roughness: none (the lookups took the sheen's and the coat's roughness)
 // pbrkit: pbrkit.brdf.shading.gltf.ibl_extensions_extras
-vec3 pbrkit_extensionsIBL(float NoV, float clearcoat, float coatDFG2, vec3 coatPrefiltered, vec3 sheenColor,
+vec3 pbrkit_extensionsIBL(float coatNoV, float clearcoat, float coatDFG2, vec3 coatPrefiltered, vec3 sheenColor,
                           float sheenAlbedo, vec3 sheenPrefiltered) {
-    float t = pbrkit_clearcoatWeight(clearcoat, NoV);
+    float t = pbrkit_clearcoatWeight(clearcoat, coatNoV);
     bool sheen = any(greaterThan(sheenColor, vec3(0.0)));
     float e = sheen ? sheenAlbedo * (1.0 - t) : 0.0;
     return sheenColor * e * sheenPrefiltered + (t * coatDFG2) * coatPrefiltered;
@@ -189,19 +225,21 @@ vec3 pbrkit_extensionsIBL(float NoV, float clearcoat, float coatDFG2, vec3 coatP
 // pbrkit_glTFExtendedIBL: the material's split-sum IBL as pbrkit renders it (render_realtime, engine "pbrkit",
 //   without energy compensation): (prefiltered pbrkit_specularAlbedoDFGF90(dfg, F0, F90) + (1 - metallic) base
 //   pbrkit_specularDiffuseWeightIBL E / pi) pbrkit_extensionsIBLBaseScale + pbrkit_extensionsIBL; dfg at (n.v, r),
-//   coatDFG at (n.v, pbrkit_clearcoatRoughnessIBL), irradiance E (not E / pi).
+//   coatDFG at (n_c.v, pbrkit_clearcoatRoughnessIBL), irradiance E (not E / pi); coatNoV = n_c.v, the view's
+//   cosine to the coat's normal (NoV where the coat has none of its own; the renderer floors both at 1e-4).
 // source: Karis 2013, split sum; glTF 2.0 Appendix B; KHR_materials_specular, KHR_materials_clearcoat and KHR_materials_sheen READMEs
 // roughness: none (the lookups took r, the coat's and the sheen's roughness)
 // pbrkit: pbrkit.render.realtime.render_realtime, pbrkit.brdf.shading.gltf.ibl_extensions_extras
-vec3 pbrkit_glTFExtendedIBL(float NoV, pbrkit_KHRMaterial m, vec2 dfg, vec3 prefiltered, vec3 irradiance,
-                            vec2 coatDFG, vec3 coatPrefiltered, float sheenAlbedo, vec3 sheenPrefiltered) {
+vec3 pbrkit_glTFExtendedIBL(float NoV, float coatNoV, pbrkit_KHRMaterial m, vec2 dfg, vec3 prefiltered,
+                            vec3 irradiance, vec2 coatDFG, vec3 coatPrefiltered, float sheenAlbedo,
+                            vec3 sheenPrefiltered) {
     vec3 dielectricF0 = pbrkit_dielectricF0(m.ior, m.specularColor, m.specular);
     vec3 f0 = pbrkit_f0MetallicKHR(m.baseColor, m.metallic, dielectricF0);
     vec3 specular = prefiltered * pbrkit_specularAlbedoDFGF90(dfg, f0, pbrkit_f90MetallicKHR(m.specular, m.metallic));
     float weight = pbrkit_specularDiffuseWeightIBL(NoV, m.roughness, dielectricF0, m.specular) * PBRKIT_INV_PI;
     vec3 diffuse = m.baseColor * (1.0 - m.metallic) * weight * irradiance;
-    return (specular + diffuse) * pbrkit_extensionsIBLBaseScale(NoV, m.clearcoat, m.sheenColor, sheenAlbedo)
-        + pbrkit_extensionsIBL(NoV, m.clearcoat, coatDFG.y, coatPrefiltered, m.sheenColor, sheenAlbedo,
+    return (specular + diffuse) * pbrkit_extensionsIBLBaseScale(coatNoV, m.clearcoat, m.sheenColor, sheenAlbedo)
+        + pbrkit_extensionsIBL(coatNoV, m.clearcoat, coatDFG.y, coatPrefiltered, m.sheenColor, sheenAlbedo,
                                sheenPrefiltered);
 }
 
@@ -236,13 +274,16 @@ vec3 pbrkit_sampleViewerBase(float NoV, float roughness, vec3 baseColor, float m
 // pbrkit_sampleViewerExtensionsIBL: the Sample Viewer's IBL of the material with its extensions:
 //   pbrkit_sampleViewerBase with F0 = min(f0(ior) specularColor, 1) and weight = specular; with a sheen,
 //   sheenColor charlieLUT sheenRadiance + color (1 - max3(sheenColor) sheenAlbedo); then mix(color, coatRadiance,
-//   clearcoat F_Schlick(n.v; f0(ior), 1)) (the coat's F0 of the material's ior, its radiance without an albedo).
-//   charlieLUT: the Charlie LUT (pbrkit lut --cloth, .b) at (n.v, sheenRoughness).
+//   clearcoat F_Schlick(n_c.v; f0(ior), 1)) (the coat's F0 of the material's ior, its radiance without an albedo,
+//   looked up about the coat's normal n_c).  coatNoV = n_c.v, the viewer's clampedDot(clearcoatNormal, v) (NoV
+//   where the coat has no normal of its own).  charlieLUT: the Charlie LUT (pbrkit lut --cloth, .b) at (n.v,
+//   sheenRoughness).
 // source: glTF-Sample-Viewer pbr.frag, material_info.glsl and ibl.glsl; KHR_materials_specular, KHR_materials_sheen and KHR_materials_clearcoat READMEs
 // roughness: perceptual roughness r (the lookups took the coat's and the sheen's roughness)
 // pbrkit: pbrkit.render.khronos_ibl.sample_viewer_extensions_ibl
-vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, pbrkit_KHRMaterial m, vec2 ab, vec3 radiance, vec3 irradiance,
-                                      vec3 coatRadiance, vec3 sheenRadiance, float charlieLUT, float sheenAlbedo) {
+vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, float coatNoV, pbrkit_KHRMaterial m, vec2 ab, vec3 radiance,
+                                      vec3 irradiance, vec3 coatRadiance, vec3 sheenRadiance, float charlieLUT,
+                                      float sheenAlbedo) {
     float f0Ior = pbrkit_f0FromIOR(m.ior);
     vec3 f0 = min(f0Ior * m.specularColor, vec3(1.0));
     vec3 color = pbrkit_sampleViewerBase(NoV, m.roughness, m.baseColor, m.metallic, f0, m.specular, ab, radiance,
@@ -250,7 +291,7 @@ vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, pbrkit_KHRMaterial m, vec2 ab, 
     if (any(greaterThan(m.sheenColor, vec3(0.0)))) {
         color = m.sheenColor * charlieLUT * sheenRadiance + color * pbrkit_sheenAlbedoScaling(m.sheenColor, sheenAlbedo);
     }
-    float t = m.clearcoat * F_Schlick(NoV, f0Ior, 1.0);
+    float t = m.clearcoat * F_Schlick(coatNoV, f0Ior, 1.0);
     return color + (coatRadiance - color) * t;
 }
 
