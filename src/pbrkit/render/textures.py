@@ -135,7 +135,7 @@ def tangent_space_normal(texel, scale, n, tangents, has_tangent):
     tt = tangents[:, :3]
     tt = tt - np.sum(tt * n, axis=1, keepdims=True) * n
     tt = tt / np.maximum(np.linalg.norm(tt, axis=1, keepdims=True), 1e-300)
-    bb = np.cross(n, tt) * tangents[:, 3:4]
+    bb = np.cross(n, tt) * np.where(tangents[:, 3:4] < 0.0, -1.0, 1.0)  # w's sign (glTF: +-1)
     mapped = c[:, 0:1] * tt + c[:, 1:2] * bb + c[:, 2:3] * n
     length = np.linalg.norm(mapped, axis=1, keepdims=True)
     ok = has_tangent[:, None] & (length > 1e-12)
