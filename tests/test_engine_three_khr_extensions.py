@@ -8,7 +8,8 @@ headless Chromium.
 three r187's GLTFLoader supports the six extensions of the assets (clearcoat, ior,
 specular, sheen, iridescence, anisotropy) and makes a MeshPhysicalMaterial of every
 material (:func:`test_gltfloader_makes_physical_materials`; ior 0, the README's F0 = 1,
-becomes 1000: F0 0.996).  ``pages/three_gltf_render.html`` renders the seven files in one
+becomes 1000: F0 0.996; clearcoatNormalTexture and normalTexture become clearcoatNormalMap
+and normalMap with their scales).  ``pages/three_gltf_render.html`` renders the eight files in one
 page as ``pages/three_render.html`` renders the core grid of ``test_engine_render_three.py``:
 ``scene.environment = loadPbrkitCubeKTX2(three/specular.ktx2)`` of ``pbrkit bake --size 128
 --min-size 8 --target khronos --target three`` of the bundled environment,
@@ -34,6 +35,7 @@ sheen            2.19 / 6.3 / 2.32 / 2.94      3.5 / 10 / 3.5 / 4.5
 coated_emission  0.35 / 1.3 / 0.53 / 0.37      0.6 / 2.5 / 1.0 / 0.7
 iridescence      1.19 / 3.7 / 1.40 / 1.89      2 / 6 / 2.4 / 3
 anisotropy       4.59 / 13.7 / 4.98 / 11.54    7 / 22 / 8 / 17
+clearcoat_normal 2.59 / 11.0 / 3.75 / 6.80     4 / 17 / 6 / 10
 ===============  ============================  ====================
 
 How they come about.  :func:`three_model` re-implements three's shader for these materials
@@ -71,7 +73,17 @@ that one term three's (:data:`ATTRIBUTION` asserts the large ones):
 - ``sheen``: three's E / pi x sheenColor x ``IBLSheenBRDF`` (a fit of the Charlie sheen's
   directional albedo) and the base scaled by 1 - max3(sheenColor) x that fit, against the
   viewer's sheenColor x the Charlie LUT x the Charlie-prefiltered radiance about R and
-  the scaling by the table's E(n.v, sheenRoughness).
+  the scaling by the table's E(n.v, sheenRoughness);
+- ``coat_frame``: the tangent frame of a clearcoatNormalMap on a material without a
+  normalMap (:func:`mapped_normals`).  three r187 reads the TANGENT attribute only for a
+  normalMap or anisotropy (WebGLPrograms: ``vertexTangents: !! geometry.attributes.tangent
+  && ( HAS_NORMALMAP || HAS_ANISOTROPY )``); otherwise ``tbn2 = getTangentFrame(
+  - vViewPosition, normal, vClearcoatNormalMapUv )``, the screen-space cotangent frame
+  (grad u, grad v) / max(|grad u|, |grad v|), whose y runs along +v, down the image.
+  GLTFLoader flips clearcoatNormalScale.y for that frame only when the mesh has no TANGENT
+  (``useDerivativeTangents``), and these spheres have one: the coat's bumps are mirrored in
+  y, and on the spheres (u over 2 pi, v over pi) x is scaled by 1 / (2 sin theta) against y
+  (half at the equator).  The glTF frame (the TANGENT's; the Sample Viewer's) against it.
 
 Sphere by sphere (mean |grey|, three.js against ``--engine khronos``; the grids' rows as in
 ``test_engine_khr_extensions``; "three +" where three is brighter):
@@ -129,8 +141,23 @@ Sphere by sphere (mean |grey|, three.js against ``--engine khronos``; the grids'
   lit by E / pi), dfg 1.1; it grows down the column as R turns with the view from row to row
   while n does not (the bend vanishes at r = 1 in both).
 
+* clearcoat_normal (rows coat roughness 0, 0.3 x clearcoatNormalTexture scale 0, 0.5, 1;
+  the base's normalTexture under a smooth coat, under a coat with the texture too, without
+  a coat): 0.79 3.42 6.80 | 1.02 2.71 5.19 | 1.26 0.87 1.23.  The coat-mapped spheres are
+  ``coat_frame`` (3.3, 6.6, 2.5, 5.0 levels of the model): three's coat bumps mirrored
+  and, at the equator, half as steep across; the other spheres (scale 0, and the bottom
+  row, where the normalMap makes three read the TANGENT for both maps, ``tbn2`` the
+  vertex frame) are the red base's and coat's differences of the clearcoat asset
+  (roughness 0.5 .. 0.7, fresnel 0.3 .. 0.8 on the base-mapped spheres).  The model
+  reproduces three to 0.13 (every sphere within 0.22) with three's frame, and with every
+  term the viewer's it meets ``--engine khronos`` to 0.04 .. 0.31 per sphere: an
+  independent check of ``--engine khronos``'s coat normal.
+
 ``--engine three`` against three.js: 0.01 .. 0.18 on the spheres whose factors are
-neutral (no coat, specular 1 white, ior 1.5, no film), 0.65 on the whole anisotropy asset
+neutral (no coat, specular 1 white, ior 1.5, no film; the normal-mapped red base without a
+coat 0.12, 1.01 while ``--engine three`` took three's ``geometryRoughness`` from the mapped
+normal's screen-space change where three takes the unmapped ``nonPerturbedNormal``'s, now
+:attr:`pbrkit.render.geometry.Surface.n_unmapped`), 0.65 on the whole anisotropy asset
 (p95 2.3; 1.9 .. 2.0 on the roughness-1 metals, three's DFG table it does not reproduce;
 1.4 on the half-bent mirror); it does not model the extensions' other terms (clearcoat 4.3,
 specular 10.0, ior 25.8, sheen 13.4, coated emission 1.07, iridescence 3.7 levels):
@@ -150,11 +177,14 @@ from engine_pages import needs_engines, run_page
 from test_engine_khr_extensions import (
     ASSETS,
     INTENSITY,
+    TANGENT_ASSETS,
+    TEXTURE_ASSETS,
     asset_camera,
     asset_hits,
     asset_index,
     asset_size,
     asset_spheres,
+    bumpiness,
     pbrkit_render,
     per_sphere,
     write_asset_scene,
@@ -166,8 +196,8 @@ from test_engine_render_three import _cli, _encode, agreement, bilinear, sphere_
 #: the opaque scene, with its own blur; not compared yet).
 ASSETS = {name: asset for name, asset in ASSETS.items() if name != "transmission"}
 
-# one CLI bake, one Chromium page (seven files), fourteen pbrkit renders and the numpy
-# model of three's shader: about 20 s on 2 cores (warm Numba cache)
+# one CLI bake, one Chromium page (eight files), sixteen pbrkit renders and the numpy
+# model of three's shader: about 25 s on 2 cores (warm Numba cache)
 pytestmark = [needs_engines(), pytest.mark.slow]
 
 BAKE_OPTIONS = ["--size", "128", "--min-size", "8", "--target", "khronos", "--target", "three"]
@@ -207,7 +237,7 @@ def three_images(root, names, bake_name="bake"):
 
 #: The terms of three's shader that :func:`three_model` can swap for the Sample Viewer's, in
 #: the order of the module docstring's table.
-TERMS = ("roughness", "lookup", "irradiance", "dfg", "fresnel", "coat_f0", "coat", "sheen")
+TERMS = ("roughness", "lookup", "irradiance", "dfg", "fresnel", "coat_f0", "coat", "sheen", "coat_frame")
 _MIRROR = np.array([-1.0, 1.0, 1.0])  # the three chain is stored x mirrored (pbrkit-three.js)
 
 
@@ -263,6 +293,58 @@ def _viewer_fresnel(nov, r, f0, weight, a, b):
     return single + e_ms * single * f_avg / (1.0 - f_avg * e_ms)
 
 
+def mapped_normals(name, n, which, gltf_frame=True):
+    """(the base's normal, the coat's normal) at analytic sphere normals ``n`` of spheres
+    ``which`` (indices into :func:`asset_spheres`): ``n`` itself for the assets without
+    textures; on the :data:`TEXTURE_ASSETS` the normalTexture and the clearcoatNormalTexture
+    (texture 0, bilinear and REPEAT, :class:`pbrkit.render.textures.Texture`) at the spheres'
+    (u, v) = (phi / 2 pi, theta / pi), each normalize(T s x + B s y + N z) of the texel's
+    (x, y, z) = 2 RGB - 1 in the frame of the spheres' TANGENT T = (cos phi, 0, -sin phi),
+    B = N x T (north) (glTF's, the Sample Viewer's, and three's where it reads the TANGENT);
+    without a clearcoatNormalTexture the coat keeps ``n``.  ``gltf_frame`` False: three's
+    frame for a clearcoatNormalMap on a material without a normalMap, where three r187 reads
+    no TANGENT (WebGLPrograms' ``vertexTangents`` needs a normalMap or anisotropy) but
+    ``getTangentFrame``'s screen-space cotangent frame, (grad u, grad v) scaled by
+    1 / max(|grad u|, |grad v|): on these spheres grad u = T / (2 pi r sin theta) and grad v
+    = -B / (pi r), while GLTFLoader, seeing the TANGENT, left clearcoatNormalScale's y
+    unflipped: x along T times a / max(a, 1), y along -B times 1 / max(a, 1), a = 1 /
+    (2 sin theta)."""
+    from pbrkit.render.textures import Texture
+
+    if name not in TEXTURE_ASSETS:
+        return n, n
+    mats = [s["material"] for s in asset_spheres(name)]
+    image = TEXTURE_ASSETS[name][0]
+    texels = np.concatenate([image / 255.0, np.ones(image.shape[:2] + (1,))], -1).astype(np.float32)
+    sin_theta = np.hypot(n[:, 0], n[:, 2])
+    phi = np.arctan2(n[:, 0], n[:, 2])
+    uv = np.stack([np.remainder(phi / (2 * np.pi), 1.0), np.arccos(np.clip(n[:, 1], -1.0, 1.0)) / np.pi], -1)
+    c = Texture(texels).sample(uv)[:, :3] * 2.0 - 1.0
+    t = np.stack([np.cos(phi), np.zeros_like(phi), -np.sin(phi)], -1)
+    b = np.cross(n, t)
+
+    def mapped(scale, tt, bb):
+        out = (c[:, :1] * tt + c[:, 1:2] * bb) * scale[:, None] + c[:, 2:3] * n
+        return out / np.linalg.norm(out, axis=-1, keepdims=True)
+
+    def per_hit(f):
+        return np.array([f(m) for m in mats], np.float64)[which]
+
+    base_scale = per_hit(lambda m: (m.get("normal_texture") or {}).get("scale", 1.0))
+    has_base = per_hit(lambda m: m.get("normal_texture") is not None) > 0
+    info = [m["extensions"].get("KHR_materials_clearcoat", {}).get("clearcoatNormalTexture") for m in mats]
+    coat_scale = np.array([(i or {}).get("scale", 1.0) for i in info])[which]
+    has_coat = np.array([i is not None for i in info])[which]
+    base_n = np.where(has_base[:, None], mapped(base_scale, t, b), n)
+    coat_n = np.where(has_coat[:, None], mapped(coat_scale, t, b), n)
+    if not gltf_frame:
+        a = 1.0 / (2.0 * np.maximum(sin_theta, 1e-6))
+        m = np.maximum(a, 1.0)[:, None]
+        derivative = mapped(coat_scale, t * (a[:, None] / m), -b / m)
+        coat_n = np.where((has_coat & ~has_base)[:, None], derivative, coat_n)
+    return base_n, coat_n
+
+
 def three_model(name, lookups, swap=()):
     """Linear (H, W, 3) image of the asset as three r187 shades GLTFLoader's
     MeshPhysicalMaterials from ``scene.environment`` (``lights_physical_fragment``,
@@ -310,14 +392,16 @@ def three_model(name, lookups, swap=()):
 
     base = colour(lambda m: m["base_color"])
     metal = column(lambda m: m["metallic"])[:, None]
-    nov = np.clip(np.sum(n * v, -1), 0.0, 1.0)
     rough = column(lambda m: m["roughness"])
     coat = column(lambda m: _factor(m, "KHR_materials_clearcoat", "clearcoatFactor", 0.0))[:, None]
     coat_rough = column(lambda m: _factor(m, "KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0))
-    if "roughness" not in swap:
+    if "roughness" not in swap:  # geometryRoughness: the derivatives of the unmapped normal (nonPerturbedNormal)
         extra = three_roughness(camera, np.flatnonzero(hit.reshape(-1)), n, np.zeros(len(n))) - 0.045
         rough = np.minimum(np.maximum(rough, 0.045) + extra, 1.0)
         coat_rough = np.minimum(np.maximum(coat_rough, 0.045) + extra, 1.0)
+    n, coat_n = mapped_normals(name, n, which, "coat_frame" in swap)
+    nov = np.clip(np.sum(n * v, -1), 0.0, 1.0)
+    coat_nov = np.clip(np.sum(coat_n * v, -1), 0.0, 1.0)
 
     def radiance(normal, r):
         refl = 2.0 * np.sum(normal * v, -1, keepdims=True) * normal - v
@@ -327,8 +411,8 @@ def three_model(name, lookups, swap=()):
         refl /= np.linalg.norm(refl, axis=-1, keepdims=True)
         return lookups.three(refl * _MIRROR, lookups.three_top * r * (2.0 - r)) * INTENSITY
 
-    def dfg(r):
-        ab = bilinear(lookups.lut_ggx, nov, r) if "dfg" in swap else bilinear(lookups.three_dfg, r, nov)
+    def dfg(r, cos=nov):
+        ab = bilinear(lookups.lut_ggx, cos, r) if "dfg" in swap else bilinear(lookups.three_dfg, r, cos)
         return ab[:, :1], ab[:, 1:]
 
     # KHR_materials_anisotropy: the bent normal (getIBLAnisotropyRadiance; the viewer's is the same)
@@ -415,13 +499,13 @@ def three_model(name, lookups, swap=()):
 
     # KHR_materials_clearcoat (above the emission in both)
     if coat.any():
-        coat_light = radiance(n, coat_rough)
+        coat_light = radiance(coat_n, coat_rough)  # about the coat's own normal, its cosine to v below
         coat_f0 = f0_ior if "coat_f0" in swap else 0.04
-        fresnel = coat_f0 + (1.0 - coat_f0) * ((1.0 - nov) ** 5)[:, None]
+        fresnel = coat_f0 + (1.0 - coat_f0) * ((1.0 - coat_nov) ** 5)[:, None]
         if "coat" in swap:
             color = color + (coat_light - color) * coat * fresnel
         else:
-            ca, cb = dfg(coat_rough)
+            ca, cb = dfg(coat_rough, coat_nov)
             color = color * (1.0 - coat * fresnel) + coat * coat_light * (coat_f0 * ca + cb)
     image = np.zeros(index.shape + (3,))
     image[hit] = color
@@ -464,20 +548,43 @@ LOADED = {"KHR_materials_clearcoat": {"clearcoatFactor": "clearcoat", "clearcoat
           "KHR_materials_anisotropy": {"anisotropyStrength": "anisotropy", "anisotropyRotation": "anisotropyRotation"}}
 
 
+#: three's LinearFilter, RepeatWrapping and NoColorSpace: a normal texture as written (GltfTexture)
+THREE_TEXTURE = {"minFilter": 1006, "magFilter": 1006, "wrapS": 1000, "wrapT": 1000, "colorSpace": ""}
+
+
+def _check_normal_map(got, map_name, info, image):
+    """GLTFLoader's ``map_name`` (normalMap, clearcoatNormalMap) of the textureInfo ``info``:
+    the image's size, bilinear without mip maps, REPEAT, no colour space, and the scale in x
+    and y alike (unflipped: the spheres carry TANGENT)."""
+    assert {k: got[map_name][k] for k in THREE_TEXTURE} == THREE_TEXTURE, got
+    assert (got[map_name]["height"], got[map_name]["width"]) == image.shape[:2]
+    assert got[map_name.replace("Map", "Scale")] == pytest.approx([info.get("scale", 1.0)] * 2), got
+
+
 @pytest.mark.parametrize("name", list(ASSETS))
 def test_gltfloader_makes_physical_materials(renders, name):
     """three r187's GLTFLoader reads every extension of the assets into a
-    MeshPhysicalMaterial (ior 0, the README's F0 = 1, becomes 1000: F0 0.996)."""
+    MeshPhysicalMaterial (ior 0, the README's F0 = 1, becomes 1000: F0 0.996), the
+    clearcoatNormalTexture into clearcoatNormalMap and the normalTexture into normalMap
+    (:func:`_check_normal_map`), and the TANGENT of the :data:`TANGENT_ASSETS`."""
     loaded = renders[name]["materials"]
     spheres = asset_spheres(name)
     assert len(loaded) == len(spheres)
     for got, s in zip(loaded, spheres):
         assert got["type"] == "MeshPhysicalMaterial", got
+        assert got["tangents"] == (name in TANGENT_ASSETS)
         assert got["color"] == pytest.approx(list(s["material"]["base_color"]))
         for extension, values in s["material"]["extensions"].items():
             for key, value in values.items():
+                if key == "clearcoatNormalTexture":
+                    _check_normal_map(got, "clearcoatNormalMap", value, TEXTURE_ASSETS[name][value["index"]])
+                    continue
                 value = 1000.0 if (key, value) == ("ior", 0.0) else value
                 assert got[LOADED[extension][key]] == pytest.approx(value), (extension, key, got)
+        info = s["material"].get("normal_texture")
+        if info is not None:
+            _check_normal_map(got, "normalMap", info, TEXTURE_ASSETS[name][info["index"]])
+        assert ("normalMap" in got) == (info is not None), got
 
 
 @pytest.mark.parametrize("name", list(ASSETS))
@@ -497,11 +604,11 @@ def test_three_renders_the_asset(renders, name):
 MEASURED = {"clearcoat": (2.67, 11.3, 3.73, 10.35), "specular": (1.19, 6.3, 1.29, 4.33),
             "ior": (2.24, 9.3, 2.44, 7.36), "sheen": (2.19, 6.3, 2.32, 2.94),
             "coated_emission": (0.35, 1.3, 0.53, 0.37), "iridescence": (1.19, 3.7, 1.40, 1.89),
-            "anisotropy": (4.59, 13.7, 4.98, 11.54)}
+            "anisotropy": (4.59, 13.7, 4.98, 11.54), "clearcoat_normal": (2.59, 11.0, 3.75, 6.80)}
 #: The bounds asserted, about 1.5 to 2 x MEASURED
 BOUNDS = {"clearcoat": (4.5, 18, 6, 15), "specular": (2, 10, 2.2, 7), "ior": (3.5, 15, 4, 11),
           "sheen": (3.5, 10, 3.5, 4.5), "coated_emission": (0.6, 2.5, 1.0, 0.7), "iridescence": (2, 6, 2.4, 3),
-          "anisotropy": (7, 22, 8, 17)}
+          "anisotropy": (7, 22, 8, 17), "clearcoat_normal": (4, 17, 6, 10)}
 
 
 @pytest.mark.parametrize("name", list(ASSETS))
@@ -522,13 +629,14 @@ def test_three_agrees_with_pbrkit_engine_khronos(renders, name):
 #: three's MeshStandardMaterial (the extension's factors neutral: no coat, specular 1 and white,
 #: ior 1.5, no film), and every anisotropic one (the bent normal)
 MODELLED = {"clearcoat": (0, 3, 6), "specular": (2,), "ior": (1, 6), "coated_emission": (0,), "iridescence": (6,),
-           "anisotropy": tuple(range(16))}
+           "anisotropy": tuple(range(16)), "clearcoat_normal": (8,)}
 
 
 def test_three_agrees_with_pbrkit_engine_three_where_it_models_the_material(renders):
     """``--engine three`` models three's MeshStandardMaterial IBL only (and the bent
     normal of the anisotropy): on the spheres whose extension factors are neutral it
-    meets three.js within 0.4 levels (measured 0.01 .. 0.18), and on the whole
+    meets three.js within 0.4 levels (measured 0.01 .. 0.18; the normal-mapped base without
+    a coat 0.12), and on the whole
     anisotropy asset within 1.0, p95 4, every sphere within 3 (measured 0.65, p95 2.3; 1.9
     .. 2.0 on the roughness-1 metals, three's 16 x 16 DFG table, as in
     ``test_engine_render_three.py``; 1.4 on the half-bent mirror, 0.5 at most elsewhere).  The other
@@ -555,7 +663,10 @@ def test_the_extensions_change_three_s_pixels(renders):
     R - B +10.6; the film's IOR 1.8 against 1.3 (350 nm) +16 in blue, the 150 nm film
     tints the dark dielectric (B - R 7.4), the full film on gold -5.7 in blue against
     none; anisotropyStrength 1 against 0 at roughness 0.25 +9.1, anisotropyRotation pi/2
-    against 0 +32.6."""
+    against 0 +32.6; the clearcoatNormalMap's bumps in the coat's reflection
+    (:func:`test_engine_khr_extensions.bumpiness`: 0.46 0.67 1.19 at scale 0, 0.5, 1 on the
+    mirror coat, 0.19 0.37 0.70 at coat roughness 0.3; under a normalMap 1.12 without it,
+    1.83 with it)."""
     def sphere(name, i):
         return _sphere(renders[name], "engine8", i)
 
@@ -577,6 +688,10 @@ def test_the_extensions_change_three_s_pixels(renders):
     assert sphere("iridescence", 8)[2] < sphere("iridescence", 6)[2] - 3  # the film on gold vs none
     assert sphere("anisotropy", 9).mean() > sphere("anisotropy", 1).mean() + 5  # strength 1 vs 0, roughness 0.25
     assert sphere("anisotropy", 14).mean() > sphere("anisotropy", 12).mean() + 20  # rotation pi/2 vs 0
+    r = renders["clearcoat_normal"]
+    bumps = bumpiness(r["engine8"], r["index"])
+    assert bumps[2] > 2 * bumps[0] and bumps[5] > 2 * bumps[3]  # clearcoatNormalTexture scale 1 vs 0
+    assert bumps[7] > bumps[6] + 0.4  # under a normalMap, the coat's own map adds bumps
 
 
 #: Per asset, three's terms that carry its difference from ``--engine khronos``: the spheres
@@ -588,7 +703,8 @@ ATTRIBUTION = {"clearcoat": {"coat_f0": ((9, 10, 11), 3.0), "coat": ((7, 8), 0.8
                "sheen": {"sheen": (tuple(range(6)), 1.2)},
                "iridescence": {"roughness": ((6, 7, 8), 0.9), "lookup": ((6, 7, 8), 0.3)},
                "anisotropy": {"lookup": ((3, 7, 11), 4.5), "fresnel": ((3, 7, 11), 2.4),
-                              "roughness": ((0, 4, 8, 12, 13), 1.8)}}
+                              "roughness": ((0, 4, 8, 12, 13), 1.8)},
+               "clearcoat_normal": {"coat_frame": ((1, 2, 4, 5), 2.0), "roughness": (tuple(range(9)), 0.45)}}
 
 
 @pytest.mark.parametrize("name", list(ASSETS))

@@ -1,6 +1,7 @@
 """pbrkit.io.gltf_writer: material ``extensions`` with ``extensionsUsed`` /
 ``extensionsRequired`` and the optional perspective camera (glTF 2.0 sec. 3.10, 3.12,
-5.12), read back by an independent reader (pygltflib) and by pbrkit's glTF loader."""
+5.12), and embedded PNG textures with their samplers (sec. 3.8), read back by an independent
+reader (pygltflib, Pillow) and by pbrkit's glTF loader."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import numpy as np
 import pygltflib
 import pytest
 
-from pbrkit.io.gltf_writer import GltfCamera, GltfPrimitive, glb_bytes, write_glb
+from pbrkit.io.gltf_writer import GltfCamera, GltfPrimitive, GltfTexture, glb_bytes, write_glb
 from pbrkit.render.gltf import load_gltf
 
 QUAD = {"positions": np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.0]]),
@@ -98,3 +99,86 @@ def test_bad_extensions_are_refused_and_nothing_is_written(tmp_path, kwargs, mes
 def test_bad_camera_or_required_is_refused(kwargs, message):
     with pytest.raises(ValueError, match=message):
         glb_bytes([GltfPrimitive(**QUAD)], **kwargs)
+
+
+# ------------------------------------------------------------------ textures
+
+UV = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 0.0], [1.0, 0.0]])
+
+
+def _normal_image():
+    """A 4 x 8 RGB tangent-space normal texture of distinct texels (rows top to bottom)."""
+    rng = np.random.default_rng(7)
+    return rng.integers(0, 256, (4, 8, 3)).astype(np.uint8)
+
+
+def test_textures_are_embedded_pngs_that_both_readers_load(tmp_path):
+    """normalTexture and an extension's textureInfo (clearcoatNormalTexture) name textures
+    embedded as PNGs with their samplers: pygltflib reads the document, Pillow decodes the
+    PNG to the same texels, pbrkit's loader gives the linear texels (value / 255), the
+    sampler's wraps and the scales."""
+    import io
+
+    from PIL import Image
+
+    image = _normal_image()
+    grey = np.arange(12, dtype=np.uint8).reshape(3, 4) * 20
+    coat = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 1, "scale": 0.5}}}
+    prim = GltfPrimitive(**QUAD, texcoords=UV, normal_texture={"index": 0, "scale": 0.25}, extensions=coat,
+                         tangents=np.tile([1.0, 0.0, 0.0, 1.0], (4, 1)))
+    textures = [GltfTexture(image), GltfTexture(grey[..., None].repeat(3, axis=2), wrap_s=33071, mag_filter=9728)]
+    path = tmp_path / "t.glb"
+    write_glb(path, [prim], textures=textures)
+    gltf = pygltflib.GLTF2().load(str(path))
+    assert [t.source for t in gltf.textures] == [0, 1] and [t.sampler for t in gltf.textures] == [0, 1]
+    assert (gltf.samplers[0].magFilter, gltf.samplers[0].minFilter, gltf.samplers[0].wrapS) == (9729, 9729, 10497)
+    assert (gltf.samplers[1].magFilter, gltf.samplers[1].wrapS, gltf.samplers[1].wrapT) == (9728, 33071, 10497)
+    assert gltf.materials[0].normalTexture.index == 0 and gltf.materials[0].normalTexture.scale == 0.25
+    blob = gltf.binary_blob()
+    for im, expected in zip(gltf.images, (image, grey[..., None].repeat(3, axis=2))):
+        assert im.mimeType == "image/png"
+        bv = gltf.bufferViews[im.bufferView]
+        png = Image.open(io.BytesIO(blob[bv.byteOffset:bv.byteOffset + bv.byteLength]))
+        np.testing.assert_array_equal(np.asarray(png), expected)
+    asset = load_gltf(path)
+    m = asset.materials[0]
+    assert m.normal_texture.scale == 0.25 and not asset.notes
+    (use, ref), = m.extension_textures
+    assert use[1] == "clearcoatNormalTexture" and ref.scale == 0.5
+    np.testing.assert_allclose(m.textures[m.normal_texture.texture].texels[..., :3], image / 255.0, atol=1e-7)
+    coat_texture = m.textures[ref.texture]
+    assert (coat_texture.wrap_s, coat_texture.mag_filter) == (33071, 9728)
+    np.testing.assert_allclose(coat_texture.texels[..., 0], grey / 255.0, atol=1e-7)
+    assert path.read_bytes() == glb_bytes([prim], textures=textures)  # deterministic
+
+
+def test_no_textures_writes_none():
+    doc = _json(glb_bytes([GltfPrimitive(**QUAD, texcoords=UV)]))
+    assert not {"images", "samplers", "textures"} & set(doc) and "normalTexture" not in doc["materials"][0]
+
+
+@pytest.mark.parametrize("kwargs, textures, message", [
+    ({"normal_texture": {"index": 1}}, 1, r"normalTexture must be a textureInfo whose index"),
+    ({"normal_texture": {"scale": 1.0}}, 1, r"normalTexture must be a textureInfo"),
+    ({"normal_texture": {"index": True}}, 1, r"normalTexture must be a textureInfo"),
+    ({"normal_texture": {"index": 0, "texCoord": 1}}, 1, "texCoord must be 0"),
+    ({"extensions": {"KHR_materials_clearcoat": {"clearcoatNormalTexture": {"index": 0}}}}, 0,
+     r"KHR_materials_clearcoat\.clearcoatNormalTexture must be a textureInfo"),
+    ({"normal_texture": {"index": 0}, "texcoords": None}, 1, "needs texcoords"),
+])
+def test_bad_texture_references_are_refused(kwargs, textures, message):
+    prim = GltfPrimitive(**QUAD, **({"texcoords": UV} | kwargs))
+    with pytest.raises(ValueError, match=message):
+        glb_bytes([prim], textures=[GltfTexture(_normal_image())] * textures)
+
+
+@pytest.mark.parametrize("texture, message", [
+    (GltfTexture(np.zeros((2, 2, 5), np.uint8)), "shape"),
+    (GltfTexture(np.zeros((2, 2, 3))), "integers in"),
+    (GltfTexture(np.full((2, 2, 3), 256)), "integers in"),
+    (GltfTexture(np.zeros((2, 2, 3), np.uint8), min_filter=1), "min_filter"),
+    (GltfTexture(np.zeros((2, 2, 3), np.uint8), wrap_t=0), "wrap_t"),
+])
+def test_bad_textures_are_refused(texture, message):
+    with pytest.raises(ValueError, match=f"texture 0: .*{message}"):
+        glb_bytes([GltfPrimitive(**QUAD, texcoords=UV)], textures=[texture])

@@ -113,3 +113,59 @@ def test_engine_mode_on_a_bake_without_its_target_is_refused_cleanly(tmp_path):
                                      "--width", "8", "--height", "8", "-q"])
         assert result.exit_code == 1 and not out.exists()
         assert f"the bake has no {engine} target (bake it with --target {engine})" in result.stderr
+
+
+def _normal_mapped_quad(tmp_path, mapped=True):
+    """A unit quad facing +Z (TANGENT +X) with an 8 x 8 tangent-space normal texture of
+    bumps tilted up to 35 degrees (or none), under a camera looking down -Z at it."""
+    from pbrkit.io.gltf_writer import GltfPrimitive, GltfTexture, write_glb
+
+    x = (np.arange(8) + 0.5) / 8 * 2 * np.pi
+    tilt = 0.7 * np.stack(np.meshgrid(np.cos(x), np.sin(x), indexing="xy"), -1)
+    texel = np.concatenate([tilt, np.ones((8, 8, 1))], -1)
+    texel /= np.linalg.norm(texel, axis=-1, keepdims=True)
+    quad = GltfPrimitive(np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.0]]), np.tile([0.0, 0.0, 1.0], (4, 1)),
+                         np.array([[0, 1, 2], [1, 3, 2]]), texcoords=np.array([[0, 1], [1, 1], [0, 0], [1, 0.0]]),
+                         tangents=np.tile([1.0, 0.0, 0.0, 1.0], (4, 1)), roughness=0.3,
+                         normal_texture={"index": 0} if mapped else None)
+    write_glb(tmp_path / "quad.glb", [quad], textures=[GltfTexture(np.rint(255 * (0.5 * texel + 0.5)).astype(int))])
+    scene = {"camera": {"width": 16, "height": 16, "position": [0.5, 0.5, 2.5], "look_at": [0.5, 0.5, 0.0],
+                        "fov": 20}, "environment": {"color": [0.5, 0.5, 0.5]},
+             "objects": [{"type": "gltf", "file": "quad.glb"}]}
+    (tmp_path / "scene.json").write_text(json.dumps(scene))
+    return load_scene(tmp_path / "scene.json")
+
+
+def test_three_roughness_takes_the_normal_before_normal_mapping(tmp_path):
+    """three.js r187 takes ``geometryRoughness`` from the screen-space change of
+    ``nonPerturbedNormal``, the normal before the normalMap (``lights_physical_fragment``):
+    on a flat normal-mapped quad ``--engine three`` adds nothing to max(r, 0.045) (before,
+    it took the mapped normals' change, which the bumps make large).  The surface keeps
+    that normal (:attr:`~pbrkit.render.geometry.Surface.n_unmapped`) only where a material
+    has a normalTexture."""
+    from unittest import mock
+
+    import pbrkit.render.realtime as realtime
+    from pbrkit.render.geometry import Geometry
+    from pbrkit.render.primary import _primary
+
+    scene = _normal_mapped_quad(tmp_path)
+    prim = _primary(scene, Geometry(scene))
+    s = prim.surface
+    np.testing.assert_allclose(s.n_unmapped, np.tile([0.0, 0.0, 1.0], (len(s.n), 1)), atol=1e-12)
+    assert np.all(s.n[:, 2] < 0.999)  # mapped
+    bumpy = three_roughness(scene.camera, prim.rows, s.n, s.roughness)
+    assert np.median(bumpy - 0.3) > 0.05  # what the mapped normals' change would add
+    seen = []
+
+    def spy(camera, rows, normals, roughness):
+        seen.append(normals)
+        return three_roughness(camera, rows, normals, roughness)
+
+    with mock.patch.object(realtime, "three_roughness", spy):
+        render_realtime(scene, bake_size=16, engine="three")
+    np.testing.assert_allclose(seen[0], s.n_unmapped, atol=1e-12)
+    np.testing.assert_allclose(three_roughness(scene.camera, prim.rows, seen[0], s.roughness), 0.3, atol=1e-12)
+    (tmp_path / "plain").mkdir()
+    plain = _normal_mapped_quad(tmp_path / "plain", mapped=False)
+    assert _primary(plain, Geometry(plain)).surface.n_unmapped is None

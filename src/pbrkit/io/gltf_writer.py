@@ -8,8 +8,13 @@ chunk padded with zeros, each to 4 bytes), sec. 3.6 (one buffer; a bufferView
 and an accessor per attribute, float32 VEC3 POSITION with its min / max, VEC3
 NORMAL, VEC2 TEXCOORD_0, VEC4 TANGENT (xyz unit, w = +-1 the bitangent's sign),
 uint32 indices), sec. 3.9 (materials'
-``pbrMetallicRoughness`` factors and ``emissiveFactor``), sec. 3.10 (an optional perspective camera in a
-node of its own, :class:`GltfCamera`) and sec. 3.12 (extensions: a material's
+``pbrMetallicRoughness`` factors, ``emissiveFactor`` and an optional ``normalTexture``),
+sec. 3.8 (textures: each :class:`GltfTexture` an 8-bit PNG embedded in a bufferView of
+the BIN chunk, with an image, a sampler and a texture of its own, texture ``k`` the k-th
+given; materials name them by ``"index"`` in ``normalTexture`` and in their
+extensions' textureInfo objects, e.g. ``clearcoatNormalTexture``), sec. 3.10 (an
+optional perspective camera in a node of its own, :class:`GltfCamera`) and sec. 3.12
+(extensions: a material's
 ``extensions`` object is written as given, e.g. ``{"KHR_materials_clearcoat":
 {"clearcoatFactor": 1.0}}``, and every extension name any material uses is listed
 in ``extensionsUsed``; ``extensionsRequired`` is written only for the names passed
@@ -28,12 +33,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.atomic import write_bytes
+from .png import png_file_bytes
 
-__all__ = ["GltfCamera", "GltfPrimitive", "glb_bytes", "write_glb"]
+__all__ = ["GltfCamera", "GltfPrimitive", "GltfTexture", "glb_bytes", "write_glb"]
 
 _FLOAT, _UINT = 5126, 5125
 _ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
 _GLB_MAGIC, _CHUNK_JSON, _CHUNK_BIN = b"glTF", 0x4E4F534A, 0x004E4942
+_NEAREST, _LINEAR, _REPEAT = 9728, 9729, 10497
+#: glTF sampler enums (sec. 5.26): magFilter, minFilter, wrapS / wrapT
+_MAG_FILTERS = (_NEAREST, _LINEAR)
+_MIN_FILTERS = (_NEAREST, _LINEAR, 9984, 9985, 9986, 9987)
+_WRAPS = (33071, 33648, _REPEAT)
 
 
 @dataclass(frozen=True)
@@ -44,8 +55,12 @@ class GltfPrimitive:
     ``metallic``, ``roughness``, ``emissive`` (``emissiveFactor``, linear RGB in
     [0, 1], written when not black), ``name`` and ``extensions`` (the material's glTF
     ``extensions`` object: extension name -> JSON object of strings, booleans,
-    finite numbers, lists and objects; None for none), optional ``tangents`` (V, 4):
-    glTF's TANGENT, xyz unit and orthogonal to the normal, w = +-1 (B = w N x T)."""
+    finite numbers, lists and objects; None for none; a textureInfo in it, an object
+    under a key ending in ``Texture``, names one of :func:`glb_bytes`'s ``textures`` by
+    its ``index``), optional ``tangents`` (V, 4): glTF's TANGENT, xyz unit and orthogonal
+    to the normal, w = +-1 (B = w N x T), and optional ``normal_texture``: the material's
+    normalTextureInfo (``{"index": k, "scale": s}``).  A material with textures needs
+    ``texcoords`` (their ``texCoord`` 0 or absent: TEXCOORD_0 is the one set written)."""
 
     positions: np.ndarray
     normals: np.ndarray
@@ -58,6 +73,23 @@ class GltfPrimitive:
     extensions: dict | None = None
     emissive: tuple = (0.0, 0.0, 0.0)
     tangents: np.ndarray | None = None
+    normal_texture: dict | None = None
+
+
+@dataclass(frozen=True)
+class GltfTexture:
+    """A texture embedded as an 8-bit PNG: ``image`` (H, W) or (H, W, C) of integers in
+    [0, 255], C = 1 grey, 2 grey and alpha, 3 RGB or 4 RGBA (the values written as they
+    are, no colour chunk: glTF says which uses are sRGB), row 0 the image's top (UV v = 0),
+    and its sampler's ``mag_filter``, ``min_filter``, ``wrap_s``, ``wrap_t`` (glTF's OpenGL
+    enums; by default LINEAR magnification and minification, which reads no mip maps, and
+    REPEAT)."""
+
+    image: np.ndarray
+    mag_filter: int = _LINEAR
+    min_filter: int = _LINEAR
+    wrap_s: int = _REPEAT
+    wrap_t: int = _REPEAT
 
 
 @dataclass(frozen=True)
@@ -109,6 +141,45 @@ def _material_extensions(prim, k):
         if not name or not isinstance(obj, dict):
             raise ValueError(f"{where}.{name} must be an object under a non-empty name")
     return out
+
+
+def _png(texture, k):
+    """The deterministic PNG bytes of :class:`GltfTexture` ``texture`` (filter 0 rows)."""
+    a = np.asarray(texture.image)
+    if a.ndim == 2:
+        a = a[..., None]
+    if a.ndim != 3 or a.shape[2] not in (1, 2, 3, 4) or a.shape[0] < 1 or a.shape[1] < 1:
+        raise ValueError(f"texture {k}: image must have shape (H, W) or (H, W, 1..4); got {a.shape}")
+    if not (np.issubdtype(a.dtype, np.integer) and a.min() >= 0 and a.max() <= 255):
+        raise ValueError(f"texture {k}: image must hold integers in [0, 255]; got {a.dtype}")
+    for name, value, allowed in (("mag_filter", texture.mag_filter, _MAG_FILTERS),
+                                 ("min_filter", texture.min_filter, _MIN_FILTERS),
+                                 ("wrap_s", texture.wrap_s, _WRAPS), ("wrap_t", texture.wrap_t, _WRAPS)):
+        if value not in allowed:
+            raise ValueError(f"texture {k}: {name} must be one of {allowed}; got {value!r}")
+    height, width, channels = a.shape
+    rows = a.astype(np.uint8).reshape(height, width * channels)
+    filtered = np.concatenate([np.zeros((height, 1), np.uint8), rows], axis=1)
+    return png_file_bytes(width, height, 8, {1: 0, 2: 4, 3: 2, 4: 6}[channels], filtered)
+
+
+def _texture_infos(value, count, where):
+    """How many textureInfo objects (an object under a key ending in ``Texture``) the JSON
+    ``value`` holds, each checked to name one of ``count`` textures by an integer
+    ``index`` and to use TEXCOORD_0 (``texCoord`` 0 or absent)."""
+    found = 0
+    if isinstance(value, dict):
+        for key, item in value.items():
+            if key.endswith("Texture"):
+                index = item.get("index") if isinstance(item, dict) else None
+                if not (isinstance(index, int) and not isinstance(index, bool) and 0 <= index < count):
+                    raise ValueError(f"{where}.{key} must be a textureInfo whose index names one of the {count} "
+                                     f"textures; got {item!r}")
+                if item.get("texCoord", 0) != 0:
+                    raise ValueError(f"{where}.{key}: texCoord must be 0 (TEXCOORD_0 is the one set written)")
+                found += 1
+            found += _texture_infos(item, count, f"{where}.{key}")
+    return found
 
 
 def _camera(camera):
@@ -170,23 +241,31 @@ def _check(prim, k):
     return arrays, i.astype(np.uint32), tangents
 
 
-def glb_bytes(primitives, camera=None, extensions_required=()):
+def glb_bytes(primitives, camera=None, extensions_required=(), textures=()):
     """The ``.glb`` bytes of one mesh made of ``primitives`` (:class:`GltfPrimitive`),
     in one node of one scene, with ``camera`` (:class:`GltfCamera`) in a second node
-    when given; ``extensionsUsed`` lists the materials' extensions, and
+    when given and ``textures`` (:class:`GltfTexture`, texture k the k-th) embedded;
+    ``extensionsUsed`` lists the materials' extensions, and
     ``extensions_required`` (each also used by a material) goes into
     ``extensionsRequired`` (module docstring)."""
     if not primitives:
         raise ValueError("a glTF mesh needs at least one primitive")
+    textures = tuple(textures)
+    pngs = [_png(t, k) for k, t in enumerate(textures)]
     used = set()
     blob = bytearray()
     views, accessors, materials, prims = [], [], [], []
 
+    def view(data, target=None):
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)}
+                     | ({} if target is None else {"target": target}))
+        blob.extend(data)
+        blob.extend(b"\0" * (-len(blob) % 4))
+        return len(views) - 1
+
     def add(array, ctype, kind, target, bounds=False):
         data = np.ascontiguousarray(array, dtype=np.float32 if ctype == _FLOAT else np.uint32)
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": data.nbytes, "target": target})
-        blob.extend(data.tobytes())
-        blob.extend(b"\0" * (-len(blob) % 4))
+        view(data.tobytes(), target)
         acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": int(data.shape[0]), "type": kind}
         if bounds:
             acc["min"] = [float(x) for x in data.min(axis=0)]
@@ -211,7 +290,14 @@ def glb_bytes(primitives, camera=None, extensions_required=()):
             raise ValueError(f"primitive {k}: emissive must be 3 numbers in [0, 1]; got {prim.emissive!r}")
         if np.any(emissive > 0.0):
             material["emissiveFactor"] = [float(x) for x in emissive]
+        infos = {}
+        if prim.normal_texture is not None:
+            material["normalTexture"] = infos["normalTexture"] = _json_value(prim.normal_texture,
+                                                                             f"primitive {k}: normal_texture")
         extensions = _material_extensions(prim, k)
+        if _texture_infos(infos | (extensions or {}), len(textures), f"primitive {k}: material") and \
+                prim.texcoords is None:
+            raise ValueError(f"primitive {k}: a material with textures needs texcoords (TEXCOORD_0)")
         if extensions:
             material["extensions"] = extensions
             used.update(extensions)
@@ -220,6 +306,12 @@ def glb_bytes(primitives, camera=None, extensions_required=()):
     doc = {"asset": {"version": "2.0", "generator": "pbrkit"}, "scene": 0, "scenes": [{"nodes": [0]}],
            "nodes": [{"mesh": 0}], "meshes": [{"primitives": prims}], "materials": materials,
            "accessors": accessors, "bufferViews": views, "buffers": [{"byteLength": len(blob)}]}
+    if textures:  # the PNGs after the attributes, in the one buffer
+        doc["images"] = [{"bufferView": view(data), "mimeType": "image/png"} for data in pngs]
+        doc["samplers"] = [{"magFilter": int(t.mag_filter), "minFilter": int(t.min_filter), "wrapS": int(t.wrap_s),
+                            "wrapT": int(t.wrap_t)} for t in textures]
+        doc["textures"] = [{"sampler": k, "source": k} for k in range(len(textures))]
+        doc["buffers"] = [{"byteLength": len(blob)}]
     if camera is not None:
         perspective, node = _camera(camera)
         doc["cameras"] = [perspective]
@@ -239,7 +331,7 @@ def glb_bytes(primitives, camera=None, extensions_required=()):
             + struct.pack("<II", len(blob), _CHUNK_BIN) + bytes(blob))
 
 
-def write_glb(path, primitives, camera=None, extensions_required=()):
-    """Write :func:`glb_bytes` of ``primitives`` (and ``camera``, ``extensions_required``)
-    to ``path`` atomically."""
-    write_bytes(path, glb_bytes(primitives, camera, extensions_required))
+def write_glb(path, primitives, camera=None, extensions_required=(), textures=()):
+    """Write :func:`glb_bytes` of ``primitives`` (and ``camera``, ``extensions_required``,
+    ``textures``) to ``path`` atomically."""
+    write_bytes(path, glb_bytes(primitives, camera, extensions_required, textures))

@@ -81,6 +81,11 @@ class Surface:
     #: the hits whose extension parameters their textures change (:func:`pbrkit.render.
     #: materials.per_hit_tables` makes the kernels' tables of them); None without them.
     extension_values: tuple | None = None
+    #: With a normalTexture at some hit: the normal before normal mapping (the interpolated
+    #: vertex normal; n itself where the hit's material has no normalTexture), facing like n;
+    #: None where no hit's material has a normalTexture (then it is n).  three.js takes its
+    #: ``geometryRoughness`` from this one (``nonPerturbedNormal``).
+    n_unmapped: np.ndarray | None = None
 
 
 class Geometry:
@@ -308,9 +313,12 @@ class Geometry:
             emissive[unlit] *= vertex_color[unlit]
         metallic[:] = self._factor_metallic[mat]
         rough[:] = self._factor_roughness[mat]
-        vertex_n = n.copy() if self._coat_normals else None  # a clear coat's normal is not normal-mapped
+        hit_materials = np.unique(mat)
+        normal_mapped = any(self.materials[mi].normal_texture is not None for mi in hit_materials)
+        # the normal before normal mapping: a clear coat's (not normal-mapped), Surface.n_unmapped
+        vertex_n = n.copy() if (self._coat_normals or normal_mapped) else None
         textured = [mi for mi in range(len(self.materials)) if self.materials[mi].textured]
-        for mi in (np.intersect1d(np.unique(mat), textured) if textured else ()):
+        for mi in (np.intersect1d(hit_materials, textured) if textured else ()):
             sel = np.flatnonzero(mat == mi)
             m = self.materials[mi]
             spec = m.spec
@@ -343,6 +351,8 @@ class Geometry:
         back = (np.einsum("ij,ij->i", ng, d) > 0.0) & self._two_sided[mat]
         ng[back] = -ng[back]
         n[back] = -n[back]
+        if vertex_n is not None:
+            vertex_n[back] = -vertex_n[back]
         if tables is not None and COLUMNS.coat_normal in tables[1]:  # the coat's normal faces the ray too
             flip = back[tables[0]]
             for k in range(3):
@@ -358,7 +368,8 @@ class Geometry:
             tangents[~has_tangent] = NO_TANGENT
         else:  # no mesh tangent: none (the kernels read one row of NO_TANGENT)
             tangents = None
-        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangents, tables)
+        return Surface(p, ng, n, mat, base, metallic, rough, occl, emissive, uv0, tangents, tables,
+                       vertex_n if normal_mapped else None)
 
     def _extension_textures(self, mat, uv_sets, vertex_n, tangents, has_tangent):
         """The KHR_materials extension textures at hits of materials ``mat`` with the

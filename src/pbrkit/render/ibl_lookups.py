@@ -91,7 +91,8 @@ def three_roughness(camera, rows, normals, roughness):
     along each axis (rows and columns paired from the image's top; each sub-pixel
     position of a supersampled camera as its own image); a neighbour that misses
     the scene counts as no change.  ``rows``: the hit rays' indices, ``normals``
-    their world normals (K, 3), ``roughness`` (K,)."""
+    their world normals (K, 3) before normal mapping (three's ``nonPerturbedNormal``:
+    :attr:`pbrkit.render.geometry.Surface.n_unmapped`), ``roughness`` (K,)."""
     h, w, k2 = camera.height, camera.width, camera.supersample ** 2
     right, up, forward = camera.basis()
     view = np.stack([normals @ right, normals @ up, -(normals @ forward)], axis=-1)

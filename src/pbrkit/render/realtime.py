@@ -472,8 +472,8 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     irradiance cube, :func:`_engine_ibl`'s Sample Viewer terms; ``three``: the same
     chain as Filament's (``three/specular.ktx2``), roughness at least 0.045, the
     same lookup direction, pi x the last level as irradiance, :func:`_engine_ibl`'s
-    three.js terms, its roughness from screen-space normal derivatives
-    (:func:`three_roughness`; three.js's own 16 x 16 DFG table is not reproduced:
+    three.js terms, its roughness from screen-space derivatives of the normal before
+    normal mapping (:func:`three_roughness`; three.js's own 16 x 16 DFG table is not reproduced:
     pbrkit's converged one is used); ``babylon``: its chain (alpha_m = 2^(m/0.8) /
     N, ``babylon/specular.dds`` for a bake folder) at lod = 0.8 log2(N (r^2 +
     0.0005)), SH, :func:`_engine_ibl`'s Babylon.js terms.  The engine modes shade
@@ -563,7 +563,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         sampler = sampler[1]
         rough_rows = s.roughness
         if engine == "three":  # its roughness floor and screen-space term, then r^4 towards the normal
-            rough_rows = three_roughness(scene.camera, prim.rows, s.n, s.roughness)
+            # geometryRoughness: the derivatives of three's nonPerturbedNormal, the normal before normal mapping
+            rough_rows = three_roughness(scene.camera, prim.rows, s.n if s.n_unmapped is None else s.n_unmapped,
+                                         s.roughness)
             lod = np.asarray(filament_level_of_roughness(rough_rows, levels), dtype=np.float64)
             refl = specular_dominant_direction(s.n, refl, rough_rows)
         elif engine == "filament":

@@ -8,7 +8,8 @@
 // Query: cube (KTX2 under /data), scene (JSON: {assets: [{gltf (file under /data), camera:
 // {position, look_at, up, fov, width, height}}], environment_intensity}).
 // Result: {three, environmentLevels, images: [{width, height, rgba8, materials: [{name, type,
-// the physical parameters}]}]}.
+// tangents (the geometry has TANGENT), the physical parameters, normalMap / clearcoatNormalMap
+// (size, filters, wraps, colour space) with normalScale / clearcoatNormalScale}]}]}.
 import * as THREE from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { report } from "/pages/readback.js";
@@ -27,10 +28,20 @@ const PARAMETERS = ["metalness", "roughness", "ior", "specularIntensity", "clear
                     "iridescenceThicknessMaximum", "anisotropy", "anisotropyRotation"];
 const COLOURS = ["color", "emissive", "specularColor", "sheenColor"];
 
-function summary(material) {
-  const out = { name: material.name, type: material.type };
+const MAPS = ["normalMap", "clearcoatNormalMap"];  // with their scales (normalScale, clearcoatNormalScale)
+
+function summary(material, geometry) {
+  const out = { name: material.name, type: material.type, tangents: geometry.attributes.tangent !== undefined };
   for (const p of PARAMETERS) if (material[p] !== undefined) out[p] = material[p];
   for (const c of COLOURS) if (material[c] !== undefined) out[c] = material[c].toArray();
+  for (const m of MAPS) {
+    const map = material[m];
+    if (map) {
+      out[m] = { width: map.image.width, height: map.image.height, minFilter: map.minFilter,
+                 magFilter: map.magFilter, wrapS: map.wrapS, wrapT: map.wrapT, colorSpace: map.colorSpace };
+      out[m.replace("Map", "Scale")] = material[m.replace("Map", "Scale")].toArray();
+    }
+  }
   return out;
 }
 
@@ -54,7 +65,7 @@ report(async () => {
     const gltf = await loader.loadAsync("/data/" + asset.gltf);
     scene.add(gltf.scene);
     const materials = [];
-    gltf.scene.traverse((o) => { if (o.isMesh) materials.push(summary(o.material)); });
+    gltf.scene.traverse((o) => { if (o.isMesh) materials.push(summary(o.material, o.geometry)); });
     const camera = new THREE.PerspectiveCamera(cam.fov, cam.width / cam.height, 0.1, 100);
     camera.position.set(...cam.position);
     camera.up.set(...(cam.up || [0, 1, 0]));
