@@ -85,7 +85,10 @@ def coat_normals(params, material, n):
     ``params`` with shading normals ``n`` (N, 3): the row's ``coat_normal``
     (KHR_materials_clearcoat's clearcoatNormal, :func:`pbrkit.brdf.lobes.clearcoat.coat_in_frame`),
     or ``n`` where it is 0 (the coat has no normal of its own)."""
-    c = params[material, COLUMNS.coat_normal:COLUMNS.coat_normal + 3]
+    table = params[:, COLUMNS.coat_normal:COLUMNS.coat_normal + 3]
+    if not table.any():  # no row has one (a glance at the table, not a gather per hit)
+        return n
+    c = table[material]
     own = np.any(c != 0.0, axis=1)
     if not own.any():
         return n

@@ -73,7 +73,7 @@ from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
 from ..ibl.prefilter import babylon_alpha_g
 from ..io.engine_targets import TARGET_CHAINS
-from ..brdf.lobes.clearcoat import coat_local_nov
+from ..brdf.lobes.clearcoat import coat_local_nov, coat_tilted
 from ..brdf.lobes.sheen import sheen_albedo_lookups
 from .anisotropic_ibl import anisotropic_ibl
 from .area_lights import area_light_ltc
@@ -363,8 +363,10 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
                              n[i, 2], NO_TANGENT)
         nov = max(n[i, 0] * v[i, 0] + n[i, 1] * v[i, 1] + n[i, 2] * v[i, 2], 1e-4)
         # the view's cosine to the coat's normal (KHR_materials_clearcoat's clearcoatNormal): n.v without one
-        coat_nov = max(coat_local_nov(b, tt[0] * v[i, 0] + tt[1] * v[i, 1] + tt[2] * v[i, 2],
-                                      bt[0] * v[i, 0] + bt[1] * v[i, 1] + bt[2] * v[i, 2], nov), 1e-4)
+        coat_nov = nov
+        if coat_tilted(b):
+            coat_nov = max(coat_local_nov(b, tt[0] * v[i, 0] + tt[1] * v[i, 1] + tt[2] * v[i, 2],
+                                          bt[0] * v[i, 0] + bt[1] * v[i, 1] + bt[2] * v[i, 2], nov), 1e-4)
         r = rough[i]
         t = lut_index[m]
         dfg1 = table_bilinear(tables, t, nov, r, 0)
