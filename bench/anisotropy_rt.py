@@ -2,9 +2,9 @@
 spheres of increasing anisotropyStrength (and a turned direction) under the bundled
 environment, rendered by ``render_realtime`` (``engine`` khronos: the split sum with
 the prefiltered environment looked up once along the Sample Viewer's bent normal,
-:func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`, and the isotropic DFG;
+:func:`pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection`, and the isotropic DFG;
 ``engine`` pbrkit: filtered importance sampling of the lobe itself,
-:mod:`pbrkit.render.anisotropic_ibl`) and by the ground truth (``render_reference``:
+:mod:`pbrkit.rendering.anisotropic_ibl`) and by the ground truth (``render_reference``:
 the anisotropic GGX lobe integrated against the environment), compared per sphere
 in 8-bit sRGB levels (mean |grey| and the signed mean).  The column "isotropic
 lookup" is the real-time render of the same sphere at strength 0 (what a renderer
@@ -30,8 +30,8 @@ import time
 
 import numpy as np
 
-from pbrkit.render.realtime import render_realtime
-from pbrkit.render.reference import render_reference
+from pbrkit.rendering.realtime import render_realtime
+from pbrkit.rendering.reference import render_reference
 from transmission_rt import sphere_columns, sphere_row, srgb8
 
 #: (label, material keys): one sphere each, left to right (a grey metal, roughness 0.3).

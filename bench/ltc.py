@@ -105,7 +105,7 @@ def main():
             print(_line(f"seed {args.seed}, F = 1" if f0 == 1.0 else f"seed {args.seed}, f0 = {f0:g}", s))
     if lobe == {"distribution": "ggx", "masking": "height-correlated"}:
         # the tables pbrkit renders area lights with: --clipping exact, and --fresnel's second one
-        from pbrkit.render.area_lights import bundled_fresnel_table, bundled_ltc_table
+        from pbrkit.rendering.area_lights import bundled_fresnel_table, bundled_ltc_table
 
         b1, b2 = bundled_ltc_table()
         fc = bundled_fresnel_table()

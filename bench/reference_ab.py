@@ -29,12 +29,12 @@ CASES = {"lanes": dict(spp=128, bounces=0), "fused": dict(spp=32, bounces=2),
 
 
 def worker():
-    from pbrkit.render.environment import EnvironmentLight
-    from pbrkit.render.geometry import Geometry
-    from pbrkit.render.reference import render_reference
-    from pbrkit.render.scene import builtin_scene
+    from pbrkit.rendering.environment import EnvironmentLight
+    from pbrkit.rendering.geometry import Geometry
+    from pbrkit.rendering.reference import render_reference
+    from pbrkit.rendering.scene import builtin_scene
 
-    from pbrkit.render.realtime import render_realtime
+    from pbrkit.rendering.realtime import render_realtime
 
     scene = builtin_scene("spheres", 128, 128)
     geometry = Geometry(scene)

@@ -54,10 +54,10 @@ from pathlib import Path
 import numpy as np
 
 from pbrkit.core.color import luminance
-from pbrkit.render.environment import EnvironmentLight
-from pbrkit.render.geometry import Geometry
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import (
+from pbrkit.rendering.environment import EnvironmentLight
+from pbrkit.rendering.geometry import Geometry
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     MaterialSpec,

@@ -17,7 +17,7 @@ Prints, measured in one run (Numba compilation excluded by a warm-up call):
   worse than BRDF-only sampling).  The spheres do not occlude one another in
   this measurement (``occlusion=False``) unless ``--occlusion`` is given;
 - area lights (issue 11): the same real-time grid with a rect, a disk and a
-  sphere light added (LTC, :mod:`pbrkit.render.area_lights`), its time against
+  sphere light added (LTC, :mod:`pbrkit.rendering.area_lights`), its time against
   the grid without them measured in the same run; and the built-in ``area``
   scene (five spheres on a floor under a rect light) as ground truth with
   occlusion: paths per second and noise per sample with light sampling + BRDF
@@ -39,13 +39,13 @@ import numpy as np
 from _timing import best_and_median
 
 from pbrkit.core.color import luminance
-from pbrkit.render.area_lights import AreaLight
-from pbrkit.render.environment import EnvironmentLight
-from pbrkit.render.geometry import Geometry
-from pbrkit.render.lights import Light
-from pbrkit.render.realtime import render_realtime
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import EnvironmentSpec, builtin_scene
+from pbrkit.rendering.area_lights import AreaLight
+from pbrkit.rendering.environment import EnvironmentLight
+from pbrkit.rendering.geometry import Geometry
+from pbrkit.rendering.lights import Light
+from pbrkit.rendering.realtime import render_realtime
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import EnvironmentSpec, builtin_scene
 
 DEFAULT_ENV = Path(__file__).resolve().parents[2] / "shared" / "data" / "env" / "rooitou_park_1k.hdr"
 HELMET = Path(__file__).resolve().parents[2] / "shared" / "data" / "models" / "DamagedHelmet.glb"
@@ -69,7 +69,7 @@ def grid_scene(size, env_spec):
 
 def helmet_scene(env_spec):
     """The DamagedHelmet (:data:`HELMET`) at 512^2 under ``env_spec``."""
-    from pbrkit.render.scene import Camera, GltfObject, Scene
+    from pbrkit.rendering.scene import Camera, GltfObject, Scene
 
     return Scene(camera=Camera(position=(0.0, 0.0, 3.2), look_at=(0.0, 0.0, 0.0), fov=40.0, width=512, height=512),
                  environment=env_spec, objects=(GltfObject(file=str(HELMET)),), source="DamagedHelmet")

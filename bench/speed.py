@@ -47,10 +47,10 @@ def _process_times(argv, repeat, env=None, cwd=None):
 
 def realtime(repeat):
     from pbrkit.data import environment_path
-    from pbrkit.render.environment import EnvironmentLight
-    from pbrkit.render.geometry import Geometry
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import EnvironmentSpec
+    from pbrkit.rendering.environment import EnvironmentLight
+    from pbrkit.rendering.geometry import Geometry
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.scene import EnvironmentSpec
 
     spec = EnvironmentSpec(file=str(DEFAULT_ENV if DEFAULT_ENV.exists() else environment_path()))
     grid = grid_scene(1024, spec)

@@ -1,7 +1,7 @@
 """Real-time KHR_materials_transmission and KHR_materials_volume against the ground
 truth (issue 25): spheres of each kind under the bundled environment, rendered by
 ``render_realtime`` (``engine`` pbrkit and khronos: the transmitted light from the
-prefiltered environment, :mod:`pbrkit.render.transmission_ibl`) and by the ground
+prefiltered environment, :mod:`pbrkit.rendering.transmission_ibl`) and by the ground
 truth (``render_reference``, 8 bounces: light refracts into a solid sphere and out
 again), compared per sphere in 8-bit sRGB levels (mean |grey| and the signed mean).
 
@@ -20,9 +20,9 @@ import time
 import numpy as np
 
 from pbrkit.core.color import linear_to_srgb
-from pbrkit.render.realtime import render_realtime
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import Camera, EnvironmentSpec, MaterialSpec, Scene, Sphere, bundled_environment
+from pbrkit.rendering.realtime import render_realtime
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import Camera, EnvironmentSpec, MaterialSpec, Scene, Sphere, bundled_environment
 
 #: (label, material keys): one sphere each, left to right.
 SPHERES = (

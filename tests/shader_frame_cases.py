@@ -73,14 +73,14 @@ def anisotropy_cases(rng):
     pbrkit's anisotropic GGX and the model's V (pbrkit.brdf.shading.gltf._v_khr), the specular lobe and the
     whole BRDF against pbrkit.brdf.models.evaluate("gltf", ..., t=tangent) (checked first against the
     README's transcription in tests/reference_brdf.py), and the bent-normal lookup direction against
-    pbrkit.render.ibl_lookups.khr_anisotropic_reflection."""
+    pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection."""
     import reference_brdf as ref
     from test_shaders import _directions
 
     from pbrkit.brdf import distributions
     from pbrkit.brdf.bxdf import Cosines as FrameCosines
     from pbrkit.brdf.shading.gltf import _v_khr
-    from pbrkit.render.realtime import khr_anisotropic_reflection
+    from pbrkit.rendering.realtime import khr_anisotropic_reflection
 
     cases = []
     add = cases.append
@@ -198,11 +198,11 @@ def anisotropy_cases(rng):
 
 def clearcoat_normal_cases(rng):
     """KHR_materials_clearcoat's normal from a clearcoatNormalTexture texel, pbrkit_clearcoatNormal, against
-    pbrkit.render.textures.tangent_space_normal: unit normals, glTF TANGENTs (not unit, not orthogonal to n,
+    pbrkit.rendering.textures.tangent_space_normal: unit normals, glTF TANGENTs (not unit, not orthogonal to n,
     handedness +-1) made into the frame (t, b, n) as tangent_space_normal makes it, random texels (the flat
     (0.5, 0.5, 1) on a few rows, and (0.5, 0.5, 0.5), which maps to 0: n itself) and scales in [-1, 3]
     (0 and 1 on a few rows)."""
-    from pbrkit.render.textures import tangent_space_normal
+    from pbrkit.rendering.textures import tangent_space_normal
 
     n = _unit(rng)
     tangent = _tangents(rng, n)

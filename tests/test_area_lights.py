@@ -1,4 +1,4 @@
-"""Area lights in scenes (pbrkit.render.area_lights): the reference renderer's light
+"""Area lights in scenes (pbrkit.rendering.area_lights): the reference renderer's light
 sampling by chi-square, Lambertian planes and spheres under rect, polygon, disk and
 sphere lights against analytic form factors (both reference engines and real time),
 units, visibility, shadows, and the LTC error against the ground truth."""
@@ -13,7 +13,7 @@ import pytest
 
 from pbrkit.core.color import luminance
 from pbrkit.ltc.polygon import polygon_clamped_cosine_integral
-from pbrkit.render.area_lights import (
+from pbrkit.rendering.area_lights import (
     AreaLight,
     area_light_arrays,
     area_light_hits,
@@ -22,10 +22,10 @@ from pbrkit.render.area_lights import (
     area_light_sample,
     area_light_samples,
 )
-from pbrkit.render.compare import compare_images
-from pbrkit.render.realtime import render_realtime
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import (
+from pbrkit.rendering.compare import compare_images
+from pbrkit.rendering.realtime import render_realtime
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     MaterialSpec,
@@ -329,7 +329,7 @@ def test_bundled_ltc_table_has_the_stated_accuracy_against_quadrature():
     of the README's test set: the README states median 3.5 %, mean 10.8 % on 400
     lights; the published table's are 11.2 % and 26.6 % with its own evaluation."""
     from pbrkit.ltc.score import random_rect_lights, score_table
-    from pbrkit.render.area_lights import bundled_ltc_table
+    from pbrkit.rendering.area_lights import bundled_ltc_table
 
     ltc1, ltc2 = bundled_ltc_table()
     assert ltc1.shape == ltc2.shape == (64, 64, 4)
@@ -346,7 +346,7 @@ def test_fresnel_aware_ltc_serves_dielectrics():
     (README: median 3.2 %, mean 8.4 % against 16.0 % and 45.9 % with the F = 1 shape
     alone, on 400 lights), and leaves F = 1 as it was."""
     from pbrkit.ltc.score import lobe_rect_reference, random_rect_lights, score_table
-    from pbrkit.render.area_lights import bundled_fresnel_table, bundled_ltc_table
+    from pbrkit.rendering.area_lights import bundled_fresnel_table, bundled_ltc_table
 
     ltc1, ltc2 = bundled_ltc_table()
     fresnel1 = bundled_fresnel_table()

@@ -401,7 +401,7 @@ def test_demo_commits_its_folder_as_a_whole(tmp_path, monkeypatch):
 
 
 def test_demo_refuses_a_folder_with_other_files_and_too_little_memory_up_front(tmp_path, monkeypatch):
-    import pbrkit.render.budget as budget
+    import pbrkit.rendering.budget as budget
 
     out = tmp_path / "site"
     out.mkdir()
@@ -621,12 +621,12 @@ def test_choices_match_the_library():
     from pbrkit.albedo.tables import VISIBILITIES
     from pbrkit.core.color import TONEMAPS
     from pbrkit.ibl.bake import METHODS, SPECULAR_FORMATS
-    from pbrkit.render.run import MODES
+    from pbrkit.rendering.run import MODES
 
     assert cli.MODES == tuple(MODES) and cli.TONEMAPS == tuple(TONEMAPS)
     assert cli.VISIBILITIES == tuple(VISIBILITIES) and cli.LOBES == tuple(furnace_lobes())
     assert cli.BAKE_FORMATS == tuple(SPECULAR_FORMATS) and cli.BAKE_METHODS == tuple(METHODS)
-    from pbrkit.render.realtime import ENGINES
+    from pbrkit.rendering.realtime import ENGINES
 
     assert cli.RENDER_ENGINES == tuple(ENGINES)
     from pbrkit.ltc.fit import CLIPPINGS
@@ -643,7 +643,7 @@ def test_help_imports_neither_numba_nor_the_renderer():
                 app(args, prog_name="pbrkit")
             except SystemExit as exc:
                 assert exc.code in (0, None), exc.code
-        heavy = [m for m in ("numba", "numpy", "pbrkit.render", "pbrkit.brdf", "OpenEXR") if m in sys.modules]
+        heavy = [m for m in ("numba", "numpy", "pbrkit.rendering", "pbrkit.brdf", "OpenEXR") if m in sys.modules]
         print("HEAVY", heavy, file=sys.stderr)
     """)
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,

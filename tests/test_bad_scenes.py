@@ -24,14 +24,14 @@ from gltf_files import glb_bytes
 from typer.testing import CliRunner
 
 from pbrkit.app.cli import app
-from pbrkit.render.budget import (
+from pbrkit.rendering.budget import (
     BYTES_PER_RAY,
     FIXED_BYTES,
     available_memory,
     check_render_memory,
     estimate_render_memory,
 )
-from pbrkit.render.scene import Camera, EnvironmentSpec, Scene, Sphere
+from pbrkit.rendering.scene import Camera, EnvironmentSpec, Scene, Sphere
 
 SMALL = ["--width", "8", "--height", "8"]
 #: Warnings a user never sees (Python's default filters hide them outside __main__).

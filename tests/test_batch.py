@@ -184,7 +184,7 @@ def test_help_lists_the_choices_and_imports_neither_dask_nor_numba():
             "for args in (['batch', '--help'], ['batch', 'bake', '--help'], ['batch', 'render', '--help']):\n"
             "    try:\n        app(args, prog_name='pbrkit')\n    except SystemExit as exc:\n"
             "        assert exc.code in (0, None)\n"
-            "print('HEAVY', [m for m in ('numba', 'numpy', 'dask', 'distributed', 'pbrkit.render') "
+            "print('HEAVY', [m for m in ('numba', 'numpy', 'dask', 'distributed', 'pbrkit.rendering') "
             "if m in sys.modules], file=sys.stderr)\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
                           env={**os.environ, "COLUMNS": "300"})

@@ -472,7 +472,7 @@ def test_gltf_references_are_confined_to_its_folder(tmp_path):
 
 
 def test_a_render_record_refuses_a_gltf_reaching_outside(tmp_path):
-    from pbrkit.render.scene import GltfObject
+    from pbrkit.rendering.scene import GltfObject
 
     gltf = _gltf(tmp_path / "m", "../../../../../../../../etc/hostname")
     scene = SimpleNamespace(environment=SimpleNamespace(file=None, bake=None), objects=[GltfObject(file=str(gltf))])

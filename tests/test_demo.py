@@ -246,7 +246,7 @@ def test_gltf_extensions_scene_has_one_sphere_per_extension():
     coloured, ior 2.4), a thin film, a thin transmissive wall and a brushed metal."""
     from pbrkit.app.demo import GLTF_EXTENSION_MATERIALS, gltf_extensions_scene
     from pbrkit.brdf.shading.registry import BY_NAME, EXTENDED_CODES, MODELS, model_codes
-    from pbrkit.render.scene import EnvironmentSpec
+    from pbrkit.rendering.scene import EnvironmentSpec
 
     keys = {"sheen": {"sheen_color", "sheen_roughness"}, "clearcoat": {"clearcoat", "clearcoat_roughness"},
             "specular": {"specular", "specular_color"}, "ior": {"ior"},

@@ -40,7 +40,7 @@ def test_start_only_on_a_cold_cache_with_two_cores(tmp_path, monkeypatch):
         assert started[0][-1] == "env.hdr" and Path(started[0][-2]) == warm.folder
         warm.folder.rmdir()
         # the ground-truth kernel in the cache: warm, no worker
-        index = Path(cache.cache_directory()) / "render" / "lanes._direct_kernel-581.py311.nbi"
+        index = Path(cache.cache_directory()) / "rendering" / "lanes._direct_kernel-581.py311.nbi"
         index.parent.mkdir(parents=True)
         index.write_bytes(b"")
         assert warmup.kernels_cached() and warmup.WarmUp.start("env.hdr") is None and len(started) == 1

@@ -38,10 +38,11 @@ def test_readme_starts_with_the_two_commands():
     assert 'python -m pip install -q -e ".[test]"' in ci and "python -m pytest -q" in ci
 
 
-def test_readme_api_tour_imports_and_the_old_dotted_names_work():
-    """Every import line of the README's API tour runs, and the dotted module names of
-    the first release still import the modules they now live in."""
+def test_readme_api_tour_imports_and_the_top_level_names():
+    """Every import line of the README's API tour runs; the top level holds the tour's
+    names and the subpackages, and nothing else (no import machinery, no hook)."""
     import importlib
+    import sys
 
     import pbrkit
 
@@ -51,11 +52,13 @@ def test_readme_api_tour_imports_and_the_old_dotted_names_work():
     assert any("pbrkit.ibl" in line for line in imports)
     for line in imports:
         exec(line, {})
-    for old, new in (("pbrkit.models", "pbrkit.brdf.models"), ("pbrkit.tables", "pbrkit.albedo.tables"),
-                     ("pbrkit.masking", "pbrkit.brdf.masking"), ("pbrkit.bake", "pbrkit.ibl")):
-        assert importlib.import_module(old) is importlib.import_module(new)
-    from pbrkit.bake import bake, level_of_roughness, load_bake, write_bake  # noqa: F401
-    assert pbrkit.models.cook_torrance is importlib.import_module("pbrkit.brdf.models").cook_torrance
+    assert pbrkit.models is importlib.import_module("pbrkit.brdf.models")
+    assert pbrkit.bake is importlib.import_module("pbrkit.ibl").bake and callable(pbrkit.render)
+    assert pbrkit.render is importlib.import_module("pbrkit.rendering.run").render
+    names = set(dir(pbrkit))
+    assert {"render", "Rendering", "bake", "load_scene", "scene_from_dict", "Material", "models"} <= names
+    assert not names & {"importlib", "sys", "_AliasFinder"}
+    assert not any(type(f).__module__.startswith("pbrkit") for f in sys.meta_path)
 
 
 def test_readme_api_tour_runs_as_written(tmp_path, monkeypatch):
@@ -69,9 +72,10 @@ def test_readme_api_tour_runs_as_written(tmp_path, monkeypatch):
     assert (tmp_path / "spheres.png").is_file() and (tmp_path / "spheres.stderr.exr").is_file()
     assert (tmp_path / "plastic.binary").is_file()
     assert abs(namespace["fit"].parameters["roughness"] - 0.5) < 1e-4  # the MERL file's model, recovered
-    b, summary = namespace["b"], namespace["summary"]
+    b, r = namespace["b"], namespace["r"]
     assert b.levels == 4 and list(b.roughness) == [0.0, 1 / 3, 2 / 3, 1.0]
-    assert 0.0 <= summary["errors"]["mean_relative_error"] < 1.0
+    assert 0.0 <= r.stats["errors"]["mean_relative_error"] < 1.0
+    assert r.realtime.shape == r.reference.shape == (32, 32, 3) and r.error.shape == (32, 32)
     pdf_h, h, wo = namespace["pdf_h"], namespace["h"], namespace["wo"]
     assert pdf_h.shape == (1024,) and (pdf_h > 0).all() and h.shape == (1024, 3) and wo.shape == (3,)
 
@@ -81,7 +85,7 @@ def test_bundled_environment_is_public_and_described():
     and pbrkit.data.ENVIRONMENT agrees with LICENSE-environment.md beside it."""
     from pbrkit.data import ENVIRONMENT, environment_licence_path, environment_path
     from pbrkit.io.images import read_image
-    from pbrkit.render.scene import bundled_environment
+    from pbrkit.rendering.scene import bundled_environment
 
     path = environment_path()
     assert path.name == "environment.hdr" and path.is_file()

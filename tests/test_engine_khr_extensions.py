@@ -67,7 +67,7 @@ ground truth):
 * specular (144 x 144, 9 spheres): 0.23 / 0.67 / 0.28.  ``getSpecularInfo``'s
   ``f0_dielectric = min(f0_dielectric * specularColorFactor, vec3(1.0))`` and
   ``specularWeight = specularFactor`` inside ``getIBLGGXFresnel`` (FssEss and F_avg
-  both scaled) are :func:`pbrkit.render.khronos_ibl.sample_viewer_fresnel`'s, the
+  both scaled) are :func:`pbrkit.rendering.khronos_ibl.sample_viewer_fresnel`'s, the
   over-1 colour (2.5, F0 0.1) and the clamp (ior 2.5 x 10) included.
 * ior (240 x 96, 10 spheres): 0.24 / 0.67 / 0.31.  ``getIorInfo``'s ``f0_dielectric =
   vec3(pow((u_Ior - 1.0) / (u_Ior + 1.0), 2.0))``; ior 1 reflects nothing in both, and
@@ -91,7 +91,7 @@ the extension's factors.
   strength 0, 0.5, 1, columns roughness 0, 0.25, 0.5, 1; then rotation 0 .. 3 pi/4) 0.45
   0.24 0.23 0.22 | 0.47 0.26 0.25 0.21 | 0.41 0.26 0.22 0.21 | 0.28 0.26 0.24 0.31.  The
   spheres carry glTF TANGENT (:func:`_unit_sphere_tangents`), which both read.  pbrkit's
-  :func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection` is the viewer's
+  :func:`pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection` is the viewer's
   ``getIBLRadianceAnisotropy``: the bent normal ``normalize(mix(cross(cross(B, v), B), n,
   pow(1.0 - anisotropy * (1.0 - roughness), 4.0)))`` with B the viewer's
   ``anisotropicB = cross(normalInfo.ng, anisotropicT)`` (its sign does not matter:
@@ -128,7 +128,7 @@ the extension's factors.
   at transmission 1 against 130 with it).  The background is ``cubemap.vert``'s unit cube
   seen from 0.1 behind its centre (``mat[3] = vec4(0.0, 0.0, 0.0, 0.1)``): directions 1.1
   times as far from the view axis as the camera's rays, which ``--engine khronos`` now
-  reads (:func:`pbrkit.render.transmission_ibl.sample_viewer_background_direction`;
+  reads (:func:`pbrkit.rendering.transmission_ibl.sample_viewer_background_direction`;
   along the camera's ray it was 2.54 levels off at transmission 1, 2.84 on the clear
   volume).  Per sphere (rows: thin walls at roughness 0, at 0.3, volumes) 0.23 0.22 0.20
   | 0.23 7.04 17.31 | 0.50 0.39 0.43; over all but the two rough transmissive spheres
@@ -153,7 +153,7 @@ the extension's factors.
   unmapped normal, also under the base's normalTexture), its ``clearcoatFresnel`` at
   ``clampedDot(clearcoatNormal, v)`` and its coat radiance ``getIBLRadianceGGX(
   clearcoatNormal, v, clearcoatRoughness)`` are ``--engine khronos``'s coat normal
-  (:func:`pbrkit.render.textures.tangent_space_normal` of the unmapped normal and the
+  (:func:`pbrkit.rendering.textures.tangent_space_normal` of the unmapped normal and the
   TANGENT, ``Geometry._extension_textures``), the Fresnel's ``coat_nov`` and the lookup
   about reflect(-v, n_c): what is left is the other assets' 0.2 .. 0.3, a little more
   (0.32, 0.33) on the two mirror coats at scale 1, whose reflections the bumps make as
@@ -501,7 +501,7 @@ def viewer_image(name, bake_dir):
 def asset_hits(name):
     """pbrkit's camera of the asset and, per pixel centre, the index of the analytic
     sphere hit (-1: none), its unit normal and the ray's direction."""
-    from pbrkit.render.scene import Camera
+    from pbrkit.rendering.scene import Camera
 
     cam = asset_camera(name)
     camera = Camera(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in cam.items()})
@@ -569,7 +569,7 @@ def renders(tmp_path_factory):
     # (the level the viewer's framebuffer filter amounts to here: test_rough_transmission_...)
     from unittest import mock
 
-    import pbrkit.render.transmission_ibl as transmission_ibl
+    import pbrkit.rendering.transmission_ibl as transmission_ibl
 
     with mock.patch.object(transmission_ibl, "level_of_roughness", lambda r, levels: np.zeros_like(r)):
         scene = root / "transmission" / "transmission.json"

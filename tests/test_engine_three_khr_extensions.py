@@ -157,7 +157,7 @@ Sphere by sphere (mean |grey|, three.js against ``--engine khronos``; the grids'
 neutral (no coat, specular 1 white, ior 1.5, no film; the normal-mapped red base without a
 coat 0.12, 1.01 while ``--engine three`` took three's ``geometryRoughness`` from the mapped
 normal's screen-space change where three takes the unmapped ``nonPerturbedNormal``'s, now
-:attr:`pbrkit.render.geometry.Surface.n_unmapped`), 0.65 on the whole anisotropy asset
+:attr:`pbrkit.rendering.geometry.Surface.n_unmapped`), 0.65 on the whole anisotropy asset
 (p95 2.3; 1.9 .. 2.0 on the roughness-1 metals, three's DFG table it does not reproduce;
 1.4 on the half-bent mirror); it does not model the extensions' other terms (clearcoat 4.3,
 specular 10.0, ior 25.8, sheen 13.4, coated emission 1.07, iridescence 3.7 levels):
@@ -297,7 +297,7 @@ def mapped_normals(name, n, which, gltf_frame=True):
     """(the base's normal, the coat's normal) at analytic sphere normals ``n`` of spheres
     ``which`` (indices into :func:`asset_spheres`): ``n`` itself for the assets without
     textures; on the :data:`TEXTURE_ASSETS` the normalTexture and the clearcoatNormalTexture
-    (texture 0, bilinear and REPEAT, :class:`pbrkit.render.textures.Texture`) at the spheres'
+    (texture 0, bilinear and REPEAT, :class:`pbrkit.rendering.textures.Texture`) at the spheres'
     (u, v) = (phi / 2 pi, theta / pi), each normalize(T s x + B s y + N z) of the texel's
     (x, y, z) = 2 RGB - 1 in the frame of the spheres' TANGENT T = (cos phi, 0, -sin phi),
     B = N x T (north) (glTF's, the Sample Viewer's, and three's where it reads the TANGENT);
@@ -309,7 +309,7 @@ def mapped_normals(name, n, which, gltf_frame=True):
     = -B / (pi r), while GLTFLoader, seeing the TANGENT, left clearcoatNormalScale's y
     unflipped: x along T times a / max(a, 1), y along -B times 1 / max(a, 1), a = 1 /
     (2 sin theta)."""
-    from pbrkit.render.textures import Texture
+    from pbrkit.rendering.textures import Texture
 
     if name not in TEXTURE_ASSETS:
         return n, n
@@ -376,7 +376,7 @@ def three_model(name, lookups, swap=()):
     from pbrkit.albedo.tables import sample_table
     from pbrkit.brdf.fresnel import f_iridescence
     from pbrkit.brdf.lobes.sheen import sheen_albedo_lookups
-    from pbrkit.render.realtime import three_roughness
+    from pbrkit.rendering.realtime import three_roughness
 
     camera, index, normals, dirs = asset_hits(name)
     hit = index >= 0

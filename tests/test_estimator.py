@@ -1,5 +1,5 @@
-"""The ground truth's estimator pieces (pbrkit.render.estimator) and the film's sums
-(pbrkit.render.film) against independent values: the power heuristic by hand, the
+"""The ground truth's estimator pieces (pbrkit.rendering.estimator) and the film's sums
+(pbrkit.rendering.film) against independent values: the power heuristic by hand, the
 shifted sums against numpy's mean and variance (with a large offset that defeats the
 naive sum of squares), and the light and BSDF samples against f, pdf and the MIS
 weight assembled from the public NumPy API (pbrkit.brdf.models.evaluate / pdf)."""
@@ -13,7 +13,7 @@ import pytest
 from pbrkit.brdf import models
 from pbrkit.brdf.bxdf import NO_TANGENT
 from pbrkit.brdf.dispatch import lobe_probabilities
-from pbrkit.render.estimator import (
+from pbrkit.rendering.estimator import (
     STRATEGY_BSDF,
     STRATEGY_MIS,
     Shading,
@@ -22,10 +22,10 @@ from pbrkit.render.estimator import (
     light_sample,
     power_heuristic,
 )
-from pbrkit.render.film import Film, film_estimate, new_film, shifted_add
-from pbrkit.render.materials import hit_bxdf, material_tables
-from pbrkit.render.scene import MaterialSpec
-from pbrkit.render.textures import SurfaceMaterial
+from pbrkit.rendering.film import Film, film_estimate, new_film, shifted_add
+from pbrkit.rendering.materials import hit_bxdf, material_tables
+from pbrkit.rendering.scene import MaterialSpec
+from pbrkit.rendering.textures import SurfaceMaterial
 
 
 def test_power_heuristic_by_hand():

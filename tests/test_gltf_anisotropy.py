@@ -177,7 +177,7 @@ def test_the_frame_follows_the_tangent_handedness_and_rotation():
 def test_the_factors_and_tangents_are_read_from_gltf_files(tmp_path):
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 0.7, "anisotropyRotation": -1.25}}
     asset = load_gltf(write_quad_glb(tmp_path / "a.glb", material_extras=ext, extensions_required=tuple(ext)))
@@ -202,7 +202,7 @@ def test_an_anisotropy_texture_is_read(tmp_path):
     """(Applied per shading point: tests/test_gltf_extension_textures.py.)"""
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     texture = np.full((2, 2, 3), 200, dtype=np.uint8)
     ext = {"KHR_materials_anisotropy": {"anisotropyStrength": 1.0, "anisotropyTexture": {"index": 0}}}
@@ -227,7 +227,7 @@ def test_bad_anisotropy_fields_are_refused_naming_the_field(tmp_path, ext, fragm
     from test_render_gltf import write_quad_glb
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as info:
         load_gltf(write_quad_glb(tmp_path / "b.glb", material_extras=ext))
@@ -236,7 +236,7 @@ def test_bad_anisotropy_fields_are_refused_naming_the_field(tmp_path, ext, fragm
 
 def test_the_glb_writer_writes_tangents_the_reader_reads(tmp_path):
     from pbrkit.io.gltf_writer import GltfPrimitive, write_glb
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     p = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     n = np.tile([0.0, 0.0, 1.0], (3, 1))
@@ -254,16 +254,16 @@ def test_the_glb_writer_writes_tangents_the_reader_reads(tmp_path):
 
 @pytest.mark.parametrize("roughness, strength", [(0.3, 1.0), (0.05, 0.6), (0.6, 1.0)])
 def test_filtered_importance_sampling_keeps_the_lobe_s_albedo(roughness, strength):
-    """pbrkit's real time of an anisotropic lobe (pbrkit.render.anisotropic_ibl) under a
+    """pbrkit's real time of an anisotropic lobe (pbrkit.rendering.anisotropic_ibl) under a
     white environment: its DFG2 (the mean of the samples' weights G2 / G1) is the
     directional albedo of the lobe with F = 1, by the independent quadrature of the
     README's transcription, within 0.03, at views along and across the turned tangent;
     the prefiltered radiance of a constant environment is that constant."""
-    from pbrkit.render.anisotropic_ibl import anisotropic_ibl
-    from pbrkit.render.geometry import Surface
-    from pbrkit.render.materials import material_tables
-    from pbrkit.render.scene import MaterialSpec
-    from pbrkit.render.textures import SurfaceMaterial
+    from pbrkit.rendering.anisotropic_ibl import anisotropic_ibl
+    from pbrkit.rendering.geometry import Surface
+    from pbrkit.rendering.materials import material_tables
+    from pbrkit.rendering.scene import MaterialSpec
+    from pbrkit.rendering.textures import SurfaceMaterial
 
     rotation = 0.4
     spec = MaterialSpec(name="m", model="gltf", base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=roughness,

@@ -177,9 +177,9 @@ def _hits(path):
     """(surface, per-hit parameter rows) of a 6 x 6 view of the quad of ``path``."""
     from test_gltf_extension_textures import _scene
 
-    from pbrkit.render.geometry import Geometry
-    from pbrkit.render.materials import material_tables, per_hit_tables
-    from pbrkit.render.primary import _primary
+    from pbrkit.rendering.geometry import Geometry
+    from pbrkit.rendering.materials import material_tables, per_hit_tables
+    from pbrkit.rendering.primary import _primary
 
     scene = _scene(path, 6, 6)
     geometry = Geometry(scene)
@@ -237,7 +237,7 @@ def test_under_a_base_normal_map_the_coat_keeps_the_unmapped_normal(tmp_path):
 def test_a_coat_normal_texture_alone_gets_mikktspace_tangents(tmp_path):
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}}
     asset = load_gltf(write_quad_glb(tmp_path / "m.glb", texture=_texture(), material_extras=ext))
@@ -255,7 +255,7 @@ def test_bad_coat_normal_textures_are_refused_naming_the_field(tmp_path, info, f
     from test_render_gltf import write_quad_glb
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": info}}
     with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as exc:
@@ -272,8 +272,8 @@ def test_real_time_area_lights_take_the_coat_normal(tmp_path):
     from test_gltf_extension_textures import _scene
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.area_lights import AreaLight
-    from pbrkit.render.realtime import render_realtime
+    from pbrkit.rendering.area_lights import AreaLight
+    from pbrkit.rendering.realtime import render_realtime
 
     light = AreaLight(type="rect", position=(0.0, 1.5, 3.0), normal=(0.0, -0.45, -0.9), width=1.0, height=0.5,
                       intensity=6.0)

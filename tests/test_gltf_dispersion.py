@@ -41,7 +41,7 @@ def test_channel_iors_follow_cauchy_through_the_abbe_number(ior, dispersion):
 
 
 def _glass(dispersion=0.0, ior=1.5):
-    from pbrkit.render.scene import Camera, EnvironmentSpec, MaterialSpec, Scene, Sphere, bundled_environment
+    from pbrkit.rendering.scene import Camera, EnvironmentSpec, MaterialSpec, Scene, Sphere, bundled_environment
 
     keys = dict(base_color=(1.0, 1.0, 1.0), metallic=0.0, roughness=0.05, transmission=1.0, thickness=1.0, ior=ior)
     if dispersion:
@@ -53,7 +53,7 @@ def _glass(dispersion=0.0, ior=1.5):
 
 
 def test_the_ground_truth_traces_each_channel_at_its_own_ior():
-    from pbrkit.render.reference import render_reference
+    from pbrkit.rendering.reference import render_reference
 
     dispersion = 1.5
     iors = dispersion_iors(1.5, dispersion)
@@ -70,11 +70,11 @@ def test_the_ground_truth_traces_each_channel_at_its_own_ior():
 
 @pytest.mark.parametrize("engine", ["pbrkit", "khronos"])
 def test_real_time_looks_each_channel_up_along_its_own_refraction(engine):
-    from pbrkit.render.geometry import Surface
-    from pbrkit.render.materials import material_tables
-    from pbrkit.render.scene import MaterialSpec
-    from pbrkit.render.textures import SurfaceMaterial
-    from pbrkit.render.transmission_ibl import transmission_lookups
+    from pbrkit.rendering.geometry import Surface
+    from pbrkit.rendering.materials import material_tables
+    from pbrkit.rendering.scene import MaterialSpec
+    from pbrkit.rendering.textures import SurfaceMaterial
+    from pbrkit.rendering.transmission_ibl import transmission_lookups
 
     rng = np.random.default_rng(11)
     count = 64
@@ -105,7 +105,7 @@ def test_the_factor_is_read_from_gltf_files(tmp_path):
     from test_render_gltf import write_quad_glb
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     ext = {"KHR_materials_dispersion": {"dispersion": 0.36}, "KHR_materials_volume": {"thicknessFactor": 1.0},
            "KHR_materials_transmission": {"transmissionFactor": 1.0}}

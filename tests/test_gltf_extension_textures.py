@@ -17,10 +17,10 @@ from test_render_gltf import write_quad_glb
 
 from pbrkit.brdf.shading.registry import COLUMNS
 from pbrkit.io.gltf_materials import TEXTURE_USES
-from pbrkit.render.geometry import Geometry
-from pbrkit.render.materials import material_tables, per_hit_tables
-from pbrkit.render.primary import _primary
-from pbrkit.render.scene import Camera, EnvironmentSpec, GltfObject, Scene
+from pbrkit.rendering.geometry import Geometry
+from pbrkit.rendering.materials import material_tables, per_hit_tables
+from pbrkit.rendering.primary import _primary
+from pbrkit.rendering.scene import Camera, EnvironmentSpec, GltfObject, Scene
 
 TEXEL = (51, 102, 153, 204)  # RGBA, 8-bit
 
@@ -94,8 +94,8 @@ def _coat_quad(tmp_path, name, extras):
 
 
 def test_a_clearcoat_texture_coats_its_half_of_the_quad(tmp_path):
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.reference import render_reference
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.reference import render_reference
 
     textured = _coat_quad(tmp_path, "t.glb", {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
                                                                           "clearcoatTexture": {"index": 0}}})

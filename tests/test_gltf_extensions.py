@@ -1,5 +1,5 @@
 """KHR_texture_transform and KHR_mesh_quantization in the glTF loader
-(pbrkit.io.gltf_extensions, pbrkit.render.gltf).
+(pbrkit.io.gltf_extensions, pbrkit.rendering.gltf).
 
 The expected texture coordinates are computed here from an independent
 transcription of the extension's transform (T(offset) R(rotation) S(scale), the
@@ -19,9 +19,9 @@ import pytest
 
 from pbrkit.core.errors import InputError
 from pbrkit.io.gltf_extensions import TextureTransform
-from pbrkit.render.geometry import Geometry
-from pbrkit.render.gltf import load_gltf
-from pbrkit.render.scene import Camera, EnvironmentSpec, GltfObject, Scene
+from pbrkit.rendering.geometry import Geometry
+from pbrkit.rendering.gltf import load_gltf
+from pbrkit.rendering.scene import Camera, EnvironmentSpec, GltfObject, Scene
 
 BYTE, UBYTE, SHORT, USHORT, UINT, FLOAT = 5120, 5121, 5122, 5123, 5125, 5126
 TT = "KHR_texture_transform"
@@ -235,7 +235,7 @@ def test_a_quarter_turn_and_a_half_offset_move_the_checker_as_predicted(tmp_path
 def test_a_render_shows_the_turned_checker(tmp_path):
     """A 16 x 16 real-time render of the quad with the checker as its only light (emissive,
     black base colour, black environment): the pixels at the quadrants' centres."""
-    from pbrkit.render.realtime import render_realtime
+    from pbrkit.rendering.realtime import render_realtime
 
     path = quad_glb(tmp_path / "q.glb", {"rotation": math.pi / 2}, slot="emissiveTexture")
     # the quad (1 x 1 at distance 6) fills a field of view of 2 atan(1 / 12)

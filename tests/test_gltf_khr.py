@@ -154,7 +154,7 @@ def test_white_furnace_of_the_coated_material(metallic, mu):
 def test_the_extensions_are_read_from_gltf_files(tmp_path):
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 0.8, "clearcoatRoughnessFactor": 0.2},
            "KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [2.0, 1.0, 0.5]},
@@ -183,7 +183,7 @@ def test_every_clearcoat_texture_is_applied_without_a_note(tmp_path):
     """(clearcoatNormalTexture per hit: tests/test_gltf_clearcoat_normal.py.)"""
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     texture = np.full((2, 2, 3), 200, dtype=np.uint8)
     ext = {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 0},
@@ -221,7 +221,7 @@ def test_bad_extension_fields_are_refused_naming_the_field(tmp_path, ext, fragme
     from test_render_gltf import write_quad_glb
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     path = write_quad_glb(tmp_path / "b.glb", material_extras=ext)
     with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as info:
@@ -234,7 +234,7 @@ def test_an_unlit_material_is_its_base_colour_as_emission(tmp_path):
     nothing (a zero BRDF: no light changes it)."""
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     path = write_quad_glb(tmp_path / "u.glb", material_extras={"KHR_materials_unlit": {}},
                           extensions_required=("KHR_materials_unlit",))
@@ -269,8 +269,8 @@ def test_realtime_clear_coat_and_specular_under_a_constant_environment():
     an independent quadrature)."""
     from test_render import pixel_geometry, sphere_scene
 
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
 
     env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
     plain_spec = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1))
@@ -304,8 +304,8 @@ def test_the_khronos_engine_evaluates_the_extensions_as_the_sample_viewer():
     reflects nothing."""
     from test_render import pixel_geometry, sphere_scene
 
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
 
     env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
     core = MaterialSpec(name="m", metallic=0.3, roughness=0.5, base_color=(0.6, 0.3, 0.1))
@@ -334,7 +334,7 @@ def test_the_khronos_engine_evaluates_the_extensions_as_the_sample_viewer():
 def test_ior_zero_is_allowed_beside_its_range():
     """KHR_materials_ior's ior is 0 (the specular-glossiness conversion: F0 = 1) or at
     least 1: Material and scene files take 0 and refuse 0.5 with one line naming ior."""
-    from pbrkit.render.scene import scene_from_dict
+    from pbrkit.rendering.scene import scene_from_dict
 
     l = _unit(np.array([[0.2, 0.1, 0.9]]))
     white = Material(base_color=np.zeros(3), roughness=0.3, ior=0.0)
@@ -394,8 +394,8 @@ def test_realtime_iridescence_under_a_constant_environment():
     follows f_iridescence (checked against an Airy summation in test_thin_film.py)."""
     from test_render import pixel_geometry, sphere_scene
 
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
 
     env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
     base = (0.9, 0.6, 0.3)
@@ -430,9 +430,9 @@ def test_the_clear_coat_darkens_the_emission_beneath_it(mode):
     clearcoatF0 is."""
     from test_render import pixel_geometry, sphere_scene
 
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.reference import render_reference
-    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.reference import render_reference
+    from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
 
     scene = sphere_scene(MaterialSpec(**COATED_EMITTER), EnvironmentSpec(color=(0.0, 0.0, 0.0)), size=16)
     if mode in ("pbrkit", "khronos"):
@@ -455,8 +455,8 @@ def test_emission_seen_by_bxdf_samples_is_darkened_alike_in_every_engine():
     hit's own normal, the wavefront engine at the surface it intersects: the same
     numbers (same random numbers) for direct lighting, within the noise with a bounce,
     and darker than the uncoated sphere's light."""
-    from pbrkit.render.reference import render_reference
-    from pbrkit.render.scene import Camera, EnvironmentSpec, MaterialSpec, Plane, Scene, Sphere
+    from pbrkit.rendering.reference import render_reference
+    from pbrkit.rendering.scene import Camera, EnvironmentSpec, MaterialSpec, Plane, Scene, Sphere
 
     def scene(clearcoat):
         cam = Camera(position=(0.0, 2.5, 4.0), look_at=(0.0, 0.0, 0.0), fov=40.0, width=12, height=12)
@@ -492,8 +492,8 @@ def test_the_khronos_engine_mixes_the_thin_film_as_the_sample_viewer():
     constant map's prefiltered radiance is 1 to within 3e-8.)"""
     from test_render import pixel_geometry, sphere_scene
 
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
 
     env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
     base = (0.9, 0.6, 0.3)

@@ -162,9 +162,9 @@ def test_a_material_without_sheen_compiles_as_the_core_model():
     extended form otherwise; the dispatch runs each one's own composition."""
     from pbrkit.brdf.dispatch import SAMPLING_BY_MODEL
     from pbrkit.brdf.shading.registry import COMPILED, EXTENDED_CODES, MODELS
-    from pbrkit.render.materials import material_tables
-    from pbrkit.render.scene import MaterialSpec
-    from pbrkit.render.textures import SurfaceMaterial
+    from pbrkit.rendering.materials import material_tables
+    from pbrkit.rendering.scene import MaterialSpec
+    from pbrkit.rendering.textures import SurfaceMaterial
 
     core, extended = MODELS.index("gltf"), EXTENDED_CODES["gltf"]
     assert COMPILED[core] is gltf_model.CORE and COMPILED[extended] is gltf_model.MODEL
@@ -240,7 +240,7 @@ def test_the_transcription_with_its_own_table_agrees(case):
 def test_khr_materials_sheen_is_read_from_gltf_files(tmp_path):
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     sheen = {"sheenColorFactor": [0.9, 0.5, 0.25], "sheenRoughnessFactor": 0.4}
     path = write_quad_glb(tmp_path / "s.glb", material_extras={"KHR_materials_sheen": sheen},
@@ -259,7 +259,7 @@ def test_a_sheen_texture_is_read(tmp_path):
     """(Applied per shading point, sRGB-decoded: tests/test_gltf_extension_textures.py.)"""
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     texture = np.full((2, 2, 3), 200, dtype=np.uint8)
     sheen = {"sheenColorFactor": [1.0, 1.0, 1.0], "sheenColorTexture": {"index": 0}}
@@ -283,7 +283,7 @@ def test_bad_sheen_values_are_refused_naming_the_field(tmp_path, sheen, fragment
     from test_render_gltf import write_quad_glb
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     path = write_quad_glb(tmp_path / "b.glb", material_extras={"KHR_materials_sheen": sheen})
     with pytest.raises(InputError, match=fragment) as info:
@@ -292,7 +292,7 @@ def test_bad_sheen_values_are_refused_naming_the_field(tmp_path, sheen, fragment
 
 
 def test_a_scene_with_sheen_loads(tmp_path):
-    from pbrkit.render.scene import load_scene
+    from pbrkit.rendering.scene import load_scene
 
     path = tmp_path / "s.toml"
     path.write_text('[materials.velvet]\nmodel = "gltf"\nbase_color = [0.2, 0.05, 0.1]\nsheen_color = [1, 1, 1]\n'
@@ -317,8 +317,8 @@ def test_realtime_ibl_has_the_sheen_over_the_scaled_base():
     from test_render import pixel_geometry, sphere_scene
 
     from pbrkit.brdf.lobes.sheen import sheen_albedo_lookup
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.scene import EnvironmentSpec, MaterialSpec
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
 
     env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
     core = MaterialSpec(name="m", metallic=1.0, roughness=0.5, base_color=(0.3, 0.2, 0.1))

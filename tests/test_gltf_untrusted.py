@@ -1,4 +1,4 @@
-"""glTF models as untrusted input (pbrkit.render.gltf, pbrkit.io.gltf_document,
+"""glTF models as untrusted input (pbrkit.rendering.gltf, pbrkit.io.gltf_document,
 pbrkit.io.gltf_resources): a model reads only files under its own folder (or the
 roots the user allows, ``--allow-root`` / ``allow_roots``), regular files only,
 buffers to exactly their byteLength, images checked by their headers before
@@ -30,8 +30,8 @@ import pbrkit.io.gltf_resources as resources
 from pbrkit.app.cli import app
 from pbrkit.core.errors import InputError
 from pbrkit.io.gltf_resources import BYTES_PER_TEXEL, image_header
-from pbrkit.render.gltf import BYTES_PER_TRIANGLE, BYTES_PER_VERTEX, GltfAsset, _GltfReader, load_gltf
-from pbrkit.render.scene import load_scene
+from pbrkit.rendering.gltf import BYTES_PER_TRIANGLE, BYTES_PER_VERTEX, GltfAsset, _GltfReader, load_gltf
+from pbrkit.rendering.scene import load_scene
 
 SECRET = b"root:x:0:0:SECRET-LINE\n"
 

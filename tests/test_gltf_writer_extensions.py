@@ -14,7 +14,7 @@ import pygltflib
 import pytest
 
 from pbrkit.io.gltf_writer import GltfCamera, GltfPrimitive, GltfTexture, glb_bytes, write_glb
-from pbrkit.render.gltf import load_gltf
+from pbrkit.rendering.gltf import load_gltf
 
 QUAD = {"positions": np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.0]]),
         "normals": np.tile([0.0, 0.0, 1.0], (4, 1)), "indices": np.array([[0, 1, 2], [1, 3, 2]])}

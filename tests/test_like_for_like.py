@@ -16,13 +16,13 @@ from pbrkit import Material
 from pbrkit.app.cli import app
 from pbrkit.brdf import models
 from pbrkit.brdf.fresnel import f_schlick_roughness
-from pbrkit.render.compare import compare_images, relative_error_pixels
-from pbrkit.render.environment import EnvironmentLight
-from pbrkit.render.geometry import Geometry
-from pbrkit.render.realtime import fresnel_mix_albedo_table, render_realtime
-from pbrkit.render.reference import render_reference
-from pbrkit.render.run import approximation_split, render_scene
-from pbrkit.render.scene import EnvironmentSpec, MaterialSpec, builtin_scene
+from pbrkit.rendering.compare import compare_images, relative_error_pixels
+from pbrkit.rendering.environment import EnvironmentLight
+from pbrkit.rendering.geometry import Geometry
+from pbrkit.rendering.realtime import fresnel_mix_albedo_table, render_realtime
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.run import approximation_split, render_scene
+from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec, builtin_scene
 
 
 def _appendix_b(l, v, n, base, metallic, roughness):

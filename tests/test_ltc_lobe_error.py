@@ -20,7 +20,7 @@ from pbrkit.ltc.distribution import inverse_from_texel, ltc_evaluate
 from pbrkit.ltc.fit import cell_view
 from pbrkit.ltc.lobe_error import lobe_error, lobe_error_map, lobe_error_summary
 from pbrkit.ltc.score import directional_albedo
-from pbrkit.render.area_lights import bundled_ltc_table
+from pbrkit.rendering.area_lights import bundled_ltc_table
 
 
 @pytest.fixture(scope="module")

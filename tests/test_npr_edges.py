@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pbrkit.npr.edges import draw_lines, mesh_edges, silhouette_edges, weld_vertices
-from pbrkit.render.scene import Camera
+from pbrkit.rendering.scene import Camera
 
 
 def cube24(size=1.0):

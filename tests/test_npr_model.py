@@ -21,9 +21,9 @@ from pbrkit.npr.edges import mesh_edges
 from pbrkit.npr.hatching import hatch
 from pbrkit.npr.render import _tam, render_styled
 from pbrkit.npr.style import Style
-from pbrkit.render.environment import EnvironmentLight
-from pbrkit.render.lights import Light
-from pbrkit.render.scene import Camera, EnvironmentSpec, GltfObject, Scene
+from pbrkit.rendering.environment import EnvironmentLight
+from pbrkit.rendering.lights import Light
+from pbrkit.rendering.scene import Camera, EnvironmentSpec, GltfObject, Scene
 
 # ------------------------------------------------------------------ the writer
 

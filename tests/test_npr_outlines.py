@@ -15,7 +15,7 @@ from pbrkit.npr.outlines import (
     line_coverage,
     outline_mask,
 )
-from pbrkit.render.scene import Camera
+from pbrkit.rendering.scene import Camera
 
 
 def sphere_gbuffers(size=200, distance=4.0, radius=1.0, fov=40.0):

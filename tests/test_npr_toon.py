@@ -14,8 +14,8 @@ from pbrkit.app.cli import app
 from pbrkit.npr.render import render_styled
 from pbrkit.npr.style import Style, style_from_dict
 from pbrkit.npr.toon import default_thresholds, linearstep, toon_tone
-from pbrkit.render.lights import Light
-from pbrkit.render.scene import (
+from pbrkit.rendering.lights import Light
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     MaterialSpec,

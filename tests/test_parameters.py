@@ -17,7 +17,7 @@ from pbrkit import Material
 from pbrkit.brdf.parameters import Choice, Parameter
 from pbrkit.brdf.shading.registry import LAYOUT, PARAMETERS, REGISTERED, parameters_markdown
 from pbrkit.explore import views
-from pbrkit.render.scene import scene_from_dict
+from pbrkit.rendering.scene import scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 

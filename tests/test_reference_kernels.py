@@ -13,17 +13,17 @@ import pytest
 from scipy import stats
 
 from pbrkit.brdf.bxdf import CODE_COLUMNS
-from pbrkit.render.environment import (
+from pbrkit.rendering.environment import (
     _alias_sample,
     _alias_table,
     _atan2,
     _env_uv,
     _sincos,
 )
-from pbrkit.render.materials import material_tables
-from pbrkit.render.lanes import _VARIANTS, material_variants
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import (
+from pbrkit.rendering.materials import material_tables
+from pbrkit.rendering.lanes import _VARIANTS, material_variants
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     MaterialSpec,
@@ -160,7 +160,7 @@ def _scene(material, env):
 
 def test_every_variant_of_the_specialisation_table_is_exercised():
     """Each row of _VARIANTS is the code row of one of the materials tested below."""
-    from pbrkit.render.geometry import Geometry
+    from pbrkit.rendering.geometry import Geometry
 
     seen = set()
     for material in _MATERIALS:
@@ -178,7 +178,7 @@ def test_lane_kernel_gives_the_per_sample_paths_numbers(material):
     specialised by material; the wavefront engine evaluates the generic BxDF sample by
     sample with the same random numbers: the same image and standard errors, with
     occlusion, for MIS and for BRDF sampling alone, under a map and a constant sky."""
-    from pbrkit.render.scene import bundled_environment
+    from pbrkit.rendering.scene import bundled_environment
 
     for env in (EnvironmentSpec(file=str(bundled_environment()), rotation=30.0), EnvironmentSpec(color=(1, 1, 1))):
         scene = _scene(material, env)
@@ -229,7 +229,7 @@ def test_lane_kernel_with_area_lights_gives_the_per_sample_paths_numbers(occlusi
     objects block, emission met by BxDF samples with MIS, paths that end on a light):
     the same numbers as the wavefront engine's per-sample path, for a rect, a disk, a
     sphere and a polygon light, an emissive plane, MIS and BRDF sampling alone."""
-    from pbrkit.render.scene import AreaLight
+    from pbrkit.rendering.scene import AreaLight
 
     lights = (AreaLight(type="rect", position=(0.3, 2.0, 0.5), normal=(0.1, -1.0, 0.1), width=1.5, height=0.7,
                         intensity=3.0),
@@ -261,8 +261,8 @@ def test_kernels_for_core_materials_carry_only_the_core_models_and_give_the_full
     with an extension gets the kernels over every model."""
     from pbrkit.brdf import dispatch
     from pbrkit.brdf.shading.registry import COMPILED, REGISTERED
-    from pbrkit.render import lanes, materials, punctual, reference
-    from pbrkit.render.geometry import Geometry
+    from pbrkit.rendering import lanes, materials, punctual, reference
+    from pbrkit.rendering.geometry import Geometry
 
     core = COMPILED[:len(REGISTERED)]
     source = dispatch.family(core)["bxdf_f"].__source__

@@ -24,18 +24,18 @@ from pbrkit.brdf.models import (
     urp_mobile,
 )
 from pbrkit.core.color import TONEMAPS, luminance, tonemap
-from pbrkit.render.compare import compare_images
-from pbrkit.render.environment import (
+from pbrkit.rendering.compare import compare_images
+from pbrkit.rendering.environment import (
     EnvironmentLight,
     _env_pdf_texel,
     _env_sample,
     _env_texel,
 )
-from pbrkit.render.lights import Light
-from pbrkit.render.materials import material_tables
-from pbrkit.render.realtime import render_realtime
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import (
+from pbrkit.rendering.lights import Light
+from pbrkit.rendering.materials import material_tables
+from pbrkit.rendering.realtime import render_realtime
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     MaterialSpec,
@@ -43,7 +43,7 @@ from pbrkit.render.scene import (
     Scene,
     Sphere,
 )
-from pbrkit.render.textures import SurfaceMaterial
+from pbrkit.rendering.textures import SurfaceMaterial
 from pbrkit.sampling.random import _path_key, _uniform
 
 # ------------------------------------------------------------------ helpers
@@ -670,7 +670,7 @@ def test_scene_file_materials_of_every_model_render(tmp_path, model, extra):
              "lights": [{"type": "directional", "direction": [0.3, -1.0, -0.5], "intensity": 2.0}]}
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(scene))
-    from pbrkit.render.scene import load_scene
+    from pbrkit.rendering.scene import load_scene
 
     s = load_scene(path)
     rt = render_realtime(s, bake_size=16)

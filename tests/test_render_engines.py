@@ -11,14 +11,14 @@ import json
 import numpy as np
 import pytest
 
-from pbrkit.render.realtime import (
+from pbrkit.rendering.realtime import (
     ENGINES,
     multiple_scattering_fdez_aguera,
     render_realtime,
     specular_dominant_direction,
     three_roughness,
 )
-from pbrkit.render.scene import load_scene
+from pbrkit.rendering.scene import load_scene
 
 
 def _scene(tmp_path, metallic, base, roughness, color=(1.0, 1.0, 1.0), size=16):
@@ -77,8 +77,8 @@ def test_three_roughness_adds_the_normals_screen_space_change(tmp_path):
     small, large = (_scene(tmp_path, 0.0, (0.5, 0.5, 0.5), 0.0, size=s) for s in (16, 64))
     extra = []
     for scene in (small, large):
-        from pbrkit.render.geometry import Geometry
-        from pbrkit.render.primary import _primary
+        from pbrkit.rendering.geometry import Geometry
+        from pbrkit.rendering.primary import _primary
 
         prim = _primary(scene, Geometry(scene))
         r = three_roughness(scene.camera, prim.rows, prim.surface.n, np.zeros(prim.rows.size))
@@ -141,13 +141,13 @@ def test_three_roughness_takes_the_normal_before_normal_mapping(tmp_path):
     ``nonPerturbedNormal``, the normal before the normalMap (``lights_physical_fragment``):
     on a flat normal-mapped quad ``--engine three`` adds nothing to max(r, 0.045) (before,
     it took the mapped normals' change, which the bumps make large).  The surface keeps
-    that normal (:attr:`~pbrkit.render.geometry.Surface.n_unmapped`) only where a material
+    that normal (:attr:`~pbrkit.rendering.geometry.Surface.n_unmapped`) only where a material
     has a normalTexture."""
     from unittest import mock
 
-    import pbrkit.render.realtime as realtime
-    from pbrkit.render.geometry import Geometry
-    from pbrkit.render.primary import _primary
+    import pbrkit.rendering.realtime as realtime
+    from pbrkit.rendering.geometry import Geometry
+    from pbrkit.rendering.primary import _primary
 
     scene = _normal_mapped_quad(tmp_path)
     prim = _primary(scene, Geometry(scene))

@@ -14,9 +14,9 @@ from conftest import needs_shared_data
 
 from pbrkit.core.color import srgb_to_linear
 from pbrkit.core.errors import InputError
-from pbrkit.render.geometry import Geometry
-from pbrkit.render.gltf import load_gltf
-from pbrkit.render.scene import (
+from pbrkit.rendering.geometry import Geometry
+from pbrkit.rendering.gltf import load_gltf
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     GltfObject,
@@ -24,8 +24,8 @@ from pbrkit.render.scene import (
     Plane,
     Scene,
 )
-from pbrkit.render.tangents import mikktspace_tangents
-from pbrkit.render.textures import Texture
+from pbrkit.rendering.tangents import mikktspace_tangents
+from pbrkit.rendering.textures import Texture
 
 MODELS = Path(__file__).resolve().parents[2] / "shared" / "data" / "models"
 needs_models = needs_shared_data("models/NormalTangentTest.glb")
@@ -313,8 +313,8 @@ def test_normal_tangent_test_bumps_tilt_outward():
 
 @needs_models
 def test_metal_rough_spheres_materials_and_both_render_modes():
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.reference import render_reference
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.reference import render_reference
 
     asset = load_gltf(MODELS / "MetalRoughSpheresNoTextures.glb")
     metallic = sorted({round(m.spec.metallic, 3) for m in asset.materials})
@@ -336,8 +336,8 @@ def test_metal_rough_spheres_materials_and_both_render_modes():
 
 @needs_models
 def test_damaged_helmet_textures_emission_and_bounces():
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.reference import render_reference
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.reference import render_reference
 
     helmet = MODELS / "DamagedHelmet.glb"
     scene = Scene(camera=Camera(position=(0.0, 0.0, 3.0), look_at=(0.0, 0.0, 0.0), fov=45.0, width=24, height=24),
@@ -368,8 +368,8 @@ def _alpha_scene(path, supersample=1):
 
 
 def _modes():
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.reference import render_reference
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.reference import render_reference
 
     return {"realtime": lambda scene: render_realtime(scene, bake_size=8),
             "reference": lambda scene: render_reference(scene, spp=256, seed=1)}
@@ -430,7 +430,7 @@ def test_a_cutout_lets_light_through_to_the_shadow_side(tmp_path, mode):
     floor under that half is lit as without the quad, under the other half not at all
     (a black sky: the sun alone lights it; the quad emits nothing; the camera looks under
     the quad)."""
-    from pbrkit.render.scene import Light
+    from pbrkit.rendering.scene import Light
 
     texture = np.zeros((2, 2, 4), dtype=np.uint8)
     texture[..., :3] = 255
@@ -471,8 +471,8 @@ def test_vertex_colours_multiply_the_base_colour(tmp_path):
     import pygltflib as g
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.geometry import Geometry
-    from pbrkit.render.primary import _primary
+    from pbrkit.rendering.geometry import Geometry
+    from pbrkit.rendering.primary import _primary
 
     def quad(path, colors, ctype, normalized=False, alpha=None):
         path = write_quad_glb(path, material_extras=_UNLIT, alpha=alpha)
@@ -516,7 +516,7 @@ def test_vertex_colours_multiply_the_base_colour(tmp_path):
         np.testing.assert_allclose(shown, expected, atol=2e-6)
     # a VEC4 colour's alpha multiplies the base colour's under alphaMode MASK: alpha 0.2 at the
     # bottom corners, 0.9 at the top ones, linear in y over the quad, cut below 0.5 (y < -1/7)
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     cut = quad(tmp_path / "a.glb", np.c_[colors, [0.2, 0.2, 0.9, 0.9]], g.FLOAT, alpha={"alphaMode": "MASK"})
     assert not load_gltf(cut).notes

@@ -9,14 +9,14 @@ import numpy as np
 import pytest
 
 from pbrkit.core.errors import InputError
-from pbrkit.render.lights import (
+from pbrkit.rendering.lights import (
     Light,
     falloff_khr,
     falloff_ue4,
     spot_attenuation,
     window_ue4,
 )
-from pbrkit.render.scene import (
+from pbrkit.rendering.scene import (
     Camera,
     EnvironmentSpec,
     GltfObject,

@@ -4,7 +4,7 @@ normal from a clearcoatNormalTexture), the whole BRDF with KHR_materials_sheen (
 coat's normal, against :func:`pbrkit.brdf.models.evaluate`'s ``coat_normal``), and the
 extensions' real-time IBL, the coat's Fresnel at n_c.v (pbrkit's and the Khronos
 Sample Viewer's, with KHR_materials_transmission / _volume's transmitted light and the
-viewer's thin-film mix: :mod:`pbrkit.render.transmission_ibl`), KHR_materials_dispersion (each
+viewer's thin-film mix: :mod:`pbrkit.rendering.transmission_ibl`), KHR_materials_dispersion (each
 channel's IOR and lookup) and KHR_materials_anisotropy (its frame, D, V, specular lobe, BRDF
 and bent-normal IBL direction), against pbrkit's Python in WebGL2
 (headless Chromium, SwiftShader), as
@@ -13,12 +13,12 @@ over a grid of float32 inputs, compared with :mod:`pbrkit.brdf.shading.gltf` (it
 extended ``setup``, ``_specular_mix_weight``, ``ibl_*``), :mod:`pbrkit.brdf.lobes.clearcoat`,
 :func:`pbrkit.brdf.operators.fresnel_coat`, :func:`pbrkit.brdf.models.gltf` (the whole
 material at random (l, v, n, material)), the real-time renderer's own IBL kernel
-(``pbrkit.render.realtime._ibl_kernel``, the whole IBL of the material) and
-:mod:`pbrkit.render.khronos_ibl`; the anisotropy's against :func:`pbrkit.brdf.bxdf.shading_frame`,
-:func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`;
+(``pbrkit.rendering.realtime._ibl_kernel``, the whole IBL of the material) and
+:mod:`pbrkit.rendering.khronos_ibl`; the anisotropy's against :func:`pbrkit.brdf.bxdf.shading_frame`,
+:func:`pbrkit.brdf.models.evaluate` with a tangent and :func:`pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection`;
 the dispersion's against :mod:`pbrkit.brdf.transmission` and
-:func:`pbrkit.render.transmission_ibl.transmission_lookups`; the coat's normal against
-:func:`pbrkit.render.textures.tangent_space_normal`.  The cases of the functions that take
+:func:`pbrkit.rendering.transmission_ibl.transmission_lookups`; the coat's normal against
+:func:`pbrkit.rendering.textures.tangent_space_normal`.  The cases of the functions that take
 a tangent frame (anisotropy, the coat's normal) are in tests/shader_frame_cases.py.
 
 The page's 2-D table (``u_lut``) is the E_sheen table, as in tests/test_shaders_khr.py:
@@ -52,7 +52,7 @@ from pbrkit.brdf.shading import gltf
 from pbrkit.brdf.shading.registry import COLUMNS, LAYOUT
 from pbrkit.core.jit import dual_use
 from pbrkit.microfacet.roughness import alpha_from_roughness
-from pbrkit.render import khronos_ibl
+from pbrkit.rendering import khronos_ibl
 
 FILE = "pbrkit_khr_material.glsl"
 #: The page's expression for a pbrkit_KHRMaterial from the inputs d, e, f, g: base d.xyz,
@@ -229,7 +229,7 @@ def _coat_normal_brdf_case(rng):
 
 
 def reference_albedo_f90(dfg, f0, f90):
-    """The split sum with F90 of pbrkit.render.realtime's _ibl_kernel, albedo = DFG1 F90 + F0
+    """The split sum with F90 of pbrkit.rendering.realtime's _ibl_kernel, albedo = DFG1 F90 + F0
     (DFG2 - DFG1), transcribed: the kernel's line has no Python function of its own."""
     return dfg[:, :1] * np.asarray(f90).reshape(-1, 1) + f0 * (dfg[:, 1:2] - dfg[:, :1])
 
@@ -289,16 +289,16 @@ def _ibl_cases(rng, m, bx, dfg_table):
 
 def _renderer_cases(rng, m, dfg_table):
     """pbrkit_glTFExtendedIBL and pbrkit_sampleViewerExtensionsIBL against the renderer itself:
-    pbrkit.render.realtime's _ibl_kernel (engines "pbrkit", no energy compensation, and "khronos") on
+    pbrkit.rendering.realtime's _ibl_kernel (engines "pbrkit", no energy compensation, and "khronos") on
     the materials packed as a scene's (material_tables), at random (n, v), most with a coat normal of their
     own (the rows' coat_normal: n tilted); the kernel's own n.v and n_c.v (floored at 1e-4), DFG lookups at
     (n.v, r) and at (n_c.v, the coat's roughness from its _reflection_kernel) are the GLSL's inputs, as
     _ibl_cases lays them out."""
     from pbrkit.albedo.tables import table_bilinear
     from pbrkit.brdf.bxdf import NO_TANGENT
-    from pbrkit.render import realtime
-    from pbrkit.render.material_spec import MaterialSpec
-    from pbrkit.render.materials import material_tables
+    from pbrkit.rendering import realtime
+    from pbrkit.rendering.material_spec import MaterialSpec
+    from pbrkit.rendering.materials import material_tables
 
     specs = [SimpleNamespace(spec=MaterialSpec(
         name=f"m{q}", base_color=tuple(m.base[q]), metallic=float(m.metallic[q]), roughness=float(m.roughness[q]),
@@ -358,7 +358,7 @@ def _renderer_cases(rng, m, dfg_table):
 
 
 def _sample_viewer_cases(rng, m):
-    """The Sample Viewer's IBL (pbrkit.render.khronos_ibl).  Inputs: a = (n.v, Karis' (A, B), the Charlie
+    """The Sample Viewer's IBL (pbrkit.rendering.khronos_ibl).  Inputs: a = (n.v, Karis' (A, B), the Charlie
     LUT's value), b, c, h = (radiance, irradiance, the coat's radiance) RGB, the sheen's radiance RGB in
     (b.w, c.w, h.w), i.x = n_c.v (drawn apart from n.v)."""
     cases = []
@@ -402,7 +402,7 @@ def _transmission_cases(rng):
     """Real-time KHR_materials_transmission / _volume and the Sample Viewer's thin-film mix,
     each against its Python counterpart at random inputs."""
     from pbrkit.brdf.transmission import absorption
-    from pbrkit.render.transmission_ibl import ior_roughness, transmission_direction
+    from pbrkit.rendering.transmission_ibl import ior_roughness, transmission_direction
 
     cases = []
     r, ior = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(1.0, 3.0, N))
@@ -472,12 +472,12 @@ def _dispersion_cases(rng):
     sample_viewer_dispersion_iors (ior in [1, 2.5] with 1 and KHR_materials_ior's 0 on a few rows, dispersion
     in [0, 3] with 0, and on a few rows far above 3, where Cauchy's red IOR is clamped at 1), and each
     channel's lookup (direction and roughness) against the renderer's own
-    pbrkit.render.transmission_ibl.transmission_lookups, whose sampler records what it is asked for."""
+    pbrkit.rendering.transmission_ibl.transmission_lookups, whose sampler records what it is asked for."""
     from pbrkit.brdf.transmission import dispersion_iors, sample_viewer_dispersion_iors
-    from pbrkit.render.geometry import Surface
-    from pbrkit.render.material_spec import MaterialSpec
-    from pbrkit.render.materials import material_tables
-    from pbrkit.render.transmission_ibl import transmission_lookups
+    from pbrkit.rendering.geometry import Surface
+    from pbrkit.rendering.material_spec import MaterialSpec
+    from pbrkit.rendering.materials import material_tables
+    from pbrkit.rendering.transmission_ibl import transmission_lookups
 
     cases = []
     ior = _f32(rng.uniform(1.0, 2.5, N))

@@ -28,10 +28,10 @@ import pytest
 from pbrkit.brdf.bxdf import NO_TANGENT
 from pbrkit.brdf.transmission import DELTA_PDF, transmissive_f, transmissive_pdf, transmissive_probabilities, \
     transmissive_sample
-from pbrkit.render.materials import hit_bxdf, material_tables
-from pbrkit.render.reference import render_reference
-from pbrkit.render.scene import Camera, EnvironmentSpec, MaterialSpec, Plane, Scene, Sphere
-from pbrkit.render.textures import SurfaceMaterial
+from pbrkit.rendering.materials import hit_bxdf, material_tables
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import Camera, EnvironmentSpec, MaterialSpec, Plane, Scene, Sphere
+from pbrkit.rendering.textures import SurfaceMaterial
 
 try:  # tests/ as a package or as a plain directory on sys.path
     from . import chi2
@@ -344,7 +344,7 @@ def test_fused_and_wavefront_engines_agree_with_media():
 def test_transmission_and_volume_are_read_from_gltf_files(tmp_path):
     from test_render_gltf import write_quad_glb
 
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     ext = {"KHR_materials_transmission": {"transmissionFactor": 0.8},
            "KHR_materials_volume": {"thicknessFactor": 0.25, "attenuationDistance": 0.5,
@@ -374,7 +374,7 @@ def test_bad_transmission_fields_are_refused_naming_the_field(tmp_path, ext, fra
     from test_render_gltf import write_quad_glb
 
     from pbrkit.core.errors import InputError
-    from pbrkit.render.gltf import load_gltf
+    from pbrkit.rendering.gltf import load_gltf
 
     with pytest.raises(InputError, match=fragment.replace(".", r"\.")) as info:
         load_gltf(write_quad_glb(tmp_path / "b.glb", material_extras=ext))
@@ -403,7 +403,7 @@ def test_refract_is_snells_law():
     """GLSL's refract as the real-time lookups use it: the refracted direction is a unit
     vector in the plane of incidence with sin t = eta sin i, on the far side; total
     internal reflection gives 0."""
-    from pbrkit.render.transmission_ibl import ior_roughness, refract
+    from pbrkit.rendering.transmission_ibl import ior_roughness, refract
 
     rng = np.random.default_rng(7)
     i = rng.normal(size=(200, 3))
@@ -428,7 +428,7 @@ def test_sample_viewer_background_is_its_cube_seen_from_behind_the_centre():
     (0, 0, 0, 0.1), so clip w = -z_view + 0.1): along the viewing direction the same
     direction; on the cube's front face the ray from 0.1 behind the centre, tan 1.1 times
     the camera ray's; unit directions, and a turned camera turns nothing but e."""
-    from pbrkit.render.transmission_ibl import sample_viewer_background_direction
+    from pbrkit.rendering.transmission_ibl import sample_viewer_background_direction
 
     forward = np.array([0.0, 0.0, -1.0])
     np.testing.assert_allclose(sample_viewer_background_direction(forward, forward), forward, atol=1e-15)
@@ -451,7 +451,7 @@ def test_realtime_transmission_under_a_constant_environment():
     (getIBLVolumeRefraction), F0 A + B the split-sum albedo of the viewer's lut_ggx."""
     from test_render import pixel_geometry, sphere_scene
 
-    from pbrkit.render.realtime import render_realtime
+    from pbrkit.rendering.realtime import render_realtime
 
     env = EnvironmentSpec(color=(1.0, 1.0, 1.0))
 
@@ -483,8 +483,8 @@ def test_a_light_behind_a_thin_wall_shines_through_it(mode):
     READMEs' BSDF on the far side (reference_brdf.gltf_transmission_bsdf), in both modes
     (the same punctual evaluation; the ground truth's shadow ray leaves from the light's
     side); an opaque plane stays black."""
-    from pbrkit.render.realtime import render_realtime
-    from pbrkit.render.lights import Light
+    from pbrkit.rendering.realtime import render_realtime
+    from pbrkit.rendering.lights import Light
 
     values = dict(base_color=(0.9, 0.6, 0.3), roughness=0.5, transmission=1.0)
     to_light = np.array([0.3, -0.2, -1.0])

@@ -19,30 +19,31 @@ The subpackages follow the theory, from the formulas up to the application:
   GGX prefiltering, irradiance and the bake;
 - :mod:`pbrkit.io`: image files, float packing, KTX2, DDS, table and bake
   files, environment loading;
-- :mod:`pbrkit.render`: scenes, lights, geometry, real-time shading and the
+- :mod:`pbrkit.rendering`: scenes, lights, geometry, real-time shading and the
   Monte Carlo ground truth;
 - :mod:`pbrkit.app`: the command line, the demo and the reports.
 
-The names of the README's API tour are importable from here: ``Material``,
-and the modules ``models``, ``distributions``, ``masking``, ``fresnel``,
-``diffuse``, ``sampling``, ``microfacet`` and ``tables``; ``pbrkit.bake`` is
-:mod:`pbrkit.ibl` (``bake``, ``write_bake``, ``load_bake``,
-``level_of_roughness``).  They are imported on first use, as are the
-subpackages, so that ``import pbrkit`` and ``pbrkit --help`` do not load
-NumPy and Numba.
+The names of the README's API tour are importable from here: :func:`render` (a
+scene rendered in one call, returned as arrays: :class:`Rendering`), :func:`bake`
+(an environment baked for image-based lighting), :func:`load_scene` and
+:func:`scene_from_dict`, ``Material``, and the modules ``models``,
+``distributions``, ``masking``, ``fresnel``, ``diffuse``, ``sampling``,
+``microfacet`` and ``tables``.  They are imported on first use, as are the
+subpackages, so that ``import pbrkit`` and ``pbrkit --help`` do not load NumPy
+and Numba.
 """
 
-import importlib
-import importlib.abc
-import importlib.util
-import sys
-
-__all__ = ["Material", "__version__", "models", "distributions", "masking", "fresnel", "diffuse", "sampling",
-           "microfacet", "tables"]
+__all__ = ["render", "Rendering", "bake", "load_scene", "scene_from_dict", "Material", "__version__", "models",
+           "distributions", "masking", "fresnel", "diffuse", "sampling", "microfacet", "tables"]
 
 #: The names of the API tour, imported on first use (PEP 562) so that ``import
 #: pbrkit`` (and ``pbrkit --help``) does not pay for NumPy and Numba.
 _LAZY = {
+    "render": ("pbrkit.rendering.run", "render"),
+    "Rendering": ("pbrkit.rendering.result", "Rendering"),
+    "bake": ("pbrkit.ibl.bake", "bake"),
+    "load_scene": ("pbrkit.rendering.scene", "load_scene"),
+    "scene_from_dict": ("pbrkit.rendering.scene", "scene_from_dict"),
     "sampling": ("pbrkit.sampling", None),
     "microfacet": ("pbrkit.microfacet", None),
     "tables": ("pbrkit.albedo.tables", None),
@@ -54,8 +55,8 @@ _LAZY = {
     "Material": ("pbrkit.brdf.material", "Material"),
 }
 
-_SUBPACKAGES = {"core", "sampling", "microfacet", "brdf", "albedo", "ibl", "io", "ltc", "render", "npr", "measured",
-                "explore", "shaders", "app"}
+_SUBPACKAGES = {"core", "sampling", "microfacet", "brdf", "albedo", "ibl", "io", "ltc", "rendering", "npr",
+                "measured", "explore", "shaders", "app"}
 
 
 def _package_version():
@@ -68,15 +69,17 @@ def _package_version():
 
 
 def __getattr__(name):
+    from importlib import import_module
+
     if name == "__version__":
         value = _package_version()
-    elif name in _SUBPACKAGES:
-        value = importlib.import_module(f"pbrkit.{name}")
     elif name in _LAZY:
         module, attribute = _LAZY[name]
-        value = importlib.import_module(module)
+        value = import_module(module)
         if attribute is not None:
             value = getattr(value, attribute)
+    elif name in _SUBPACKAGES:
+        value = import_module(f"pbrkit.{name}")
     else:
         raise AttributeError(f"module 'pbrkit' has no attribute {name!r}")
     globals()[name] = value
@@ -84,35 +87,4 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted(set(globals()) | set(__all__))
-
-
-#: Dotted names kept importable (``import pbrkit.models``, ``from pbrkit.bake import bake``).
-_ALIASES = {
-    "pbrkit.models": "pbrkit.brdf.models",
-    "pbrkit.distributions": "pbrkit.brdf.distributions",
-    "pbrkit.masking": "pbrkit.brdf.masking",
-    "pbrkit.fresnel": "pbrkit.brdf.fresnel",
-    "pbrkit.diffuse": "pbrkit.brdf.diffuse",
-    "pbrkit.tables": "pbrkit.albedo.tables",
-    "pbrkit.bake": "pbrkit.ibl",
-}
-
-
-class _AliasFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Import ``pbrkit.<alias>`` as the module it names (:data:`_ALIASES`)."""
-
-    def find_spec(self, fullname, path, target=None):
-        if fullname in _ALIASES:
-            return importlib.util.spec_from_loader(fullname, self)
-        return None
-
-    def create_module(self, spec):
-        return importlib.import_module(_ALIASES[spec.name])
-
-    def exec_module(self, module):
-        pass
-
-
-if not any(isinstance(f, _AliasFinder) for f in sys.meta_path):
-    sys.meta_path.append(_AliasFinder())
+    return sorted(set(__all__) | _SUBPACKAGES)

@@ -314,7 +314,7 @@ def table_bilinear(tables, t, nov, roughness, c):
     GPU samples a texture: bilinear between texel centres (column i at
     n.v = (i + 0.5) / columns, row j at r = (j + 0.5) / rows, CONVENTIONS.md)
     with clamp to edge; a single row or column is constant along its axis.
-    A scalar helper compiled into Numba kernels (``pbrkit.render``) and into
+    A scalar helper compiled into Numba kernels (``pbrkit.rendering``) and into
     :func:`sample_table`'s kernel; arguments must be finite.  Texel selection
     and weights: :func:`pbrkit.core.filtering.texel_pair` (OpenGL 4.6
     sec. 8.14.2)."""

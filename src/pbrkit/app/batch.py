@@ -8,8 +8,8 @@ share, under the same paths).  Each task (:mod:`pbrkit.app.batch_tasks`,
 :func:`~pbrkit.app.batch_tasks.run_task`) calls the very
 functions ``pbrkit bake`` and ``pbrkit render`` call --
 :func:`pbrkit.ibl.bake.bake` with :func:`pbrkit.io.bake_files.write_bake`, or
-:func:`pbrkit.render.scene.resolve_scene` with
-:func:`pbrkit.render.run.render_scene` -- so an input's folder holds the same
+:func:`pbrkit.rendering.scene.resolve_scene` with
+:func:`pbrkit.rendering.run.render_scene` -- so an input's folder holds the same
 bytes as the single command's output.
 
 The rules (the README's ``pbrkit batch`` section states them for users):
@@ -248,7 +248,7 @@ def expand_inputs(arguments, list_files=(), kind="bake"):
     starts."""
     builtins = ()
     if kind == "render":
-        from ..render.scene import BUILTIN_SCENES as builtins
+        from ..rendering.scene import BUILTIN_SCENES as builtins
     expansions = [lambda a=str(a): _expand_one(a, kind, Path.cwd(), builtins) for a in arguments or ()]
     for lf in list_files or ():  # every list file read before any input is looked for
         expansions += [lambda lf=lf, n=n, e=e: _expand_listed(lf, n, e, kind, builtins)
@@ -341,8 +341,8 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
     ``allow_roots`` (``--allow-root``) become absolute."""
     from ..core import checks
     from ..core.color import TONEMAPS
-    from ..render.run import MODES
-    from ..render.scene import Camera
+    from ..rendering.run import MODES
+    from ..rendering.scene import Camera
 
     if fmt not in ("png", "exr"):
         raise ValueError(f"--format: unknown image format {fmt!r}; choose one of png, exr")
@@ -363,7 +363,7 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
     if style is not None:
         from ..npr.style import STYLE_PRESETS, resolve_style
 
-        from ..render.run import check_style_flag
+        from ..rendering.run import check_style_flag
 
         if str(style) not in STYLE_PRESETS:
             style = os.path.abspath(style)

@@ -182,7 +182,7 @@ def _scene_references(scene, style, allowed_roots=()):
     reads besides the scene file: its environment image (or every file of its
     bake folder), its glTF files and their buffers and images (confined:
     :func:`_gltf_references` with ``allowed_roots``), a style file."""
-    from ..render.scene import GltfObject
+    from ..rendering.scene import GltfObject
 
     files = []
     env = scene.environment
@@ -258,8 +258,8 @@ def _render_job(job):
 
     from ..core.atomic import atomic_directory
     from ..core.errors import InputError, OutputError
-    from ..render.run import render_scene
-    from ..render.scene import command_scene
+    from ..rendering.run import render_scene
+    from ..rendering.scene import command_scene
 
     options, out, name = job["options"], Path(job["out"]), job["name"]
     scene_input = job["input"]

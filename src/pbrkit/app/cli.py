@@ -35,10 +35,10 @@ except ImportError:  # pragma: no cover - a typer built on click itself
 # The choices of the options with a fixed set of values, written here so that
 # `pbrkit --help` needs no heavy import; tests/test_bad_inputs.py checks them
 # against the library's own lists.
-MODES = ("realtime", "reference", "compare")                        # pbrkit.render.run.MODES
+MODES = ("realtime", "reference", "compare")                        # pbrkit.rendering.run.MODES
 TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")   # pbrkit.core.color.TONEMAPS
-DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.render.realtime
-RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")  # pbrkit.render.realtime.ENGINES
+DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.rendering.realtime
+RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")  # pbrkit.rendering.realtime.ENGINES
 LTC_CLIPPINGS = ("sphere", "exact")                                 # pbrkit.ltc.fit.CLIPPINGS
 LUT_KINDS = ("splitsum", "dfg")                                     # pbrkit.albedo.tables.lookup_table
 VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")    # pbrkit.albedo.tables.VISIBILITIES
@@ -665,8 +665,8 @@ def render(
     from rich.markup import escape
 
     from ..core import checks
-    from ..render.run import STAGES, output_suffix_ok, render_scene
-    from ..render.scene import command_scene
+    from ..rendering.run import STAGES, output_suffix_ok, render_scene
+    from ..rendering.scene import command_scene
 
     output_suffix_ok(out)
     if mode != "realtime":
@@ -694,7 +694,7 @@ def render(
         r = summary["reference"]
         print(f"ground truth: {r['spp']} spp, {r['surface_paths']} paths on surfaces in "
               f"{r['timings']['sampling']:.3f} s ({r['paths_per_second'] / 1e6:.2f} M paths/s)")
-    from ..render.run import comparison_lines
+    from ..rendering.run import comparison_lines
 
     for line in comparison_lines(summary):
         print(line)

@@ -7,14 +7,14 @@ system without a server.  The ground truth of the demo is rendered without
 occlusion between the spheres and with direct light only
 (``render_reference(..., occlusion=False)``): each sphere sees the whole
 environment, as real-time IBL assumes, so the error map shows the shading
-approximations (:data:`pbrkit.render.realtime.APPROXIMATIONS`) rather than
+approximations (:data:`pbrkit.rendering.realtime.APPROXIMATIONS`) rather than
 the missing inter-object shadows; the page says what the ground truth
 includes (``summary["reference"]["includes"]``).
 
 The bake has :data:`DEMO_LEVELS` specular levels (roughness steps of 0.2),
 the error map its colour bar on a scale taken from the data (the 99th
 percentile rounded up, :func:`pbrkit.app.figures.error_scale`), and the
-error's split by approximation (:func:`pbrkit.render.run.approximation_split`)
+error's split by approximation (:func:`pbrkit.rendering.run.approximation_split`)
 is tabulated (``summary["errors"]["split"]``).
 """
 
@@ -114,10 +114,10 @@ def run_demo(out_dir, size=384, spp=192, bake_size=128, seed=0, furnace=(32, 11,
     empty, or a previous demo's folder (only names the demo writes,
     :data:`DEMO_ENTRIES`), which is then replaced as a whole; a folder holding
     anything else is refused before any work.  The memory the comparison needs
-    is checked up front (:func:`pbrkit.render.budget.check_render_memory`)."""
+    is checked up front (:func:`pbrkit.rendering.budget.check_render_memory`)."""
     from ..data import environment_path
-    from ..render.budget import check_render_memory
-    from ..render.scene import EnvironmentSpec, builtin_scene
+    from ..rendering.budget import check_render_memory
+    from ..rendering.scene import EnvironmentSpec, builtin_scene
 
     size = checks.integer(size, "--size", 16, 4096)
     spp = checks.integer(spp, "--spp", 1, 1 << 16)
@@ -198,11 +198,11 @@ def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progr
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import write_bake
     from ..io.environment import load_environment
-    from ..render.environment import EnvironmentLight
-    from ..render.geometry import Geometry
-    from ..render.realtime import APPROXIMATIONS, render_realtime
-    from ..render.reference import render_reference
-    from ..render.run import approximation_split
+    from ..rendering.environment import EnvironmentLight
+    from ..rendering.geometry import Geometry
+    from ..rendering.realtime import APPROXIMATIONS, render_realtime
+    from ..rendering.reference import render_reference
+    from ..rendering.run import approximation_split
     from .report import albedo_families, furnace_report
 
     step = progress or (lambda name: None)
@@ -365,9 +365,9 @@ def _npr_gallery(out, scene, env, baked, size):
     from ..io.gltf_writer import write_glb
     from ..npr.render import render_styled
     from ..npr.style import STYLE_PRESETS
-    from ..render.geometry import Geometry
-    from ..render.lights import Light
-    from ..render.scene import Camera, GltfObject, Scene
+    from ..rendering.geometry import Geometry
+    from ..rendering.lights import Light
+    from ..rendering.scene import Camera, GltfObject, Scene
     from .demo_model import demo_model_primitives
 
     lit = replace(scene.with_camera(width=size, height=size), lights=(Light(**NPR_KEY_LIGHT),))
@@ -425,16 +425,16 @@ with mesh outlines, and PBR with both outlines.</p>
 
 
 def _area_light_comparison(out, size, spp, seed, before_reference=None):
-    """The built-in ``area`` scene (:func:`pbrkit.render.scene.builtin_scene`) at size x
+    """The built-in ``area`` scene (:func:`pbrkit.rendering.scene.builtin_scene`) at size x
     size / 2 in real time (LTC) and as ground truth with occlusion off (like for
     like), its images and error map written into ``out``; returns its summary.
     ``before_reference()``, if given, is called between the two renders (the demo's
     warm-up waits there for the ground truth's kernel)."""
-    from ..render.environment import EnvironmentLight
-    from ..render.geometry import Geometry
-    from ..render.realtime import render_realtime
-    from ..render.reference import render_reference
-    from ..render.scene import builtin_scene
+    from ..rendering.environment import EnvironmentLight
+    from ..rendering.geometry import Geometry
+    from ..rendering.realtime import render_realtime
+    from ..rendering.reference import render_reference
+    from ..rendering.scene import builtin_scene
 
     scene = builtin_scene("area", size, max(8, size // 2))
     geometry = Geometry(scene)
@@ -456,9 +456,9 @@ def _area_light_comparison(out, size, spp, seed, before_reference=None):
 
 def _whole_image_errors(rt, ref):
     """A section's comparison of its real-time and ground-truth renders over the pixels both
-    cover: (mask, the errors of :func:`pbrkit.render.compare.compare_images` with HDR-FLIP,
+    cover: (mask, the errors of :func:`pbrkit.rendering.compare.compare_images` with HDR-FLIP,
     the relative error map, its valid pixels, the map's (scale, 99th percentile, max))."""
-    from ..render.compare import compare_images, relative_error_pixels
+    from ..rendering.compare import compare_images, relative_error_pixels
 
     mask = rt.mask & ref.mask
     metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=True)
@@ -519,10 +519,10 @@ def gltf_extensions_scene(width, environment):
     """The scene of the demo's glTF extensions section: the spheres of
     :data:`GLTF_EXTENSION_MATERIALS` (model ``gltf``) in a 5 x 2 grid, ``width`` x
     (2 ``width`` / 5) pixels, far camera (as the sphere grid's), lit by ``environment``
-    (an :class:`pbrkit.render.scene.EnvironmentSpec`)."""
+    (an :class:`pbrkit.rendering.scene.EnvironmentSpec`)."""
     import math
 
-    from ..render.scene import Camera, MaterialSpec, Scene, Sphere
+    from ..rendering.scene import Camera, MaterialSpec, Scene, Sphere
 
     cols, rows, spacing, distance = 5, 2, 2.4, 60.0
     materials = {"default": MaterialSpec()}
@@ -559,10 +559,10 @@ def _gltf_extensions_comparison(out, environment, env, baked, size, spp, seed):
     of both (``gltf_extensions/<name>_realtime.png``, ``..._reference.png``) with its own
     errors over the sphere's inner 80% (radius); returns its summary."""
     from ..core.color import luminance
-    from ..render.compare import compare_images, relative_error_pixels
-    from ..render.geometry import Geometry
-    from ..render.realtime import render_realtime
-    from ..render.reference import render_reference
+    from ..rendering.compare import compare_images, relative_error_pixels
+    from ..rendering.geometry import Geometry
+    from ..rendering.realtime import render_realtime
+    from ..rendering.reference import render_reference
 
     scene = gltf_extensions_scene(max(24, size // 2), environment)
     geometry = Geometry(scene)
@@ -680,7 +680,7 @@ def _includes_box(summary):
 
 def _split_table(errors):
     """The error split by approximation, ``errors["split"]``: {name: {value key: float,
-    "description": str}} (:func:`pbrkit.render.run.approximation_split`); empty without it."""
+    "description": str}} (:func:`pbrkit.rendering.run.approximation_split`); empty without it."""
     split = errors.get("split")
     if not split:
         return ""
@@ -876,7 +876,7 @@ grey: not compared (<a href="relative_error.exr">EXR</a>)</figcaption></figure>
 </div>
 <h3>Errors (real time against ground truth)</h3>
 <table>{_rows(error_rows)}</table>
-<!-- error split by approximation: summary["errors"]["split"] (pbrkit.render.run.approximation_split);
+<!-- error split by approximation: summary["errors"]["split"] (pbrkit.rendering.run.approximation_split);
      the table appears only when the summary has it -->
 {_split_table(e)}
 <h3>Mean signed error per sphere</h3>

@@ -84,7 +84,7 @@ _SPEC_PREFIX = "material 'explore': "
 
 def _flagged(exc, model, compare=False):
     """A ValueError of :func:`pbrkit.explore.views.model_brdf` (a scene material's
-    check, ``material 'explore': ...``: :class:`pbrkit.render.material_spec.MaterialSpec`)
+    check, ``material 'explore': ...``: :class:`pbrkit.rendering.material_spec.MaterialSpec`)
     as one naming the flag: the option of the first material key the message
     names (``--fresnel: fresnel 'exact-conductor' needs ...``), else ``--model M``;
     for the second BRDF, ``--compare M``."""

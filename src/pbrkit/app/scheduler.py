@@ -330,11 +330,11 @@ def connect_scheduler(address, timeout=DEFAULT_SCHEDULER_TIMEOUT):
 
 def cache_state(kind="bake"):
     """(cache directory, whether it holds compiled kernels of the subpackage the
-    batch's tasks use: ``ibl`` for bakes, ``render`` for renders), as seen by the
+    batch's tasks use: ``ibl`` for bakes, ``rendering`` for renders), as seen by the
     process that calls it (a worker)."""
     from ..core.cache import cache_directory, cached_kernels
 
-    return str(cache_directory()), cached_kernels("ibl" if kind == "bake" else "render")
+    return str(cache_directory()), cached_kernels("ibl" if kind == "bake" else "rendering")
 
 
 def cache_is_cold(client, kind):
@@ -364,7 +364,7 @@ _TASK_MODULES = {
              "pbrkit.albedo.tables", "pbrkit.ibl.sh", "pbrkit.ibl.spectral", "pbrkit.ibl.irradiance",
              "pbrkit.io.ktx2", "pbrkit.io.ktx1", "pbrkit.io.dds", "pbrkit.io.exr", "pbrkit.io.png",
              "pbrkit.io.lut_files", "pbrkit.io.babylon_env", "imageio.v3", "imageio.plugins.pillow"),
-    "render": ("pbrkit.render.run", "pbrkit.render.scene", "pbrkit.npr.style", "pbrkit.npr.render",
+    "render": ("pbrkit.rendering.run", "pbrkit.rendering.scene", "pbrkit.npr.style", "pbrkit.npr.render",
                "pbrkit.io.environment", "pbrkit.io.images", "pbrkit.io.exr", "pbrkit.io.png", "pbrkit.ibl.bake",
                "pbrkit.io.bake_files", "pbrkit.albedo.tables", "imageio.v3", "imageio.plugins.pillow"),
 }

@@ -49,7 +49,7 @@ def kernels_cached():
     the others too, or they are cheap to compile: no warm-up)."""
     from ..core.cache import cached_kernels
 
-    return cached_kernels("render", "lanes._direct_kernel-*")
+    return cached_kernels("rendering", "lanes._direct_kernel-*")
 
 
 def _claim(folder, step, owner):
@@ -156,10 +156,10 @@ def run_worker(folder, env_path):
     from ..albedo.furnace import furnace_lobes
     from ..ibl.bake import bake as bake_environment
     from ..io.environment import load_environment
-    from ..render.environment import EnvironmentLight
-    from ..render.geometry import Geometry
-    from ..render.reference import render_reference
-    from ..render.scene import EnvironmentSpec, builtin_scene
+    from ..rendering.environment import EnvironmentLight
+    from ..rendering.geometry import Geometry
+    from ..rendering.reference import render_reference
+    from ..rendering.scene import EnvironmentSpec, builtin_scene
     from .demo import DEMO_LEVELS, FURNACE_LOBES, _area_light_comparison, _gltf_extensions_comparison, _npr_gallery
     from .report import furnace_report
 

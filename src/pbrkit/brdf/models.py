@@ -158,7 +158,7 @@ def parameter_rows(material, rows_shape=()):
     ``rows_shape``: every parameter of the material (the complex IOR as zeros when
     absent).  Base colour, metallic, roughness, emission and sidedness are left 0:
     the NumPy kernels take the first three per element, and the renderer
-    (:func:`pbrkit.render.materials.material_tables`) fills them."""
+    (:func:`pbrkit.rendering.materials.material_tables`) fills them."""
     return LAYOUT.row({name: getattr(material, name) for name in _ROW_FIELDS}, rows_shape)
 
 
@@ -244,7 +244,7 @@ def evaluate_rows(codes, params, l, v, n, t=None):
     """The BRDF value f (N, 3) of packed materials (a code row ``codes`` and
     parameter rows ``params`` (N, LAYOUT.size), the layout of
     :data:`pbrkit.brdf.shading.registry.LAYOUT`, e.g. from
-    :func:`pbrkit.render.materials.material_tables`)
+    :func:`pbrkit.rendering.materials.material_tables`)
     for unit directions (N, 3)."""
     l, v, n = (np.asarray(x, dtype=np.float64).reshape(-1, 3) for x in (l, v, n))
     shape = (l.shape[0],)

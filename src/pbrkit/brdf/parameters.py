@@ -7,7 +7,7 @@ by name, e.g. cook_torrance's ``distribution``).  Everything else is generated
 from those declarations (:mod:`pbrkit.brdf.shading.registry`): the fields and
 checks of :class:`pbrkit.Material`, the packed parameter row of the compiled
 kernels (:class:`Layout`), the scene-file keys with their one-line errors
-(:mod:`pbrkit.render.scene`), the explorer's controls and the documentation's
+(:mod:`pbrkit.rendering.scene`), the explorer's controls and the documentation's
 parameter table (:func:`markdown_table`).
 
 Names follow the specification of the model that defines them

@@ -1,6 +1,6 @@
 """The glTF material's BSDF with ``KHR_materials_transmission`` and ``KHR_materials_volume``
 for the ground truth: reflection on the side of the view and transmission to the other
-side, with its sampling routine and pdf (:mod:`pbrkit.render.estimator` calls them for a
+side, with its sampling routine and pdf (:mod:`pbrkit.rendering.estimator` calls them for a
 material whose ``transmission`` is above 0 (:func:`transmissive_material`); every
 other material, and the core model,
 keeps the reflection-only code of :mod:`pbrkit.brdf.dispatch`).

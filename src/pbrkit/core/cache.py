@@ -57,7 +57,7 @@ def cache_directory():
 
 
 def cached_kernels(subpackage, name="*"):
-    """Whether the kernel cache holds compiled kernels of ``subpackage`` (``render``,
+    """Whether the kernel cache holds compiled kernels of ``subpackage`` (``rendering``,
     ``ibl``, ...: one cache folder per source folder, :mod:`pbrkit.core.jit`) whose
     index file matches ``name`` (``<module>.<function>-<line>``; default any)."""
     folder = Path(cache_directory()) / subpackage

@@ -7,7 +7,7 @@ returning f (..., 3) (not f cos) for unit directions in the last axis (l toward
 the light, v toward the eye; n the normal, default +z):
 
 - :class:`ModelBRDF`: a pbrkit model (:mod:`pbrkit.brdf.models`) with a
-  :class:`pbrkit.render.scene.MaterialSpec` (the material, the model and, for
+  :class:`pbrkit.rendering.scene.MaterialSpec` (the material, the model and, for
   ``cook_torrance``, its D, G, F and diffuse terms by name), evaluated by
   :func:`pbrkit.brdf.models.evaluate`; perceptual roughness r, alpha = r^2
   (clamped at :data:`pbrkit.microfacet.roughness.ALPHA_MIN`) as in every model,
@@ -31,7 +31,7 @@ plots):
   the compensated white furnace of :func:`pbrkit.albedo.compensation.white_furnace_compensated`;
 - :func:`lit_sphere_point`, :func:`lit_sphere_environment`: a sphere under a
   directional light (f cos E) and under the bundled environment (pbrkit's
-  real-time renderer, :func:`pbrkit.render.realtime.render_realtime`, with a
+  real-time renderer, :func:`pbrkit.rendering.realtime.render_realtime`, with a
   cached bake; measured BRDFs: a quadrature over the bake's environment);
 - :func:`terms`: D, G and F alone, from the model's own composition in
   :mod:`pbrkit.brdf.bxdf`;
@@ -169,7 +169,7 @@ def view_threads(count=1):
 @dataclass(frozen=True)
 class ModelBRDF:
     """A pbrkit model with its material: ``spec`` is a
-    :class:`pbrkit.render.scene.MaterialSpec` (model, terms and parameters, checked
+    :class:`pbrkit.rendering.scene.MaterialSpec` (model, terms and parameters, checked
     as a scene's material is); ``label`` names it in plots (default: the model and,
     for cook_torrance, its terms)."""
 
@@ -239,9 +239,9 @@ def model_brdf(model="gltf", base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness
     ``clearcoat_gloss``, ...), ``conductor`` (a metal of
     :data:`pbrkit.brdf.fresnel.CONDUCTORS`, for ``fresnel="exact-conductor"``),
     and cook_torrance's terms by name (filament takes ``diffuse``).  Checked as
-    a scene's material (:class:`pbrkit.render.scene.MaterialSpec`): a parameter
+    a scene's material (:class:`pbrkit.rendering.scene.MaterialSpec`): a parameter
     or term the model does not have raises ValueError naming it."""
-    from ..render.scene import MaterialSpec
+    from ..rendering.scene import MaterialSpec
 
     if model not in MODELS:
         raise ValueError(f"unknown model {model!r}; choose one of {', '.join(MODELS)}")
@@ -543,17 +543,17 @@ def lit_sphere_point(brdf, light_theta, light_phi=0.0, size=96, irradiance=math.
 
 @functools.lru_cache(maxsize=2)
 def _environment(bake_size=BAKE_SIZE):
-    """The bundled environment (:class:`pbrkit.render.environment.EnvironmentLight`) and
+    """The bundled environment (:class:`pbrkit.rendering.environment.EnvironmentLight`) and
     its bake (specular cube ``bake_size``, computed once per process)."""
-    from ..render.environment import EnvironmentLight
-    from ..render.scene import EnvironmentSpec
+    from ..rendering.environment import EnvironmentLight
+    from ..rendering.scene import EnvironmentSpec
 
     env = EnvironmentLight(EnvironmentSpec())
     return env, env.bake(size=bake_size)
 
 
 def _sphere_scene(spec, size):
-    from ..render.scene import Camera, Scene, Sphere
+    from ..rendering.scene import Camera, Scene, Sphere
 
     camera = Camera(width=size, height=size, **SPHERE_CAMERA)
     return Scene(camera=camera, materials={spec.name: spec}, objects=(Sphere(material=spec.name),),
@@ -566,7 +566,7 @@ def lit_sphere_environment(brdf, size=96, bake_size=BAKE_SIZE):
     environment as the renderer draws it).
 
     A :class:`ModelBRDF` is rendered by pbrkit's real-time path
-    (:func:`pbrkit.render.realtime.render_realtime`: split-sum IBL with the
+    (:func:`pbrkit.rendering.realtime.render_realtime`: split-sum IBL with the
     prefiltered chain and the DFG table, SH diffuse) with the environment's bake
     computed once per process.  A measured BRDF has no split sum: its sphere is
     the quadrature sum over the texels of the bake's level 0 (the environment
@@ -577,7 +577,7 @@ def lit_sphere_environment(brdf, size=96, bake_size=BAKE_SIZE):
     (the sphere's pixels)."""
     env, bake = _environment(bake_size)
     if isinstance(brdf, ModelBRDF):
-        from ..render.realtime import render_realtime
+        from ..rendering.realtime import render_realtime
 
         result = render_realtime(_sphere_scene(brdf.spec, size), env=env, bake=bake)
         return {"radiance": np.asarray(result.image, dtype=np.float64), "mask": np.asarray(result.mask, dtype=bool)}
@@ -588,7 +588,7 @@ def _sphere_hits(size):
     """Per pixel of the camera of :data:`SPHERE_CAMERA`: the ray directions
     (size, size, 3), the mask of rays that hit the unit sphere, and at those
     hits the normal (= the hit point) and v = -d."""
-    from ..render.scene import Camera
+    from ..rendering.scene import Camera
 
     camera = Camera(width=size, height=size, **SPHERE_CAMERA)
     d = camera.ray_directions()[:, :, 0, :]

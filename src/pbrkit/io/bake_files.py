@@ -352,7 +352,7 @@ def load_target_chain(out_dir, target):
     Filament's levels; ``babylon`` ``babylon/specular.dds``), mirrored back to
     pbrkit's frame where the target is mirrored (``TARGET_MIRRORS``), and the
     roughness of every level from the manifest.  For rendering as the engine
-    does (:func:`pbrkit.render.realtime.render_realtime` ``engine``).  Missing or
+    does (:func:`pbrkit.rendering.realtime.render_realtime` ``engine``).  Missing or
     inconsistent files raise :class:`~pbrkit.core.errors.InputError`."""
     from ..core.errors import InputError
     from ..ibl.bake import Chain

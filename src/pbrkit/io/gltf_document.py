@@ -1,6 +1,6 @@
 """glTF 2.0 documents: reading the ``.gltf`` / ``.glb`` container and checking the
 whole document against the glTF 2.0 specification (Khronos, 2021) before any
-of its data is used (:mod:`pbrkit.render.gltf` builds meshes, materials and
+of its data is used (:mod:`pbrkit.rendering.gltf` builds meshes, materials and
 lights from a checked document).
 
 :func:`read_gltf_document` parses the container (a ``.glb`` is recognised by
@@ -29,7 +29,7 @@ from ..core.inputs import check_allocation, check_regular, read_bytes, size_text
 from ..core.filtering import CLAMP_TO_EDGE as _WRAP_CLAMP
 from ..core.filtering import MIRRORED_REPEAT as _WRAP_MIRROR
 from ..core.filtering import REPEAT as _WRAP_REPEAT
-from ..render.lights import LIGHT_TYPES
+from ..rendering.lights import LIGHT_TYPES
 from .gltf_resources import data_uri_bytes
 
 __all__ = ["MAX_GLTF_BYTES", "read_gltf_document", "validate_gltf_document", "data_uri_bytes", "COMPONENT_TYPES",

@@ -63,7 +63,7 @@ TEXTURE_TRANSFORM = "KHR_texture_transform"
 MESH_QUANTIZATION = "KHR_mesh_quantization"
 
 #: Largest magnitude of an offset or scale component: with texture coordinates of at
-#: most 1e6 (``pbrkit.render.gltf``) the transformed ones stay well inside the range
+#: most 1e6 (``pbrkit.rendering.gltf``) the transformed ones stay well inside the range
 #: where texel addressing (int64 texel indices) is exact.
 MAX_TRANSFORM = 1e6
 

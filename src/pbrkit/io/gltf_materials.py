@@ -88,7 +88,7 @@ TEXTURES = {
 #: ``anisotropy`` (KHR_materials_anisotropy: strength times B, the direction (R, G) 2 - 1
 #: turned by the rotation) and ``coat_normal`` (KHR_materials_clearcoat: the coat's own
 #: normal, a normal texture with its ``scale`` in the mesh's tangent space,
-#: :func:`pbrkit.render.textures.tangent_space_normal`).
+#: :func:`pbrkit.rendering.textures.tangent_space_normal`).
 TEXTURE_USES = (
     ("KHR_materials_sheen", "sheenColorTexture", True, "scale", "sheen_color", (0, 1, 2)),
     ("KHR_materials_sheen", "sheenRoughnessTexture", False, "scale", "sheen_roughness", (3,)),

@@ -32,7 +32,7 @@ Gooch, Shirley and Riesenfeld, "Interactive Technical Illustration", I3D 1999,
 sec. 3.1), and the boundary edges.
 
 Drawing (:func:`draw_lines`): with the camera's conventions
-(:class:`pbrkit.render.scene.Camera`: right-handed, +Y up, looking along its
+(:class:`pbrkit.rendering.scene.Camera`: right-handed, +Y up, looking along its
 -Z, image row 0 at the top, the centre of pixel (i, j) at (i + 0.5, j + 0.5)),
 segments are clipped to the near plane (view depth ``near``), projected, and
 rasterised as bands of full width ``width_px`` pixels with the box-filtered
@@ -40,7 +40,7 @@ coverage of :func:`pbrkit.npr.outlines.line_coverage` (round caps; the
 largest coverage where lines overlap).  Visibility: the depth buffer holds,
 per pixel, the distance along the unit ray through the pixel centre to the
 first surface (``depth_kind="ray"``: the ``t`` of a ray caster,
-:meth:`~pbrkit.render.scene.Camera.ray_directions`) or the view depth along
+:meth:`~pbrkit.rendering.scene.Camera.ray_directions`) or the view depth along
 the camera's -Z (``depth_kind="view"``); inf / NaN / <= 0 is the background.
 A line pixel is drawn where the point of the segment nearest to it (its view
 depth interpolated perspective-correctly: 1 / z is linear along the projected
@@ -269,7 +269,7 @@ def mesh_edges(positions, indices, material=None, crease_angle_deg=30.0, weld_to
 
 def silhouette_edges(edges, face_normals=None, face_points=None, eye=None, *, include_boundary=True):
     """(E,) bool: the silhouette edges of ``edges`` (a :class:`MeshEdges`) seen
-    from ``eye`` (a point (3,) or a :class:`~pbrkit.render.scene.Camera`,
+    from ``eye`` (a point (3,) or a :class:`~pbrkit.rendering.scene.Camera`,
     whose position is used): edges between a front-facing and a back-facing
     face, face f front-facing when n_f . (eye - c_f) > 0 (Markosian et al.
     1997; Gooch et al. 1999), with n the ``face_normals`` (F, 3) and c the
@@ -315,7 +315,7 @@ def silhouette_edges(edges, face_normals=None, face_points=None, eye=None, *, in
 def _camera(camera):
     for attr in ("basis", "position", "fov", "width", "height"):
         if not hasattr(camera, attr):
-            raise ValueError(f"camera must be a pbrkit.render.scene.Camera; got {type(camera).__name__}")
+            raise ValueError(f"camera must be a pbrkit.rendering.scene.Camera; got {type(camera).__name__}")
     return camera
 
 
@@ -339,7 +339,7 @@ def _view_depth_buffer(depth, camera, kind):
 def draw_lines(segments, camera, depth=None, width_px=1.0, color=None, *, depth_kind="ray",
                depth_bias=0.01, near=None):
     """Draw 3D segments (M, 2, 3) (world space) seen by ``camera`` (a
-    :class:`pbrkit.render.scene.Camera`) as anti-aliased lines of full width
+    :class:`pbrkit.rendering.scene.Camera`) as anti-aliased lines of full width
     ``width_px`` pixels (module docstring).
 
     ``depth``: None (every line shows) or the scene's depth buffer

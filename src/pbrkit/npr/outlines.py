@@ -14,7 +14,7 @@ Buffers (all optional, at least one given, all of one image size (H, W)):
 
 - ``depth`` (H, W): distance from the camera, either the distance along the
   camera ray of the pixel centre (the ray parameter ``t`` of a ray caster with
-  unit directions, :meth:`pbrkit.render.scene.Camera.ray_directions`: what the
+  unit directions, :meth:`pbrkit.rendering.scene.Camera.ray_directions`: what the
   renderer gives) or the view depth along the camera's -Z.  Only ratios of
   depths are used, so the responses do not change when the scene is scaled.
   Background: any non-finite (inf, NaN) or non-positive depth.

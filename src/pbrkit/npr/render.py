@@ -2,7 +2,7 @@
 lights and bake, shaded as a :class:`pbrkit.npr.style.Style` asks, then outlined.
 
 Shadings (the terms are those of :mod:`pbrkit.npr.toon`; lights in the units of
-:mod:`pbrkit.render.lights`, so a white surface facing a light has the luminance
+:mod:`pbrkit.rendering.lights`, so a white surface facing a light has the luminance
 the PBR Lambert gives it, E / pi):
 
 - ``toon``: per punctual light its illuminance E_i (colour x intensity x falloff,
@@ -31,7 +31,7 @@ the PBR Lambert gives it, E / pi):
   the pixel's footprint (its world size over the slant, times the map's repeats per
   world unit: per triangle sqrt(UV area / world area) in texture space), over the
   base colour lit by the brightest light.
-- ``pbr``: the real-time image (:func:`pbrkit.render.realtime.render_realtime`).
+- ``pbr``: the real-time image (:func:`pbrkit.rendering.realtime.render_realtime`).
 
 Outlines (``outline``): ``image``: edges of the G-buffers (depth along the camera
 ray, shading normal, object and material ids; :mod:`pbrkit.npr.outlines`),
@@ -55,8 +55,8 @@ from ..core.color import luminance, rec709_luminance
 from ..core.jit import dual_use, row_kernel
 from ..microfacet.ggx import d_ggx
 from ..microfacet.roughness import alpha_from_roughness
-from ..render.lights import light_incidence
-from ..render.primitives import KIND_NONE, trace_analytic
+from ..rendering.lights import light_incidence
+from ..rendering.primitives import KIND_NONE, trace_analytic
 from .style import Style
 from .toon import (
     gi_equalized,
@@ -95,7 +95,7 @@ def _ray_image(scene, per_ray):
 
 
 def gbuffers(scene, prim):
-    """:class:`GBuffers` of the primary hits ``prim`` (:func:`pbrkit.render.primary._primary`)."""
+    """:class:`GBuffers` of the primary hits ``prim`` (:func:`pbrkit.rendering.primary._primary`)."""
     n_rays = prim.dirs.shape[0]
     depth = np.full(n_rays, np.inf)
     normal = np.zeros((n_rays, 3))
@@ -133,7 +133,7 @@ class _Lit:
 def _lights(geometry, s, shadows=True):
     """:class:`_Lit` of the punctual lights at the surface points ``s``, shadow rays
     traced as the real-time path does."""
-    from ..render.lights import light_arrays
+    from ..rendering.lights import light_arrays
 
     count = s.p.shape[0]
     n_lights = len(geometry.lights) if count else 0
@@ -163,7 +163,7 @@ def _lights(geometry, s, shadows=True):
 
 @row_kernel(3)
 def _incidence_kernel(start, stop, codes, values, li, p, n, ng, out_dir, out_dist, out_e, out_nol, out_vis):
-    """:func:`pbrkit.render.lights.light_incidence` of light li at every point: the
+    """:func:`pbrkit.rendering.lights.light_incidence` of light li at every point: the
     direction and distance to it, its illuminance at normal incidence (colour x
     intensity x falloff), n.l, and 1 where the light can reach the point (in front of
     its geometric normal, inside the light's range), else 0 (before shadow rays)."""
@@ -184,8 +184,8 @@ def _incidence_kernel(start, stop, codes, values, li, p, n, ng, out_dir, out_dis
 def _incidence_analytic_kernel(start, stop, codes, values, p, n, ng, eps, spheres, lo, hi, skip, first, count, order, planes,
                                out_dir, out_e, out_nol, out_vis):
     """:func:`_incidence_kernel` for every light of an analytic scene, with the shadow
-    ray traced in the kernel (:func:`pbrkit.render.primitives.trace_analytic`, as
-    :func:`pbrkit.render.punctual.punctual_at` does)."""
+    ray traced in the kernel (:func:`pbrkit.rendering.primitives.trace_analytic`, as
+    :func:`pbrkit.rendering.punctual.punctual_at` does)."""
     for i in range(start, stop):
         for li in range(codes.shape[0]):
             lx, ly, lz, d, f = light_incidence(codes[li, 0], codes[li, 1], values[li], p[i, 0], p[i, 1], p[i, 2])
@@ -364,12 +364,12 @@ def _mtoon(style, geometry, env, bake, s, v):
 
 def render_styled(scene, style=None, geometry=None, env=None, bake=None, bake_size=256):
     """Render ``scene`` in ``style`` (module docstring; default the scene's own
-    ``style``, else plain PBR).  Returns a :class:`pbrkit.render.primary.RenderResult`
+    ``style``, else plain PBR).  Returns a :class:`pbrkit.rendering.primary.RenderResult`
     whose stats hold the timings of the shading and of the outlines."""
-    from ..render.environment import EnvironmentLight
-    from ..render.geometry import Geometry
-    from ..render.primary import RenderResult, _background, _primary, _resolve
-    from ..render.realtime import render_realtime
+    from ..rendering.environment import EnvironmentLight
+    from ..rendering.geometry import Geometry
+    from ..rendering.primary import RenderResult, _background, _primary, _resolve
+    from ..rendering.realtime import render_realtime
 
     style = style or getattr(scene, "style", None) or Style()
     timings = {}

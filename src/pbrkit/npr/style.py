@@ -40,7 +40,7 @@ ranges of its schema (:data:`MTOON_RANGES`).  Style files and ramp images are
 read only if they are regular files (:mod:`pbrkit.core.inputs`), and an error
 never quotes a file (:func:`pbrkit.core.documents.parse_document`).  A style is
 real-time shading: ``pbrkit render`` refuses one that changes the image in the
-reference and compare modes (:func:`pbrkit.render.run.render_scene`).
+reference and compare modes (:func:`pbrkit.rendering.run.render_scene`).
 """
 
 from __future__ import annotations

@@ -47,8 +47,8 @@ group:
   the coat's normal: pbrkit's own (split sum with F90, the
   diffuse's F* weight, the coat's roughness, the sheen and coat terms and the
   base's scale, ``pbrkit_glTFExtendedIBL``) and the Khronos Sample Viewer's
-  (:mod:`pbrkit.render.khronos_ibl`), with ``KHR_materials_transmission`` /
-  ``_volume``'s transmitted light (:mod:`pbrkit.render.transmission_ibl`) and
+  (:mod:`pbrkit.rendering.khronos_ibl`), with ``KHR_materials_transmission`` /
+  ``_volume``'s transmitted light (:mod:`pbrkit.rendering.transmission_ibl`) and
   ``KHR_materials_dispersion``'s IORs per channel (``pbrkit_dispersionIors``,
   ``pbrkit_sampleViewerDispersionIors``: :mod:`pbrkit.brdf.transmission`) and
   each channel's lookup ``pbrkit_dispersionLookup``; ``KHR_materials_anisotropy``: the frame
@@ -57,7 +57,7 @@ group:
   height-correlated ``pbrkit_vGGXAnisotropic``, the lobe
   ``pbrkit_anisotropicSpecular``, the core material's ``BRDF_glTFAnisotropic``
   and the Sample Viewer's bent-normal lookup ``pbrkit_anisotropicReflection``
-  (:func:`pbrkit.render.ibl_lookups.khr_anisotropic_reflection`); needs
+  (:func:`pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection`); needs
   ``pbrkit_brdf.glsl`` and ``pbrkit_khr.glsl`` before it.
 
 GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each

@@ -20,7 +20,7 @@ The coat's normal (the README's ``clearcoatNormal``, "Clearcoat": from
 applied to the clear coat layer, even if normal mapping is applied to the base
 material") rides in the slots :data:`COAT_NORMAL_SLOT` .. + 2: (0, 0, 0) where it is the
 shading normal; the setup leaves a hit's world-space coat normal there and
-:func:`coat_in_frame` (called by :func:`pbrkit.render.materials.hit_bxdf`) turns it
+:func:`coat_in_frame` (called by :func:`pbrkit.rendering.materials.hit_bxdf`) turns it
 into the shading frame's coordinates.  Every coat term then takes its cosines about
 that normal (:func:`coat_cosines`): n_c.l, n_c.v, n_c.h (v.h is the same in any frame),
 and the lobe is 0 unless n_c.l > 0 and n_c.v > 0.
@@ -92,7 +92,7 @@ def coat_in_frame(b, nx, ny, nz, t, bt):
 def coat_cosines(b, c):
     """(n_c.l, n_c.v, n_c.h): the cosines of :class:`pbrkit.brdf.bxdf.Cosines` ``c``
     about the coat's normal n_c (its slots, in the shading frame; ``c`` must then carry
-    its tangent components, :func:`pbrkit.render.materials.hit_cosines`), or ``c``'s own
+    its tangent components, :func:`pbrkit.rendering.materials.hit_cosines`), or ``c``'s own
     where the coat has none."""
     if not coat_tilted(b):
         return c.nol, c.nov, c.noh

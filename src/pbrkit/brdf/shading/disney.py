@@ -116,7 +116,7 @@ def ibl_extras(b, nov, coat_nov, coat_dfg1, coat_dfg2, sheen_table, irradiance, 
     """The clear coat and the sheen in real time: the coat's split sum with f0 0.04,
     0.25 clearcoat (DFG1 + 0.04 (DFG2 - DFG1)) at its roughness times its own
     prefiltered lookup, and the sheen colour times the sheen lobe's albedo table
-    (:func:`pbrkit.render.realtime.sheen_albedo_table`) times E(n) / pi.  Returns
+    (:func:`pbrkit.rendering.realtime.sheen_albedo_table`) times E(n) / pi.  Returns
     (specular RGB, diffuse RGB) to add.  The coat has no normal of its own
     (``coat_nov`` is n.v)."""
     coat = 0.0

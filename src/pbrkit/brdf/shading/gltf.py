@@ -395,7 +395,7 @@ def ibl_specular_diffuse_weight(b, nov, exact, table):
 def ibl_transmission(b):
     """KHR_materials_transmission in real time: the weight (1 - metallic) transmission on
     baseColor x the diffuse's Fresnel weight x the transmitted light
-    (:mod:`pbrkit.render.transmission_ibl`): the specification's mix(diffuse_brdf,
+    (:mod:`pbrkit.rendering.transmission_ibl`): the specification's mix(diffuse_brdf,
     specular_btdf, transmission) beneath the dielectric's fresnel_mix, the setup having
     taken 1 - transmission of the diffuse colour."""
     return (1.0 - b.metallic) * b.extra[TRANSMISSION_SLOT]
@@ -426,7 +426,7 @@ def ibl_coat_roughness(b):
 def ibl_sheen_roughness(b):
     """The roughness of the sheen's prefiltered lookup in real time: the sheen roughness
     (-1 without a sheen, so no lookup).  The lookup is the Charlie-prefiltered chain when
-    the bake has one, else the GGX chain at that roughness (:mod:`pbrkit.render.realtime`)."""
+    the bake has one, else the GGX chain at that roughness (:mod:`pbrkit.rendering.realtime`)."""
     if _sheen_on(b):
         return b.extra[SHEEN_ROUGHNESS_SLOT]
     return -1.0

@@ -46,7 +46,7 @@ def _uncoated(params, q, columns):
 @dataclass(frozen=True, eq=False)
 class RealTime:
     """A model's real-time image-based lighting beyond the split sum of its specular
-    lobe (:mod:`pbrkit.render.realtime`): ``diffuse_weight(b, nov, exact, table)``,
+    lobe (:mod:`pbrkit.rendering.realtime`): ``diffuse_weight(b, nov, exact, table)``,
     the weight on diffuse_color E(n) / pi (1 unless the diffuse lobe is weighted,
     glTF's 1 - F(v.h)); ``coat_roughness(b)``, the perceptual roughness of a second
     prefiltered lookup for a coat (-1: none); ``sheen_roughness(b)``, that of a third,
@@ -61,10 +61,10 @@ class RealTime:
     ``base_scale(b, nov, coat_nov)``, the factor on the specular and diffuse IBL terms before
     the extras are added (1: none; glTF's KHR_materials_sheen albedo scaling);
     ``khronos_extensions``: ``engine="khronos"`` evaluates the model's glTF material
-    extensions as the Sample Viewer does (:mod:`pbrkit.render.khronos_ibl`);
+    extensions as the Sample Viewer does (:mod:`pbrkit.rendering.khronos_ibl`);
     ``transmission(b)``, the weight on base colour x diffuse weight x the light
     transmitted through the surface (0: none; glTF's KHR_materials_transmission,
-    :mod:`pbrkit.render.transmission_ibl`)."""
+    :mod:`pbrkit.rendering.transmission_ibl`)."""
 
     diffuse_weight: object = _one
     coat_roughness: object = _no_coat

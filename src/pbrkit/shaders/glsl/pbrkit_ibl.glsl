@@ -119,7 +119,7 @@ vec2 EnvBRDFApprox(float NoV, float roughness) {
 //   pbrkit_sampleSpecular at the reflection direction and dfg from pbrkit_sampleDFG / pbrkit_fetchDFG at (n.v, r).
 // source: Karis 2013, "Real Shading in Unreal Engine 4", split-sum approximation; Filament sec. 5.3.4
 // roughness: none (the lookups took r)
-// pbrkit: pbrkit.render.realtime.render_realtime
+// pbrkit: pbrkit.rendering.realtime.render_realtime
 vec3 pbrkit_specularIBL(vec3 prefiltered, vec2 dfg, vec3 f0) {
     return prefiltered * pbrkit_specularAlbedoDFG(dfg, f0);
 }

@@ -3,8 +3,8 @@
 // KHR_materials_clearcoat (the coat lobe and its Fresnel layering, about the coat's own normal from a
 // clearcoatNormalTexture where it has one), the whole BRDF with
 // KHR_materials_sheen, and their real-time image-based lighting -- pbrkit's own
-// (pbrkit.render.realtime) and the Khronos glTF Sample Viewer's (pbrkit.render.khronos_ibl),
-// with KHR_materials_transmission / _volume's transmitted light (pbrkit.render.transmission_ibl),
+// (pbrkit.rendering.realtime) and the Khronos glTF Sample Viewer's (pbrkit.rendering.khronos_ibl),
+// with KHR_materials_transmission / _volume's transmitted light (pbrkit.rendering.transmission_ibl),
 // KHR_materials_dispersion's IORs and lookups per channel, and the viewer's KHR_materials_iridescence
 // mix; and KHR_materials_anisotropy (its frame, the anisotropic GGX D and V, the specular lobe, the
 // core material's BRDF and the Sample Viewer's bent-normal lookup direction).
@@ -112,7 +112,7 @@ vec3 pbrkit_fresnelCoat(vec3 base, vec3 coat, float t) {
 //   layer, even if normal mapping is applied to the base material").
 // source: KHR_materials_clearcoat README, "Clearcoat" (clearcoatNormalTexture, its scale); glTF 2.0 specification, "Materials" (normalTextureInfo.scale); glTF-Sample-Viewer material_info.glsl (getClearcoatNormal)
 // roughness: none
-// pbrkit: pbrkit.render.textures.tangent_space_normal
+// pbrkit: pbrkit.rendering.textures.tangent_space_normal
 vec3 pbrkit_clearcoatNormal(vec3 t, vec3 b, vec3 ng, vec3 texel, float scale) {
     vec3 mapped = mat3(t, b, ng) * ((texel * 2.0 - 1.0) * vec3(scale, scale, 1.0));
     float len = length(mapped);
@@ -167,7 +167,7 @@ vec3 BRDF_glTFExtended(vec3 l, vec3 v, vec3 n, pbrkit_KHRMaterial m, float sheen
 //   DFG1 F90 + F0 (DFG2 - DFG1) (F90 = 1: pbrkit_specularAlbedoDFG).
 // source: Karis 2013, split sum; Filament sec. 5.3.4.3 (lerp(DFG1, DFG2, F0)) with F90 scaling the (1 - v.h)^5 part
 // roughness: none (the table lookup took r)
-// pbrkit: pbrkit.render.realtime.render_realtime
+// pbrkit: pbrkit.rendering.realtime.render_realtime
 vec3 pbrkit_specularAlbedoDFGF90(vec2 dfg, vec3 f0, float f90) {
     return dfg.x * f90 + f0 * (dfg.y - dfg.x);
 }
@@ -229,7 +229,7 @@ vec3 pbrkit_extensionsIBL(float coatNoV, float clearcoat, float coatDFG2, vec3 c
 //   cosine to the coat's normal (NoV where the coat has none of its own; the renderer floors both at 1e-4).
 // source: Karis 2013, split sum; glTF 2.0 Appendix B; KHR_materials_specular, KHR_materials_clearcoat and KHR_materials_sheen READMEs
 // roughness: none (the lookups took r, the coat's and the sheen's roughness)
-// pbrkit: pbrkit.render.realtime.render_realtime, pbrkit.brdf.shading.gltf.ibl_extensions_extras
+// pbrkit: pbrkit.rendering.realtime.render_realtime, pbrkit.brdf.shading.gltf.ibl_extensions_extras
 vec3 pbrkit_glTFExtendedIBL(float NoV, float coatNoV, pbrkit_KHRMaterial m, vec2 dfg, vec3 prefiltered,
                             vec3 irradiance, vec2 coatDFG, vec3 coatPrefiltered, float sheenAlbedo,
                             vec3 sheenPrefiltered) {
@@ -250,7 +250,7 @@ vec3 pbrkit_glTFExtendedIBL(float NoV, float coatNoV, pbrkit_KHRMaterial m, vec2
 //   FssEss F_avg / (1 - F_avg E_ms); (A, B) Karis' split-sum pair at (n.v, r) (A = DFG2 - DFG1, B = DFG1).
 // source: glTF-Sample-Viewer ibl.glsl (getIBLGGXFresnel); Fdez-Agüera 2019, "A Multiple-Scattering Microfacet Model for Real-Time Image-based Lighting"
 // roughness: perceptual roughness r
-// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_fresnel
+// pbrkit: pbrkit.rendering.khronos_ibl.sample_viewer_fresnel
 vec3 pbrkit_sampleViewerFresnel(float NoV, float roughness, vec3 f0, float weight, vec2 ab) {
     vec3 fssEss = weight * (F_SchlickRoughness(NoV, f0, roughness) * ab.x + ab.y);
     float eMs = 1.0 - (ab.x + ab.y);
@@ -262,7 +262,7 @@ vec3 pbrkit_sampleViewerFresnel(float NoV, float roughness, vec3 f0, float weigh
 //   W(F0, weight)) and the metal radiance W(base, 1), mixed by metallic (W pbrkit_sampleViewerFresnel).
 // source: glTF-Sample-Viewer pbr.frag (f_dielectric_brdf_ibl, f_metal_brdf_ibl); Fdez-Agüera 2019
 // roughness: perceptual roughness r
-// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_base
+// pbrkit: pbrkit.rendering.khronos_ibl.sample_viewer_base
 vec3 pbrkit_sampleViewerBase(float NoV, float roughness, vec3 baseColor, float metallic, vec3 f0, float weight,
                              vec2 ab, vec3 radiance, vec3 irradiance) {
     vec3 w = pbrkit_sampleViewerFresnel(NoV, roughness, f0, weight, ab);
@@ -280,7 +280,7 @@ vec3 pbrkit_sampleViewerBase(float NoV, float roughness, vec3 baseColor, float m
 //   sheenRoughness).
 // source: glTF-Sample-Viewer pbr.frag, material_info.glsl and ibl.glsl; KHR_materials_specular, KHR_materials_sheen and KHR_materials_clearcoat READMEs
 // roughness: perceptual roughness r (the lookups took the coat's and the sheen's roughness)
-// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_extensions_ibl
+// pbrkit: pbrkit.rendering.khronos_ibl.sample_viewer_extensions_ibl
 vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, float coatNoV, pbrkit_KHRMaterial m, vec2 ab, vec3 radiance,
                                       vec3 irradiance, vec3 coatRadiance, vec3 sheenRadiance, float charlieLUT,
                                       float sheenAlbedo) {
@@ -300,7 +300,7 @@ vec3 pbrkit_sampleViewerExtensionsIBL(float NoV, float coatNoV, pbrkit_KHRMateri
 // pbrkit_iorRoughness: the perceptual roughness at which transmitted light is blurred, r clamp(2 ior - 2, 0, 1).
 // source: glTF-Sample-Viewer ibl.glsl (applyIorToRoughness)
 // roughness: perceptual roughness r
-// pbrkit: pbrkit.render.transmission_ibl.ior_roughness
+// pbrkit: pbrkit.rendering.transmission_ibl.ior_roughness
 float pbrkit_iorRoughness(float roughness, float ior) {
     return roughness * clamp(ior * 2.0 - 2.0, 0.0, 1.0);
 }
@@ -309,7 +309,7 @@ float pbrkit_iorRoughness(float roughness, float ior) {
 //   1 / ior) into a volume (-v where refract gives 0).
 // source: glTF-Sample-Viewer ibl.glsl (getVolumeTransmissionRay); KHR_materials_volume README
 // roughness: none
-// pbrkit: pbrkit.render.transmission_ibl.transmission_direction
+// pbrkit: pbrkit.rendering.transmission_ibl.transmission_direction
 vec3 pbrkit_transmissionDirection(vec3 n, vec3 v, float ior, float thickness) {
     vec3 bent = refract(-v, n, 1.0 / ior);
     return (thickness > 0.0 && dot(bent, bent) > 0.0) ? bent : -v;
@@ -334,7 +334,7 @@ vec3 pbrkit_volumeAttenuation(float distance, vec3 attenuationColor, float atten
 //   pbrkit_volumeAttenuation over the thickness.
 // source: KHR_materials_transmission README ("Transmission BTDF"); glTF-Sample-Viewer ibl.glsl (getIBLVolumeRefraction)
 // roughness: none (the lookup took pbrkit_iorRoughness)
-// pbrkit: pbrkit.brdf.shading.gltf.ibl_transmission, pbrkit.render.realtime._ibl_kernel
+// pbrkit: pbrkit.brdf.shading.gltf.ibl_transmission, pbrkit.rendering.realtime._ibl_kernel
 vec3 pbrkit_transmissionIBL(vec3 baseColor, float metallic, float transmission, float diffuseWeight,
                             vec3 transmitted) {
     return (1.0 - metallic) * transmission * baseColor * diffuseWeight * transmitted;
@@ -344,7 +344,7 @@ vec3 pbrkit_transmissionIBL(vec3 baseColor, float metallic, float transmission, 
 //   transmitted baseColor, transmission) (f90 1).
 // source: glTF-Sample-Viewer pbr.frag and ibl.glsl (getIBLVolumeRefraction)
 // roughness: none
-// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_transmission
+// pbrkit: pbrkit.rendering.khronos_ibl.sample_viewer_transmission
 vec3 pbrkit_sampleViewerTransmission(vec3 fDiffuse, float transmission, vec3 f0, vec2 ab, vec3 transmitted,
                                      vec3 baseColor) {
     return mix(fDiffuse, (1.0 - (f0 * ab.x + ab.y)) * transmitted * baseColor, transmission);
@@ -385,7 +385,7 @@ vec3 pbrkit_sampleViewerDispersionIors(float ior, float dispersion) {
 //   its framebuffer at the projection of position + direction thickness, at that roughness.
 // source: KHR_materials_dispersion README, "Implementation" (a refraction per channel); glTF-Sample-Viewer ibl.glsl (getIBLVolumeRefraction, getTransmissionSample)
 // roughness: perceptual roughness r -> r clamp(2 iors[c] - 2, 0, 1) (pbrkit_iorRoughness)
-// pbrkit: pbrkit.render.transmission_ibl.transmission_lookups
+// pbrkit: pbrkit.rendering.transmission_ibl.transmission_lookups
 vec4 pbrkit_dispersionLookup(vec3 n, vec3 v, float roughness, vec3 iors, float thickness, int channel) {
     float ior = max(iors[channel], 1.0);
     return vec4(pbrkit_transmissionDirection(n, v, ior, thickness), pbrkit_iorRoughness(roughness, ior));
@@ -399,7 +399,7 @@ vec4 pbrkit_dispersionLookup(vec3 n, vec3 v, float roughness, vec3 iors, float t
 //   over F0 and over the base colour; rgb_mix(a, b, t) = (1 - max3(t)) a + t b.
 // source: glTF-Sample-Viewer pbr.frag and iridescence.glsl; KHR_materials_iridescence README
 // roughness: perceptual roughness r
-// pbrkit: pbrkit.render.khronos_ibl.sample_viewer_film
+// pbrkit: pbrkit.rendering.khronos_ibl.sample_viewer_film
 vec3 pbrkit_sampleViewerFilm(float NoV, float roughness, vec3 fDiffuse, vec3 baseColor, float metallic, vec3 f0,
                              float weight, vec2 ab, vec3 radiance, float k, vec3 filmDielectric, vec3 filmMetal) {
     vec3 w = pbrkit_sampleViewerFresnel(NoV, roughness, f0, weight, ab);
@@ -518,7 +518,7 @@ vec3 BRDF_glTFAnisotropic(vec3 l, vec3 v, vec3 n, vec4 tangent, vec3 baseColor, 
 //   normalize(mix(R, n', r^2)) is not applied (the Sample Viewer does not).
 // source: glTF-Sample-Viewer ibl.glsl (getIBLRadianceAnisotropy); KHR_materials_anisotropy README, "Image-based lighting" (bent normal); McAuley 2015 (Filament's bent normal)
 // roughness: perceptual roughness r (k = (1 - strength (1 - r))^4: no bend at r = 1 or strength 0)
-// pbrkit: pbrkit.render.ibl_lookups.khr_anisotropic_reflection
+// pbrkit: pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection
 vec3 pbrkit_anisotropicReflection(vec3 n, vec3 v, vec3 b, float strength, float roughness) {
     vec3 a = cross(cross(b, v), b);
     float k = 1.0 - strength * (1.0 - roughness);

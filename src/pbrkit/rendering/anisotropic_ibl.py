@@ -19,7 +19,7 @@ estimator's G2 / G1(v) (height-correlated Smith, KHR_materials_anisotropy's V), 
     prefiltered = sum L_k w_k / sum w_k,  DFG2 = mean w_k,  DFG1 = mean w_k (1 - v.h_k)^5
 
 replace the lookup and the table's terms in the split sum's F0 DFG2 + (F90 - F0)
-DFG1 (:mod:`pbrkit.render.realtime`), the Fresnel kept apart from the radiance as
+DFG1 (:mod:`pbrkit.rendering.realtime`), the Fresnel kept apart from the radiance as
 there.  Measured against the ground truth in ``bench/anisotropy_rt.md``.
 """
 
@@ -97,7 +97,7 @@ def _fis_kernel(start, stop, mi, mf, rows, mat, n, v, rough, metal, base, tan, u
 def anisotropic_ibl(mat_i, mat_f, rows, surface, v, tangents, sampler, to_env_frame, levels, intensity):
     """Filtered importance sampling (module docstring) of the pixels ``rows`` of
     ``surface`` (anisotropic materials), seen along ``v``: (prefiltered radiance
-    (R, 3), DFG1 (R,), DFG2 (R,)) for the split sum of :mod:`pbrkit.render.realtime`.
+    (R, 3), DFG1 (R,), DFG2 (R,)) for the split sum of :mod:`pbrkit.rendering.realtime`.
     ``sampler(directions, lod)`` looks the chain of ``levels`` levels up in the
     environment's frame (``to_env_frame``)."""
     rows = np.ascontiguousarray(rows, dtype=np.int64)

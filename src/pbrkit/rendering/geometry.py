@@ -78,7 +78,7 @@ class Surface:
     uv: np.ndarray | None = None
     tangent: np.ndarray | None = None
     #: With KHR_materials extension textures: (hit rows, {parameter column: (K,) values}) of
-    #: the hits whose extension parameters their textures change (:func:`pbrkit.render.
+    #: the hits whose extension parameters their textures change (:func:`pbrkit.rendering.
     #: materials.per_hit_tables` makes the kernels' tables of them); None without them.
     extension_values: tuple | None = None
     #: With a normalTexture at some hit: the normal before normal mapping (the interpolated
@@ -170,7 +170,7 @@ class Geometry:
 
     def intersect(self, origins, dirs, tmax=None, salt=0):
         """Closest hits of rays (N, 3) with unit directions, t in (0, tmax), through the
-        surfaces that glTF's alpha modes let rays pass (:mod:`pbrkit.render.alpha`;
+        surfaces that glTF's alpha modes let rays pass (:mod:`pbrkit.rendering.alpha`;
         ``salt`` varies the coverage decisions of BLEND surfaces)."""
         hits = self._closest(origins, dirs, tmax)
         if self._coverage is not None:
@@ -222,7 +222,7 @@ class Geometry:
 
     def area_light_hits(self, origins, dirs, tmax=None):
         """Nearest area lights on rays: (t, light index or -1, radiance seen (N, 3))
-        (:func:`pbrkit.render.area_lights.area_light_hit`)."""
+        (:func:`pbrkit.rendering.area_lights.area_light_hit`)."""
         return area_light_hits(self.area_lights, origins, dirs, tmax)
 
     def offset_origins(self, p, ng, directions):

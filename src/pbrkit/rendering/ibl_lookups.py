@@ -1,5 +1,5 @@
 """Where and at what roughness each engine's real time looks the prefiltered chain
-up (:mod:`pbrkit.render.realtime`): the mirror direction and Filament's bent normal
+up (:mod:`pbrkit.rendering.realtime`): the mirror direction and Filament's bent normal
 for anisotropic lobes, the Sample Viewer's bent normal of KHR_materials_anisotropy,
 Filament's dominant direction, and three.js's roughness with its screen-space
 term.
@@ -92,7 +92,7 @@ def three_roughness(camera, rows, normals, roughness):
     position of a supersampled camera as its own image); a neighbour that misses
     the scene counts as no change.  ``rows``: the hit rays' indices, ``normals``
     their world normals (K, 3) before normal mapping (three's ``nonPerturbedNormal``:
-    :attr:`pbrkit.render.geometry.Surface.n_unmapped`), ``roughness`` (K,)."""
+    :attr:`pbrkit.rendering.geometry.Surface.n_unmapped`), ``roughness`` (K,)."""
     h, w, k2 = camera.height, camera.width, camera.supersample ** 2
     right, up, forward = camera.basis()
     view = np.stack([normals @ right, normals @ up, -(normals @ forward)], axis=-1)

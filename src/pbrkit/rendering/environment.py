@@ -370,7 +370,7 @@ class EnvironmentLight:
         ``min_size`` = min(16, size / 4) unless given (at least 3 levels).  Without the
         sheen's Charlie chain and table unless ``sheen=True``: the real-time renderer
         prefilters the chain when a material first needs it
-        (:func:`pbrkit.render.realtime.render_realtime`)."""
+        (:func:`pbrkit.rendering.realtime.render_realtime`)."""
         if self.bake_data is None:
             from ..ibl.bake import bake as bake_environment
 

@@ -12,7 +12,7 @@ Shapes (scene files: ``[[lights]]`` with ``type`` = ``rect``, ``polygon``,
   the lit side (as three.js's ``RectAreaLight`` faces its -Z).
 - ``polygon``: 3 to :data:`MAX_POLYGON_VERTICES` ``vertices``, planar, simple
   and convex, counter-clockwise seen from the lit side (the right-hand rule gives
-  the normal; the tests: :mod:`pbrkit.render.light_checks`).
+  the normal; the tests: :mod:`pbrkit.rendering.light_checks`).
 - ``disk``: centre ``position``, ``normal``, ``radius``.
 - ``sphere``: centre ``position``, ``radius``; emits outwards everywhere.
 
@@ -20,16 +20,16 @@ Planar lights emit from the side their normal points to, or from both sides
 with ``two_sided = true``.
 
 Units (``unit``): ``radiance`` (default): ``color * intensity`` is the emitted
-luminance in cd / m^2 (the environment's scale, :mod:`pbrkit.render.lights`);
+luminance in cd / m^2 (the environment's scale, :mod:`pbrkit.rendering.lights`);
 ``power``: ``intensity`` is the luminous flux in lumens of a Lambertian emitter
 (``color`` multiplies it), L = Phi / (pi A) for a one-sided planar light of
 area A, Phi / (2 pi A) two-sided, Phi / (4 pi^2 r^2) for a sphere (e.g.
 Pharr, Jakob and Humphreys 2023, pbrt-v4 sec. 12.5 ``DiffuseAreaLight``:
 L = Phi / (pi A) per side).  A radiance that overflows, exceeds 1e12 cd / m^2 or
 rounds to zero from a non-zero power is refused
-(:func:`pbrkit.render.light_checks.checked_radiance`).
+(:func:`pbrkit.rendering.light_checks.checked_radiance`).
 
-In the reference renderer (:mod:`pbrkit.render.reference`) an area light is
+In the reference renderer (:mod:`pbrkit.rendering.reference`) an area light is
 an opaque black emitter: camera and BRDF rays that hit it see its radiance
 (front side, or both when two-sided; its back is black), it blocks the
 environment and the other area lights behind it, and its surface reflects
@@ -177,7 +177,7 @@ class AreaLight:
         checked_radiance(np.asarray(self.color) * self.intensity, radiance, self.unit, self.area)
 
     def _polygon_vertices(self):
-        """The vertices of a simple convex planar polygon (:func:`pbrkit.render.light_checks.polygon_vertices`)."""
+        """The vertices of a simple convex planar polygon (:func:`pbrkit.rendering.light_checks.polygon_vertices`)."""
         return polygon_vertices(self.vertices)
 
     # ------------------------------------------------------------ derived

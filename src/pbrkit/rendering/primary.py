@@ -43,8 +43,8 @@ class _Primary:
 
 def _primary(scene, geometry, salt=0, rays=None):
     """The primary hits of the camera's rays (``rays``: the indices of a subset, in the
-    order of :meth:`pbrkit.render.scene.Camera.ray_directions`; default all); ``salt``
-    varies the coverage of glTF BLEND surfaces (:mod:`pbrkit.render.alpha`) from one
+    order of :meth:`pbrkit.rendering.scene.Camera.ray_directions`; default all); ``salt``
+    varies the coverage of glTF BLEND surfaces (:mod:`pbrkit.rendering.alpha`) from one
     Monte Carlo sample to the next."""
     cam = scene.camera
     dirs = cam.ray_directions().reshape(-1, 3)

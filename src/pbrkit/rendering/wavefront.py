@@ -1,8 +1,8 @@
 """The wavefront engine of the ground truth: scenes with triangle meshes (Embree) as
 a loop over samples and bounces, each step on the whole wavefront of paths at once
 (:func:`_vertex_batch`, then shadow rays, BxDF rays and what they meet), with the
-per-vertex estimator of :mod:`pbrkit.render.vertex`: the numbers of the fused kernel
-(:mod:`pbrkit.render.reference`) for the same scene (tested).
+per-vertex estimator of :mod:`pbrkit.rendering.vertex`: the numbers of the fused kernel
+(:mod:`pbrkit.rendering.reference`) for the same scene (tested).
 """
 
 from __future__ import annotations
@@ -118,7 +118,7 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
     bounces, each step on the whole wavefront of paths at once (:func:`_vertex_batch`,
     then shadow rays, BRDF rays and what they meet); returns the :class:`Film`.  In a
     scene with glTF BLEND surfaces each sample casts its primary rays again, so that
-    their coverage (:mod:`pbrkit.render.alpha`) is drawn per sample."""
+    their coverage (:mod:`pbrkit.rendering.alpha`) is drawn per sample."""
     envs = environment_arrays(env)
     area = area_arrays(geometry)
     has_area = len(geometry.area_lights) > 0
@@ -250,9 +250,9 @@ def _wavefront(geometry, env, prim, base_value, k2, n_pixels, spp, bounces, seed
 
 
 def _hit_tables(materials, surface):
-    """The kernels' :class:`pbrkit.render.records.Materials` for the hits of ``surface``
+    """The kernels' :class:`pbrkit.rendering.records.Materials` for the hits of ``surface``
     (a row per hit whose extension textures change its parameters,
-    :func:`pbrkit.render.materials.per_hit_tables`), each hit's row in them, and each
+    :func:`pbrkit.rendering.materials.per_hit_tables`), each hit's row in them, and each
     row's scene material (None: ``materials`` itself, the rows the scene's)."""
     codes, params, material, origin = per_hit_tables(materials.codes, materials.params, surface)
     return (materials if origin is None else Materials(codes, params)), material, origin

@@ -1,4 +1,4 @@
-"""Checks of an area light's shape and emission (:class:`pbrkit.render.area_lights.AreaLight`):
+"""Checks of an area light's shape and emission (:class:`pbrkit.rendering.area_lights.AreaLight`):
 a polygon light is a simple convex planar polygon, and the radiance its
 ``color``, ``intensity`` and ``unit`` give is a usable number.
 
@@ -43,7 +43,7 @@ MAX_POLYGON_VERTICES = 32
 #: Relative tolerance of a polygon light's planarity (distance / size).
 PLANARITY_TOLERANCE = 1e-6
 #: Largest emitted radiance of an area light, cd / m^2: the scene files' largest
-#: intensity or radiance (:data:`pbrkit.render.scene.MAX_INTENSITY`; the sun's
+#: intensity or radiance (:data:`pbrkit.rendering.scene.MAX_INTENSITY`; the sun's
 #: luminance is about 1.6e9 cd / m^2).
 MAX_RADIANCE = 1e12
 #: Tolerance of the turning test, radians: a turn below -this is concave, a total

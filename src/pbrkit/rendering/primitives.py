@@ -226,7 +226,7 @@ def _trace_batch(start, stop, origins, dirs, tmin, tmax, any_hit, spheres, lo, h
 @dual_use
 def analytic_surface(kind, index, spheres, planes, sphere_mat, plane_mat, mf, ox, oy, oz, dx, dy, dz, t):
     """Position, normal (facing the ray for double-sided materials: parameter rows ``mf``
-    of :func:`pbrkit.render.materials.material_tables`) and material of the hit at
+    of :func:`pbrkit.rendering.materials.material_tables`) and material of the hit at
     distance t along the ray o + t d on primitive ``index`` of ``kind``."""
     px = ox + t * dx
     py = oy + t * dy

@@ -1,8 +1,8 @@
-"""The Monte Carlo estimator of the ground truth (:mod:`pbrkit.render.reference`),
+"""The Monte Carlo estimator of the ground truth (:mod:`pbrkit.rendering.reference`),
 written once as small scalar functions that every engine schedules: the fused
 kernel and the wavefront loop call them one sample at a time
-(:func:`pbrkit.render.vertex._vertex`), the lane kernel in loops over lanes
-(:mod:`pbrkit.render.lanes`).  They take scalars, tuples and the material's
+(:func:`pbrkit.rendering.vertex._vertex`), the lane kernel in loops over lanes
+(:mod:`pbrkit.rendering.lanes`).  They take scalars, tuples and the material's
 :class:`pbrkit.brdf.bxdf.BxDF`, never arrays, and are inlined where they are called
 (Numba IR, ``dual_use(inline=True)``), so that a loop over lanes that calls them
 keeps no call (nor reference counting) and LLVM vectorises it.  Each computes
@@ -28,9 +28,9 @@ normal, (t, b) its tangent frame, g the geometric normal, v towards the eye::
          ------------------------- o ----------------------- surface (g)
 
 - a light sample l_L ~ p_L: from the environment's alias table over texels,
-  p_L = func(i, j) / total per solid angle (:mod:`pbrkit.render.environment`), or
+  p_L = func(i, j) / total per solid angle (:mod:`pbrkit.rendering.environment`), or
   a point on one of the A area lights, picked with probability 1 / A,
-  p_L = p_area(l) / A (:mod:`pbrkit.render.area_lights`), with its radiance L(l_L);
+  p_L = p_area(l) / A (:mod:`pbrkit.rendering.area_lights`), with its radiance L(l_L);
 - a BSDF sample l_B ~ p_B (:func:`pbrkit.brdf.bxdf.sample_wi` in the local frame,
   v_local = (v.t, v.b, v.n), then l = t l_x + b l_y + n l_z, normalised): with
   probability P_s the mirror image of v about a GGX visible normal h,
@@ -96,7 +96,7 @@ path segment inside a volume by its Beer-Lambert transmittance
 (:func:`pbrkit.brdf.transmission.absorption`).
 
 The pixel's estimate and standard error from its samples are
-:mod:`pbrkit.render.film`'s.
+:mod:`pbrkit.rendering.film`'s.
 """
 
 from __future__ import annotations
@@ -114,7 +114,7 @@ __all__ = ["STRATEGIES", "STRATEGY_MIS", "STRATEGY_BSDF", "Shading", "power_heur
            "view_in_frame", "bsdf_weight", "bsdf_sample", "emission_weight", "area_emission", "area_shadow_t",
            "transmissive_light_sample", "transmissive_bsdf_sample", "ray_origin"]
 
-#: The sampling strategies of :func:`pbrkit.render.reference.render_reference`: both
+#: The sampling strategies of :func:`pbrkit.rendering.reference.render_reference`: both
 #: light and BSDF samples combined by MIS, or BSDF sampling alone.
 STRATEGIES = ("mis", "brdf")
 STRATEGY_MIS = STRATEGIES.index("mis")
@@ -124,7 +124,7 @@ STRATEGY_BSDF = STRATEGIES.index("brdf")
 class Shading(NamedTuple):
     """A shading point as the estimator sees it (world space, unit vectors): the shading
     normal ``n``, tangent ``t`` and bitangent ``bt`` of its frame
-    (:func:`pbrkit.render.materials.hit_bxdf`), the geometric normal ``g`` and the
+    (:func:`pbrkit.rendering.materials.hit_bxdf`), the geometric normal ``g`` and the
     direction ``v`` towards the eye, each an (x, y, z) tuple."""
 
     n: tuple
@@ -243,10 +243,10 @@ def area_shadow_t(dist):
 @dual_use
 def area_emission(strategy, pdf_b, area, li, px, py, pz, dx, dy, dz, t, r0, r1, r2):
     """Radiance (r0, r1, r2) of area light ``li`` of ``area``
-    (:class:`pbrkit.render.records.AreaArrays`), met at distance t by the BSDF sample
+    (:class:`pbrkit.rendering.records.AreaArrays`), met at distance t by the BSDF sample
     d (pdf ``pdf_b``) from p, times its MIS weight (:func:`emission_weight`; the light
     is sampled with probability 1 / A, then by
-    :func:`pbrkit.render.area_lights.area_light_pdf`)."""
+    :func:`pbrkit.rendering.area_lights.area_light_pdf`)."""
     pdf_a = 0.0
     if strategy == STRATEGY_MIS:
         pdf_a = area_light_pdf(area.codes, area.values, area.vertices, li, px, py, pz, dx, dy, dz,

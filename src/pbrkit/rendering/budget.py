@@ -5,8 +5,8 @@ minutes.
 
 The estimate is simple, conservative and linear in what a render allocates
 per camera ray (``width x height x supersample^2`` rays; the NumPy arrays of
-:mod:`pbrkit.render.primary`, :mod:`~pbrkit.render.realtime` and
-:mod:`~pbrkit.render.reference` are all per ray or per pixel):
+:mod:`pbrkit.rendering.primary`, :mod:`~pbrkit.rendering.realtime` and
+:mod:`~pbrkit.rendering.reference` are all per ray or per pixel):
 
 - :data:`BYTES_PER_RAY` per mode: ray directions and their temporaries, hit
   records, surface data (position, two normals, material index, base colour,

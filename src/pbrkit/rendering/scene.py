@@ -72,7 +72,7 @@ relative to the scene file's folder.  Every key is optional except
     outer_cone_angle = 0.5
     falloff = "khr"               # khr (windowed 1/d^2) or ue4 (Karis 2013 eq. 9)
 
-    [[lights]]                    # area lights (pbrkit.render.area_lights): rect, polygon, disk, sphere
+    [[lights]]                    # area lights (pbrkit.rendering.area_lights): rect, polygon, disk, sphere
     type = "rect"
     position = [0.0, 3.0, 0.0]    # centre (rect, disk, sphere)
     normal = [0.0, -1.0, 0.0]     # the side it emits to (rect, disk)
@@ -150,7 +150,7 @@ __all__ = [
 SHADING_MODELS = MODELS
 BUILTIN_SCENES = ("spheres", "sphere", "area")
 #: What a scene file must be, for messages.
-SCENE_EXPECTED = "a .toml or .json scene file (pbrkit.render.scene)"
+SCENE_EXPECTED = "a .toml or .json scene file (pbrkit.rendering.scene)"
 
 
 # ---------------------------------------------------------------- camera
@@ -288,7 +288,7 @@ def bundled_environment():
 
 
 # --------------------------------------------------------------- materials
-# MaterialSpec is generated from the models' declarations (pbrkit.render.material_spec).
+# MaterialSpec is generated from the models' declarations (pbrkit.rendering.material_spec).
 
 
 # ----------------------------------------------------------------- objects

@@ -23,7 +23,7 @@ NO_TANGENTS = np.array([NO_TANGENT])
 
 
 def surface_tangents(surface):
-    """The tangents of a :class:`pbrkit.render.geometry.Surface` for the kernels: its
+    """The tangents of a :class:`pbrkit.rendering.geometry.Surface` for the kernels: its
     (N, 4) rows, or :data:`NO_TANGENTS` where it has none (:func:`tangent_of`)."""
     return NO_TANGENTS if surface.tangent is None else surface.tangent
 

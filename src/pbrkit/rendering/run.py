@@ -1,27 +1,27 @@
-"""Rendering a scene to files in one of the three modes (the ``pbrkit render`` command).
+"""Rendering a scene in one of the three modes: :func:`render` returns the arrays
+(:class:`pbrkit.rendering.result.Rendering`; ``pbrkit.render``), :func:`render_scene`
+writes them to files (the ``pbrkit render`` command).
 """
 
 from __future__ import annotations
 
-import math
-from pathlib import Path
-
-import numpy as np
+import os
 
 from ..core import checks
-from ..core.color import TONEMAPS, tonemap
 from ..core.errors import InputError
 from ..io.engine_targets import TARGET_CHAINS
 from .budget import check_render_memory
-from .compare import compare_images, error_heatmap
+from .compare import compare_images
 from .environment import EnvironmentLight
 from .geometry import Geometry
 from .realtime import render_realtime
 from .reference import render_reference
+from .result import output_suffix_ok
 
 __all__ = [
     "MODES",
     "STAGES",
+    "render",
     "render_scene",
     "check_style_flag",
     "approximation_split",
@@ -40,50 +40,16 @@ STAGES = {
 # ============================================================ the command
 
 
-def _write_outputs(out, panels, tonemap_name, exposure):
-    """Write linear panels side by side: EXR (float32, linear; heat maps decoded to
-    linear) or PNG (tone-mapped, sRGB)."""
-    from ..core.color import linear_to_srgb, srgb_to_linear
-    from ..io.exr import write_exr
-    from ..io.png import write_png
-
-    suffix = Path(out).suffix.lower()
-    if suffix == ".exr":
-        pieces = [srgb_to_linear(p) if kind == "srgb" else p for p, kind in panels]
-        write_exr(out, np.concatenate(pieces, axis=1).astype(np.float32))
-    else:
-        pieces = [p if kind == "srgb" else linear_to_srgb(tonemap(p, tonemap_name, exposure)) for p, kind in panels]
-        write_png(out, np.concatenate(pieces, axis=1), srgb=False)
-
-
-def _write_pair(out, panels, stderr_path, stderr, tonemap_name, exposure):
-    """The image and its standard-error EXR, committed together (both or neither,
-    :func:`pbrkit.core.atomic.atomic_group`)."""
-    from ..core.atomic import atomic_group
-    from ..io.exr import write_exr
-
-    with atomic_group([out, stderr_path]) as (out_tmp, stderr_tmp):
-        write_exr(stderr_tmp, stderr.astype(np.float32))
-        _write_outputs(out_tmp, panels, tonemap_name, exposure)
-
-
-def output_suffix_ok(out):
-    suffix = Path(out).suffix.lower()
-    if suffix not in (".exr", ".png"):
-        raise ValueError(f"{out}: output must be .exr (linear float32) or .png (tone-mapped sRGB); got "
-                         f"{suffix or 'no suffix'!r}")
-
-
 def approximation_split(scene, geometry, env, bake, full, reference, stderr, mask, diffuse="sh",
                         energy_compensation=False):
-    """The real-time error split by approximation (:data:`pbrkit.render.realtime.APPROXIMATIONS`),
+    """The real-time error split by approximation (:data:`pbrkit.rendering.realtime.APPROXIMATIONS`),
     by swapping one approximation at a time for an exact computation, in order:
     the SH irradiance for the irradiance cube (an exact convolution), then the
     F* diffuse weight for the exact albedo of the model's diffuse weighting;
     what remains against the reference is the split sum (``split_sum``), and
     with area lights the split sum and the LTC (``split_sum_ltc``).  Each entry is the RMS
     relative luminance difference the swap makes
-    (:func:`pbrkit.render.compare.rms_relative_error`, over the pixels the
+    (:func:`pbrkit.rendering.compare.rms_relative_error`, over the pixels the
     headline measures; the last one against the reference with its variance
     removed), the measure of the headline
     ``rms_relative_error_noise_removed``; errors of opposite sign partly cancel
@@ -142,13 +108,17 @@ def _check_style_mode(scene, mode, style):
                          "--mode realtime", scene.source)
 
 
-def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
-                 diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=None,
-                 split=True, progress=None, engine="pbrkit", style=None):
-    """Render ``scene`` in ``mode`` and write ``out`` (.exr or .png); reference and
-    compare modes also write ``<out stem>.stderr.exr``, committed together with
-    ``out``.  Nothing is written unless rendering succeeds.  Returns a summary
-    dict (timings, sample counts, errors).
+def render(scene, mode="realtime", spp=64, bounces=0, seed=0, diffuse="sh", energy_compensation=False,
+           bake_size=256, strategy="mis", flip=True, occlusion=None, split=True, progress=None, engine="pbrkit",
+           style=None, tonemap="aces", exposure=0.0, width=None, height=None, environment=None):
+    """Render ``scene`` in ``mode`` (``realtime``, ``reference`` or ``compare``) and
+    return a :class:`pbrkit.rendering.result.Rendering` (linear arrays, statistics;
+    ``.save()``, ``.to_srgb()``, shown inline in Jupyter).  ``scene``: a
+    :class:`pbrkit.rendering.scene.Scene`, a dict of a scene file's tables
+    (:func:`pbrkit.rendering.scene.scene_from_dict`), a built-in scene's name
+    (``spheres``, ``sphere``, ``area``) or a scene file's path; ``width`` / ``height``
+    override its camera's, ``environment`` (an image file or a bake folder) its
+    environment.  Every option is checked before any work.
 
     ``occlusion`` (objects blocking the environment in the ground truth)
     defaults to on for ``reference`` (the scene's ground truth) and off for
@@ -157,22 +127,31 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
     environment, the same shadowed punctual lights, direct light only, so that
     its error measures the real-time approximations only (split sum, F*, SH;
     with ``split`` each one's share, :func:`approximation_split`).  ``engine``
-    (:data:`pbrkit.render.realtime.ENGINES`) picks whose IBL evaluation the real-time
+    (:data:`pbrkit.rendering.realtime.ENGINES`) picks whose IBL evaluation the real-time
     image follows.  ``style`` (a :class:`pbrkit.npr.style.Style`; default the scene's
     ``[style]``) renders the real-time image in that style
     (:func:`pbrkit.npr.render.render_styled`; real-time mode only: a style that changes
     the image is refused in the other modes, :func:`_check_style_mode`).  ``progress(stage)``
-    is called with each stage's name as it starts."""
+    is called with each stage's name as it starts (:data:`STAGES` but ``write``)."""
+    from .result import Rendering, _check_tonemap
+    from .scene import BUILTIN_SCENES, Scene, command_scene, scene_from_dict
+
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")
-    if tonemap_name not in TONEMAPS:
-        raise ValueError(f"unknown tone mapper {tonemap_name!r}; choose one of {', '.join(TONEMAPS)}")
-    if not math.isfinite(float(exposure)):
-        raise ValueError(f"exposure must be finite; got {exposure!r}")
-    output_suffix_ok(out)
-    _check_style_mode(scene, mode, style)
+    _check_tonemap(tonemap, exposure)
     spp = checks.integer(spp, "--spp", 1, 1 << 20)
     bounces = checks.integer(bounces, "--bounces", 0, 64)
+    if isinstance(scene, dict):
+        scene = scene_from_dict(scene)
+    if not isinstance(scene, (Scene, str, os.PathLike)):
+        raise ValueError(f"scene must be a Scene, a dict of a scene file's tables, a built-in scene's name "
+                         f"({', '.join(BUILTIN_SCENES)}) or a scene file's path; got {type(scene).__name__}")
+    if not isinstance(scene, Scene):
+        scene = command_scene(scene, width, height, environment)
+    elif width is not None or height is not None or environment is not None:
+        raise ValueError("width, height and environment apply to a scene given by name or file; change a Scene "
+                         "object with dataclasses.replace")
+    _check_style_mode(scene, mode, style)
     check_render_memory(scene, mode, spp, bounces, bake_size)
 
     def stage(name):
@@ -181,7 +160,6 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
 
     if occlusion is None:  # bounces need rays that hit the other objects
         occlusion = mode == "reference" or int(bounces) > 0
-    out = Path(out)
     stage("load")
     geometry = Geometry(scene)
     env = EnvironmentLight(scene.environment)
@@ -208,27 +186,40 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
                                strategy=strategy, occlusion=occlusion)
         summary["reference"] = ref.stats
         summary["reference"]["includes"] = {"occlusion": bool(occlusion), "bounces": int(bounces)}
-    stderr_path = out.with_name(out.stem + ".stderr.exr")
+    common = dict(stats=summary, tonemap=tonemap, exposure=float(exposure))
     if mode == "realtime":
-        stage("write")
-        _write_outputs(out, [(rt.image, "linear")], tonemap_name, exposure)
-    elif mode == "reference":
-        stage("write")
-        _write_pair(out, [(ref.image, "linear")], stderr_path, ref.stderr, tonemap_name, exposure)
-    else:
-        stage("compare")
-        mask = rt.mask & ref.mask
-        metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=flip)
-        if split and engine == "pbrkit":
-            stage("split")
-            metrics["split"] = approximation_split(scene, geometry, env, bake, rt.image, ref.image, ref.stderr,
-                                                   mask, diffuse=diffuse, energy_compensation=energy_compensation)
-        heat = error_heatmap(metrics.pop("relative_error_map"), mask)
-        stage("write")
-        _write_pair(out, [(rt.image, "linear"), (ref.image, "linear"), (heat, "srgb")], stderr_path, ref.stderr,
-                     tonemap_name, exposure)
-        summary["errors"] = metrics
-    summary["outputs"] = [str(out)] + ([str(stderr_path)] if mode != "realtime" else [])
+        return Rendering(mode, rt.image, rt.mask, realtime=rt.image, **common)
+    if mode == "reference":
+        return Rendering(mode, ref.image, ref.mask, reference=ref.image, stderr=ref.stderr, **common)
+    stage("compare")
+    mask = rt.mask & ref.mask
+    metrics = compare_images(rt.image, ref.image, mask, ref.stderr, flip=flip)
+    if split and engine == "pbrkit":
+        stage("split")
+        metrics["split"] = approximation_split(scene, geometry, env, bake, rt.image, ref.image, ref.stderr,
+                                               mask, diffuse=diffuse, energy_compensation=energy_compensation)
+    error = metrics.pop("relative_error_map")
+    summary["errors"] = metrics
+    return Rendering(mode, rt.image, mask, realtime=rt.image, reference=ref.image, stderr=ref.stderr, error=error,
+                     **common)
+
+
+def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap_name="aces", exposure=0.0,
+                 diffuse="sh", energy_compensation=False, bake_size=256, strategy="mis", flip=True, occlusion=None,
+                 split=True, progress=None, engine="pbrkit", style=None):
+    """Render ``scene`` in ``mode`` (:func:`render`) and write ``out`` (.exr or .png);
+    reference and compare modes also write ``<out stem>.stderr.exr``, committed
+    together with ``out``.  Nothing is written unless rendering succeeds.  Returns a
+    summary dict (timings, sample counts, errors, the outputs)."""
+    output_suffix_ok(out)
+    result = render(scene, mode, spp=spp, bounces=bounces, seed=seed, diffuse=diffuse,
+                    energy_compensation=energy_compensation, bake_size=bake_size, strategy=strategy, flip=flip,
+                    occlusion=occlusion, split=split, progress=progress, engine=engine, style=style,
+                    tonemap=tonemap_name, exposure=exposure)
+    if progress is not None:
+        progress("write")
+    summary = result.stats
+    summary["outputs"] = [str(p) for p in result.save(out)]
     return summary
 
 

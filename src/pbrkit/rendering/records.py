@@ -19,7 +19,7 @@ __all__ = ["Materials", "EnvArrays", "Shapes", "Lights", "AreaArrays", "Points",
 
 
 class Materials(NamedTuple):
-    """The scene's materials (:func:`pbrkit.render.materials.material_tables`): code rows
+    """The scene's materials (:func:`pbrkit.rendering.materials.material_tables`): code rows
     (M, CODE_COLUMNS) int64 and parameter rows (M, LAYOUT.size) of
     :mod:`pbrkit.brdf.bxdf`."""
 
@@ -28,10 +28,10 @@ class Materials(NamedTuple):
 
 
 class EnvArrays(NamedTuple):
-    """The environment light (:class:`pbrkit.render.environment.EnvironmentLight`): its
+    """The environment light (:class:`pbrkit.rendering.environment.EnvironmentLight`): its
     radiance (H, W, 3), its sampling distribution (``func`` (H, W), its integral
     ``total``, the alias table (H W, 2), ``rows`` (H + 1) the cos theta of the rows'
-    boundaries; :attr:`~pbrkit.render.environment.EnvironmentLight.distribution`) and
+    boundaries; :attr:`~pbrkit.rendering.environment.EnvironmentLight.distribution`) and
     its rotation about y (cos, sin)."""
 
     radiance: np.ndarray
@@ -44,8 +44,8 @@ class EnvArrays(NamedTuple):
 
 
 class Shapes(NamedTuple):
-    """The analytic shapes of a :class:`pbrkit.render.geometry.Geometry`: spheres (S, 4),
-    their BVH (:func:`pbrkit.render.primitives.build_sphere_bvh`), planes (P, 6), the
+    """The analytic shapes of a :class:`pbrkit.rendering.geometry.Geometry`: spheres (S, 4),
+    their BVH (:func:`pbrkit.rendering.primitives.build_sphere_bvh`), planes (P, 6), the
     material of each, and ``eps``, how far rays start off a surface."""
 
     spheres: np.ndarray
@@ -62,14 +62,14 @@ class Shapes(NamedTuple):
 
 
 class Lights(NamedTuple):
-    """The punctual lights (:func:`pbrkit.render.lights.light_arrays`)."""
+    """The punctual lights (:func:`pbrkit.rendering.lights.light_arrays`)."""
 
     codes: np.ndarray
     values: np.ndarray
 
 
 class AreaArrays(NamedTuple):
-    """The area lights (:class:`pbrkit.render.area_lights.AreaLights`): codes (A, 4),
+    """The area lights (:class:`pbrkit.rendering.area_lights.AreaLights`): codes (A, 4),
     values (A, 16), polygon vertices (V, 3)."""
 
     codes: np.ndarray
@@ -81,8 +81,8 @@ class Points(NamedTuple):
     """Shading points, one row each: position, geometric and shading normals, the
     direction towards the eye (N, 3), the material (N,) int64 (-1: none, a ray that
     missed), the textured roughness and metallic (N,), base colour (N, 3) and the
-    surface's tangent (N, 4) (:attr:`pbrkit.render.geometry.Surface.tangent`), or one row
-    of NO_TANGENT for points without (:func:`pbrkit.render.punctual.tangent_of`)."""
+    surface's tangent (N, 4) (:attr:`pbrkit.rendering.geometry.Surface.tangent`), or one row
+    of NO_TANGENT for points without (:func:`pbrkit.rendering.punctual.tangent_of`)."""
 
     p: np.ndarray
     ng: np.ndarray
@@ -96,22 +96,22 @@ class Points(NamedTuple):
 
 
 def environment_arrays(env):
-    """:class:`EnvArrays` of an :class:`pbrkit.render.environment.EnvironmentLight`."""
+    """:class:`EnvArrays` of an :class:`pbrkit.rendering.environment.EnvironmentLight`."""
     func, total, alias, rows = env.distribution
     return EnvArrays(env.radiance, func, total, alias, rows, env.cos, env.sin)
 
 
 def analytic_shapes(geometry):
-    """:class:`Shapes` of a :class:`pbrkit.render.geometry.Geometry`."""
+    """:class:`Shapes` of a :class:`pbrkit.rendering.geometry.Geometry`."""
     return Shapes(geometry.spheres, *geometry.bvh, geometry.planes, geometry.sphere_material,
                   geometry.plane_material, 1e-7 * geometry.scale)
 
 
 def punctual_lights(geometry):
-    """:class:`Lights` of a :class:`pbrkit.render.geometry.Geometry`."""
+    """:class:`Lights` of a :class:`pbrkit.rendering.geometry.Geometry`."""
     return Lights(*light_arrays(geometry.lights))
 
 
 def area_arrays(geometry):
-    """:class:`AreaArrays` of a :class:`pbrkit.render.geometry.Geometry`."""
+    """:class:`AreaArrays` of a :class:`pbrkit.rendering.geometry.Geometry`."""
     return AreaArrays(*geometry.area_lights.arrays())

@@ -16,13 +16,13 @@ and emissive (sRGB, times emissiveFactor and
 ``KHR_materials_sheen``, ``_clearcoat``, ``_specular``, ``_ior``,
 ``_iridescence``, ``_transmission``, ``_volume`` and ``_anisotropy`` as the
 ``gltf`` model's parameters (:mod:`pbrkit.io.gltf_materials`; their textures
-per shading point, :attr:`pbrkit.render.textures.SurfaceMaterial.extension_textures`,
+per shading point, :attr:`pbrkit.rendering.textures.SurfaceMaterial.extension_textures`,
 the clear coat's own normal from clearcoatNormalTexture) and ``KHR_materials_unlit`` as
 emission of the base colour.  TANGENT (or MikkTSpace tangents along the normal texture's
 UVs, else the clearcoatNormalTexture's, or TEXCOORD_0 for an anisotropic material without
 a normal texture) gives the tangent frame of normal maps and of ``KHR_materials_anisotropy``.  ``alphaMode`` MASK and BLEND with ``alphaCutoff`` and the base
 colour's alpha (factor and texture) give cutouts and coverage in both render
-modes (:mod:`pbrkit.render.alpha`).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
+modes (:mod:`pbrkit.rendering.alpha`).  ``KHR_lights_punctual`` lights are read too, and each textureInfo's ``KHR_texture_transform`` (offset, rotation,
 scale, texCoord override) and ``KHR_mesh_quantization``'s attribute formats
 are honoured (:mod:`pbrkit.io.gltf_extensions`, after the Khronos
 specifications).  Texture sampling follows the glTF sampler: bilinear (or
@@ -131,7 +131,7 @@ class Mesh:
 class GltfAsset:
     meshes: list
     materials: list      # SurfaceMaterial
-    lights: list         # pbrkit.render.lights.Light
+    lights: list         # pbrkit.rendering.lights.Light
     notes: list
 
 
@@ -396,7 +396,7 @@ def _gltf_material(reader, index, cache):
     if ext.get(UNLIT) is not None:  # the base colour as emission over a black, non-reflecting surface
         khr.update(unlit_material(bc))
         et, bct, mrt, emissive, strength = bct, None, None, np.ones(3), 1.0
-    alpha_mode = m.get("alphaMode") or "OPAQUE"  # cutouts and coverage (pbrkit.render.alpha)
+    alpha_mode = m.get("alphaMode") or "OPAQUE"  # cutouts and coverage (pbrkit.rendering.alpha)
     alpha_cutoff = 0.5 if m.get("alphaCutoff") is None else float(m["alphaCutoff"])
     alpha_texture = _texture_ref(reader, pbr.get("baseColorTexture"), True, cache) if alpha_mode != "OPAQUE" \
         else None

@@ -1,10 +1,10 @@
 """One vertex of the ground truth's paths, the estimator of
-:mod:`pbrkit.render.estimator` at a surface point (:func:`_vertex`, and
+:mod:`pbrkit.rendering.estimator` at a surface point (:func:`_vertex`, and
 :func:`_transmissive_vertex` for materials that transmit), and the environment a
 BxDF sample escapes to (:func:`_env_miss`): what the fused kernel
-(:mod:`pbrkit.render.reference`) and the wavefront loop (:mod:`pbrkit.render.wavefront`)
+(:mod:`pbrkit.rendering.reference`) and the wavefront loop (:mod:`pbrkit.rendering.wavefront`)
 call per path and bounce, with the same random numbers (the lane kernel,
-:mod:`pbrkit.render.lanes`, schedules the same estimator in SIMD lanes).
+:mod:`pbrkit.rendering.lanes`, schedules the same estimator in SIMD lanes).
 """
 
 from __future__ import annotations
@@ -32,17 +32,17 @@ __all__ = []
 @dual_use
 def _vertex(key, strategy, materials, env, area, m, px, py, pz, gx, gy, gz, nx, ny, nz, vx, vy, vz, rough, metal,
             b0, b1, b2, tangent):
-    """The samples of one path vertex (the estimator of :mod:`pbrkit.render.estimator`
+    """The samples of one path vertex (the estimator of :mod:`pbrkit.rendering.estimator`
     with the random numbers of ``key``) at a point of material ``m`` with the textured
     roughness, metallic and base colour, geometric normal g, shading normal n, seen
-    from v, and the surface's ``tangent`` (:func:`pbrkit.render.materials.hit_bxdf`).  Returns (environment direction (3), its contribution (3, unshadowed,
+    from v, and the surface's ``tangent`` (:func:`pbrkit.rendering.materials.hit_bxdf`).  Returns (environment direction (3), its contribution (3, unshadowed,
     MIS-weighted), area-light direction (3), the distance to the light, its
     contribution (3, unshadowed, MIS-weighted), BRDF direction (3), BRDF weight
     f cos / pdf (3), BRDF pdf); the contributions are 0 where a sample gives nothing,
     the BRDF weight and pdf 0 where the path ends.  ``strategy``: an index into
-    :data:`pbrkit.render.estimator.STRATEGIES`.  The area light is picked uniformly
+    :data:`pbrkit.rendering.estimator.STRATEGIES`.  The area light is picked uniformly
     among the scene's (probability 1 / A), then sampled by
-    :func:`pbrkit.render.area_lights.area_light_sample`.  The BRDF, its sampling
+    :func:`pbrkit.rendering.area_lights.area_light_sample`.  The BRDF, its sampling
     routine and pdf are the material's BxDF (:mod:`pbrkit.brdf.bxdf`).  A light
     sample below the surface (g.l <= 0) or of zero pdf is not evaluated.  A material that
     transmits takes :func:`_transmissive_vertex` instead (the engines choose, only in
@@ -90,8 +90,8 @@ def _transmissive_vertex(key, strategy, materials, env, area, m, px, py, pz, gx,
     """:func:`_vertex` of a material that transmits (the same random numbers): the view
     on either side of the surface (the side of its geometric and shading normals must
     agree), light samples on either side
-    (:func:`pbrkit.render.estimator.transmissive_light_sample`), the BSDF sample of
-    :func:`pbrkit.render.estimator.transmissive_bsdf_sample`."""
+    (:func:`pbrkit.rendering.estimator.transmissive_light_sample`), the BSDF sample of
+    :func:`pbrkit.rendering.estimator.transmissive_bsdf_sample`."""
     z3 = (0.0, 0.0, 0.0)
     nov = nx * vx + ny * vy + nz * vz
     if nov * (gx * vx + gy * vy + gz * vz) <= 0.0:
@@ -148,7 +148,7 @@ core_substitute(_transmissive_vertex, _vertex)
 @dual_use
 def _env_miss(strategy, pdf_b, env, dx, dy, dz):
     """Radiance times the MIS weight of a BRDF sample (pdf ``pdf_b``) that reaches the
-    environment along d (:func:`pbrkit.render.estimator.emission_weight`)."""
+    environment along d (:func:`pbrkit.rendering.estimator.emission_weight`)."""
     radiance = env.radiance
     i, j = _env_texel(radiance.shape[0], radiance.shape[1], env.cos, env.sin, dx, dy, dz)
     w = emission_weight(strategy, pdf_b, _env_pdf_texel(env.func, env.total, i, j))

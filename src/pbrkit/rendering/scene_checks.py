@@ -1,4 +1,4 @@
-"""The checks of a scene file's keys and values (:mod:`pbrkit.render.scene`): for each
+"""The checks of a scene file's keys and values (:mod:`pbrkit.rendering.scene`): for each
 section the keys it may hold and, for each key, the type and range of its value, so
 that a string, a bool, a list of the wrong length, NaN or an absurd size is refused
 with its key before anything is built (``float("0.5")`` and ``float(True)`` would

@@ -26,7 +26,7 @@ COAT_F0 = GLTF_DIELECTRIC_F0
 
 
 def bounds_volume(spec, material=None):
-    """Whether a :class:`pbrkit.render.scene.MaterialSpec` bounds a medium: a ``gltf``
+    """Whether a :class:`pbrkit.rendering.scene.MaterialSpec` bounds a medium: a ``gltf``
     material that transmits with a thickness above 0 (``KHR_materials_volume``).  Its
     normals are never turned to face the ray ("The doubleSided property has no effect
     on volume boundaries", the volume README, "Properties"): the side of the view says
@@ -39,7 +39,7 @@ def bounds_volume(spec, material=None):
 
 
 def material_tables(materials):
-    """Pack :class:`pbrkit.render.textures.SurfaceMaterial` s for the kernels:
+    """Pack :class:`pbrkit.rendering.textures.SurfaceMaterial` s for the kernels:
     ``(codes (M, CODE_COLUMNS) int64, params (M, LAYOUT.size) float64)``: the model
     and its term choices as indices into their tables, and every parameter at its
     column of :data:`pbrkit.brdf.shading.registry.LAYOUT` (with emission and
@@ -60,8 +60,8 @@ def material_tables(materials):
 
 def per_hit_tables(codes, params, surface):
     """The kernels' material tables for the hits of ``surface`` (a
-    :class:`pbrkit.render.geometry.Surface`) whose KHR_materials extension textures
-    change their parameters (:attr:`~pbrkit.render.geometry.Surface.extension_values`):
+    :class:`pbrkit.rendering.geometry.Surface`) whose KHR_materials extension textures
+    change their parameters (:attr:`~pbrkit.rendering.geometry.Surface.extension_values`):
     (codes (M + K, C), params (M + K, P), each hit's row (N,), each row's scene material
     (M + K,)), a row per such hit after the M of ``codes`` and ``params`` (its
     material's, the textured columns replaced); the tables themselves, ``surface.material``

@@ -1,6 +1,6 @@
 """glTF's alpha modes on triangle meshes (glTF 2.0, "Alpha Coverage", the material's
 ``alphaMode`` and ``alphaCutoff``), for every ray either render mode casts
-(:meth:`pbrkit.render.geometry.Geometry.intersect` and ``occluded``).
+(:meth:`pbrkit.rendering.geometry.Geometry.intersect` and ``occluded``).
 
 The alpha of a surface point is baseColorFactor's alpha times the alpha channel of
 the baseColorTexture (linear), at the hit's texture coordinates (the texture's own
@@ -43,7 +43,7 @@ _MASK, _BLEND = 1, 2
 
 
 def coverage_tables(materials):
-    """(mode code, cutoff, alpha factor) per :class:`pbrkit.render.textures.SurfaceMaterial`,
+    """(mode code, cutoff, alpha factor) per :class:`pbrkit.rendering.textures.SurfaceMaterial`,
     or None when every material is opaque."""
     modes = np.array([MODES.index(m.alpha_mode) for m in materials], dtype=np.int64)
     if not np.any(modes):

@@ -1,6 +1,6 @@
 """The lane engine of the ground truth: direct lighting (``bounces`` = 0) of scenes of
 spheres and planes and their area lights, the estimator of
-:mod:`pbrkit.render.estimator` scheduled in SIMD lanes.  The samples of one primary
+:mod:`pbrkit.rendering.estimator` scheduled in SIMD lanes.  The samples of one primary
 hit go through stages, each a loop over up to :data:`_LANES` samples in
 structure-of-arrays buffers on the stack that LLVM vectorises: random numbers,
 environment and area-light samples, the BxDF at them and its own samples
@@ -8,8 +8,8 @@ environment and area-light samples, the BxDF at them and its own samples
 the environment the BxDF samples see, shadow and BxDF rays (:func:`_trace_lanes`, or
 the BVH for larger scenes), the area lights' shadows and the emission the BxDF
 samples meet (ray by ray: those loops stay scalar), then the pixel's sums in sample
-order (:mod:`pbrkit.render.film`).  It draws the same random numbers as the fused
-and wavefront engines (:func:`pbrkit.render.vertex._vertex`), so it gives their
+order (:mod:`pbrkit.rendering.film`).  It draws the same random numbers as the fused
+and wavefront engines (:func:`pbrkit.rendering.vertex._vertex`), so it gives their
 numbers (tested), and the same bytes for any thread count.
 """
 
@@ -74,7 +74,7 @@ _EMISSIVE = COLUMNS.emissive
 
 def material_variants(codes, params):
     """The specialisation (index into :data:`_VARIANTS`, or -1) of each material row of
-    :func:`pbrkit.render.materials.material_tables`' ``(codes, params)``: isotropic
+    :func:`pbrkit.rendering.materials.material_tables`' ``(codes, params)``: isotropic
     materials whose code row is one of the variants."""
     out = np.full(codes.shape[0], -1, dtype=np.int64)
     for m in range(codes.shape[0]):
@@ -86,12 +86,12 @@ def material_variants(codes, params):
 @lane_stage
 def _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, sb):
     """The BxDF's part of the samples in a set of lane buffers (:func:`_direct_kernel`) at
-    the shading point ``at`` (:class:`pbrkit.render.estimator.Shading`): the
+    the shading point ``at`` (:class:`pbrkit.rendering.estimator.Shading`): the
     MIS-weighted value of each of the ``n_eval`` light samples (``mb[_M_LVAL]``: the
-    environment's, then the area lights'; :func:`pbrkit.render.estimator.light_sample`),
+    environment's, then the area lights'; :func:`pbrkit.rendering.estimator.light_sample`),
     then a direction sampled from the BxDF with its weight f cos / pdf and pdf
     (``sb[_S_DIR]``, ``sb[_S_W]``, ``sb[_S_PDF]``;
-    :func:`pbrkit.render.estimator.bsdf_weight` of the local direction that
+    :func:`pbrkit.rendering.estimator.bsdf_weight` of the local direction that
     :func:`pbrkit.brdf.bxdf.sample_wi` draws).  The kernel calls it with a BxDF
     specialised by :func:`pbrkit.brdf.dispatch.specialised` or with any BxDF (:func:`_lanes_for_variant`)."""
     if strategy == STRATEGY_MIS:
@@ -139,7 +139,7 @@ def _material_lanes(b, at, p_spec, p_coat, strategy, count, n_eval, ub, lb, mb, 
 def _hit_lanes(ox, oy, oz, dirs, row, count, spheres, planes, q, src, dst):
     """One step of :func:`_trace_lanes`: the hits ``src`` of the rays from o along
     ``dirs[row:row + 3]`` updated with primitive q (planes first, then spheres: the
-    tests of :func:`pbrkit.render.primitives.trace_analytic` in its order, without
+    tests of :func:`pbrkit.rendering.primitives.trace_analytic` in its order, without
     the BVH) into ``dst``."""
     n_planes = planes.shape[0]
     if q < n_planes:
@@ -188,11 +188,11 @@ def _trace_lanes(ox, oy, oz, dirs, row, count, spheres, planes, ha, hb):
 
 
 def direct_lighting(seed, spp, k2, strategy, occlusion, base_value, hits, materials, env, shapes, area, film):
-    """Direct lighting of an analytic scene into ``film`` (:class:`pbrkit.render.film.Film`)
+    """Direct lighting of an analytic scene into ``film`` (:class:`pbrkit.rendering.film.Film`)
     by :func:`_direct_kernel` on a pool of threads: ``base_value`` (rays, 3) the
     deterministic part of each ray, ``hits`` the primary hits
-    (:class:`pbrkit.render.records.Points`, rows with material -1 missed), the
-    scene as :mod:`pbrkit.render.records`' records."""
+    (:class:`pbrkit.rendering.records.Points`, rows with material -1 missed), the
+    scene as :mod:`pbrkit.rendering.records`' records."""
     n_pixels = film.sum.shape[0]
     emissive = bool(np.any(materials.params[:, _EMISSIVE:_EMISSIVE + 3] != 0.0))
     run_in_threads(for_materials(_direct_kernel, materials.codes), (n_pixels + _BLOCK - 1) // _BLOCK, np.uint64(seed), spp, k2, strategy,
@@ -207,7 +207,7 @@ def _direct_kernel(start, stop, seed, spp, k2, strategy, occlusion, emissive, ba
     docstring): rays are (pixel, sub-pixel) pairs, sample j of a pixel uses sub-pixel
     j mod k2.  A primary ray that misses, or sees the surface from behind, contributes
     its ``base_value`` to every sample at once.  Sums as the fused kernel's (shifted
-    data, :mod:`pbrkit.render.film`).  It runs the pixels of blocks ``start`` to
+    data, :mod:`pbrkit.rendering.film`).  It runs the pixels of blocks ``start`` to
     ``stop`` (:data:`_BLOCK` pixels each), handed out to threads by
     :func:`pbrkit.core.jit.run_in_threads`.  ``emissive``: whether any material emits
     (then the BxDF rays look for the surfaces they hit); ``variant``: each material's

@@ -92,7 +92,7 @@ class TextureRef:
 
 @dataclass
 class SurfaceMaterial:
-    """A material as the renderer uses it: the :class:`pbrkit.render.scene.MaterialSpec`
+    """A material as the renderer uses it: the :class:`pbrkit.rendering.scene.MaterialSpec`
     (factors, model and terms) and optional glTF textures."""
 
     spec: MaterialSpec
@@ -103,7 +103,7 @@ class SurfaceMaterial:
     emissive_texture: TextureRef | None = None
     textures: list | None = None  # the Texture objects the refs index
     #: glTF's alphaMode (OPAQUE, MASK, BLEND), alphaCutoff, baseColorFactor's alpha and the
-    #: texture whose alpha channel multiplies it (the baseColorTexture; :mod:`pbrkit.render.alpha`)
+    #: texture whose alpha channel multiplies it (the baseColorTexture; :mod:`pbrkit.rendering.alpha`)
     alpha_mode: str = "OPAQUE"
     alpha_cutoff: float = 0.5
     alpha: float = 1.0

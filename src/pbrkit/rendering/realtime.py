@@ -31,7 +31,7 @@ shadow rays, as an ideal shadow map), plus split-sum image-based lighting
 - KHR_materials_anisotropy: the lookup along the Sample Viewer's bent normal
   (:func:`khr_anisotropic_reflection`), and for ``engine`` pbrkit filtered
   importance sampling of the anisotropic lobe in place of the split sum's one
-  lookup and table (:mod:`pbrkit.render.anisotropic_ibl`).
+  lookup and table (:mod:`pbrkit.rendering.anisotropic_ibl`).
 
 Known approximations of the real-time path (what ``compare`` measures,
 :data:`APPROXIMATIONS`): the split sum itself (n = v = r in the prefilter,
@@ -122,7 +122,7 @@ _ANISOTROPY = COLUMNS.anisotropy
 _ANISOTROPY_STRENGTH = COLUMNS.anisotropy_strength
 
 #: The approximations of the real-time path, in the order ``compare`` swaps them for
-#: exact computations (:func:`pbrkit.render.run.approximation_split`).
+#: exact computations (:func:`pbrkit.rendering.run.approximation_split`).
 APPROXIMATIONS = {
     "sh": "irradiance from 9 SH coefficients instead of the exact irradiance cube (diffuse)",
     "fstar": "diffuse weight 1 - F*(n.v, 0.04, r) instead of the exact albedo of 1 - F(v.h) (glTF diffuse)",
@@ -313,9 +313,9 @@ def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
     - Khronos glTF Sample Viewer 1.1 (``getIBLGGXFresnel`` and the pbr shader's
       mixes; KhronosGroup/glTF-Sample-Renderer): W(f0) = FssEss + FmsEms with the
       roughness-dependent Fresnel F*(n.v, f0, r) in FssEss and f0 itself in F_avg
-      (:func:`pbrkit.render.khronos_ibl.sample_viewer_fresnel`); dielectric = base E /
+      (:func:`pbrkit.rendering.khronos_ibl.sample_viewer_fresnel`); dielectric = base E /
       pi (1 - W(0.04)) + radiance W(0.04), metal = radiance W(base), mixed by metallic
-      (:func:`pbrkit.render.khronos_ibl.sample_viewer_base`);
+      (:func:`pbrkit.rendering.khronos_ibl.sample_viewer_base`);
     - three.js r187 ``RE_IndirectSpecular_Physical``: single and multiple
       scattering (the same model, f0 = 0.04 and base, f90 = 1) mixed by metallic,
       the multiple-scattering part lit by the irradiance (E / pi), not the
@@ -353,9 +353,9 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
     by 1 - E per channel, E = DFG1 + F0 (DFG2 - DFG1) the specular albedo, in place of
     the model's own weighting; 2 and 3 are the metallic-roughness evaluations of
     the Sample Viewer and three.js (:func:`_engine_ibl`).  ``transmitted``: the light
-    through each hit (:func:`pbrkit.render.transmission_ibl.transmission_lookups`; read
+    through each hit (:func:`pbrkit.rendering.transmission_ibl.transmission_lookups`; read
     only for a material that transmits).  ``dfg_sampled`` (with ``sampled``): per pixel
-    the (DFG1, DFG2) of :func:`pbrkit.render.anisotropic_ibl.anisotropic_ibl` in place of
+    the (DFG1, DFG2) of :func:`pbrkit.rendering.anisotropic_ibl.anisotropic_ibl` in place of
     the table's (NaN: the table's)."""
     for i in range(start, stop):
         m = mat[i]
@@ -481,7 +481,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     0.0005)), SH, :func:`_engine_ibl`'s Babylon.js terms.  The engine modes shade
     metallic-roughness materials (base colour, metallic, roughness) as the engine
     does, whatever the material's model.  ``primary``: the camera rays' hits when the
-    caller has cast them already (:func:`pbrkit.render.primary._primary`; styles).
+    caller has cast them already (:func:`pbrkit.rendering.primary._primary`; styles).
     Returns a :class:`RenderResult`;
     ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler

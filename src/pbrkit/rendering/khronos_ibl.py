@@ -1,7 +1,7 @@
 """The image-based lighting of glTF's ``KHR_materials_*`` extensions as the Khronos
 glTF Sample Viewer evaluates them (KhronosGroup/glTF-Sample-Renderer,
 ``source/Renderer/shaders/pbr.frag``, ``material_info.glsl`` and ``ibl.glsl``),
-for :func:`pbrkit.render.realtime.render_realtime` with ``engine="khronos"``:
+for :func:`pbrkit.rendering.realtime.render_realtime` with ``engine="khronos"``:
 
 - KHR_materials_ior and KHR_materials_specular: the dielectric's F0 =
   min(((ior - 1) / (ior + 1))^2 specularColor, 1) and its weight specularWeight =
@@ -26,7 +26,7 @@ for :func:`pbrkit.render.realtime.render_realtime` with ``engine="khronos"``:
 - KHR_materials_transmission and _volume: ``f_diffuse = mix(f_diffuse,
   f_specular_transmission, transmissionFactor)``, f_specular_transmission = (1 - (F0 A +
   B)) x the transmitted light x baseColor (``getIBLVolumeRefraction``; the light is
-  :mod:`pbrkit.render.transmission_ibl`'s, the environment where the viewer reads its
+  :mod:`pbrkit.rendering.transmission_ibl`'s, the environment where the viewer reads its
   transmission framebuffer);
 - KHR_materials_clearcoat: ``color = mix(color, clearcoat_brdf, clearcoat
   clearcoatFresnel)`` with clearcoat_brdf the GGX-prefiltered radiance at the coat's
@@ -95,7 +95,7 @@ def sample_viewer_transmission(diffuse, transmission, f0, a, b, transmitted, bas
     """One channel of the Sample Viewer's f_diffuse with KHR_materials_transmission:
     mix(f_diffuse, f_specular_transmission, transmissionFactor), f_specular_transmission
     = (1 - (F0 A + B)) x the transmitted light x baseColor (``getIBLVolumeRefraction``, f90
-    1; the light from :mod:`pbrkit.render.transmission_ibl`)."""
+    1; the light from :mod:`pbrkit.rendering.transmission_ibl`)."""
     return diffuse + ((1.0 - (f0 * a + b)) * transmitted * base - diffuse) * transmission
 
 
@@ -125,7 +125,7 @@ def sample_viewer_extensions_ibl(params, q, base, metallic, r, nov, a, b, radian
     prefiltered radiance, and ``charlie_lut`` the Charlie LUT's value at (n.v,
     sheenRoughness); (``base0``, ``base1``, ``base2``) the whole base colour (the film's
     Fresnel over it); ``transmitted`` the light through the surface
-    (:mod:`pbrkit.render.transmission_ibl`); ``coat_nov`` the view's cosine to the coat's
+    (:mod:`pbrkit.rendering.transmission_ibl`); ``coat_nov`` the view's cosine to the coat's
     normal (``clampedDot(clearcoatNormal, v)``, the clearcoatFresnel's)."""
     ior = params[q, _IOR]
     f0_ior = ((ior - 1.0) / (ior + 1.0)) ** 2

@@ -1,7 +1,7 @@
 """Real-time KHR_materials_transmission and KHR_materials_volume: the light a
 transmissive glTF material lets through, looked up in the prefiltered environment
 (issue 25's "transmission through the roughness-filtered environment with volume
-attenuation"), for :func:`pbrkit.render.realtime.render_realtime`.
+attenuation"), for :func:`pbrkit.rendering.realtime.render_realtime`.
 
 As the Khronos Sample Viewer does (``ibl.glsl``, ``getIBLVolumeRefraction``,
 ``getVolumeTransmissionRay``, ``applyIorToRoughness``, ``applyVolumeAttenuation``):
@@ -35,7 +35,7 @@ camera's viewing direction is given).  Other objects behind a transmissive one a
 seen through it in real time (the ground truth traces them).  The weights (the material's (1 - metallic)
 transmission baseColor and the Fresnel left to the base) are the kernels'
 (:func:`pbrkit.brdf.shading.gltf.ibl_transmission`,
-:func:`pbrkit.render.khronos_ibl.sample_viewer_extensions_ibl`).
+:func:`pbrkit.rendering.khronos_ibl.sample_viewer_extensions_ibl`).
 """
 
 from __future__ import annotations

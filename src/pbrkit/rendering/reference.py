@@ -21,12 +21,12 @@ ch. 9):
   vertex).  The per-pixel standard error of the mean is returned with it.
 - materials that transmit (``KHR_materials_transmission``, ``KHR_materials_volume``;
   :mod:`pbrkit.brdf.transmission`) continue paths through the surface: light and BSDF
-  samples on both sides (:mod:`pbrkit.render.estimator`), rays leaving from the side
+  samples on both sides (:mod:`pbrkit.rendering.estimator`), rays leaving from the side
   they go to, and inside a volume (a closed surface of thickness > 0, its normals
   outward) the Beer-Lambert transmittance of the real path length, internal
   reflections included.  Scenes with such materials run direct lighting in the fused
   kernel rather than the lanes; punctual lights shine through them from either side
-  (:func:`pbrkit.render.punctual.punctual_at`: a light behind a thin wall; a light
+  (:func:`pbrkit.rendering.punctual.punctual_at`: a light behind a thin wall; a light
   beyond a volume reaches its inside only by refraction, which shadow rays do not
   connect).
   ``KHR_materials_dispersion`` volumes refract each colour channel with its own IOR
@@ -41,18 +41,18 @@ ch. 9):
   lights cast shadows either way (exact shadow rays, as the real-time path's
   ideal shadow map), so both modes light a point the same way.
 - the estimator is written once, as scalar functions
-  (:mod:`pbrkit.render.estimator`, which derives it), and so are the pixel's sums
-  (:mod:`pbrkit.render.film`); three engines schedule them.  Scenes of spheres
+  (:mod:`pbrkit.rendering.estimator`, which derives it), and so are the pixel's sums
+  (:mod:`pbrkit.rendering.film`); three engines schedule them.  Scenes of spheres
   and planes run in one fused kernel per pixel (all samples, ray casting
   included): direct lighting (``bounces`` = 0) in SIMD lanes
-  (:mod:`pbrkit.render.lanes`), paths with bounces sample by sample
-  (:func:`_fused_kernel`, one :func:`pbrkit.render.vertex._vertex` per bounce);
+  (:mod:`pbrkit.rendering.lanes`), paths with bounces sample by sample
+  (:func:`_fused_kernel`, one :func:`pbrkit.rendering.vertex._vertex` per bounce);
   scenes with triangle meshes run as a wavefront loop over the samples
-  (:mod:`pbrkit.render.wavefront`, the same vertex on every path of a bounce at
+  (:mod:`pbrkit.rendering.wavefront`, the same vertex on every path of a bounce at
   once), casting with Embree.  All
   give the same numbers for the same scene (tested), and the same bytes for any
   thread count.  The kernels take the scene as a few records of arrays
-  (:mod:`pbrkit.render.records`).
+  (:mod:`pbrkit.rendering.records`).
 """
 from __future__ import annotations
 
@@ -105,14 +105,14 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
     rows are the (pixel, sub-pixel) rays; sample j of a pixel uses sub-pixel j mod k2.
     ``base_value`` (rays, 3) is the deterministic part of each ray (background, or
     emission + punctual light at the primary hit); ``hits`` the primary hits
-    (:class:`pbrkit.render.records.Points`; rows with material < 0 missed).  Each
+    (:class:`pbrkit.rendering.records.Points`; rows with material < 0 missed).  Each
     bounce is one :func:`_vertex`, whose samples it traces: shadow rays for the light
     samples, then the BRDF sample's ray, which meets an area light, the environment
     or the next surface.  Per pixel it accumulates the shifted sums of ``film``
-    (:mod:`pbrkit.render.film`).  It runs pixels ``start`` to ``stop``, handed out to
+    (:mod:`pbrkit.rendering.film`).  It runs pixels ``start`` to ``stop``, handed out to
     threads by :func:`pbrkit.core.jit.run_in_threads`.  ``media``: the scene has
     materials that transmit; then each ray leaves from the side of the surface it goes
-    to (:func:`pbrkit.render.estimator.ray_origin`), and the path keeps the medium it is
+    to (:func:`pbrkit.rendering.estimator.ray_origin`), and the path keeps the medium it is
     in (the last volume boundary it crossed inwards, by the sign of its geometric
     normal, until it crosses one outwards) and takes its Beer-Lambert transmittance
     over each segment (:func:`pbrkit.brdf.transmission.absorption`)."""
@@ -284,7 +284,7 @@ def _fused_kernel(start, stop, seed, spp, k2, bounces, strategy, occlusion, medi
 
 
 def _primary_points(prim, v):
-    """The primary hits as :class:`pbrkit.render.records.Points`, one row per ray (rows
+    """The primary hits as :class:`pbrkit.rendering.records.Points`, one row per ray (rows
     of rays that missed: material -1, zeros)."""
     rays = prim.dirs.shape[0]
     s = prim.surface
@@ -309,7 +309,7 @@ def _primary_points(prim, v):
 
 
 def _sample(scene, geometry, env, prim, v, materials, spp, bounces, seed, code, occlusion, engine):
-    """Every sample of the scene with ``materials`` (:class:`pbrkit.render.records.Materials`)
+    """Every sample of the scene with ``materials`` (:class:`pbrkit.rendering.records.Materials`)
     by the engine ``engine`` chooses (:func:`render_reference`): (:class:`Film`, the
     engine's description)."""
     cam = scene.camera

@@ -1,0 +1,144 @@
+"""What :func:`pbrkit.render` returns: a rendering as arrays, with the writers that save
+it (the ``pbrkit render`` command saves through them too).
+
+A :class:`Rendering` holds linear images (float64, (H, W, 3), scene-referred radiance):
+``image`` (the mode's picture: the real-time image, or the ground truth in reference
+mode), ``realtime`` and ``reference`` (each None where the mode did not make it), the
+ground truth's per-pixel standard error ``stderr``, the relative luminance error
+``error`` of a comparison and the ``mask`` of pixels that see a surface; ``stats``, the
+summary :func:`pbrkit.rendering.run.render_scene` returns (timings, sample counts,
+errors).  :meth:`Rendering.to_srgb` tone-maps (``tonemap`` and ``exposure``, as the
+command's ``--tonemap`` and ``--exposure``) and encodes sRGB 8-bit; :meth:`Rendering.save`
+writes ``.exr`` (linear float32) or ``.png`` (tone-mapped sRGB), with the ground truth's
+standard error beside it as ``<stem>.stderr.exr``, committed together; in Jupyter a
+rendering shows itself (``_repr_png_``).  A comparison's picture is three panels side
+by side: real time, ground truth, and the error heat map (magma, 0 to 20 % relative
+error).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..core.color import TONEMAPS, linear_to_srgb, srgb_to_linear, tonemap
+
+__all__ = ["Rendering", "OUTPUT_SUFFIXES", "output_suffix_ok", "write_panels", "write_with_stderr"]
+
+#: The file types a rendering is saved as.
+OUTPUT_SUFFIXES = (".exr", ".png")
+
+
+def output_suffix_ok(out):
+    """``ValueError`` naming ``out`` unless it ends in .exr or .png."""
+    suffix = Path(out).suffix.lower()
+    if suffix not in OUTPUT_SUFFIXES:
+        raise ValueError(f"{out}: output must be .exr (linear float32) or .png (tone-mapped sRGB); got "
+                         f"{suffix or 'no suffix'!r}")
+
+
+def _srgb_panels(panels, tonemap_name, exposure):
+    """sRGB-encoded floats in [0, 1] of (array, kind) panels side by side: linear ones
+    tone-mapped, ``srgb`` ones (heat maps) as they are."""
+    return np.concatenate([p if kind == "srgb" else linear_to_srgb(tonemap(p, tonemap_name, exposure))
+                           for p, kind in panels], axis=1)
+
+
+def write_panels(out, panels, tonemap_name, exposure):
+    """Write (array, kind) panels side by side: EXR (float32, linear; heat maps decoded
+    to linear) or PNG (tone-mapped, sRGB)."""
+    from ..io.exr import write_exr
+    from ..io.png import write_png
+
+    if Path(out).suffix.lower() == ".exr":
+        pieces = [srgb_to_linear(p) if kind == "srgb" else p for p, kind in panels]
+        write_exr(out, np.concatenate(pieces, axis=1).astype(np.float32))
+    else:
+        write_png(out, _srgb_panels(panels, tonemap_name, exposure), srgb=False)
+
+
+def write_with_stderr(out, panels, stderr_path, stderr, tonemap_name, exposure):
+    """The image and its standard-error EXR, committed together (both or neither,
+    :func:`pbrkit.core.atomic.atomic_group`)."""
+    from ..core.atomic import atomic_group
+    from ..io.exr import write_exr
+
+    with atomic_group([out, stderr_path]) as (out_tmp, stderr_tmp):
+        write_exr(stderr_tmp, stderr.astype(np.float32))
+        write_panels(out_tmp, panels, tonemap_name, exposure)
+
+
+def _check_tonemap(name, exposure):
+    if name not in TONEMAPS:
+        raise ValueError(f"unknown tone mapper {name!r}; choose one of {', '.join(TONEMAPS)}")
+    if not np.isfinite(float(exposure)):
+        raise ValueError(f"exposure must be finite; got {exposure!r}")
+
+
+@dataclass
+class Rendering:
+    """A rendering as arrays (module docstring)."""
+
+    mode: str
+    image: np.ndarray
+    mask: np.ndarray
+    realtime: np.ndarray | None = None
+    reference: np.ndarray | None = None
+    stderr: np.ndarray | None = None
+    error: np.ndarray | None = None
+    stats: dict = field(default_factory=dict)
+    tonemap: str = "aces"
+    exposure: float = 0.0
+
+    def panels(self):
+        """The picture's (array, kind) panels: the image, or for a comparison the real
+        time, the ground truth and the error heat map (kind ``srgb``)."""
+        if self.mode != "compare":
+            return [(self.image, "linear")]
+        from .compare import error_heatmap
+
+        return [(self.realtime, "linear"), (self.reference, "linear"), (error_heatmap(self.error, self.mask), "srgb")]
+
+    def to_srgb(self, tonemap=None, exposure=None):
+        """The picture as 8-bit sRGB (H, W', 3) ``uint8``: tone-mapped with ``tonemap``
+        (default the rendering's, ``aces``) at ``exposure`` stops, then sRGB-encoded."""
+        name = self.tonemap if tonemap is None else tonemap
+        stops = self.exposure if exposure is None else exposure
+        _check_tonemap(name, stops)
+        return np.rint(np.clip(_srgb_panels(self.panels(), name, stops), 0.0, 1.0) * 255.0).astype(np.uint8)
+
+    def save(self, path, tonemap=None, exposure=None):
+        """Write the picture to ``path`` (.exr: linear float32; .png: tone-mapped sRGB),
+        and where there is a ground truth its standard error to ``<stem>.stderr.exr``,
+        committed together.  Returns the paths written."""
+        output_suffix_ok(path)
+        name = self.tonemap if tonemap is None else tonemap
+        stops = self.exposure if exposure is None else exposure
+        _check_tonemap(name, stops)
+        path = Path(path)
+        if self.stderr is None:
+            write_panels(path, self.panels(), name, stops)
+            return [path]
+        stderr_path = path.with_name(path.stem + ".stderr.exr")
+        write_with_stderr(path, self.panels(), stderr_path, self.stderr, name, stops)
+        return [path, stderr_path]
+
+    def _repr_png_(self):
+        """The 8-bit sRGB picture as PNG bytes (Jupyter and IPython show it inline)."""
+        import io
+
+        import imageio.v3 as iio
+
+        buffer = io.BytesIO()
+        iio.imwrite(buffer, self.to_srgb(), extension=".png")
+        return buffer.getvalue()
+
+    def __repr__(self):
+        h, w = self.image.shape[:2]
+        parts = [f"mode={self.mode!r}", f"{w} x {h}"]
+        errors = self.stats.get("errors") or {}
+        if "rms_relative_error" in errors:
+            parts.append(f"rms relative error {errors['rms_relative_error']:.4f}")
+        return f"Rendering({', '.join(parts)})"

@@ -1,0 +1,102 @@
+"""``pbrkit.render``: a scene rendered in one call and returned as arrays (issue 26, "a
+Python API a notebook user expects"): the same pixels as the renderers it calls, the
+ground truth's standard error and a comparison's error map, ``to_srgb`` / ``save`` /
+``_repr_png_`` agreeing with each other and with the files ``pbrkit render`` writes, the
+scene given as a name, a file, a dict or a Scene, and options refused before any work."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import pbrkit
+from pbrkit.rendering.realtime import render_realtime
+from pbrkit.rendering.reference import render_reference
+from pbrkit.rendering.scene import builtin_scene
+
+SIZE = dict(width=16, height=8)
+
+
+def test_realtime_returns_the_renderer_s_pixels():
+    r = pbrkit.render("sphere", bake_size=16, **SIZE)
+    assert isinstance(r, pbrkit.Rendering) and r.mode == "realtime"
+    direct = render_realtime(builtin_scene("sphere", 16, 8), bake_size=16)
+    np.testing.assert_array_equal(r.image, direct.image)
+    assert r.realtime is r.image and r.reference is None and r.stderr is None and r.error is None
+    assert r.image.shape == (8, 16, 3) and r.mask.shape == (8, 16) and r.mask.any()
+    assert r.stats["mode"] == "realtime" and "timings" in r.stats["realtime"]
+
+
+def test_reference_holds_the_ground_truth_and_its_error(tmp_path):
+    from pbrkit.io.exr import read_exr
+
+    r = pbrkit.render("sphere", mode="reference", spp=4, **SIZE)
+    direct = render_reference(builtin_scene("sphere", 16, 8), spp=4)
+    np.testing.assert_array_equal(r.image, direct.image)
+    np.testing.assert_array_equal(r.stderr, direct.stderr)
+    written = r.save(tmp_path / "truth.exr")
+    assert [p.name for p in written] == ["truth.exr", "truth.stderr.exr"]
+    np.testing.assert_array_equal(read_exr(tmp_path / "truth.exr")[..., :3], r.image.astype(np.float32))
+    np.testing.assert_array_equal(read_exr(tmp_path / "truth.stderr.exr")[..., :3], r.stderr.astype(np.float32))
+
+
+def test_compare_pictures_agree_with_each_other_and_the_command(tmp_path):
+    import imageio.v3 as iio
+
+    from pbrkit.rendering.run import render_scene
+
+    options = dict(mode="compare", spp=4, bake_size=16, split=False, flip=False)
+    r = pbrkit.render("sphere", **options, **SIZE)
+    assert r.realtime.shape == r.reference.shape == (8, 16, 3) and r.error.shape == (8, 16)
+    y = lambda x: x @ np.array([0.2126, 0.7152, 0.0722])  # noqa: E731
+    valid = r.mask & (y(r.reference) > 1e-3 * y(r.reference)[r.mask].mean())
+    np.testing.assert_allclose(r.error[valid], np.abs(y(r.realtime) - y(r.reference))[valid] / y(r.reference)[valid],
+                               rtol=1e-12)
+    srgb = r.to_srgb()
+    assert srgb.dtype == np.uint8 and srgb.shape == (8, 48, 3)  # real time | truth | error
+    png = r._repr_png_()
+    assert png.startswith(b"\x89PNG") and np.array_equal(iio.imread(png), srgb)
+    r.save(tmp_path / "api.png")
+    render_scene(builtin_scene("sphere", 16, 8), tmp_path / "cmd.png", **options)
+    assert (tmp_path / "api.png").read_bytes() == (tmp_path / "cmd.png").read_bytes()
+    assert np.array_equal(iio.imread(tmp_path / "api.png"), srgb)
+    assert not np.array_equal(r.to_srgb(exposure=1.0), srgb)
+
+
+def test_a_scene_file_a_dict_and_a_scene_render_alike(tmp_path):
+    table = {"camera": {"position": [0.0, 0.0, 4.0], "look_at": [0.0, 0.0, 0.0], "fov": 30.0, "width": 8,
+                        "height": 8},
+             "environment": {"color": [0.5, 0.5, 0.5]},
+             "objects": [{"type": "sphere", "center": [0.0, 0.0, 0.0], "radius": 1.0}]}
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(table))
+    from_file = pbrkit.render(str(path), bake_size=16)
+    from_dict = pbrkit.render(table, bake_size=16)
+    from_scene = pbrkit.render(pbrkit.load_scene(path), bake_size=16)
+    np.testing.assert_array_equal(from_file.image, from_dict.image)
+    np.testing.assert_array_equal(from_file.image, from_scene.image)
+
+
+@pytest.mark.parametrize("kwargs, fragment", [
+    (dict(mode="fast"), "unknown mode 'fast'; choose one of realtime, reference, compare"),
+    (dict(tonemap="filmic"), "unknown tone mapper 'filmic'"),
+    (dict(exposure=float("nan")), "exposure must be finite"),
+    (dict(spp=0, mode="reference"), "--spp"),
+])
+def test_bad_options_are_refused_before_any_work(kwargs, fragment, monkeypatch):
+    import pbrkit.rendering.run as run
+
+    monkeypatch.setattr(run, "Geometry", lambda *a: pytest.fail("work started"))
+    with pytest.raises(ValueError, match=fragment.replace("(", r"\(").replace(")", r"\)")):
+        pbrkit.render("sphere", **kwargs)
+
+
+def test_a_scene_object_with_overrides_and_a_missing_scene_are_refused():
+    with pytest.raises(ValueError, match="width, height and environment apply to a scene given by name or file"):
+        pbrkit.render(builtin_scene("sphere", 8, 8), width=16)
+    with pytest.raises(ValueError, match="no-such-scene.toml"):
+        pbrkit.render("no-such-scene.toml")
+    with pytest.raises(ValueError, match="scene"):
+        pbrkit.render(None)
