@@ -160,7 +160,7 @@ def engine_image(bake_dir, scene_dir):
 def sphere_hits(scene_dir, camera=CAMERA, grid=None):
     """Per pixel centre: the index of the sphere hit (-1: none), its unit normal, and the
     view ray direction, from pbrkit's camera model of the scene file."""
-    from pbrkit.rendering.scene import resolve_scene
+    from pbrkit.rendering.sources import resolve_scene
 
     grid = spheres() if grid is None else grid
     cam = resolve_scene(str(Path(scene_dir) / "scene.json")).camera

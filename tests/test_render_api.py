@@ -100,3 +100,36 @@ def test_a_scene_object_with_overrides_and_a_missing_scene_are_refused():
         pbrkit.render("no-such-scene.toml")
     with pytest.raises(ValueError, match="scene"):
         pbrkit.render(None)
+
+
+def test_a_gltf_file_renders_framed_on_its_own(tmp_path):
+    """``pbrkit.render("model.glb")``: the model under the bundled environment, seen from +Z,
+    its bounding sphere filling 90 % of the view (the quad of ``write_quad_glb``: 2 x 2 at
+    z = -1, so the camera looks at (0, 0, -1) from sqrt(2) / sin(0.9 x 17.5 degrees) away)."""
+    import math
+
+    from test_render_gltf import write_quad_glb
+
+    from pbrkit.rendering.sources import resolve_scene
+
+    path = write_quad_glb(tmp_path / "q.glb")
+    scene = resolve_scene(path, width=24)
+    cam = scene.camera
+    assert (cam.width, cam.height) == (24, 24) and cam.look_at == pytest.approx((0.0, 0.0, -1.0))
+    distance = math.sqrt(2.0) / math.sin(math.radians(0.9 * 17.5))
+    assert cam.position == pytest.approx((0.0, 0.0, -1.0 + distance))
+    assert scene.environment.file is None and scene.environment.color is None  # the bundled map
+    r = pbrkit.render(path, width=24, bake_size=16)
+    # the square fills the middle: the inscribed square of the framed sphere is its 0.9 / sqrt(2) share
+    side = 0.9 / math.sqrt(2.0) * math.tan(math.radians(0.9 * 17.5)) / math.tan(math.radians(17.5)) * 24
+    assert abs(r.mask.sum() - side * side) < 4 * side + 4
+
+
+@pytest.mark.parametrize("name, size, expected", [("spheres", dict(width=128), (128, 128)),
+                                                  ("area", dict(width=128), (128, 64)),
+                                                  ("area", dict(height=100), (200, 100))])
+def test_one_side_keeps_the_aspect_ratio(name, size, expected):
+    from pbrkit.rendering.sources import resolve_scene
+
+    cam = resolve_scene(name, **size).camera
+    assert (cam.width, cam.height) == expected

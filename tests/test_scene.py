@@ -24,10 +24,10 @@ from pbrkit.rendering.scene import (
     Sphere,
     builtin_scene,
     load_scene,
-    resolve_scene,
     scene_from_dict,
     trs_matrix,
 )
+from pbrkit.rendering.sources import resolve_scene
 
 SCENE_TOML = """
 [camera]

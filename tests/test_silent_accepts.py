@@ -8,7 +8,7 @@ behind a symbolic link, a named pipe) is refused before it is read.
 The property test at the end takes a valid scene file (TOML), mutates it at
 random (values replaced by other types, NaN, infinities, huge or negative
 numbers; keys removed or renamed; bytes flipped) and loads it with the function
-``pbrkit render`` parses scene files with (:func:`pbrkit.rendering.scene.command_scene`):
+``pbrkit render`` parses scene files with (:func:`pbrkit.rendering.sources.command_scene`):
 either the scene loads, with finite values everywhere, or a one-line
 :class:`InputError` names the file; never another exception, never a warning.
 """
@@ -40,7 +40,8 @@ from pbrkit.rendering.area_lights import AreaLight, area_light_arrays
 from pbrkit.rendering.light_checks import _turns, newell_normal
 from pbrkit.rendering.lights import Light, light_arrays
 from pbrkit.rendering.material_spec import MaterialSpec
-from pbrkit.rendering.scene import command_scene, load_scene, scene_from_dict
+from pbrkit.rendering.scene import load_scene, scene_from_dict
+from pbrkit.rendering.sources import command_scene
 
 NAN, INF = float("nan"), float("inf")
 SECRET = "SECRET_CONTENT_7f3a"
@@ -164,7 +165,7 @@ def test_unreadable_files_are_refused_at_once(tmp_path):
     os.mkfifo(tmp_path / "ramp.png")
     script = textwrap.dedent(f"""
         from pbrkit.npr.style import resolve_style, style_from_dict
-        from pbrkit.rendering.scene import command_scene
+        from pbrkit.rendering.sources import command_scene
         root = {str(tmp_path)!r}
         for load, name in ((command_scene, "zero.toml"), (command_scene, "pipe.toml"),
                            (resolve_style, "zero.json"), (resolve_style, "pipe.toml")):

@@ -8,7 +8,7 @@ share, under the same paths).  Each task (:mod:`pbrkit.app.batch_tasks`,
 :func:`~pbrkit.app.batch_tasks.run_task`) calls the very
 functions ``pbrkit bake`` and ``pbrkit render`` call --
 :func:`pbrkit.ibl.bake.bake` with :func:`pbrkit.io.bake_files.write_bake`, or
-:func:`pbrkit.rendering.scene.resolve_scene` with
+:func:`pbrkit.rendering.sources.resolve_scene` with
 :func:`pbrkit.rendering.run.render_scene` -- so an input's folder holds the same
 bytes as the single command's output.
 

@@ -259,7 +259,7 @@ def _render_job(job):
     from ..core.atomic import atomic_directory
     from ..core.errors import InputError, OutputError
     from ..rendering.run import render_scene
-    from ..rendering.scene import command_scene
+    from ..rendering.sources import command_scene
 
     options, out, name = job["options"], Path(job["out"]), job["name"]
     scene_input = job["input"]

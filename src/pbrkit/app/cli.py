@@ -611,7 +611,8 @@ def approximations(
 @user_errors
 def render(
     scene: str = typer.Argument(..., metavar="SCENE",
-                                help="Scene file (.toml or .json) or a built-in scene: spheres, sphere, area."),
+                                help="Scene file (.toml or .json), a glTF file (.gltf or .glb: framed under "
+                                     "the bundled environment) or a built-in scene: spheres, sphere, area."),
     out: Path = typer.Option(..., "-o", "--out", metavar="FILE", parser=OUT_FILE,
                              help="Output image: .exr (linear float32) or .png (tone-mapped, sRGB)."),
     mode: str = _choice("realtime", "--mode", MODES, "mode",
@@ -666,7 +667,7 @@ def render(
 
     from ..core import checks
     from ..rendering.run import STAGES, output_suffix_ok, render_scene
-    from ..rendering.scene import command_scene
+    from ..rendering.sources import command_scene
 
     output_suffix_ok(out)
     if mode != "realtime":

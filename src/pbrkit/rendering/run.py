@@ -134,7 +134,8 @@ def render(scene, mode="realtime", spp=64, bounces=0, seed=0, diffuse="sh", ener
     the image is refused in the other modes, :func:`_check_style_mode`).  ``progress(stage)``
     is called with each stage's name as it starts (:data:`STAGES` but ``write``)."""
     from .result import Rendering, _check_tonemap
-    from .scene import BUILTIN_SCENES, Scene, command_scene, scene_from_dict
+    from .scene import BUILTIN_SCENES, Scene, scene_from_dict
+    from .sources import command_scene
 
     if mode not in MODES:
         raise ValueError(f"unknown mode {mode!r}; choose one of {', '.join(MODES)}")

@@ -142,7 +142,6 @@ __all__ = [
     "load_scene",
     "scene_from_dict",
     "builtin_scene",
-    "resolve_scene",
     "bundled_environment",
 ]
 
@@ -527,7 +526,8 @@ def load_scene(path):
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".toml", ".json"):
-        hint = (" (a glTF file is placed by a scene file: [[objects]] type = \"gltf\", file = ...)"
+        hint = (" (pbrkit.rendering.sources.resolve_scene frames a glTF file alone; a scene file places one: "
+                "[[objects]] type = \"gltf\", file = ...)"
                 if suffix in (".gltf", ".glb") else "")
         raise InputError(f"scene files must be .toml or .json; got {suffix or 'no suffix'!r}{hint}", path)
     # a regular file of bounded size (not /dev/zero, a pipe, or a link to one); errors
@@ -592,48 +592,3 @@ def _area_scene(width, height, environment=None):
                       intensity=8.0)
     return Scene(camera=camera, environment=environment or EnvironmentSpec(color=(0.03, 0.03, 0.03)),
                  materials=materials, objects=tuple(objects), area_lights=(light,), source="area")
-
-
-def command_scene(name_or_path, width=None, height=None, env=None, fix_nonfinite=False, allow_roots=()):
-    """The scene ``pbrkit render`` and ``pbrkit batch render`` draw: :func:`resolve_scene`
-    with ``env`` (an environment image file or a bake folder) replacing the scene's
-    environment, ``fix_nonfinite`` repairing its NaN / Inf pixels, and ``allow_roots``
-    (``--allow-root``) added to the scene's ``allow_roots``."""
-    roots = []
-    for root in allow_roots:
-        try:
-            roots.append(allowed_root(root, None, "--allow-root"))
-        except ValueError as exc:
-            raise InputError(str(exc)) from None
-    environment = None
-    if env is not None:
-        env = Path(env)
-        if not env.exists():
-            raise InputError("environment file not found", env)
-        environment = EnvironmentSpec(bake=str(env)) if env.is_dir() else EnvironmentSpec(file=str(env))
-    scene = resolve_scene(name_or_path, width, height, environment)
-    if fix_nonfinite:
-        scene = replace(scene, environment=replace(scene.environment, fix_nonfinite=True))
-    if roots:
-        scene = replace(scene, allow_roots=scene.allow_roots + tuple(roots))
-    return scene
-
-
-def resolve_scene(name_or_path, width=None, height=None, environment=None):
-    """A built-in scene by name, or a scene file; ``width``/``height`` override the
-    camera's, ``environment`` (an :class:`EnvironmentSpec`) the file's environment."""
-    if str(name_or_path) in BUILTIN_SCENES:
-        return builtin_scene(str(name_or_path), width, height, environment)
-    path = Path(name_or_path)
-    if not path.exists():
-        raise InputError(f"no such scene file (built-in scenes: {', '.join(BUILTIN_SCENES)})", path)
-    scene = load_scene(path)
-    changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
-    if changes:
-        try:
-            scene = scene.with_camera(**changes)
-        except ValueError as exc:
-            raise InputError(str(exc), path) from None
-    if environment is not None:
-        scene = replace(scene, environment=environment)
-    return scene
