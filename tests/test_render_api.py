@@ -133,3 +133,10 @@ def test_one_side_keeps_the_aspect_ratio(name, size, expected):
 
     cam = resolve_scene(name, **size).camera
     assert (cam.width, cam.height) == expected
+
+
+def test_render_scene_without_an_output_path_says_what_to_use():
+    from pbrkit.rendering.run import render_scene
+
+    with pytest.raises(ValueError, match="the output must be a .exr or .png path; got NoneType .pbrkit.render"):
+        render_scene(builtin_scene("sphere", 8, 8), None)

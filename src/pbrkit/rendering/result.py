@@ -18,6 +18,7 @@ error).
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,7 +33,10 @@ OUTPUT_SUFFIXES = (".exr", ".png")
 
 
 def output_suffix_ok(out):
-    """``ValueError`` naming ``out`` unless it ends in .exr or .png."""
+    """``ValueError`` naming ``out`` unless it is a path ending in .exr or .png."""
+    if not isinstance(out, (str, os.PathLike)):
+        raise ValueError(f"the output must be a .exr or .png path; got {type(out).__name__} (pbrkit.render returns "
+                         "the images as arrays without writing)")
     suffix = Path(out).suffix.lower()
     if suffix not in OUTPUT_SUFFIXES:
         raise ValueError(f"{out}: output must be .exr (linear float32) or .png (tone-mapped sRGB); got "
