@@ -29,12 +29,18 @@ CASES = {"lanes": dict(spp=128, bounces=0), "fused": dict(spp=32, bounces=2),
 
 
 def worker():
-    from pbrkit.rendering.environment import EnvironmentLight
-    from pbrkit.rendering.geometry import Geometry
-    from pbrkit.rendering.reference import render_reference
-    from pbrkit.rendering.scene import builtin_scene
+    import importlib
 
-    from pbrkit.rendering.realtime import render_realtime
+    try:  # the subpackage's name since issue 26 (pbrkit.render before: older trees)
+        package = importlib.import_module("pbrkit.rendering")
+    except ImportError:
+        package = importlib.import_module("pbrkit.render")
+    name = package.__name__
+    EnvironmentLight = importlib.import_module(f"{name}.environment").EnvironmentLight
+    Geometry = importlib.import_module(f"{name}.geometry").Geometry
+    render_reference = importlib.import_module(f"{name}.reference").render_reference
+    builtin_scene = importlib.import_module(f"{name}.scene").builtin_scene
+    render_realtime = importlib.import_module(f"{name}.realtime").render_realtime
 
     scene = builtin_scene("spheres", 128, 128)
     geometry = Geometry(scene)

@@ -149,7 +149,7 @@ def test_cli_compare_says_what_the_ground_truth_includes(tmp_path):
                                  "--width", "24", "--height", "24", "--bake-size", "32"])
     assert r.exit_code == 0, r.output
     assert "environment and area lights unoccluded, direct light only" in r.output
-    assert "approximation error: RMS relative error" in r.output
+    assert "approximation error: HDR-FLIP" in r.output and "RMS relative error" in r.output
     for name in ("sh", "fstar", "split_sum"):
         assert f"  {name} " in r.output
     r = CliRunner().invoke(app, ["render", "spheres", "-o", str(out), "--mode", "compare", "--spp", "4",

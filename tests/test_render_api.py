@@ -50,18 +50,26 @@ def test_compare_pictures_agree_with_each_other_and_the_command(tmp_path):
     options = dict(mode="compare", spp=4, bake_size=16, split=False, flip=False)
     r = pbrkit.render("sphere", **options, **SIZE)
     assert r.realtime.shape == r.reference.shape == (8, 16, 3) and r.error.shape == (8, 16)
+    # the error map: |Y - Y_ref| / max(Y_ref, floor), the floor 0.1 x the mean Y_ref over the surface
     y = lambda x: x @ np.array([0.2126, 0.7152, 0.0722])  # noqa: E731
-    valid = r.mask & (y(r.reference) > 1e-3 * y(r.reference)[r.mask].mean())
-    np.testing.assert_allclose(r.error[valid], np.abs(y(r.realtime) - y(r.reference))[valid] / y(r.reference)[valid],
-                               rtol=1e-12)
+    floor = 0.1 * y(r.reference)[r.mask].mean()
+    assert r.stats["errors"]["luminance_floor"] == pytest.approx(floor, rel=1e-12)
+    expected = np.abs(y(r.realtime) - y(r.reference)) / np.maximum(y(r.reference), floor)
+    np.testing.assert_allclose(r.error[r.mask], expected[r.mask], rtol=1e-9)
+    assert np.all(r.error[~r.mask] == 0.0)
+    errors = r.stats["errors"]
+    for key, value in (("mean", np.mean(r.error[r.mask])), ("median", np.median(r.error[r.mask])),
+                       ("p90", np.percentile(r.error[r.mask], 90))):
+        assert errors[f"{key}_floored_error"] == pytest.approx(value, rel=1e-12)
     srgb = r.to_srgb()
-    assert srgb.dtype == np.uint8 and srgb.shape == (8, 48, 3)  # real time | truth | error
-    png = r._repr_png_()
-    assert png.startswith(b"\x89PNG") and np.array_equal(iio.imread(png), srgb)
+    assert srgb.dtype == np.uint8 and srgb.shape == (8, 48, 3)  # real time | truth | error, untitled
+    png = r._repr_png_()  # the titled figure: panels enlarged to at least 256 rows, the colour bar
+    figure = iio.imread(png)
+    assert png.startswith(b"\x89PNG") and figure.shape[0] > 256 and figure.shape[1] > 3 * 512
+    assert r._repr_png_() == png  # the same bytes again
     r.save(tmp_path / "api.png")
     render_scene(builtin_scene("sphere", 16, 8), tmp_path / "cmd.png", **options)
-    assert (tmp_path / "api.png").read_bytes() == (tmp_path / "cmd.png").read_bytes()
-    assert np.array_equal(iio.imread(tmp_path / "api.png"), srgb)
+    assert (tmp_path / "api.png").read_bytes() == (tmp_path / "cmd.png").read_bytes() == png
     assert not np.array_equal(r.to_srgb(exposure=1.0), srgb)
 
 

@@ -1,4 +1,12 @@
 """Comparing a real-time image with its ground truth: relative errors, FLIP and heat maps.
+
+The plain relative luminance error |Y - Y_ref| / Y_ref is dominated by dark pixels on
+real assets (a shadowed crevice at 1 % of the mean luminance turns a small absolute
+difference into errors of several hundred per cent), so a comparison also reports it
+against a luminance floor: |Y - Y_ref| / max(Y_ref, f), f = :data:`FLOOR_FRACTION` of
+the mean reference luminance of the surface pixels (the floor is stated beside the
+figures), with its mean, median and 90th percentile, and HDR-FLIP of the whole images;
+the heat map shows the floored error.
 """
 
 from __future__ import annotations
@@ -8,6 +16,8 @@ import numpy as np
 from ..core.color import luminance
 
 __all__ = [
+    "FLOOR_FRACTION",
+    "HEATMAP_SCALE",
     "compare_images",
     "relative_error_pixels",
     "rms_relative_error",
@@ -15,6 +25,12 @@ __all__ = [
 ]
 
 # ================================================================== compare
+
+#: The luminance floor of the floored relative error, as a fraction of the mean reference
+#: luminance over the surface pixels (module docstring).
+FLOOR_FRACTION = 0.1
+#: The floored relative error at the top of the heat map's colour scale.
+HEATMAP_SCALE = 0.2
 
 
 def relative_error_pixels(reference, mask):
@@ -54,17 +70,31 @@ def compare_images(realtime, reference, mask, stderr=None, flip=True):
     error without the Monte Carlo noise) and the mean standard error relative to
     Y_ref (the noise floor); and HDR-FLIP (Andersson et al., "FLIP: A Difference
     Evaluator for Alternating Images", HPG 2020; HDR-FLIP, 2021) of the whole
-    images via the ``flip-evaluator`` package."""
+    images via the ``flip-evaluator`` package; the floored relative error (module
+    docstring) over ``mask``, its mean, median and 90th percentile, and the floor.  The
+    maps (``relative_error_map``, ``floored_error_map``) are 0 outside the pixels each
+    measures."""
     y_rt = luminance(realtime)
     y_ref = luminance(reference)
     valid = relative_error_pixels(reference, mask)
     rel = np.zeros(y_ref.shape)
     rel[valid] = np.abs(y_rt[valid] - y_ref[valid]) / y_ref[valid]
+    floor = FLOOR_FRACTION * (float(y_ref[mask].mean()) if mask.any() else 0.0)
+    floored = np.zeros(y_ref.shape)
+    floored[mask] = np.abs(y_rt[mask] - y_ref[mask]) / np.maximum(y_ref[mask], max(floor, 1e-300))
+
+    def stats(x):
+        return (float(x.mean()), float(np.median(x)), float(np.percentile(x, 90))) if x.size else (0.0, 0.0, 0.0)
+
+    mean, median, p90 = stats(rel[valid])
+    f_mean, f_median, f_p90 = stats(floored[mask])
     out = {"pixels": int(valid.sum()),
-           "mean_relative_error": float(rel[valid].mean()) if valid.any() else 0.0,
+           "mean_relative_error": mean, "median_relative_error": median, "p90_relative_error": p90,
            "max_relative_error": float(rel[valid].max()) if valid.any() else 0.0,
            "rms_relative_error": rms_relative_error(realtime, reference, valid),
-           "relative_error_map": rel}
+           "luminance_floor": floor, "floor_fraction": FLOOR_FRACTION,
+           "mean_floored_error": f_mean, "median_floored_error": f_median, "p90_floored_error": f_p90,
+           "relative_error_map": rel, "floored_error_map": floored}
     if stderr is not None and valid.any():
         out["mean_relative_stderr"] = float((luminance(stderr)[valid] / y_ref[valid]).mean())
         out["rms_relative_error_noise_removed"] = rms_relative_error(realtime, reference, valid, stderr)
@@ -78,7 +108,7 @@ def compare_images(realtime, reference, mask, stderr=None, flip=True):
     return out
 
 
-def error_heatmap(rel, mask, scale=0.2):
+def error_heatmap(rel, mask, scale=HEATMAP_SCALE):
     """sRGB-encoded colours (H, W, 3) of the relative error through matplotlib's
     'magma' colour map, 0 to ``scale`` (clipped); pixels outside ``mask`` are black."""
     from matplotlib import colormaps

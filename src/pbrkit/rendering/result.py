@@ -12,8 +12,9 @@ command's ``--tonemap`` and ``--exposure``) and encodes sRGB 8-bit; :meth:`Rende
 writes ``.exr`` (linear float32) or ``.png`` (tone-mapped sRGB), with the ground truth's
 standard error beside it as ``<stem>.stderr.exr``, committed together; in Jupyter a
 rendering shows itself (``_repr_png_``).  A comparison's picture is three panels side
-by side: real time, ground truth, and the error heat map (magma, 0 to 20 % relative
-error).
+by side: real time, ground truth, and the heat map of the relative luminance error
+against a luminance floor (magma, 0 to 20 %; :mod:`pbrkit.rendering.compare`); as a PNG
+(and inline) it is a figure with the panels' titles and the heat map's colour bar.
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ import numpy as np
 
 from ..core.color import TONEMAPS, linear_to_srgb, srgb_to_linear, tonemap
 
-__all__ = ["Rendering", "OUTPUT_SUFFIXES", "output_suffix_ok", "write_panels", "write_with_stderr"]
+__all__ = ["Rendering", "OUTPUT_SUFFIXES", "MIN_PANEL_HEIGHT", "output_suffix_ok", "write_panels",
+           "write_with_stderr", "titled_png"]
 
 #: The file types a rendering is saved as.
 OUTPUT_SUFFIXES = (".exr", ".png")
@@ -50,20 +52,80 @@ def _srgb_panels(panels, tonemap_name, exposure):
                            for p, kind in panels], axis=1)
 
 
-def write_panels(out, panels, tonemap_name, exposure):
+def write_panels(out, panels, tonemap_name, exposure, titles=None):
     """Write (array, kind) panels side by side: EXR (float32, linear; heat maps decoded
-    to linear) or PNG (tone-mapped, sRGB)."""
+    to linear) or PNG (tone-mapped, sRGB; with ``titles`` a titled figure,
+    :func:`titled_png`)."""
     from ..io.exr import write_exr
     from ..io.png import write_png
 
     if Path(out).suffix.lower() == ".exr":
         pieces = [srgb_to_linear(p) if kind == "srgb" else p for p, kind in panels]
         write_exr(out, np.concatenate(pieces, axis=1).astype(np.float32))
+    elif titles is not None:
+        from ..core.atomic import atomic_path
+
+        data = titled_png(panels, titles, tonemap_name, exposure)
+        with atomic_path(out) as tmp:
+            Path(tmp).write_bytes(data)
     else:
         write_png(out, _srgb_panels(panels, tonemap_name, exposure), srgb=False)
 
 
-def write_with_stderr(out, panels, stderr_path, stderr, tonemap_name, exposure):
+#: The height (pixels) a panel of a titled figure is shown at, at least (small renders
+#: are enlarged without filtering).
+MIN_PANEL_HEIGHT = 256
+
+
+def titled_png(panels, titles, tonemap_name, exposure):
+    """PNG bytes of the panels side by side, each under its title (``titles``: one per
+    panel; the last panel, the heat map, with its colour bar: 0 to
+    :data:`pbrkit.rendering.compare.HEATMAP_SCALE` of the floored relative error, in per
+    cent), drawn with Matplotlib's Agg canvas and encoded as 8-bit RGB (no date or
+    version in the file, so the same inputs give the same bytes)."""
+    from matplotlib import colormaps
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+    from matplotlib.cm import ScalarMappable
+
+    from .compare import HEATMAP_SCALE
+
+    h, w = panels[0][0].shape[:2]
+    zoom = max(1, -(-MIN_PANEL_HEIGHT // h))
+    dpi = 100
+    pw, ph = w * zoom / dpi, h * zoom / dpi
+    n = len(panels)
+    fig = Figure(figsize=(n * pw + 0.25 * (n + 1) + 0.9, ph + 0.6), dpi=dpi)
+    FigureCanvasAgg(fig)
+    for k, ((image, kind), title) in enumerate(zip(panels, titles)):
+        rgb = image if kind == "srgb" else linear_to_srgb(tonemap(image, tonemap_name, exposure))
+        ax = fig.add_axes(((0.25 + k * (pw + 0.25)) / fig.get_figwidth(), 0.15 / fig.get_figheight(),
+                           pw / fig.get_figwidth(), ph / fig.get_figheight()))
+        ax.imshow(np.clip(rgb, 0.0, 1.0), interpolation="nearest")
+        ax.set_axis_off()
+        ax.set_title(title, fontsize=9)
+    bar = fig.add_axes(((0.25 + n * (pw + 0.25)) / fig.get_figwidth(), 0.15 / fig.get_figheight(),
+                        0.15 / fig.get_figwidth(), ph / fig.get_figheight()))
+    mappable = ScalarMappable(Normalize(0.0, 100.0 * HEATMAP_SCALE), colormaps["magma"])
+    fig.colorbar(mappable, cax=bar).set_label("%", fontsize=8)
+    canvas = fig.canvas
+    canvas.draw()
+    return _png_bytes(np.asarray(canvas.buffer_rgba())[..., :3])
+
+
+def _png_bytes(srgb8):
+    """PNG bytes of an 8-bit RGB image (imageio; no time or text chunks)."""
+    import io
+
+    import imageio.v3 as iio
+
+    buffer = io.BytesIO()
+    iio.imwrite(buffer, np.ascontiguousarray(srgb8), extension=".png")
+    return buffer.getvalue()
+
+
+def write_with_stderr(out, panels, stderr_path, stderr, tonemap_name, exposure, titles=None):
     """The image and its standard-error EXR, committed together (both or neither,
     :func:`pbrkit.core.atomic.atomic_group`)."""
     from ..core.atomic import atomic_group
@@ -71,7 +133,7 @@ def write_with_stderr(out, panels, stderr_path, stderr, tonemap_name, exposure):
 
     with atomic_group([out, stderr_path]) as (out_tmp, stderr_tmp):
         write_exr(stderr_tmp, stderr.astype(np.float32))
-        write_panels(out_tmp, panels, tonemap_name, exposure)
+        write_panels(out_tmp, panels, tonemap_name, exposure, titles)
 
 
 def _check_tonemap(name, exposure):
@@ -105,44 +167,57 @@ class Rendering:
 
         return [(self.realtime, "linear"), (self.reference, "linear"), (error_heatmap(self.error, self.mask), "srgb")]
 
+    def titles(self):
+        """The panels' titles of a comparison's figure (None for one image)."""
+        if self.mode != "compare":
+            return None
+        engine = (self.stats.get("realtime") or {}).get("engine", "pbrkit")
+        spp = (self.stats.get("reference") or {}).get("spp")
+        errors = self.stats.get("errors") or {}
+        floor = errors.get("floor_fraction", 0.1)
+        return [f"real time ({engine})", "ground truth" + (f" ({spp} spp)" if spp else ""),
+                f"|Y - Y_ref| / max(Y_ref, {floor:g} mean Y_ref)"]
+
     def to_srgb(self, tonemap=None, exposure=None):
-        """The picture as 8-bit sRGB (H, W', 3) ``uint8``: tone-mapped with ``tonemap``
-        (default the rendering's, ``aces``) at ``exposure`` stops, then sRGB-encoded."""
+        """The picture as 8-bit sRGB (H, W', 3) ``uint8``, the panels side by side without
+        titles: tone-mapped with ``tonemap`` (default the rendering's, ``aces``) at
+        ``exposure`` stops, then sRGB-encoded."""
         name = self.tonemap if tonemap is None else tonemap
         stops = self.exposure if exposure is None else exposure
         _check_tonemap(name, stops)
         return np.rint(np.clip(_srgb_panels(self.panels(), name, stops), 0.0, 1.0) * 255.0).astype(np.uint8)
 
     def save(self, path, tonemap=None, exposure=None):
-        """Write the picture to ``path`` (.exr: linear float32; .png: tone-mapped sRGB),
-        and where there is a ground truth its standard error to ``<stem>.stderr.exr``,
-        committed together.  Returns the paths written."""
+        """Write the picture to ``path`` (.exr: linear float32, the panels side by side;
+        .png: tone-mapped sRGB, a comparison as a titled figure with the error's colour
+        bar, :func:`titled_png`), and where there is a ground truth its standard error to
+        ``<stem>.stderr.exr``, committed together.  Returns the paths written."""
         output_suffix_ok(path)
         name = self.tonemap if tonemap is None else tonemap
         stops = self.exposure if exposure is None else exposure
         _check_tonemap(name, stops)
         path = Path(path)
         if self.stderr is None:
-            write_panels(path, self.panels(), name, stops)
+            write_panels(path, self.panels(), name, stops, self.titles())
             return [path]
         stderr_path = path.with_name(path.stem + ".stderr.exr")
-        write_with_stderr(path, self.panels(), stderr_path, self.stderr, name, stops)
+        write_with_stderr(path, self.panels(), stderr_path, self.stderr, name, stops, self.titles())
         return [path, stderr_path]
 
     def _repr_png_(self):
-        """The 8-bit sRGB picture as PNG bytes (Jupyter and IPython show it inline)."""
-        import io
-
-        import imageio.v3 as iio
-
-        buffer = io.BytesIO()
-        iio.imwrite(buffer, self.to_srgb(), extension=".png")
-        return buffer.getvalue()
+        """The 8-bit sRGB picture as PNG bytes (Jupyter and IPython show it inline; a
+        comparison as its titled figure)."""
+        if self.mode == "compare":
+            return titled_png(self.panels(), self.titles(), self.tonemap, self.exposure)
+        return _png_bytes(self.to_srgb())
 
     def __repr__(self):
         h, w = self.image.shape[:2]
         parts = [f"mode={self.mode!r}", f"{w} x {h}"]
         errors = self.stats.get("errors") or {}
-        if "rms_relative_error" in errors:
-            parts.append(f"rms relative error {errors['rms_relative_error']:.4f}")
+        if "flip" in errors:
+            parts.append(f"HDR-FLIP {errors['flip']:.4f}")
+        if "mean_floored_error" in errors:
+            parts.append(f"relative error (floor {errors['floor_fraction']:g} mean Y) mean "
+                         f"{errors['mean_floored_error']:.4f}, median {errors['median_floored_error']:.4f}")
         return f"Rendering({', '.join(parts)})"

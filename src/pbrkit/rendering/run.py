@@ -199,7 +199,8 @@ def render(scene, mode="realtime", spp=64, bounces=0, seed=0, diffuse="sh", ener
         stage("split")
         metrics["split"] = approximation_split(scene, geometry, env, bake, rt.image, ref.image, ref.stderr,
                                                mask, diffuse=diffuse, energy_compensation=energy_compensation)
-    error = metrics.pop("relative_error_map")
+    metrics.pop("relative_error_map")
+    error = metrics.pop("floored_error_map")
     summary["errors"] = metrics
     return Rendering(mode, rt.image, mask, realtime=rt.image, reference=ref.image, stderr=ref.stderr, error=error,
                      **common)
@@ -226,9 +227,11 @@ def render_scene(scene, out, mode="realtime", spp=64, bounces=0, seed=0, tonemap
 
 def comparison_lines(summary):
     """What ``pbrkit render --mode compare`` prints about its comparison: what the
-    ground truth includes, the headline error (the RMS relative error with the
-    ground truth's noise removed: the approximations only, when the ground
-    truth has neither occlusion nor bounces) and its split by approximation."""
+    ground truth includes, the headline (HDR-FLIP and the relative luminance error
+    against a stated luminance floor, :mod:`pbrkit.rendering.compare`: robust on dark
+    pixels; the approximations only when the ground truth has neither occlusion nor
+    bounces), the relative error without the floor (the RMS with the ground truth's
+    noise removed, mean, median, p90, max) and its split by approximation."""
     errors = summary.get("errors")
     if errors is None:
         return []
@@ -243,11 +246,17 @@ def comparison_lines(summary):
                  f"{'inter-object occlusion' if occluded else 'no occlusion'} and {bounces} "
                  f"bounce{'s' if bounces != 1 else ''}: the error includes what the real-time path leaves out"]
     label = "approximation error" if like else "error"
-    headline = errors.get("rms_relative_error_noise_removed", errors["rms_relative_error"])
-    lines.append(f"real time vs ground truth, {label}: RMS relative error {headline:.4f} (ground-truth noise "
-                 f"removed); mean relative error {errors['mean_relative_error']:.4f}, max "
-                 f"{errors['max_relative_error']:.4f}, FLIP {errors.get('flip', float('nan')):.4f}, "
-                 f"ground-truth noise {errors.get('mean_relative_stderr', 0.0):.4f}")
+    rms = errors.get("rms_relative_error_noise_removed", errors["rms_relative_error"])
+    flip = f"HDR-FLIP {errors['flip']:.4f}; " if "flip" in errors else ""
+    lines.append(f"real time vs ground truth, {label}: {flip}relative luminance error with a floor (|Y - Y_ref| / "
+                 f"max(Y_ref, {errors['floor_fraction']:g} x mean Y_ref = {errors['luminance_floor']:.4g})): "
+                 f"mean {errors['mean_floored_error']:.4f}, median {errors['median_floored_error']:.4f}, p90 "
+                 f"{errors['p90_floored_error']:.4f}")
+    lines.append(f"  without the floor (dark pixels weigh most): RMS relative error {rms:.4f} (ground-truth noise "
+                 f"removed); mean relative error {errors['mean_relative_error']:.4f}, median "
+                 f"{errors['median_relative_error']:.4f}, p90 {errors['p90_relative_error']:.4f}, max "
+                 f"{errors['max_relative_error']:.4f}; ground-truth noise "
+                 f"{errors.get('mean_relative_stderr', 0.0):.4f}")
     split = errors.get("split", {})
     if split:
         lines.append("split by approximation (RMS relative error each swap removes):")
