@@ -365,9 +365,23 @@ def test_furnace_writes_all_of_its_files_or_none(tmp_path, monkeypatch):
     old = {name: (out / name).read_bytes() for name in listing(out)}
     assert set(old) == {"furnace.csv", "furnace.npy", "furnace.json", "furnace.png"}
     fill_disk(monkeypatch, ["furnace.png"])
-    assert_refused(invoke("furnace", "-o", out, *FURNACE_SMALL, "--seed", "1"), tmp_path, listing(tmp_path),
-                   out / "furnace.png", "[Errno 28]", alone=False)
+    assert_refused(invoke("furnace", "-o", out, *FURNACE_SMALL, "--seed", "1", "--force"), tmp_path,
+                   listing(tmp_path), out / "furnace.png", "[Errno 28]", alone=False)
     assert {name: (out / name).read_bytes() for name in listing(out)} == old
+
+
+@pytest.mark.parametrize("command, options", [("furnace", FURNACE_SMALL), ("approximations", ["--size", "4"])])
+def test_report_commands_refuse_a_non_empty_folder_without_force(tmp_path, command, options):
+    """As bake, ltc, shaders and hatching: an output folder with files in it is refused
+    (one line naming it and --force) before any work; --force writes into it."""
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "mine.txt").write_text("keep")
+    r = invoke(command, "-o", out, *options, "-q")
+    assert r.exit_code != 0 and "directory exists and is not empty (use --force" in r.output
+    assert listing(out) == ["mine.txt"]
+    assert invoke(command, "-o", out, *options, "-q", "--force").exit_code == 0
+    assert (out / "mine.txt").read_text() == "keep" and len(listing(out)) > 1
 
 
 def test_compensation_writes_all_of_its_files_or_none(tmp_path, monkeypatch):

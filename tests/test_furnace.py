@@ -157,7 +157,8 @@ def test_cli_furnace_writes_every_output(tmp_path):
     assert lines[0].startswith("lobe,mu,roughness") and len(lines) == 1 + 2 * 6 * 3
     assert (out / "furnace.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     first = {p.name: p.read_bytes() for p in out.iterdir()}
-    assert CliRunner().invoke(app, args).exit_code == 0
+    assert CliRunner().invoke(app, args).exit_code != 0  # a non-empty folder: refused without --force
+    assert CliRunner().invoke(app, args + ["--force"]).exit_code == 0
     assert first == {p.name: p.read_bytes() for p in out.iterdir()}  # deterministic bytes
 
 

@@ -469,7 +469,8 @@ class _Stages:
 @app.command(cls=_Command)
 @user_errors
 def furnace(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR, help="Output folder."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
+                             help="Output folder (must be absent or empty unless --force)."),
     mu_count: int = typer.Option(32, "--mu", metavar="N", help="Number of mu = n.v values (texel centres)."),
     roughness_count: int = typer.Option(11, "--roughness", metavar="N", help="Number of roughness values in [0, 1]."),
     samples: int = typer.Option(256, "--samples", metavar="N", help="Monte Carlo samples per (mu, roughness) cell."),
@@ -480,6 +481,7 @@ def furnace(
     compensation: Optional[str] = _choice(
         None, "--compensation", COMPENSATIONS, "compensation",
         "Also show multiple-scattering compensation (compensation.*)."),
+    force: bool = _flag(False, ("--force",), "Write into a non-empty output folder."),
     quiet: bool = _quiet_option(),
 ):
     """White-furnace albedo E(mu) of every D x G combination and model (F = 1).
@@ -491,8 +493,10 @@ def furnace(
     import numpy as np
 
     from ..core import checks
+    from ..core.atomic import check_output_directory
     from .report import compensation_files, furnace_files, write_files
 
+    check_output_directory(out, force)
     checks.integer(roughness_count, "--roughness", 2, 1024)
     checks.integer(mu_count, "--mu", 2, 4096)
     checks.integer(samples, "--samples", 2, 1 << 20)
@@ -580,15 +584,19 @@ def lut(
 @app.command(cls=_Command, short_help="Error heat maps of real-time approximations as directional-albedo differences.")
 @user_errors
 def approximations(
-    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR, help="Output folder."),
+    out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
+                             help="Output folder (must be absent or empty unless --force)."),
     size: int = typer.Option(32, "--size", metavar="N", help="Grid size N over (n.v, roughness)."),
+    force: bool = _flag(False, ("--force",), "Write into a non-empty output folder."),
     quiet: bool = _quiet_option(),
 ):
     """Error heat maps of real-time approximations (Karis' fit, Fresnel and masking
     shortcuts, URP mobile, compensation) as directional-albedo differences."""
     from ..albedo.approximations import approximations_report
     from ..core import checks
+    from ..core.atomic import check_output_directory
 
+    check_output_directory(out, force)
     checks.integer(size, "--size", 4, 256)
     with _Stages("approximations", quiet, 1) as stages:
         stages.start("albedo differences and figure")
