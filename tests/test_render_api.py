@@ -148,3 +148,20 @@ def test_render_scene_without_an_output_path_says_what_to_use():
 
     with pytest.raises(ValueError, match="the output must be a .exr or .png path; got NoneType .pbrkit.render"):
         render_scene(builtin_scene("sphere", 8, 8), None)
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--width", "100000"], "--width must be an integer in [1, 16384]; got 100000"),
+    (["--height", "0"], "--height must be an integer in [1, 16384]; got 0"),
+    (["--mode", "reference", "--style", "toon"], "--style toon"),
+])
+def test_the_render_command_names_the_flag_typed_before_any_work(tmp_path, monkeypatch, args, fragment):
+    from typer.testing import CliRunner
+
+    import pbrkit.rendering.sources as sources
+    from pbrkit.app.cli import app
+
+    monkeypatch.setattr(sources, "resolve_scene", lambda *a, **k: pytest.fail("the scene was loaded"))
+    r = CliRunner().invoke(app, ["render", "spheres", "-o", str(tmp_path / "x.png"), *args])
+    assert r.exit_code != 0 and fragment in " ".join(r.output.split()), r.output
+    assert not any(tmp_path.iterdir())

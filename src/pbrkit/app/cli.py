@@ -682,12 +682,17 @@ def render(
         checks.integer(spp, "--spp", 1, 1 << 20)
     if mode != "reference":
         checks.power_of_two(bake_size, "--bake-size", 2, 4096)
-    scene_obj = command_scene(scene, width, height, env, fix_nonfinite, allow_root or ())
+    for value, flag in ((width, "--width"), (height, "--height")):  # the flag typed, not the scene key
+        if value is not None:
+            checks.integer(value, flag, 1, 16384)
     style_obj = None
-    if style is not None:
+    if style is not None:  # before the scene loads: a style outside real time is refused at once
         from ..npr.style import resolve_style
+        from ..rendering.run import check_style_flag
 
         style_obj = resolve_style(style)
+        check_style_flag(mode, style_obj)
+    scene_obj = command_scene(scene, width, height, env, fix_nonfinite, allow_root or ())
     with _Stages("render", quiet, len(STAGES[mode])) as stages:
         summary = render_scene(scene_obj, out, mode=mode, spp=spp, bounces=bounces, seed=seed,
                                tonemap_name=tonemap_name, exposure=exposure, diffuse=diffuse,
