@@ -292,7 +292,7 @@ def test_render_env_takes_a_bake_folder(tmp_path, env):
     (["furnace", "-o", "{d}/f", "--lobe", "ggx/smith"], "unknown lobe"),
     (["render", "sphere", "-o", "{d}/r.png", "--spp", "lots"], "--spp"),
     (["render", "sphere", "-o", "{d}/r.png", "--mode", "reference", "--spp", str(10 ** 12)], "--spp"),
-    (["render", "sphere", "-o", "{d}/r.png", "--width", str(10 ** 30)], "camera.width"),
+    (["render", "sphere", "-o", "{d}/r.png", "--width", str(10 ** 30)], "--width"),
     (["render", "sphere", "-o", "{d}/r.png", "--bake-size", "48"], "--bake-size"),
     (["render", "sphere", "-o", "{d}/r.png", "--env", "{d}/missing.hdr"], "missing.hdr: environment file not found"),
     (["lut", "-o", "{d}/t.npy", "--size", str(10 ** 30)], "--size"),

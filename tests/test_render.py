@@ -590,7 +590,7 @@ def test_cli_render_modes_write_their_files(tmp_path):
     (["render", "sphere", "-o", "{out}", "--mode", "fast"], "unknown mode"),
     (["render", "sphere", "-o", "{out}", "--tonemap", "filmic"], "unknown tone mapper"),
     (["render", "sphere", "-o", "{out}", "--mode", "reference", "--spp", "0"], "spp"),
-    (["render", "sphere", "-o", "{out}", "--width", "0"], "camera.width"),
+    (["render", "sphere", "-o", "{out}", "--width", "0"], "--width"),
     (["render", "sphere", "-o", "{out}", "--env", "{dir}/missing.hdr"], "not found"),
     (["render", "{dir}/bad.toml", "-o", "{out}"], "unknown key"),
 ])
