@@ -146,3 +146,16 @@ def test_existing_output_directory(env, tmp_path):
     file_out.write_text("x")
     result = run(env, "-o", file_out, *SMALL, "--force")
     assert result.exit_code == 1 and "not a directory" in result.stderr
+
+
+def test_bake_with_two_maps_points_to_batch_bake(tmp_path):
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+    from pbrkit.data import environment_path
+
+    env = str(environment_path())
+    r = CliRunner().invoke(app, ["bake", env, env, "-o", str(tmp_path / "b")])
+    text = " ".join(r.output.split())
+    assert r.exit_code != 0 and "got 2 (to bake several environments, one folder each: pbrkit batch bake" in text
+    assert not (tmp_path / "b").exists()

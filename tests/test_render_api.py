@@ -165,3 +165,4 @@ def test_the_render_command_names_the_flag_typed_before_any_work(tmp_path, monke
     r = CliRunner().invoke(app, ["render", "spheres", "-o", str(tmp_path / "x.png"), *args])
     assert r.exit_code != 0 and fragment in " ".join(r.output.split()), r.output
     assert not any(tmp_path.iterdir())
+

@@ -805,7 +805,9 @@ def bake(
     targets = parse_targets(target)
 
     if len(env) not in (1, 6):
-        raise ValueError(f"give one environment file or six face files, got {len(env)}")
+        raise ValueError(f"give one environment file or six face files, got {len(env)} (to bake several "
+                         f"environments, one folder each: pbrkit batch bake {' '.join(str(e) for e in env[:2])} "
+                         "... -o DIR)")
     check_output_directory(out, force)
     with _Stages("bake", quiet, 1) as stages:
         baking = [1]
