@@ -159,3 +159,23 @@ def test_bake_with_two_maps_points_to_batch_bake(tmp_path):
     text = " ".join(r.output.split())
     assert r.exit_code != 0 and "got 2 (to bake several environments, one folder each: pbrkit batch bake" in text
     assert not (tmp_path / "b").exists()
+
+
+def test_a_bake_finer_than_its_map_warns_once(tmp_path):
+    """The bundled map is 512 x 256 (about 128 texels per cube face): --size 256 upsamples
+    it, one warning line saying so (the bake is still written); --size 128 does not."""
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+    from pbrkit.data import environment_path
+
+    options = ["--min-size", "64", "--irradiance-size", "8", "--lut-size", "16"]
+    r = CliRunner().invoke(app, ["bake", str(environment_path()), "-o", str(tmp_path / "up"), "--size", "256",
+                                 *options, "-q"])
+    text = " ".join(r.output.split())
+    assert r.exit_code == 0, r.output
+    assert text.count("pbrkit: warning: --size 256 is finer than the map (512 x 256: about 128 texels per cube "
+                      "face): the specular chain upsamples it") == 1 and "--size 128 keeps its detail" in text
+    r = CliRunner().invoke(app, ["bake", str(environment_path()), "-o", str(tmp_path / "ok"), "--size", "128",
+                                 *options, "-q"])
+    assert r.exit_code == 0 and "warning" not in r.output

@@ -770,6 +770,20 @@ BAKE_OPTIONS = {
 }
 
 
+def _warn_upsampling(result, size):
+    """One ``pbrkit: warning:`` line where the bake's specular cube is finer than its map
+    (an equirect W x H holds about W / 4 texels per cube face; a cube its face size)."""
+    layout = result.manifest["input"]["layout"]
+    width, height = result.manifest["input"]["resolution"]
+    face = width // 4 if layout == "equirect" else width
+    if size > face:
+        megabytes = sum(level.nbytes for level in result.specular) / 1e6
+        keep = 1 << max(0, int(face).bit_length() - 1)
+        warnings.warn(f"--size {size} is finer than the map ({width} x {height}: about {face} texels per cube "
+                      f"face): the specular chain upsamples it ({megabytes:.0f} MB); --size {keep} keeps its "
+                      "detail", UserWarning, stacklevel=2)
+
+
 @app.command(cls=_Command, short_help="Bake an HDR environment for split-sum IBL into a folder.")
 @user_errors
 def bake(
@@ -824,6 +838,7 @@ def bake(
                                   method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
                                   layout=layout, chains=chains_for(targets), started=bake_stage)
         write_bake(result, out, force=force, started=write_stage, targets=targets)
+    _warn_upsampling(result, size)
     if not quiet:
         levels = ", ".join(f"{r:g}" for r in result.roughness)
         print(f"wrote {out}: specular {size}^2, {result.levels} levels (roughness {levels}), "
