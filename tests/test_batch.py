@@ -384,3 +384,16 @@ def test_an_interrupted_batch_leaves_no_partial_folder(inputs, tmp_path):
         manifest = reference["manifest.json"].replace(b'"t0.hdr"', b'"t%d.hdr"' % k)
         expected = dict(reference, **{"manifest.json": manifest})
         assert tree(folder) == expected, folder.name
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--width", "0"], "--width must be an integer in [1, 16384]; got 0"),
+    (["--height", "100000"], "--height must be an integer in [1, 16384]; got 100000"),
+])
+def test_batch_render_names_the_size_flags_as_typed(tmp_path, args, fragment):
+    out = tmp_path / "out"
+    result = batch("render", "spheres", "-o", out, *args)
+    assert result.exit_code == 1, result.output
+    line = result.stderr.strip()
+    assert line.startswith("pbrkit: error:") and fragment in line and "\n" not in line, result.output
+    assert not out.exists()

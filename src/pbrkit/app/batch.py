@@ -342,7 +342,6 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
     from ..core import checks
     from ..core.color import TONEMAPS
     from ..rendering.run import MODES
-    from ..rendering.scene import Camera
 
     if fmt not in ("png", "exr"):
         raise ValueError(f"--format: unknown image format {fmt!r}; choose one of png, exr")
@@ -355,7 +354,9 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
     if mode != "reference":
         checks.power_of_two(bake_size, "--bake-size", 2, 4096)
     checks.integer(bounces, "--bounces", 0, 64)
-    Camera(width=512 if width is None else width, height=512 if height is None else height)  # their range
+    for value, flag in ((width, "--width"), (height, "--height")):  # the flag typed, not the scene key
+        if value is not None:
+            checks.integer(value, flag, 1, 16384)
     if env is not None:
         if not Path(env).exists():
             raise ValueError(f"{env}: environment file not found")
