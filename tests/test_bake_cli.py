@@ -179,3 +179,22 @@ def test_a_bake_finer_than_its_map_warns_once(tmp_path):
     r = CliRunner().invoke(app, ["bake", str(environment_path()), "-o", str(tmp_path / "ok"), "--size", "128",
                                  *options, "-q"])
     assert r.exit_code == 0 and "warning" not in r.output
+
+
+def test_bake_with_a_target_lists_its_files_and_how_to_load_them(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+    from pbrkit.data import environment_path
+
+    out = tmp_path / "b"
+    r = CliRunner().invoke(app, ["bake", str(environment_path()), "-o", str(out), "--size", "32", "--min-size", "8",
+                                 "--irradiance-size", "8", "--lut-size", "16", "--target", "three"])
+    assert r.exit_code == 0, r.output
+    entry = json.loads((out / "manifest.json").read_text())["targets"]["three"]
+    listed = [line for line in r.stdout.splitlines() if line.startswith("three: ")]
+    assert listed == ["three: " + ", ".join(f"{out}/{f}" for f in entry["files"].values())]
+    assert all((out / f).is_file() for f in entry["files"].values())
+    assert f"  load: {entry['load']}" in r.stdout.splitlines()

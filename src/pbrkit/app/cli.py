@@ -770,6 +770,32 @@ BAKE_OPTIONS = {
 }
 
 
+def _print_targets(out):
+    """Each engine target's files and how to load them, from the manifest ``out`` holds
+    (its ``targets``: :mod:`pbrkit.io.engine_targets`)."""
+    import json
+
+    targets = json.loads((Path(out) / "manifest.json").read_text()).get("targets") or {}
+    for name, entry in targets.items():
+        files = [f"{out}/{f}" for f in _flat_files(entry.get("files", {}))]
+        print(f"{name}: {', '.join(files)}")
+        if entry.get("load"):
+            print(f"  load: {entry['load']}")
+
+
+def _flat_files(files):
+    """The relative paths of a manifest's ``files`` (a dict of paths or of dicts of them)."""
+    out = []
+    for value in files.values():
+        if isinstance(value, dict):
+            out += _flat_files(value)
+        elif isinstance(value, str):
+            out.append(value)
+        elif isinstance(value, list):
+            out += [v for v in value if isinstance(v, str)]
+    return out
+
+
 def _warn_upsampling(result, size):
     """One ``pbrkit: warning:`` line where the bake's specular cube is finer than its map
     (an equirect W x H holds about W / 4 texels per cube face; a cube its face size)."""
@@ -843,6 +869,7 @@ def bake(
         levels = ", ".join(f"{r:g}" for r in result.roughness)
         print(f"wrote {out}: specular {size}^2, {result.levels} levels (roughness {levels}), "
               f"irradiance {irradiance_size}^2, SH9, DFG table {lut_size}^2")
+        _print_targets(out)
         print("times (s): " + ", ".join(f"{k} {v:.3f}" for k, v in result.timings.items())
               + f"; total {sum(result.timings.values()):.3f} + writing")
 
