@@ -630,22 +630,25 @@ def test_help_lists_the_choices_and_no_python_types():
         assert "[default: 0]" in result.output or command in ("lut", "bake", "approximations")
 
 
-def test_choices_match_the_library():
+def test_choices_are_defined_once():
+    """pbrkit.choices is the only definition: the library's tuples are its objects, the
+    tables keyed by names have its names, and the command line offers them."""
+    import importlib
+
+    from pbrkit import choices
     from pbrkit.albedo.furnace import furnace_lobes
     from pbrkit.albedo.tables import VISIBILITIES
-    from pbrkit.core.color import TONEMAPS
-    from pbrkit.ibl.bake import METHODS, SPECULAR_FORMATS
-    from pbrkit.rendering.run import MODES
+    from pbrkit.ibl.bake import SPECULAR_FORMATS
 
-    assert cli.MODES == tuple(MODES) and cli.TONEMAPS == tuple(TONEMAPS)
-    assert cli.VISIBILITIES == tuple(VISIBILITIES) and cli.LOBES == tuple(furnace_lobes())
-    assert cli.BAKE_FORMATS == tuple(SPECULAR_FORMATS) and cli.BAKE_METHODS == tuple(METHODS)
-    from pbrkit.rendering.realtime import ENGINES
-
-    assert cli.RENDER_ENGINES == tuple(ENGINES)
-    from pbrkit.ltc.fit import CLIPPINGS
-
-    assert cli.LTC_CLIPPINGS == tuple(CLIPPINGS)
+    module = importlib.import_module
+    assert module("pbrkit.rendering.run").MODES is choices.MODES is cli.MODES
+    assert module("pbrkit.core.color").TONEMAPS is choices.TONEMAPS is cli.TONEMAPS
+    assert module("pbrkit.rendering.realtime").ENGINES is choices.RENDER_ENGINES is cli.RENDER_ENGINES
+    assert module("pbrkit.ltc.fit").CLIPPINGS is choices.LTC_CLIPPINGS is cli.LTC_CLIPPINGS
+    assert module("pbrkit.ibl.bake").METHODS is choices.BAKE_METHODS is cli.BAKE_METHODS
+    assert module("pbrkit.shaders").TARGETS is choices.SHADER_TARGETS is cli.SHADER_TARGETS
+    assert tuple(VISIBILITIES) == choices.VISIBILITIES and tuple(SPECULAR_FORMATS) == choices.BAKE_FORMATS
+    assert tuple(furnace_lobes()) == choices.LOBES
 
 
 def test_help_imports_neither_numba_nor_the_renderer():

@@ -13,15 +13,11 @@ from typing import Optional
 
 import typer
 
+from ..choices import DIFFUSE_MODES, LAYOUTS, MODES, RENDER_ENGINES, TONEMAPS
 from .cli import (
     BAKE_OPTIONS,
-    DIFFUSE_MODES,
     EXPOSURE_LIMIT,
-    LAYOUTS,
-    MODES,
     OUT_DIR,
-    RENDER_ENGINES,
-    TONEMAPS,
     _check_exposure,
     _choice,
     _Command,

@@ -32,25 +32,11 @@ try:  # typer >= 0.2x vendors its own click
 except ImportError:  # pragma: no cover - a typer built on click itself
     import click as _click
 
-# The choices of the options with a fixed set of values, written here so that
-# `pbrkit --help` needs no heavy import; tests/test_bad_inputs.py checks them
-# against the library's own lists.
-MODES = ("realtime", "reference", "compare")                        # pbrkit.rendering.run.MODES
-TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")   # pbrkit.core.color.TONEMAPS
-DIFFUSE_MODES = ("sh", "cube")                                      # pbrkit.rendering.realtime
-RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")  # pbrkit.rendering.realtime.ENGINES
-LTC_CLIPPINGS = ("sphere", "exact")                                 # pbrkit.ltc.fit.CLIPPINGS
-LUT_KINDS = ("splitsum", "dfg")                                     # pbrkit.albedo.tables.lookup_table
-VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")    # pbrkit.albedo.tables.VISIBILITIES
-KTX2_FORMATS = ("float16", "float32")                               # pbrkit.io.lut_files.write_lut
-BAKE_FORMATS = ("rgba16f", "b10g11r11")                             # pbrkit.ibl.bake.SPECULAR_FORMATS
-BAKE_METHODS = ("spectral", "fis")                                  # pbrkit.ibl.bake.METHODS
-SH_WINDOWS = ("hanning", "lanczos")                                 # pbrkit.ibl.sh.sh_window
-LAYOUTS = ("equirect", "hcross", "vcross")                          # pbrkit.io.environment.load_environment
-COMPENSATIONS = ("kulla-conty", "filament")                         # pbrkit.app.report.compensation_report
-LOBES = tuple(f"{d}/{g}" for d in ("ggx", "beckmann", "blinn-phong")   # pbrkit.albedo.furnace.furnace_lobes
-              for g in ("height-correlated", "separable", "schlick-ggx", "schlick-ggx-ue4", "kelemen",
-                        "implicit")) + ("ue4", "filament", "urp_mobile")
+# The choices of the options with a fixed set of values: pbrkit.choices, their only
+# definition (it imports nothing, so `pbrkit --help` stays light).
+from ..choices import (BAKE_FORMATS, BAKE_METHODS, COMPENSATIONS, DIFFUSE_MODES, KTX2_FORMATS, LAYOUTS, LOBES,
+                       LTC_CLIPPINGS, LUT_KINDS, MODES, RENDER_ENGINES, SH_WINDOWS, SHADER_TARGETS, TONEMAPS,
+                       VISIBILITIES)
 
 SEED_MAX = 2 ** 64 - 1  # the renderer's counter-based generator takes a uint64; NumPy's default_rng any int >= 0
 EXPOSURE_LIMIT = 64.0   # |EV|: 2^64 is far beyond any useful exposure and still finite in float32 arithmetic
@@ -993,7 +979,6 @@ def ltc(
                       f"abs. error / albedo {100 * s['abs_over_albedo_mean']:.2f}%")
 
 
-SHADER_TARGETS = ("glsl",)  # pbrkit.shaders.TARGETS
 
 
 @app.command(cls=_Command, short_help="Write a tonal art map for hatching (Praun et al. 2001) as images.")

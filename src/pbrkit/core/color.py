@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..choices import TONEMAPS as _TONEMAPS
 from .jit import dual_use
 
 __all__ = [
@@ -36,7 +37,7 @@ def linear_to_srgb(x):
 
 
 
-TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")
+TONEMAPS = _TONEMAPS  # pbrkit.choices
 #: Rec.709 / sRGB luminance weights of linear R, G, B (ITU-R BT.709).
 REC709_WEIGHTS = (0.2126, 0.7152, 0.0722)
 _REC709_Y = np.array(REC709_WEIGHTS)

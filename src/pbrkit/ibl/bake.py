@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..choices import BAKE_METHODS
 from .. import __version__
 from ..core import checks
 from ..core.atomic import check_output_directory as check_output_dir
@@ -89,7 +90,7 @@ SPECULAR_FORMATS = {
     "rgba16f": ("R16G16B16A16_SFLOAT", "R16G16B16A16_FLOAT"),
     "b10g11r11": ("B10G11R11_UFLOAT_PACK32", "R11G11B10_FLOAT"),
 }
-METHODS = ("spectral", "fis")
+METHODS = BAKE_METHODS  # pbrkit.choices
 MAX_SIZE = 4096
 _CHUNK = 1 << 20
 

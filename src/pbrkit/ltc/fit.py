@@ -58,6 +58,7 @@ import time
 
 import numpy as np
 
+from ..choices import LTC_CLIPPINGS
 from ..core.jit import kernel
 from .score import (
     LTC_DISTRIBUTIONS,
@@ -72,7 +73,7 @@ from .score import (
 #: published layout's evaluation, what engines run), or ``exact``, the polygon
 #: clipped against the true horizon (pbrkit's own evaluation,
 #: :func:`pbrkit.ltc.score.ltc_exact_rect`).
-CLIPPINGS = ("sphere", "exact")
+CLIPPINGS = LTC_CLIPPINGS  # pbrkit.choices
 
 __all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "CLIPPINGS", "DISTRIBUTIONS", "MASKINGS", "MAX_THETA", "cell_view",
            "fit_lights", "cell_data", "albedos", "references", "fit_cell", "fit_table", "sphere_form_factor_table",

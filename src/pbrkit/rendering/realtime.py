@@ -50,6 +50,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..choices import RENDER_ENGINES
 from ..albedo.tables import filament_energy_compensation, table_bilinear
 from ..brdf.dispatch import (
     fresnel_constant,
@@ -112,7 +113,7 @@ DIFFUSE_WEIGHTS = ("fstar", "exact")
 #: (``pbrkit bake --target``): ``filament`` (1.53), ``khronos`` (the glTF Sample
 #: Viewer 1.1), ``three`` (three.js r187 MeshStandardMaterial), ``babylon``
 #: (Babylon.js 9.35 PBRMaterial with its defaults).
-ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")
+ENGINES = RENDER_ENGINES  # pbrkit.choices
 _ENGINE_FILAMENT = 1
 _ENGINE_KHRONOS = 2
 _ENGINE_THREE = 3

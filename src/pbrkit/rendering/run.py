@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 
+from ..choices import MODES as _MODES
 from ..core import checks
 from ..core.errors import InputError
 from ..io.engine_targets import TARGET_CHAINS
@@ -28,7 +29,7 @@ __all__ = [
     "comparison_lines",
 ]
 
-MODES = ("realtime", "reference", "compare")
+MODES = _MODES  # pbrkit.choices
 #: The stages :func:`render_scene` reports to its ``progress`` callback, per mode.
 STAGES = {
     "realtime": ("load", "bake", "realtime", "write"),

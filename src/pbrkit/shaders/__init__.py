@@ -75,10 +75,12 @@ import json
 import re
 from importlib import resources
 
+from ..choices import SHADER_TARGETS
+
 __all__ = ["TARGETS", "GLSL_FILES", "glsl_sources", "functions", "shader_manifest", "write_shaders"]
 
 #: Shader languages ``pbrkit shaders --target`` writes.
-TARGETS = ("glsl",)
+TARGETS = SHADER_TARGETS  # pbrkit.choices
 #: The GLSL files, in the order they may be concatenated.
 GLSL_FILES = ("pbrkit_brdf.glsl", "pbrkit_ibl.glsl", "pbrkit_ltc.glsl", "pbrkit_npr.glsl", "pbrkit_khr.glsl",
               "pbrkit_khr_material.glsl")
