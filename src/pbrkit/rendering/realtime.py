@@ -582,8 +582,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         prefiltered = sampler(env.to_env_frame(refl), lod) * env.intensity
         coat_prefiltered = np.zeros((count, 3))
         coated = np.flatnonzero(coat_roughness >= 0.0)
+        coat_n = coat_normals(mat_f, s.material, n_rows)  # n_rows itself where no coat has a normal of its own
         if coated.size:  # a clear coat: a second lookup at its own roughness, about its own (unbent) normal
-            cn = coat_normals(mat_f, s.material[coated], s.n[coated])
+            cn = coat_n[coated]
             nov = np.sum(cn * v[coated], axis=1, keepdims=True)
             coat_dir = 2.0 * nov * cn - v[coated]
             coat_prefiltered[coated] = sampler(env.to_env_frame(coat_dir),
@@ -633,10 +634,9 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             for_materials(_area_specular_kernel, mat_i)(mat_i, mat_f, mat, n_rows, s.roughness, s.metallic,
                                                         base_rows, lt.specular, lt.fresnel, lt.split, spec)
             irr, coat = lt.irradiance, lt.coat
-            cn = coat_normals(mat_f, s.material, n_rows)
-            tilted = np.flatnonzero((coat_roughness >= 0.0) & np.any(cn != n_rows, axis=1))
+            tilted = np.flatnonzero((coat_roughness >= 0.0) & np.any(coat_n != n_rows, axis=1))
             if tilted.size:  # a coat with its own normal: its lobe's LTC in the coat's frame
-                coat[tilted] = area_light_ltc(geometry.area_lights, s.p[tilted], cn[tilted], v_rows[tilted],
+                coat[tilted] = area_light_ltc(geometry.area_lights, s.p[tilted], coat_n[tilted], v_rows[tilted],
                                               coat_roughness[tilted]).specular
             area = np.empty((count, 3))
             ibl_kernel(mat_i, mat_f, mat, lut_index, tables, n_rows, v_rows, s.roughness, s.metallic, base_rows,
@@ -654,7 +654,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         # f0 0.04; the Sample Viewer's from the material's IOR under engine khronos)
         coat_f0 = COAT_F0 if engine != "khronos" else f0_from_ior(mat_f[s.material, COLUMNS.ior])
         out += emission_seen(mat_i, mat_f, s.material,
-                             np.einsum("ij,ij->i", coat_normals(mat_f, s.material, n_rows), v_rows), s.emissive, coat_f0)
+                             np.einsum("ij,ij->i", coat_n, v_rows), s.emissive, coat_f0)
         radiance[prim.rows] = out
         timings["punctual"] = time.perf_counter() - t5
     image, mask = _resolve(scene, radiance, prim.hit)

@@ -139,6 +139,7 @@ __all__ = [
     "Scene",
     "SHADING_MODELS",
     "BUILTIN_SCENES",
+    "BUILTIN_SIZES",
     "load_scene",
     "scene_from_dict",
     "builtin_scene",
@@ -148,6 +149,8 @@ __all__ = [
 #: Shading models a scene material may name (those of :mod:`pbrkit.brdf.models`).
 SHADING_MODELS = MODELS
 BUILTIN_SCENES = ("spheres", "sphere", "area")
+#: Each built-in scene's size (width, height) where neither is given.
+BUILTIN_SIZES = {"spheres": (512, 512), "sphere": (512, 512), "area": (512, 256)}
 #: What a scene file must be, for messages.
 SCENE_EXPECTED = "a .toml or .json scene file (pbrkit.rendering.scene)"
 
@@ -545,12 +548,13 @@ def builtin_scene(name, width=None, height=None, environment=None):
     (an :class:`EnvironmentSpec`) replaces the bundled map."""
     if name not in BUILTIN_SCENES:
         raise ValueError(f"unknown built-in scene {name!r}; choose one of {', '.join(BUILTIN_SCENES)}")
+    default_width, default_height = BUILTIN_SIZES[name]
     if name == "area":
-        width = 512 if width is None else width
+        width = default_width if width is None else width
         return _area_scene(width, max(1, width // 2) if height is None else height, environment)
     environment = environment or EnvironmentSpec()
-    width = 512 if width is None else width
-    height = 512 if height is None else height
+    width = default_width if width is None else width
+    height = default_height if height is None else height
     if name == "sphere":
         camera = Camera(position=(0.0, 0.0, 4.5), look_at=(0.0, 0.0, 0.0), fov=32.0,
                         width=width, height=height)

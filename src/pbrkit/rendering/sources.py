@@ -24,7 +24,7 @@ from dataclasses import replace
 
 from ..core.errors import InputError
 from ..io.gltf_resources import allowed_root
-from .scene import BUILTIN_SCENES, Camera, EnvironmentSpec, GltfObject, Scene, builtin_scene, load_scene
+from .scene import BUILTIN_SCENES, BUILTIN_SIZES, Camera, EnvironmentSpec, GltfObject, Scene, builtin_scene, load_scene
 
 __all__ = ["GLTF_SUFFIXES", "FOV", "FILL", "frame_bounds", "gltf_scene", "keep_aspect", "resolve_scene",
            "command_scene"]
@@ -114,8 +114,7 @@ def resolve_scene(name_or_path, width=None, height=None, environment=None):
     ``width``/``height`` override the camera's (one of them keeps the aspect ratio,
     :func:`keep_aspect`), ``environment`` (an :class:`EnvironmentSpec`) the scene's."""
     if str(name_or_path) in BUILTIN_SCENES:
-        default = builtin_scene(str(name_or_path))
-        width, height = keep_aspect(default.camera.width, default.camera.height, width, height)
+        width, height = keep_aspect(*BUILTIN_SIZES[str(name_or_path)], width, height)
         return builtin_scene(str(name_or_path), width, height, environment)
     path = Path(name_or_path)
     if not path.exists():
