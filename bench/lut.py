@@ -25,7 +25,8 @@ import numba
 import numpy as np
 from _timing import best_and_median
 
-from pbrkit.albedo.tables import DEFAULT_NODES, lookup_table, texel_centres
+from pbrkit.albedo.lut import DEFAULT_NODES, lookup_table
+from pbrkit.albedo.tables import texel_centres
 from pbrkit.core.jit import parallel_kernel
 from pbrkit.microfacet.ggx import v_smith_ggx_height_correlated, warp_ggx_ndf
 from pbrkit.microfacet.roughness import alpha_from_roughness
@@ -64,7 +65,7 @@ def hammersley_table(size, samples=1024):
 
 
 def first_call_in_new_process(size, cache_dir=None):
-    code = ("import time; t = time.perf_counter(); from pbrkit.albedo.tables import lookup_table; "
+    code = ("import time; t = time.perf_counter(); from pbrkit.albedo.lut import lookup_table; "
             f"lookup_table('dfg', {size}); print(time.perf_counter() - t)")
     env = dict(os.environ)
     if cache_dir is not None:

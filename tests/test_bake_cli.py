@@ -181,6 +181,27 @@ def test_a_bake_finer_than_its_map_warns_once(tmp_path):
     assert r.exit_code == 0 and "warning" not in r.output
 
 
+def test_a_bake_of_an_rgba_map_warns_once_that_alpha_is_ignored(tmp_path):
+    """An RGBA OpenEXR environment bakes from its RGB, with one warning line naming the
+    file; the bake is written."""
+    import OpenEXR
+    from typer.testing import CliRunner
+
+    from pbrkit.app.cli import app
+
+    rgb = np.random.default_rng(2).random((32, 64, 3)).astype(np.float32) + 0.05
+    channels = {c: np.ascontiguousarray(rgb[..., i]) for i, c in enumerate("RGB")}
+    channels["A"] = np.ones((32, 64), np.float32)
+    env = tmp_path / "rgba.exr"
+    OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}, channels).write(str(env))
+    r = CliRunner().invoke(app, ["bake", str(env), "-o", str(tmp_path / "b"), "--size", "16", "--min-size", "8",
+                                 "--irradiance-size", "8", "--lut-size", "16", "-q"])
+    text = " ".join(r.output.split())
+    assert r.exit_code == 0, r.output
+    assert text.count(f"pbrkit: warning: {env}: its alpha channel is ignored") == 1
+    assert (tmp_path / "b" / "manifest.json").is_file()
+
+
 def test_bake_with_a_target_lists_its_files_and_how_to_load_them(tmp_path):
     import json
 

@@ -15,6 +15,7 @@ from reference_brdf import (
 from typer.testing import CliRunner
 
 from pbrkit.albedo.compensation import compensated_albedo, white_furnace_compensated
+from pbrkit.albedo.lut import lookup_table
 from pbrkit.albedo.tables import (
     average_albedo,
     f_avg_conductor,
@@ -23,7 +24,6 @@ from pbrkit.albedo.tables import (
     filament_energy_compensation,
     kulla_conty_ms,
     kulla_conty_tables,
-    lookup_table,
     specular_integrals,
     texel_centres,
 )

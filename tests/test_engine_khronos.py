@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from engine_pages import ENGINES, bake_target, needs_engines, run_page
 
-from pbrkit.albedo.tables import lookup_table
+from pbrkit.albedo.lut import lookup_table
 from pbrkit.ibl.cubemap import cube_texel_directions, sample_cube
 from pbrkit.io.ktx2 import read_ktx2, write_ktx2
 from pbrkit.io.lut_files import write_lut

@@ -36,6 +36,7 @@ from pbrkit.ibl.equirect import (
     equirect_uv,
 )
 from pbrkit.io.environment import (
+    IgnoredAlphaWarning,
     NegativeRadianceWarning,
     fix_nonfinite_pixels,
     load_environment,
@@ -367,6 +368,39 @@ def test_ldr_input_warns(tmp_path):
         env = load_environment(path)
     code = np.rint(linear_to_srgb(0.5) * 255) / 255
     assert np.allclose(env.equirect, srgb_to_linear(code), rtol=1e-6)
+
+
+def _rgba_exr(path, rgb, alpha):
+    import OpenEXR
+
+    channels = {c: np.ascontiguousarray(rgb[..., i], dtype=np.float32) for i, c in enumerate("RGB")}
+    channels["A"] = np.ascontiguousarray(alpha, dtype=np.float32)
+    OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}, channels).write(str(path))
+    return path
+
+
+def test_an_environment_s_alpha_is_dropped_with_one_warning(tmp_path):
+    """RGBA PNG and an OpenEXR A channel: the radiance is the RGB (alpha does not scale it,
+    even where it is 0), and the loader says so once; an RGB file does not warn."""
+    rng = np.random.default_rng(5)
+    rgb = rng.random((8, 16, 3)).astype(np.float32) + 0.1
+    alpha = np.zeros((8, 16), np.float32)
+    for path in (_rgba_exr(tmp_path / "a.exr", rgb, alpha), tmp_path / "a.png"):
+        if path.suffix == ".png":
+            write_png(path, np.concatenate([np.clip(rgb, 0, 1), alpha[..., None]], axis=2))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            env = load_environment(path)
+        said = [w for w in caught if issubclass(w.category, IgnoredAlphaWarning)]
+        assert len(said) == 1 and str(path) in str(said[0].message) and "alpha" in str(said[0].message)
+        assert env.equirect.shape == (8, 16, 3) and env.equirect.min() > 0  # alpha 0 did not zero it
+        if path.suffix == ".exr":
+            assert np.array_equal(env.equirect, rgb)
+    write(tmp_path / "rgb.pfm", rgb)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load_environment(tmp_path / "rgb.pfm")
+    assert not [w for w in caught if issubclass(w.category, IgnoredAlphaWarning)]
 
 
 def _one_line_error(call, *message):

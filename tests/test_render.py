@@ -135,7 +135,8 @@ def test_scene_materials_pack_as_the_numpy_materials(model, dist, mask, fres, di
 
 
 def test_table_lookup_kernel_matches_sample_table():
-    from pbrkit.albedo.tables import lookup_table, sample_table, table_bilinear
+    from pbrkit.albedo.lut import lookup_table
+    from pbrkit.albedo.tables import sample_table, table_bilinear
 
     table = lookup_table("dfg", 16)[0].astype(np.float64)
     tables = np.ascontiguousarray(table[None])

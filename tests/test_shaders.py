@@ -565,7 +565,7 @@ def _npr_cases(rng, dfg):
 
 @pytest.fixture(scope="module")
 def webgl_results(tmp_path_factory):
-    from pbrkit.albedo.tables import lookup_table
+    from pbrkit.albedo.lut import lookup_table
 
     root = tmp_path_factory.mktemp("shaders")
     shaders.write_shaders(root / "shaders")

@@ -534,7 +534,7 @@ def _dispersion_cases(rng):
 
 @pytest.fixture(scope="module")
 def webgl_material_results(tmp_path_factory):
-    from pbrkit.albedo.tables import lookup_table
+    from pbrkit.albedo.lut import lookup_table
 
     root = tmp_path_factory.mktemp("shaders_khr_material")
     shaders.write_shaders(root / "shaders")

@@ -5,10 +5,10 @@ import pytest
 
 from pbrkit import Material
 from pbrkit.albedo.furnace import albedo_quadrature
+from pbrkit.albedo.lut import lookup_table
 from pbrkit.albedo.tables import (
     DEFAULT_NODES,
     env_brdf_approx,
-    lookup_table,
     sample_table,
     sheen_albedo,
     specular_integrals,

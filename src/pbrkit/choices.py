@@ -19,7 +19,7 @@ DIFFUSE_MODES = ("sh", "cube")
 RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")
 #: The LTC fit's horizon clipping (:mod:`pbrkit.ltc.fit`).
 LTC_CLIPPINGS = ("sphere", "exact")
-#: ``pbrkit lut`` tables (:func:`pbrkit.albedo.tables.lookup_table`).
+#: ``pbrkit lut`` tables (:func:`pbrkit.albedo.lut.lookup_table`).
 LUT_KINDS = ("splitsum", "dfg")
 #: The tables' Smith visibility terms (:data:`pbrkit.albedo.tables.VISIBILITIES`).
 VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")

@@ -70,7 +70,8 @@ def _ct(**options):
 def approximation_errors(n=32):
     """``{name: (n_roughness, n_nv) error array}`` on texel-centre grids of size ``n``."""
     from .compensation import compensated_albedo
-    from .tables import env_brdf_approx, lookup_table, texel_centres
+    from .lut import lookup_table
+    from .tables import env_brdf_approx, texel_centres
 
     axis = texel_centres(n)
     errors = {}

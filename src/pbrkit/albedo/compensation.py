@@ -23,12 +23,12 @@ import functools
 import numpy as np
 
 from ..core.quadrature import gauss_legendre_01
+from .lut import lookup_table
 from .tables import (
     f_avg_schlick,
     filament_energy_compensation,
     kulla_conty_color,
     kulla_conty_ms,
-    lookup_table,
     sample_table,
     specular_integrals,
 )

@@ -47,7 +47,7 @@ from ..core.quadrature import (
     split_node,
 )
 from ..microfacet.charlie import v_charlie
-from .lut import DEFAULT_NODES, TableSpec, default_visibility, lookup_table
+from .table_spec import DEFAULT_NODES, TableSpec, default_visibility
 
 __all__ = [
     "VISIBILITIES",
@@ -56,9 +56,6 @@ __all__ = [
     "table_alpha",
     "specular_integrals",
     "sheen_albedo",
-    "splitsum_table",
-    "dfg_table",
-    "lookup_table",
     "integrate_lookup_table",
     "sample_table",
     "table_bilinear",
@@ -296,16 +293,6 @@ def splitsum_of_dfg(dfg):
     out[..., 0] = t[..., 1] - t[..., 0]
     out[..., 1] = t[..., 0]
     return out.astype(np.float32)
-
-
-def splitsum_table(size=128, visibility="schlick-ggx", nodes=DEFAULT_NODES):
-    """UE4's (A, B) environment-BRDF table (Karis 2013); see :func:`lookup_table`."""
-    return lookup_table("splitsum", size, visibility, False, nodes)[0]
-
-
-def dfg_table(size=128, cloth=False, nodes=DEFAULT_NODES):
-    """Filament's (DFG1, DFG2[, cloth]) table (Filament sec. 5.3.4.3 and 9.5); see :func:`lookup_table`."""
-    return lookup_table("dfg", size, "height-correlated", cloth, nodes)[0]
 
 
 @dual_use

@@ -193,7 +193,7 @@ def _run_demo(out, scene, env_path, size, spp, bake_size, seed, furnace, progres
 def _demo_steps(out, scene, env_path, size, spp, bake_size, seed, furnace, progress, warm):
     from .. import __version__
     from ..albedo.furnace import furnace_lobes
-    from ..albedo.tables import lookup_table
+    from ..albedo.lut import lookup_table
     from ..data import ENVIRONMENT, environment_licence_path
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import write_bake

@@ -16,7 +16,7 @@ faces):
   exact integrals of the basis over the input pixels' cells, or
   :func:`pbrkit.ibl.sh.project_cube` for cube input: solid-angle-weighted
   projection; windowing optional, off by default);
-- the split-sum DFG table (:func:`pbrkit.albedo.tables.lookup_table` kind ``dfg``:
+- the split-sum DFG table (:func:`pbrkit.albedo.lut.lookup_table` kind ``dfg``:
   Filament's (DFG1, DFG2) with the height-correlated Smith visibility);
 - the sheen (``KHR_materials_sheen``) IBL: the Charlie-prefiltered chain
   (:func:`pbrkit.ibl.sheen.prefilter_charlie`: as many levels as the specular chain,
@@ -227,7 +227,7 @@ def bake(environment, size=256, min_size=16, irradiance_size=32, lut_size=128, *
     (:class:`pbrkit.core.errors.InputError` for files) with a one-line message.
     """
     from ..albedo.sheen_tables import sheen_lut
-    from ..albedo.tables import lookup_table
+    from ..albedo.lut import lookup_table
     from ..io.environment import (  # here: io.environment imports pbrkit.ibl
         Environment,
         load_environment,

@@ -187,8 +187,8 @@ def _write_khronos_sheen(folder, b):
 
 
 def _lut_spec(b):
-    """The :class:`pbrkit.albedo.tables.TableSpec` of the bake's table (its manifest)."""
-    from ..albedo.tables import TableSpec
+    """The :class:`pbrkit.albedo.table_spec.TableSpec` of the bake's table (its manifest)."""
+    from ..albedo.table_spec import TableSpec
 
     desc = b.manifest["outputs"]["brdf_lut"]["description"]
     return TableSpec(desc["kind"], int(desc["size"][0]), desc["visibility"], bool(desc["cloth"]),

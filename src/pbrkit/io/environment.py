@@ -13,10 +13,12 @@ import numpy as np
 from ..core.errors import InputError
 from ..ibl.cubemap import cross_layout_of, cube_from_cross, cube_integral, resample_cube
 from ..ibl.equirect import cube_to_equirect, equirect_integral, equirect_to_cube
+from .image_checks import ALPHA_IGNORED
 from .images import read_image_with_notes
 
 __all__ = [
     "NegativeRadianceWarning",
+    "IgnoredAlphaWarning",
     "Environment",
     "load_environment",
     "fix_nonfinite_pixels",
@@ -28,6 +30,12 @@ _FACES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
 
 class NegativeRadianceWarning(UserWarning):
     """Negative radiance samples were clamped to zero while loading."""
+
+
+class IgnoredAlphaWarning(UserWarning):
+    """An environment map's alpha channel was dropped: radiance is its RGB alone
+    (alpha neither masks nor scales light; an RGBA map usually means the wrong file
+    or an unpremultiplied export)."""
 
 
 
@@ -159,6 +167,15 @@ def _validate_pixels(images, path, fix_nonfinite, notes, wrap):
     return images
 
 
+def _read(path):
+    """(pixels, notes) of one environment file, warning once if its alpha is dropped."""
+    img, _fmt, notes = read_image_with_notes(path)
+    if ALPHA_IGNORED in notes:
+        warnings.warn(f"{path}: its alpha channel is ignored (an environment's radiance is its RGB; alpha "
+                      "does not mask or scale light)", IgnoredAlphaWarning, stacklevel=3)
+    return img, notes
+
+
 def _rgb(img, path):
     if img.shape[2] == 1:
         return np.repeat(img, 3, axis=2)
@@ -186,11 +203,12 @@ def load_environment(path_or_paths, fix_nonfinite=False, layout=None):
     the same channel among its 8 neighbours, 0 if none, and records a note;
     an image with more than half its samples non-finite is refused even so).
     Negative samples are clamped to 0 with a :class:`NegativeRadianceWarning`
-    naming the count.  Grey images are replicated to RGB; alpha is dropped.
+    naming the count.  Grey images are replicated to RGB; alpha is dropped with an
+    :class:`IgnoredAlphaWarning`.
     """
     if isinstance(path_or_paths, (str, Path)):
         path = Path(path_or_paths)
-        img, fmt, notes = read_image_with_notes(path)
+        img, notes = _read(path)
         h, w = img.shape[:2]
         kind = layout
         if kind is None:
@@ -223,7 +241,7 @@ def load_environment(path_or_paths, fix_nonfinite=False, layout=None):
         raise InputError(f"a cube needs six face files (+X, -X, +Y, -Y, +Z, -Z), got {len(paths)}")
     faces, notes, size = [], [], None
     for name, p in zip(("+X", "-X", "+Y", "-Y", "+Z", "-Z"), paths):
-        img, fmt, face_notes = read_image_with_notes(p)
+        img, face_notes = _read(p)
         h, w = img.shape[:2]
         if h != w:
             raise InputError(f"face {name} is {w}x{h}: cube faces must be square", p)

@@ -29,7 +29,7 @@ import numpy as np
 from ..core.atomic import atomic_path
 from ..core.errors import InputError, OutputError
 from ..core.inputs import check_allocation
-from .image_checks import _check_size, _finite_float, open_or_fail, safe_reason
+from .image_checks import ALPHA_IGNORED, _check_size, _finite_float, open_or_fail, safe_reason
 from .native_output import captured_native_output
 
 __all__ = [
@@ -156,6 +156,9 @@ def _read_exr(path):
     else:
         raise InputError(f"no R, G, B (or Y) channels among its {len(names)} channel(s)", path)
     dropped = sorted(set(names) - set(picked))
+    if "A" in dropped:
+        notes.append(ALPHA_IGNORED)
+        dropped.remove("A")
     if dropped and len(dropped) <= 8 and all(_PLAIN_NAME.match(n) for n in dropped):
         notes.append(f"channels {', '.join(dropped)} ignored")
     elif dropped:

@@ -25,6 +25,7 @@ __all__ = [
     "MAX_PIXELS",
     "MAX_IMAGE_BYTES",
     "LDRInputWarning",
+    "ALPHA_IGNORED",
     "image_format",
     "safe_reason",
 ]
@@ -40,6 +41,12 @@ IMAGE_EXPECTED = "an image file (.hdr, .exr, .pfm, .png or .jpg)"
 
 class LDRInputWarning(UserWarning):
     """An 8/16-bit display-referred image was used where HDR radiance is expected."""
+
+
+#: The note a reader records when it drops an image's alpha channel (PNG grey+alpha or
+#: RGBA, an OpenEXR ``A`` channel): a reader of radiance warns on it
+#: (:func:`pbrkit.io.environment.load_environment`).
+ALPHA_IGNORED = "alpha ignored"
 
 
 

@@ -1,7 +1,7 @@
 """Writing and reading lookup-table files (``pbrkit lut``).
 
 Every table file ``NAME.ext`` is written atomically together with its
-description ``NAME.ext.json`` (both or neither) (:meth:`pbrkit.albedo.tables.TableSpec.description`);
+description ``NAME.ext.json`` (both or neither) (:meth:`pbrkit.albedo.table_spec.TableSpec.description`);
 KTX2 files also embed it under the key ``pbrkit.lut`` and C headers in a
 comment.  Formats by suffix:
 

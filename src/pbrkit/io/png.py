@@ -21,6 +21,7 @@ from ..core.color import linear_to_srgb, srgb_to_linear
 from ..core.errors import InputError
 from ..core.jit import kernel
 from .image_checks import (
+    ALPHA_IGNORED,
     _check_pixels,
     _check_size,
     _finite_float,
@@ -176,7 +177,7 @@ def _read_ldr(path, fmt):
         notes.append("16-bit PNG read at 8-bit precision (interlaced or grey+alpha, decoded by Pillow)")
     if pixels.shape[2] in (2, 4):
         pixels = pixels[..., :-1]
-        notes.append("alpha ignored")
+        notes.append(ALPHA_IGNORED)
     linear = srgb_to_linear(pixels / float((1 << bits) - 1)).astype(np.float32)
     return linear, notes
 

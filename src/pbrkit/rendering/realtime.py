@@ -164,7 +164,7 @@ def _engine_chain(bake, env, engine):
 
 @lru_cache(maxsize=8)
 def _extra_lut(visibility, size):
-    from ..albedo.tables import lookup_table
+    from ..albedo.lut import lookup_table
 
     return lookup_table("dfg", size, visibility)[0]
 

@@ -91,7 +91,7 @@ vec2 pbrkit_fetchDFG(highp sampler2D lut, float NoV, float roughness) {
 //   lerp(DFG1, DFG2, F0) = DFG1 + F0 (DFG2 - DFG1).
 // source: Filament documentation, sec. 5.3.4.3 (after Karis 2013)
 // roughness: none (the table lookup took r)
-// pbrkit: pbrkit.albedo.tables.lookup_table, pbrkit.albedo.tables.dfg_table
+// pbrkit: pbrkit.albedo.lut.lookup_table, pbrkit.albedo.lut.dfg_table
 vec3 pbrkit_specularAlbedoDFG(vec2 dfg, vec3 f0) {
     return dfg.x + f0 * (dfg.y - dfg.x);
 }
@@ -100,7 +100,7 @@ vec3 pbrkit_specularAlbedoDFG(vec2 dfg, vec3 f0) {
 //   F0 A + B.
 // source: Karis 2013, "Real Shading in Unreal Engine 4", environment BRDF
 // roughness: none (the table lookup took r)
-// pbrkit: pbrkit.albedo.tables.lookup_table, pbrkit.albedo.tables.splitsum_table
+// pbrkit: pbrkit.albedo.lut.lookup_table, pbrkit.albedo.lut.splitsum_table
 vec3 pbrkit_specularAlbedoSplitSum(vec2 ab, vec3 f0) {
     return f0 * ab.x + ab.y;
 }
