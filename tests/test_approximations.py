@@ -52,7 +52,7 @@ COMPARISONS_IN_TABLE = tuple(name for names in TABLE_ROWS.values() for name in n
 
 def guide_table():
     """(grid size, {comparison: (max text, mean text)}) from the guide's `pbrkit approximations` table."""
-    section = GUIDE.read_text().split("## `pbrkit approximations", 1)[1].split("\n## ", 1)[0]
+    section = GUIDE.read_text().split("## The approximations report", 1)[1].split("\n## ", 1)[0]
     section = section.split("\n### ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("|")]
     header = [c.strip() for c in rows[0].strip("|").split("|")]
