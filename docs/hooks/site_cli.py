@@ -133,16 +133,29 @@ def _section(ctx, command):
         lines += ["| parameter | value | default | meaning |", "|---|---|---|---|"]
         lines += [f"| {' | '.join(row)} |" for row in rows]
         lines.append("")
+    example = example_lines(command)
+    if example:
+        lines += ["Example:", "", "```sh", *example, "```", ""]
     if hasattr(command, "list_commands"):
         subs = [(n, command.get_command(ctx, n)) for n in command.list_commands(ctx)]
         subs = [(n, c) for n, c in subs if c is not None and not getattr(c, "hidden", False)]
-        if subs:
-            lines += ["| command | what it does |", "|---|---|"]
-            for sub_name, sub in subs:
+        panels = {}  # the help panels --help groups the commands in (Typer's rich_help_panel), in order
+        for sub_name, sub in subs:
+            panels.setdefault(getattr(sub, "rich_help_panel", None) or "Commands", []).append((sub_name, sub))
+        for panel, members in panels.items():
+            lines += [f"| {_text(panel)} | |", "|---|---|"]
+            for sub_name, sub in members:
                 sub_ctx = sub.context_class(sub, info_name=sub_name, parent=ctx)
                 lines.append(f"| [`{sub_name}`](#{anchor(sub_ctx)}) | {_text(sub.get_short_help_str(200))} |")
             lines.append("")
     return lines
+
+
+def example_lines(command):
+    """The command lines of a command's example (its ``epilog``, one a line; an
+    "Example:" heading dropped)."""
+    lines = [line.strip() for line in (getattr(command, "epilog", None) or "").strip().splitlines()]
+    return [line for line in lines if line and line.rstrip(":").lower() not in ("example", "examples")]
 
 
 def page(pyproject):
