@@ -235,3 +235,12 @@ def test_load_lines_name_paths_relative_to_the_bake_folder(every_target):
                 assert relative.startswith(f"{name}/"), (name, p)
                 assert (root / relative).is_dir() if p.endswith("/") else (root / relative).is_file(), (name, p)
     assert "'./three/pbrkit-three.js'" in json.loads((full / "manifest.json").read_text())["targets"]["three"]["load"]
+
+
+def test_an_engine_only_bake_without_an_engine_writes_nothing(every_target, tmp_path):
+    b, _, _ = every_target
+    for targets in (["generic"], [], ["generic,three"]):
+        with pytest.raises(ValueError) as info:
+            write_bake(b, tmp_path / "out", targets=targets, only_targets=True)
+        assert "\n" not in str(info.value) and "engine" in str(info.value)
+        assert not (tmp_path / "out").exists()

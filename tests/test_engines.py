@@ -111,3 +111,15 @@ def test_parse_targets_with_and_without_the_generic_files():
         with pytest.raises(ValueError, match=match) as info:
             parse_targets(values, only_targets=True)
         assert "\n" not in str(info.value)
+
+
+def test_render_engine_looks_the_table_up():
+    from pbrkit.rendering.realtime import ENGINES as RENDER_CHOICES
+    from pbrkit.rendering.realtime import render_engine
+
+    assert render_engine("pbrkit") is None
+    for name in ENGINES:
+        assert render_engine(name) is ENGINES[name]
+    with pytest.raises(ValueError, match="use one of pbrkit, filament, khronos, three, babylon") as info:
+        render_engine("unreal")
+    assert "\n" not in str(info.value) and RENDER_CHOICES is RENDER_ENGINES

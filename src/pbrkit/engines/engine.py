@@ -26,8 +26,11 @@ class Engine:
       (:data:`pbrkit.ibl.prefilter.LEVEL_CURVES`; ``linear`` is the bake's own chain);
       ``lod(roughness, levels, size)``: the fractional level its shader samples for
       perceptual ``roughness`` in a chain of ``levels`` levels of base ``size``;
-    - ``shading``: the function that evaluates its IBL of a metallic-roughness
-      material (one channel, compiled; the real-time kernel calls it by ``code``);
+    - ``shading``: the compiled function of its IBL shading that the real-time
+      kernel calls for it (by ``code``): one channel of the IBL of a
+      metallic-roughness material, ``shading(base, metallic, r, n.v, A, B, radiance,
+      E)``, for the Sample Viewer, three.js and Babylon.js; for Filament, whose
+      ``evaluateIBL`` is pbrkit's split sum, the diffuse weight ``shading(E_spec)``;
       ``diffuse``: the irradiance it uses (``sh``, ``cube``, ``last-level``: pi x
       the chain's r = 1 level, or None: the caller's choice);
       ``energy_compensation``: whether its shader applies Filament's compensation
