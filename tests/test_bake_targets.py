@@ -5,13 +5,17 @@ the generic files and an independent relation of the tables."""
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
 from typer.testing import CliRunner
 
 from pbrkit.app.cli import app
-from pbrkit.io.bake_files import TARGETS, parse_targets
+from pbrkit.core.errors import InputError
+from pbrkit.engines import ENGINES, LOAD_BASE
+from pbrkit.ibl.bake import bake
+from pbrkit.io.bake_files import TARGETS, chains_for, load_bake, load_target_chain, parse_targets, write_bake
 from pbrkit.io.ktx2 import read_ktx2
 from pbrkit.io.pfm import write_pfm
 
@@ -144,3 +148,99 @@ def test_unknown_target_is_refused_cleanly(tmp_path):
     assert result.exit_code == 1
     assert result.stderr.strip().startswith("pbrkit: error:") and "unknown target 'unreal'" in result.stderr
     assert not out.exists()
+
+
+# ------------------------------------------------- engines' files alone, load lines
+
+
+@pytest.fixture(scope="module")
+def every_target(tmp_path_factory):
+    """One bake written with every target beside the generic files, and once per
+    engine with that engine's files alone (``only_targets``)."""
+    root = tmp_path_factory.mktemp("every")
+    write_pfm(root / "sky.pfm", _sky())
+    b = bake(root / "sky.pfm", size=16, min_size=4, irradiance_size=8, lut_size=16, chains=chains_for(["all"]))
+    full = write_bake(b, root / "full", targets=["all"])
+    only = {name: write_bake(b, root / f"only-{name}", targets=[name], only_targets=True) for name in ENGINES}
+    return b, full, only
+
+
+def _files(root):
+    return {p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file()}
+
+
+def _flat(files):
+    """The paths of a manifest entry's ``files`` (a dict of paths)."""
+    return [v for value in files.values() for v in (_flat(value) if isinstance(value, dict) else [value])]
+
+
+@pytest.mark.parametrize("name", list(ENGINES))
+def test_only_targets_writes_the_engines_files_and_the_manifest_alone(every_target, name):
+    _, full, only = every_target
+    folder = only[name]
+    engine_files = {f for f in _files(full) if f.startswith(f"{name}/")}
+    assert _files(folder) == engine_files | {"manifest.json"}  # no generic file, no other engine's
+    for f in engine_files:  # the same bytes as beside the generic files: nothing reads those
+        assert (folder / f).read_bytes() == (full / f).read_bytes(), f
+    manifest = json.loads((folder / "manifest.json").read_text())
+    assert manifest["only_targets"] is True and list(manifest["targets"]) == [name]
+    assert manifest["targets"][name] == json.loads((full / "manifest.json").read_text())["targets"][name]
+    for f in _flat(manifest["targets"][name]["files"]):
+        assert (folder / f).is_file(), f
+    with pytest.raises(InputError, match="engine-only bake") as info:
+        load_bake(folder)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("name", [n for n, e in ENGINES.items() if e.chain_file])
+def test_an_engine_only_bake_gives_the_engine_its_chain(every_target, name):
+    """What ``render --engine`` reads from a bake folder (the engine's chain file, at
+    its own levels, mirrored back) is there without the generic files, and is the
+    bake's chain of the engine's curve."""
+    b, full, only = every_target
+    chain = load_target_chain(only[name], name)
+    expected = b.chains[ENGINES[name].curve]
+    np.testing.assert_allclose(chain.roughness, expected.roughness, atol=1e-12)
+    for got, want in zip(chain.levels, expected.levels):
+        np.testing.assert_allclose(got, want, rtol=0.07, atol=1e-3)  # R11G11B10 / float16 / RGBA16F texels
+
+
+def test_an_engine_only_khronos_bake_holds_the_generic_chains(every_target):
+    """The Sample Viewer samples pbrkit's own chain: the khronos folder holds the
+    generic specular.ktx2 and sheen.ktx2, byte for byte, when they are not written."""
+    _, full, only = every_target
+    folder = only["khronos"] / "khronos"
+    assert (folder / "specular.ktx2").read_bytes() == (full / "specular.ktx2").read_bytes()
+    assert (folder / "charlie.ktx2").read_bytes() == (full / "sheen.ktx2").read_bytes()
+
+
+def _load_paths(load):
+    """The quoted paths of a load line (strings with a slash: files and folders)."""
+    return [p for p in re.findall(r"'([^'\s]+)'", load) if "/" in p]
+
+
+def test_load_lines_name_paths_relative_to_the_bake_folder(every_target):
+    """Every target's load line states its base, the bake folder, and every path in it
+    is there relative to that folder, inside the engine's own subfolder (the ES module
+    import and the fetched textures alike), with and without the generic files."""
+    _, full, only = every_target
+    for root in (full, *only.values()):
+        targets = json.loads((root / "manifest.json").read_text())["targets"]
+        for name, entry in targets.items():
+            assert entry["load_base"] == LOAD_BASE and "bake folder" in LOAD_BASE
+            paths = _load_paths(entry["load"])
+            assert paths, name
+            for p in paths:
+                relative = p[2:] if p.startswith("./") else p
+                assert relative.startswith(f"{name}/"), (name, p)
+                assert (root / relative).is_dir() if p.endswith("/") else (root / relative).is_file(), (name, p)
+    assert "'./three/pbrkit-three.js'" in json.loads((full / "manifest.json").read_text())["targets"]["three"]["load"]
+
+
+def test_an_engine_only_bake_without_an_engine_writes_nothing(every_target, tmp_path):
+    b, _, _ = every_target
+    for targets in (["generic"], [], ["generic,three"]):
+        with pytest.raises(ValueError) as info:
+            write_bake(b, tmp_path / "out", targets=targets, only_targets=True)
+        assert "\n" not in str(info.value) and "engine" in str(info.value)
+        assert not (tmp_path / "out").exists()

@@ -338,7 +338,7 @@ def test_readme_three_page_loads_what_the_three_target_writes(tmp_path):
     from pbrkit.app.demo import DEMO_ENTRIES
     from pbrkit.data import environment_path
     from pbrkit.ibl import write_bake
-    from pbrkit.io.engine_targets import chains_for
+    from pbrkit.engines import chains_for
 
     page = readme_three_page()
     imports = json.loads(re.search(r'<script type="importmap">(.*?)</script>', page, re.S).group(1))["imports"]

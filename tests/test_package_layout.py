@@ -8,7 +8,9 @@ call ``importlib.import_module("...")`` with a literal name counts as well.
 Then: no module of ``pbrkit.sampling`` may import ``pbrkit.microfacet`` or
 ``pbrkit.brdf``, and no module of ``pbrkit.microfacet`` may import
 ``pbrkit.brdf``.  The facades ``pbrkit.brdf.distributions`` and the Smith names of
-``pbrkit.brdf.masking`` only re-export, so no formula is written twice.
+``pbrkit.brdf.masking`` only re-export, so no formula is written twice.  The engine
+table (:mod:`pbrkit.engines`) sits above what it imports and below the bake files and
+the real-time renderer that look engines up in it, with no import loop.
 """
 
 from __future__ import annotations
@@ -161,3 +163,85 @@ def test_microfacet_method_table():
     with pytest.raises(ValueError, match="choose one of ggx, beckmann, blinn-phong, gtr1"):
         microfacet.unit("phong")
     assert pbrkit.microfacet is microfacet  # the lazy name of the API tour
+
+
+# ------------------------------------------------------------ the engines' layer
+
+
+def _top_level_imports(path, module):
+    """The pbrkit modules that importing ``module`` runs at once: its module-level
+    imports (with those under a top-level ``if`` or ``try``), each with the
+    packages above it (importing ``a.b.c`` runs ``a`` and ``a.b`` first), and the
+    packages above ``module`` itself.  Imports inside functions run later and are left out."""
+    is_package = path.name == "__init__.py"
+    body, statements = list(ast.parse(path.read_text(encoding="utf-8")).body), []
+    while body:
+        node = body.pop(0)
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            statements.append(node)
+        elif isinstance(node, (ast.If, ast.Try)):
+            body[:0] = node.body + node.orelse + [s for h in getattr(node, "handlers", []) for s in h.body] \
+                + getattr(node, "finalbody", [])
+    names = imported_modules(ast.unparse(ast.Module(body=statements, type_ignores=[])), module, is_package)
+    names |= {module.rsplit(".", 1)[0]} if not is_package and "." in module else set()
+    found = set()
+    for name in names:
+        parts = name.split(".")
+        found.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
+    return found
+
+
+@pytest.fixture(scope="module")
+def import_graph():
+    modules = {_module_name(p): p for p in PACKAGE.rglob("*.py")}
+    return {m: _top_level_imports(p, m) & set(modules) - {m} for m, p in modules.items()}
+
+
+def _reach(graph, start):
+    seen, todo = set(), [start]
+    while todo:
+        for nxt in graph[todo.pop()]:
+            if nxt not in seen:
+                seen.add(nxt)
+                todo.append(nxt)
+    return seen
+
+
+def test_the_engine_table_sits_between_the_formats_and_the_bake_files(import_graph):
+    """pbrkit.engines builds on ibl, io's file formats and the Sample Viewer's kernels;
+    the bake files and the real-time renderer look engines up in it.  Nothing the
+    engines import at module level imports them back (no loop: any of these modules
+    can be imported first), and the engines load neither the bake files, the renderer
+    nor the application."""
+    engines = {m for m in import_graph if m == "pbrkit.engines" or m.startswith("pbrkit.engines.")}
+    assert {"pbrkit.engines.filament", "pbrkit.engines.khronos", "pbrkit.engines.three",
+            "pbrkit.engines.babylon"} <= engines
+    below = _reach(import_graph, "pbrkit.engines") - engines
+    assert {"pbrkit.ibl.prefilter", "pbrkit.io.ktx1", "pbrkit.rendering.khronos_ibl"} <= below
+    loops = sorted(m for m in below if "pbrkit.engines" in _reach(import_graph, m))
+    assert not loops, f"imported by pbrkit.engines and importing it back: {loops}"
+    above = {"pbrkit.io.bake_files", "pbrkit.rendering.realtime", "pbrkit.rendering.run", "pbrkit.app"}
+    assert not below & above, sorted(below & above)
+    for user in ("pbrkit.io.bake_files", "pbrkit.rendering.realtime"):
+        assert "pbrkit.engines" in import_graph[user], user
+
+
+@pytest.mark.parametrize("first", ["pbrkit.engines", "pbrkit.engines.three", "pbrkit.ibl.sh", "pbrkit.ibl",
+                                   "pbrkit.io.bake_files", "pbrkit.rendering.run"])
+def test_each_side_of_the_engine_table_imports_first(first):
+    """The check above, run: a fresh interpreter imports ``first`` before anything else."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", f"import {first}; import pbrkit.engines as e; "
+                           "assert len(e.ENGINES) == 4"], capture_output=True, text=True, timeout=300,
+                          env=_child_env())
+    assert done.returncode == 0, done.stderr[-2000:]
+
+
+def _child_env():
+    import os
+
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(PACKAGE.parent)] + [p for p in [env.get("PYTHONPATH")] if p])
+    return env

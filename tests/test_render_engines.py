@@ -11,9 +11,9 @@ import json
 import numpy as np
 import pytest
 
+from pbrkit.engines.three import multiple_scattering_fdez_aguera
 from pbrkit.rendering.realtime import (
     ENGINES,
-    multiple_scattering_fdez_aguera,
     render_realtime,
     specular_dominant_direction,
     three_roughness,

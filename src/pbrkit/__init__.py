@@ -19,6 +19,9 @@ The subpackages follow the theory, from the formulas up to the application:
   GGX prefiltering, irradiance and the bake;
 - :mod:`pbrkit.io`: image files, float packing, KTX2, DDS, table and bake
   files, environment loading;
+- :mod:`pbrkit.engines`: Filament, the Khronos Sample Viewer, three.js and
+  Babylon.js: each one's level curve, IBL shading, target writer and pinned
+  version (``bake --target``, ``render --engine``);
 - :mod:`pbrkit.rendering`: scenes, lights, geometry, real-time shading and the
   Monte Carlo ground truth;
 - :mod:`pbrkit.app`: the command line, the demo and the reports.
@@ -55,7 +58,7 @@ _LAZY = {
     "Material": ("pbrkit.brdf.material", "Material"),
 }
 
-_SUBPACKAGES = {"core", "sampling", "microfacet", "brdf", "albedo", "ibl", "io", "ltc", "rendering", "npr",
+_SUBPACKAGES = {"core", "sampling", "microfacet", "brdf", "albedo", "ibl", "io", "engines", "ltc", "rendering", "npr",
                 "measured", "explore", "shaders", "app"}
 
 

@@ -6,8 +6,8 @@ codes of :mod:`pbrkit.albedo.tables`, the texel formats of :mod:`pbrkit.ibl.bake
 keys are these names, in this order (tests/test_bad_inputs.py checks)."""
 
 __all__ = ["MODES", "TONEMAPS", "DIFFUSE_MODES", "RENDER_ENGINES", "LTC_CLIPPINGS", "LUT_KINDS", "VISIBILITIES",
-           "KTX2_FORMATS", "BAKE_FORMATS", "BAKE_METHODS", "SH_WINDOWS", "LAYOUTS", "COMPENSATIONS", "LOBES",
-           "SHADER_TARGETS"]
+           "KTX2_FORMATS", "BAKE_FORMATS", "BAKE_METHODS", "BAKE_TARGETS", "SH_WINDOWS", "LAYOUTS", "COMPENSATIONS",
+           "LOBES", "SHADER_TARGETS"]
 
 #: ``pbrkit render --mode`` (:func:`pbrkit.render`).
 MODES = ("realtime", "reference", "compare")
@@ -15,7 +15,8 @@ MODES = ("realtime", "reference", "compare")
 TONEMAPS = ("aces", "khronos-neutral", "agx", "reinhard", "none")
 #: The real-time diffuse: the bake's 9 SH coefficients or its irradiance cube.
 DIFFUSE_MODES = ("sh", "cube")
-#: Whose image-based lighting the real-time image follows (:mod:`pbrkit.rendering.realtime`).
+#: Whose image-based lighting the real-time image follows (:mod:`pbrkit.rendering.realtime`): pbrkit's
+#: own, or an engine's (:data:`pbrkit.engines.ENGINES`, the others in this order).
 RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")
 #: The LTC fit's horizon clipping (:mod:`pbrkit.ltc.fit`).
 LTC_CLIPPINGS = ("sphere", "exact")
@@ -27,6 +28,9 @@ VISIBILITIES = ("schlick-ggx", "separable", "height-correlated")
 KTX2_FORMATS = ("float16", "float32")
 #: The bake's specular texel formats (:data:`pbrkit.ibl.bake.SPECULAR_FORMATS`).
 BAKE_FORMATS = ("rgba16f", "b10g11r11")
+#: ``pbrkit bake --target``: pbrkit's own files, or an engine's (:data:`pbrkit.engines.ENGINES`),
+#: in the order they are written.
+BAKE_TARGETS = ("generic", "filament", "khronos", "babylon", "three")
 #: The bake's prefiltering methods (:func:`pbrkit.ibl.bake.bake`).
 BAKE_METHODS = ("spectral", "fis")
 #: Windows of the stored SH (:func:`pbrkit.ibl.sh.sh_window`).

@@ -5,7 +5,7 @@ renamed into place at the end, so a failure leaves nothing behind)::
 
     manifest.json                      what is below and every convention
     khronos/, filament/, three/, babylon/   with ``targets``: each engine's files
-                                       (:mod:`pbrkit.io.engine_targets`)
+                                       (:mod:`pbrkit.engines`)
     specular.ktx2, specular.dds        cube map, all levels
     irradiance.ktx2, irradiance.dds    cube map, one level
     brdf_lut.ktx2, .npy, .exr          the DFG table (+ .json descriptions)
@@ -14,7 +14,9 @@ renamed into place at the end, so a failure leaves nothing behind)::
     faces/specular_m{m}_{px|nx|py|ny|pz|nz}.exr, faces/irradiance_{face}.exr
     preview.png                        every level as a tone-mapped cross
 
-and :func:`load_bake` reads it back, as untrusted input: regular files only, the
+With ``only_targets`` it holds the engines' folders and the manifest alone
+(``"only_targets": true``; :func:`load_bake` refuses such a folder: it has no
+generic files).  :func:`load_bake` reads a whole bake back, as untrusted input: regular files only, the
 manifest as bounded text (:func:`pbrkit.core.inputs.read_text`), the table with
 :func:`pbrkit.io.npy_files.read_npy`, images and KTX2 files through their readers,
 and messages that never quote the manifest.  Same input and options, same bytes:
@@ -30,9 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from ..core.atomic import atomic_directory
-from .engine_targets import TARGETS, chains_for, parse_targets
-
-# pbrkit.ibl.bake is imported inside the functions: pbrkit.ibl imports this module.
+from ..engines import ENGINES, TARGETS, chains_for, parse_targets, write_target
+from ..engines.common import lut_spec
+from .bake_chains import bake_formats, write_sheen_ktx2, write_specular_ktx2
 
 __all__ = [
     "TARGETS",
@@ -65,23 +67,15 @@ WRITE_STEPS = ("specular.ktx2", "specular.dds", "irradiance", "brdf_lut", "sheen
 
 
 def write_steps(targets=("generic",)):
-    """:data:`WRITE_STEPS` with a step per extra target before the manifest."""
+    """:data:`WRITE_STEPS` with a step per extra target before the manifest; the
+    targets and the manifest alone when ``generic`` is not among ``targets``
+    (:func:`pbrkit.engines.parse_targets` with ``only_targets``)."""
     extra = tuple(t for t in targets if t != "generic")
-    return WRITE_STEPS[:-1] + extra + WRITE_STEPS[-1:]
+    generic = WRITE_STEPS[:-1] if "generic" in targets else ()
+    return generic + extra + WRITE_STEPS[-1:]
 
 
 def _write_all(root, b, progress, started=None, targets=("generic",)):
-    from ..ibl.bake import SPECULAR_FORMATS
-    from .dds import write_dds
-    from .engine_targets import _lut_spec, write_target
-    from .exr import write_exr
-    from .ktx2 import write_ktx2
-    from .lut_files import write_lut
-    from .png import write_png
-
-    manifest = b.manifest
-    fmt = manifest["options"]["format"]
-    ktx_format, dds_format = SPECULAR_FORMATS[fmt]
     steps = write_steps(targets)
     count = [0]
 
@@ -95,10 +89,32 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     if started is not None:
         started(f"write {steps[0]}", 1, len(steps))
 
-    roughness = [float(r) for r in b.roughness]
-    key = {"pbrkit.bake": json.dumps({"roughness": roughness, "roughness_of_level": "r = m / (M - 1)",
-                                      "content": "split-sum prefiltered radiance (GGX, n = v = r)"})}
-    write_ktx2(root / "specular.ktx2", b.specular, ktx_format, cube=True, key_values=key)
+    if "generic" in targets:
+        _write_generic(root, b, step)
+    entries = {}
+    for name in targets:
+        if name != "generic":
+            entries[name] = write_target(name, root, b)
+            step(name)
+    manifest = b.manifest
+    if entries:
+        manifest = dict(manifest, targets=entries)
+    if "generic" not in targets:
+        manifest = dict(manifest, only_targets=True)
+    (root / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+    step("manifest")
+
+
+def _write_generic(root, b, step):
+    """pbrkit's own files of ``b`` into ``root`` (module doc), ``step(name)`` after each group."""
+    from .dds import write_dds
+    from .exr import write_exr
+    from .ktx2 import write_ktx2
+    from .lut_files import write_lut
+    from .png import write_png
+
+    ktx_format, dds_format = bake_formats(b)
+    write_specular_ktx2(root / "specular.ktx2", b)
     step("specular.ktx2")
     write_dds(root / "specular.dds", b.specular, dds_format, cube=True)
     step("specular.dds")
@@ -106,12 +122,12 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     write_ktx2(root / "irradiance.ktx2", [b.irradiance], ktx_format, cube=True, key_values=key)
     write_dds(root / "irradiance.dds", [b.irradiance], dds_format, cube=True)
     step("irradiance")
-    spec = _lut_spec(b)
+    spec = lut_spec(b)
     for suffix in (".ktx2", ".npy", ".exr"):
         write_lut(root / f"brdf_lut{suffix}", b.lut, spec)
     step("brdf_lut")
     if b.sheen:
-        _write_sheen(root, b, ktx_format, dds_format)
+        _write_sheen(root, b, dds_format)
     step("sheen")
     (root / "faces").mkdir()
     for m, level in enumerate(b.specular):
@@ -122,37 +138,24 @@ def _write_all(root, b, progress, started=None, targets=("generic",)):
     step("faces")
     write_png(root / "preview.png", preview_strip(b), bits=8, srgb=True)
     step("preview")
-    entries = {}
-    for name in targets:
-        if name != "generic":
-            entries[name] = write_target(name, root, b)
-            step(name)
-    if entries:
-        manifest = dict(manifest, targets=entries)
-    (root / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
-    step("manifest")
 
 
-def _write_sheen(root, b, ktx_format, dds_format):
+def _write_sheen(root, b, dds_format):
     """The sheen chain (KTX2 and DDS, as the specular chain) and the sheen table
     (:func:`pbrkit.albedo.sheen_tables.sheen_lut`) of ``b``."""
     from ..albedo.sheen_tables import SheenTableSpec
     from .dds import write_dds
-    from .ktx2 import write_ktx2
     from .lut_files import write_lut
 
-    entry = b.manifest["outputs"]["sheen"]
-    key = {"pbrkit.bake": json.dumps({"sheen_roughness": entry["sheen_roughness"],
-                                      "sheen_roughness_of_level": "r = m / (M - 1)",
-                                      "content": "Charlie-prefiltered radiance (n = v = r)"})}
-    write_ktx2(root / "sheen.ktx2", b.sheen, ktx_format, cube=True, key_values=key)
+    write_sheen_ktx2(root / "sheen.ktx2", b)
     write_dds(root / "sheen.dds", b.sheen, dds_format, cube=True)
     spec = SheenTableSpec("sheen", int(b.sheen_lut.shape[0]), "sheen")
     for suffix in (".ktx2", ".npy"):
         write_lut(root / f"sheen_lut{suffix}", b.sheen_lut, spec)
 
 
-def write_bake(bake_result, out_dir, force=False, progress=None, started=None, targets=("generic",)):
+def write_bake(bake_result, out_dir, force=False, progress=None, started=None, targets=("generic",),
+               only_targets=False):
     """Write ``bake_result`` to the directory ``out_dir`` (module doc).
 
     The files are written into a temporary directory beside ``out_dir``,
@@ -165,8 +168,10 @@ def write_bake(bake_result, out_dir, force=False, progress=None, started=None, t
     total)`` after each group of files (:func:`write_steps`), ``started(step,
     number, total)`` before each.  ``targets`` (:func:`parse_targets`) adds the
     files of other engines in subdirectories (their manifest entries under
-    ``targets``).  Returns the output path."""
-    targets = parse_targets(targets)
+    ``targets``); ``only_targets`` writes those and the manifest alone, not
+    pbrkit's own files (``targets`` must then name an engine).  Returns the output
+    path."""
+    targets = parse_targets(targets, only_targets)
     with atomic_directory(out_dir, force) as tmp:
         _write_all(tmp, bake_result, progress, started, targets)
     return Path(out_dir)
@@ -265,6 +270,9 @@ def load_bake(out_dir, prefer="exr"):
     path, manifest = _read_manifest(root)
     if manifest.get("format") != FORMAT:
         raise InputError(f"not a pbrkit bake manifest ('format' is not {FORMAT!r})", path)
+    if manifest.get("only_targets") is True:
+        raise InputError("an engine-only bake (only_targets): it has no generic files to load; bake without "
+                         "--only-target", path)
     levels = _entry(manifest, path, "outputs.specular.levels", _positive_int, "a positive integer")
     size = _entry(manifest, path, "outputs.specular.size", _positive_int, "a positive integer")
     irr_size = _entry(manifest, path, "outputs.irradiance.size", _positive_int, "a positive integer")
@@ -347,23 +355,24 @@ def _load_sheen(root, path, manifest):
 def load_target_chain(out_dir, target):
     """The prefiltered chain of an engine target of a bake directory, as that
     engine reads it: a :class:`pbrkit.ibl.bake.Chain` with the texels of the
-    target's file (:data:`pbrkit.io.engine_targets.TARGET_CHAIN_FILES`: ``filament``
+    target's file (:attr:`pbrkit.engines.Engine.chain_file`: ``filament``
     ``filament/ibl.ktx``, R11F_G11F_B10F; ``three`` ``three/specular.ktx2``; both at
     Filament's levels; ``babylon`` ``babylon/specular.dds``), mirrored back to
-    pbrkit's frame where the target is mirrored (``TARGET_MIRRORS``), and the
-    roughness of every level from the manifest.  For rendering as the engine
+    pbrkit's frame where the target is mirrored (:attr:`~pbrkit.engines.Engine.mirror`),
+    and the roughness of every level from the manifest.  For rendering as the engine
     does (:func:`pbrkit.rendering.realtime.render_realtime` ``engine``).  Missing or
     inconsistent files raise :class:`~pbrkit.core.errors.InputError`."""
     from ..core.errors import InputError
     from ..ibl.bake import Chain
     from ..ibl.cubemap import mirror_cube
     from .dds import read_dds
-    from .engine_targets import TARGET_CHAIN_FILES, TARGET_CHAINS, TARGET_MIRRORS
     from .ktx1 import read_ktx1
     from .ktx2 import read_ktx2
 
-    if target not in TARGET_CHAIN_FILES:
-        raise ValueError(f"no chain reader for target {target!r} ({', '.join(TARGET_CHAIN_FILES)})")
+    chained = {name: e for name, e in ENGINES.items() if e.chain_file is not None}
+    if target not in chained:
+        raise ValueError(f"no chain reader for target {target!r} ({', '.join(chained)})")
+    spec = chained[target]
     root = Path(out_dir)
     path, manifest = _read_manifest(root)
     if target not in (manifest.get("targets") or {}):
@@ -371,12 +380,12 @@ def load_target_chain(out_dir, target):
     roughness = _entry(manifest, path, f"targets.{target}.conventions.roughness",
                        lambda r: np.asarray(r, dtype=np.float64).ndim == 1 and len(r) >= 2,
                        f"a list of roughness values (bake with --target {target})")
-    file = root / TARGET_CHAIN_FILES[target]
+    file = root / spec.chain_file
     read = {".ktx": read_ktx1, ".ktx2": read_ktx2, ".dds": read_dds}[file.suffix]
     levels = read(file)[1]
-    if target in TARGET_MIRRORS:
-        levels = [mirror_cube(level, TARGET_MIRRORS[target]) for level in levels]
+    if spec.mirror is not None:
+        levels = [mirror_cube(level, spec.mirror) for level in levels]
     if len(levels) != len(roughness):
         raise InputError(f"has {len(levels)} levels, the manifest's roughness lists {len(roughness)}", file)
-    return Chain(TARGET_CHAINS[target], [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
+    return Chain(spec.curve, [np.ascontiguousarray(level[..., :3], dtype=np.float32) for level in levels],
                  np.asarray(roughness, dtype=np.float64), [])

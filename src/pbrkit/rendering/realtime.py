@@ -68,18 +68,22 @@ from ..brdf.dispatch import (
 )
 from ..brdf.bxdf import NO_TANGENT
 from ..brdf.fresnel import f0_from_ior, f_schlick
-from ..brdf.shading.gltf import GLTF_DIELECTRIC_F0, gltf_fresnel_mix_weight
+from ..brdf.shading.gltf import gltf_fresnel_mix_weight
 from ..brdf.shading.registry import COLUMNS, EXTENDED_CODES, model
 from ..core.jit import dual_use, row_kernel
 from ..core.quadrature import gauss_legendre_01
-from ..ibl.prefilter import babylon_alpha_g
-from ..io.engine_targets import TARGET_CHAINS
+from ..engines import ENGINES as ENGINE_TABLE
+from ..engines.babylon import babylon_ibl
+from ..engines.filament import filament_diffuse_weight
+from ..engines.khronos import sample_viewer_ibl
+from ..engines.three import three_ibl
+from ..io.bake_files import load_target_chain
 from ..brdf.lobes.clearcoat import coat_local_nov, coat_tilted
 from ..brdf.lobes.sheen import sheen_albedo_lookups
 from .anisotropic_ibl import anisotropic_ibl
 from .area_lights import area_light_ltc
 from .ibl_lookups import khr_anisotropic_reflection, reflection_direction, specular_dominant_direction, three_roughness
-from .khronos_ibl import sample_viewer_base, sample_viewer_extensions_ibl
+from .khronos_ibl import sample_viewer_extensions_ibl
 
 #: The codes of the models' extended forms (:data:`pbrkit.brdf.shading.registry.EXTENDED_CODES`).
 _EXTENDED = np.array(sorted(EXTENDED_CODES.values()), dtype=np.int64)
@@ -99,8 +103,8 @@ __all__ = [
     "fresnel_mix_albedo_table",
     "DIFFUSE_WEIGHTS",
     "ENGINES",
+    "render_engine",
     "specular_dominant_direction",
-    "multiple_scattering_fdez_aguera",
     "three_roughness",
     "APPROXIMATIONS",
 ]
@@ -110,14 +114,15 @@ DIFFUSE_WEIGHTS = ("fstar", "exact")
 
 #: Whose image-based lighting the real-time path evaluates (:func:`render_realtime`):
 #: ``pbrkit`` (the module docstring), or what an engine's shaders do with its bake
-#: (``pbrkit bake --target``): ``filament`` (1.53), ``khronos`` (the glTF Sample
-#: Viewer 1.1), ``three`` (three.js r187 MeshStandardMaterial), ``babylon``
-#: (Babylon.js 9.35 PBRMaterial with its defaults).
+#: (``pbrkit bake --target``; :data:`pbrkit.engines.ENGINES`): ``filament`` (1.53),
+#: ``khronos`` (the glTF Sample Viewer 1.1), ``three`` (three.js r187
+#: MeshStandardMaterial), ``babylon`` (Babylon.js 9.35 PBRMaterial with its defaults).
 ENGINES = RENDER_ENGINES  # pbrkit.choices
-_ENGINE_FILAMENT = 1
-_ENGINE_KHRONOS = 2
-_ENGINE_THREE = 3
-_ENGINE_BABYLON = 4
+# the kernels' engine codes (Engine.code: the index in ENGINES; 0 is pbrkit's own)
+_ENGINE_FILAMENT = ENGINE_TABLE["filament"].code
+_ENGINE_KHRONOS = ENGINE_TABLE["khronos"].code
+_ENGINE_THREE = ENGINE_TABLE["three"].code
+_ENGINE_BABYLON = ENGINE_TABLE["babylon"].code
 #: The parameter row's anisotropy column, and KHR_materials_anisotropy's strength's.
 _ANISOTROPY = COLUMNS.anisotropy
 _ANISOTROPY_STRENGTH = COLUMNS.anisotropy_strength
@@ -138,16 +143,22 @@ _INV_PI = 1.0 / math.pi
 # ================================================================ real time
 
 
+def render_engine(name):
+    """The :class:`pbrkit.engines.Engine` whose IBL ``render_realtime(engine=name)``
+    evaluates, None for pbrkit's own; ValueError naming :data:`ENGINES` otherwise."""
+    if name not in ENGINES:
+        raise ValueError(f"unknown engine {name!r}; use one of {', '.join(ENGINES)}")
+    return None if name == "pbrkit" else ENGINE_TABLE[name]
+
+
 def _engine_chain(bake, env, engine):
-    """The chain an engine samples (:data:`pbrkit.io.engine_targets.TARGET_CHAINS`:
-    Filament's levels for filament and three, Babylon's for babylon): the in-memory
-    bake's, or for a bake folder the texels of the engine's target files
+    """The chain an engine samples (:attr:`pbrkit.engines.Engine.curve`: Filament's
+    levels for filament and three, Babylon's for babylon): the in-memory bake's, or
+    for a bake folder the texels of the engine's target files
     (:func:`pbrkit.io.bake_files.load_target_chain`)."""
-    curve = TARGET_CHAINS[engine]
+    curve = ENGINE_TABLE[engine].curve
     chain = getattr(bake, "chains", {}).get(curve)
     if chain is None and env.spec.bake is not None:
-        from ..io.bake_files import load_target_chain
-
         chain = load_target_chain(env.spec.bake, engine)
         bake.chains[curve] = chain
     if chain is None and env.environment is not None:  # an image environment baked earlier without the chain
@@ -177,22 +188,6 @@ def _lut_for(spec, bake_lut):
     if name == "height-correlated":
         return np.asarray(bake_lut), name
     return _extra_lut(name, bake_lut.shape[0]), name
-
-
-@dual_use
-def multiple_scattering_fdez_aguera(f0, a, b):
-    """Single- and multiple-scattering specular albedo of a split-sum lobe (Fdez-Agüera,
-    "A Multiple-Scattering Microfacet Model for Real-Time Image-based Lighting",
-    JCGT 8(1), 2019, sec. 3-4): with Karis' table (A, B) (E_ss = A + B for F = 1),
-    FssEss = f0 A + B (``f0`` may be a roughness-dependent Fresnel), E_ms = 1 - E_ss,
-    F_avg = f0 + (1 - f0) / 21 (the cosine-weighted mean of Schlick's F) and
-    FmsEms = E_ms FssEss F_avg / (1 - F_avg E_ms).  Returns (FssEss, FmsEms).  What
-    the Khronos glTF Sample Viewer (``getIBLGGXFresnel``) and three.js
-    (``computeMultiscattering``) use for IBL; roughness enters only through A, B."""
-    fss_ess = f0 * a + b
-    e_ms = 1.0 - (a + b)
-    f_avg = f0 + (1.0 - f0) / 21.0
-    return fss_ess, e_ms * fss_ess * f_avg / (1.0 - f_avg * e_ms)
 
 
 def _charlie_rows(bake, n, v, sheen_roughness, engine):
@@ -307,41 +302,18 @@ def fresnel_mix_albedo_table(size=64, nodes=64):
 
 @dual_use
 def _engine_ibl(engine, base, metallic, r, nov, a, b, radiance, irradiance):
-    """One channel of the IBL of a metallic-roughness material as an engine's shader
-    evaluates it, from the prefiltered ``radiance`` (its chain, its lod), the
-    ``irradiance`` E it uses and Karis' (A, B) = (``a``, ``b``) of the DFG table:
-
-    - Khronos glTF Sample Viewer 1.1 (``getIBLGGXFresnel`` and the pbr shader's
-      mixes; KhronosGroup/glTF-Sample-Renderer): W(f0) = FssEss + FmsEms with the
-      roughness-dependent Fresnel F*(n.v, f0, r) in FssEss and f0 itself in F_avg
-      (:func:`pbrkit.rendering.khronos_ibl.sample_viewer_fresnel`); dielectric = base E /
-      pi (1 - W(0.04)) + radiance W(0.04), metal = radiance W(base), mixed by metallic
-      (:func:`pbrkit.rendering.khronos_ibl.sample_viewer_base`);
-    - three.js r187 ``RE_IndirectSpecular_Physical``: single and multiple
-      scattering (the same model, f0 = 0.04 and base, f90 = 1) mixed by metallic,
-      the multiple-scattering part lit by the irradiance (E / pi), not the
-      radiance, and the diffuse base (1 - metallic) (1 - FssEss - FmsEms of the
-      dielectric) E / pi;
-    - Babylon.js 9.35 PBRMaterial with its defaults (``pbrBlockReflection``,
-      ``pbrBlockReflectivity``, ``pbrBlockFinalColorComposition``): the radiance
-      mixed towards the Lambertian radiance E / pi by alpha_G = r^2 + 0.0005
-      (``MIX_IBL_RADIANCE_WITH_IRRADIANCE``), times F0 A + B and its energy
-      conservation 1 + F0 (1 / (A + B) - 1) (Filament's), f0 = mix(0.04, base,
-      metallic), and the legacy diffuse base (1 - 0.04) (1 - metallic) E / pi."""
+    """One channel of the IBL of a metallic-roughness material as engine ``engine``
+    (its code) evaluates it (:attr:`pbrkit.engines.Engine.shading`), from the
+    prefiltered ``radiance`` (its chain, its lod), the ``irradiance`` E it uses and
+    Karis' (A, B) = (``a``, ``b``) of the DFG table: the Sample Viewer's
+    (:func:`pbrkit.engines.khronos.sample_viewer_ibl`), three.js's
+    (:func:`pbrkit.engines.three.three_ibl`) or Babylon.js's
+    (:func:`pbrkit.engines.babylon.babylon_ibl`)."""
     if engine == _ENGINE_BABYLON:
-        f0 = GLTF_DIELECTRIC_F0 + (base - GLTF_DIELECTRIC_F0) * metallic
-        mixed = radiance + (irradiance * _INV_PI - radiance) * babylon_alpha_g(r)
-        ec = filament_energy_compensation(f0, max(a + b, 1e-6))
-        diffuse = base * (1.0 - GLTF_DIELECTRIC_F0) * (1.0 - metallic)
-        return mixed * (f0 * a + b) * ec + diffuse * irradiance * _INV_PI
+        return babylon_ibl(base, metallic, r, nov, a, b, radiance, irradiance)
     if engine == _ENGINE_KHRONOS:
-        return sample_viewer_base(nov, r, base, metallic, GLTF_DIELECTRIC_F0, 1.0, a, b, radiance, irradiance)
-    ss_d, ms_d = multiple_scattering_fdez_aguera(GLTF_DIELECTRIC_F0, a, b)
-    ss_m, ms_m = multiple_scattering_fdez_aguera(base, a, b)
-    single = ss_d + (ss_m - ss_d) * metallic
-    multi = ms_d + (ms_m - ms_d) * metallic
-    diffuse = base * (1.0 - metallic) * (1.0 - (ss_d + ms_d))
-    return radiance * single + (multi + diffuse) * irradiance * _INV_PI
+        return sample_viewer_ibl(base, metallic, r, nov, a, b, radiance, irradiance)
+    return three_ibl(base, metallic, r, nov, a, b, radiance, irradiance)
 
 
 @row_kernel(5)
@@ -425,7 +397,7 @@ def _ibl_kernel(start, stop, mi, mf, mat, lut_index, tables, n, v, rough, metal,
             spec = prefiltered[i, c] * albedo * ec
             diff = 0.0
             if diffuse_on:
-                w = (1.0 - albedo) * _INV_PI if engine == _ENGINE_FILAMENT else diffuse_weight
+                w = filament_diffuse_weight(albedo) if engine == _ENGINE_FILAMENT else diffuse_weight
                 diff = b.diffuse_color[c] * w * irradiance[i, c]
                 if transmits > 0.0:  # KHR_materials_transmission: the light through it, weighted alike
                     diff += transmits * b.base[c] * w * math.pi * transmitted[i, c]
@@ -486,26 +458,19 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
     Returns a :class:`RenderResult`;
     ``stats['timings']`` has the stages in seconds."""
     from ..ibl.cubemap import CubeSampler
-    from ..ibl.prefilter import (
-        babylon_level_of_roughness,
-        filament_level_of_roughness,
-        level_of_roughness,
-    )
+    from ..ibl.prefilter import level_of_roughness
     from ..ibl.sh import irradiance_from_sh
 
-    if engine not in ENGINES:
-        raise ValueError(f"unknown engine {engine!r}; use one of {', '.join(ENGINES)}")
-    curve = TARGET_CHAINS.get(engine)  # three.js r187 uses Filament's level curve
+    spec = render_engine(engine)
+    # the chain it samples, when not the generic one (three.js r187 uses Filament's level curve)
+    curve = None if spec is None else spec.extra_chain
     if curve is not None:
         bake_options = dict(bake_options or {}, chains=(curve,))
-    if engine == "babylon":
-        diffuse = "sh"  # its spherical polynomial
-    if engine == "filament":
-        energy_compensation = True
-    elif engine != "pbrkit":
-        energy_compensation = False  # the engines' own multiple-scattering terms (_engine_ibl)
-    if engine == "khronos":
-        diffuse = "cube"  # the viewer's Lambertian cube
+    if spec is not None:
+        if spec.diffuse in ("sh", "cube"):  # Babylon's spherical polynomial, the Sample Viewer's Lambertian cube
+            diffuse = spec.diffuse
+        if spec.energy_compensation is not None:  # Filament's, or the engines' own multiple scattering
+            energy_compensation = spec.energy_compensation
 
     if diffuse not in ("sh", "cube"):
         raise ValueError(f"unknown diffuse source {diffuse!r}; use 'sh' or 'cube'")
@@ -569,16 +534,12 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
             # geometryRoughness: the derivatives of three's nonPerturbedNormal, the normal before normal mapping
             rough_rows = three_roughness(scene.camera, prim.rows, s.n if s.n_unmapped is None else s.n_unmapped,
                                          s.roughness)
-            lod = np.asarray(filament_level_of_roughness(rough_rows, levels), dtype=np.float64)
-            refl = specular_dominant_direction(s.n, refl, rough_rows)
-        elif engine == "filament":
-            lod = np.asarray(filament_level_of_roughness(s.roughness, levels), dtype=np.float64)
-            refl = specular_dominant_direction(s.n, refl, s.roughness)
-        elif engine == "babylon":
-            lod = np.asarray(babylon_level_of_roughness(s.roughness, int(np.asarray(chain[0]).shape[1])),
-                             dtype=np.float64)
-        else:
+        if spec is None:
             lod = np.asarray(level_of_roughness(s.roughness, levels), dtype=np.float64)
+        else:  # the engine's level curve
+            lod = np.asarray(spec.lod(rough_rows, levels, int(np.asarray(chain[0]).shape[1])), dtype=np.float64)
+            if spec.dominant_direction:
+                refl = specular_dominant_direction(s.n, refl, rough_rows)
         prefiltered = sampler(env.to_env_frame(refl), lod) * env.intensity
         coat_prefiltered = np.zeros((count, 3))
         coated = np.flatnonzero(coat_roughness >= 0.0)
@@ -595,7 +556,7 @@ def render_realtime(scene, geometry=None, env=None, bake=None, diffuse="sh", ene
         sheen_prefiltered = (_sheen_lookups(bake, env, sampler, s.n, v, sheen_roughness, levels) if extended
                              else np.zeros((1, 3)))
         charlie = _charlie_rows(bake, n_rows, v_rows, sheen_roughness, engine) if extended else np.zeros(1)
-        if engine == "three":  # getIBLIrradiance: pi x the last (r = 1) level in the normal's direction
+        if spec is not None and spec.diffuse == "last-level":  # three: getIBLIrradiance, pi x the r = 1 level
             irradiance = math.pi * sampler(env.to_env_frame(s.n), np.full(count, levels - 1.0)) * env.intensity
         elif diffuse == "sh":
             irradiance = irradiance_from_sh(np.asarray(bake.sh), env.to_env_frame(s.n)) * env.intensity

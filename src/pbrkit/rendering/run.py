@@ -10,12 +10,11 @@ import os
 from ..choices import MODES as _MODES
 from ..core import checks
 from ..core.errors import InputError
-from ..io.engine_targets import TARGET_CHAINS
 from .budget import check_render_memory
 from .compare import compare_images
 from .environment import EnvironmentLight
 from .geometry import Geometry
-from .realtime import render_realtime
+from .realtime import render_engine, render_realtime
 from .reference import render_reference
 from .result import output_suffix_ok
 
@@ -170,7 +169,8 @@ def render(scene, mode="realtime", spp=64, bounces=0, seed=0, diffuse="sh", ener
     rt = ref = None
     if mode in ("realtime", "compare"):
         stage("bake")
-        curve = TARGET_CHAINS.get(engine)  # the chain the engine samples, prefiltered with the bake
+        spec = render_engine(engine)  # the chain the engine samples, prefiltered with the bake
+        curve = None if spec is None else spec.extra_chain
         bake = env.bake(size=bake_size, **({"chains": (curve,)} if curve else {}))
         stage("realtime")
         style = style or scene.style
