@@ -58,6 +58,7 @@ def test_api_tour_imports_and_the_top_level_names():
         exec(line, {})
     assert pbrkit.models is importlib.import_module("pbrkit.brdf.models")
     assert pbrkit.bake is importlib.import_module("pbrkit.ibl").bake and callable(pbrkit.render)
+    assert pbrkit.write_bake is importlib.import_module("pbrkit.io.bake_files").write_bake
     assert pbrkit.render is importlib.import_module("pbrkit.rendering.run").render
     names = set(dir(pbrkit))
     assert {"render", "Rendering", "bake", "load_scene", "scene_from_dict", "Material", "models"} <= names

@@ -337,7 +337,7 @@ def test_readme_three_page_loads_what_the_three_target_writes(tmp_path):
     import pbrkit
     from pbrkit.app.demo import DEMO_ENTRIES
     from pbrkit.data import environment_path
-    from pbrkit.ibl import write_bake
+    from pbrkit import write_bake
     from pbrkit.engines import chains_for
 
     page = readme_three_page()

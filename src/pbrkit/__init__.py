@@ -28,7 +28,8 @@ The subpackages follow the theory, from the formulas up to the application:
 
 The names of the README's API tour are importable from here: :func:`render` (a
 scene rendered in one call, returned as arrays: :class:`Rendering`), :func:`bake`
-(an environment baked for image-based lighting), :func:`load_scene` and
+(an environment baked for image-based lighting; :func:`write_bake` and
+:func:`load_bake` its files), :func:`load_scene` and
 :func:`scene_from_dict`, ``Material``, and the modules ``models``,
 ``distributions``, ``masking``, ``fresnel``, ``diffuse``, ``sampling``,
 ``microfacet`` and ``tables``.  They are imported on first use, as are the
@@ -36,7 +37,7 @@ subpackages, so that ``import pbrkit`` and ``pbrkit --help`` do not load NumPy
 and Numba.
 """
 
-__all__ = ["render", "Rendering", "bake", "load_scene", "scene_from_dict", "Material", "__version__", "models",
+__all__ = ["render", "Rendering", "bake", "write_bake", "load_bake", "load_scene", "scene_from_dict", "Material", "__version__", "models",
            "distributions", "masking", "fresnel", "diffuse", "sampling", "microfacet", "tables"]
 
 #: The names of the API tour, imported on first use (PEP 562) so that ``import
@@ -45,6 +46,8 @@ _LAZY = {
     "render": ("pbrkit.rendering.run", "render"),
     "Rendering": ("pbrkit.rendering.result", "Rendering"),
     "bake": ("pbrkit.ibl.bake", "bake"),
+    "write_bake": ("pbrkit.io.bake_files", "write_bake"),
+    "load_bake": ("pbrkit.io.bake_files", "load_bake"),
     "load_scene": ("pbrkit.rendering.scene", "load_scene"),
     "scene_from_dict": ("pbrkit.rendering.scene", "scene_from_dict"),
     "sampling": ("pbrkit.sampling", None),
