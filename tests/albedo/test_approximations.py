@@ -3,8 +3,8 @@
 The maps of :func:`pbrkit.albedo.approximations.approximation_errors` and the
 figures README.md prints for them are checked against albedo differences
 recomputed here without pbrkit: the GGX, Smith, Schlick-GGX, Fresnel, Karis and
-URP formulas of ``tests/reference_brdf.py`` (written from the papers),
-integrated with the rules of ``tests/quadrature.py``, on the report's grid
+URP formulas of ``tests/support/reference_brdf.py`` (written from the papers),
+integrated with the rules of ``tests/support/quadrature.py``, on the report's grid
 (texel centres (i + 0.5) / n in n.v and in roughness).
 """
 
@@ -21,7 +21,7 @@ from pbrkit.albedo.approximations import COMPARISONS, approximation_errors
 from pbrkit.app.cli import app
 from pbrkit.brdf.fresnel import CONDUCTORS
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[2] / "README.md"
 
 # How far pbrkit's maps may be from the reference, per comparison (absolute albedo).
 # The reference rule is within 1.4e-6 of much denser rules, 1.7e-4 for URP (see

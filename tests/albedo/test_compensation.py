@@ -32,7 +32,7 @@ from pbrkit.brdf.fresnel import CONDUCTORS, f_conductor
 
 # pbrkit's GGX albedo integrals (the DFG tables and specular_integrals) are converged
 # to 1e-4 (README, `pbrkit lut` benchmark: max error 7.2e-5); the reference rule of
-# tests/reference_brdf.py is within 1.4e-6 of a much denser one.
+# tests/support/reference_brdf.py is within 1.4e-6 of a much denser one.
 ALBEDO_ACCURACY = 1e-4
 
 
@@ -83,7 +83,7 @@ def test_f_avg_closed_form_and_conductors():
     numeric = f_avg_numeric(lambda m: fresnel_schlick(m, f0[None, :]))
     np.testing.assert_allclose(numeric, exact, atol=1e-12)
     # Conductors: against SciPy's adaptive quadrature of the Fresnel equations in real
-    # arithmetic (tests/reference_brdf.py; pbrkit's f_conductor uses complex numbers).
+    # arithmetic (tests/support/reference_brdf.py; pbrkit's f_conductor uses complex numbers).
     from scipy.integrate import quad
 
     eta, k = (np.asarray(v) for v in CONDUCTORS["gold"])

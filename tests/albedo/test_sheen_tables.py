@@ -1,8 +1,8 @@
 """The sheen tables of the bake (pbrkit.albedo.sheen_tables): E_sheen and the
 Ashikhmin-visibility albedo at the texel centres against an independent quadrature
-over the light direction (tests/test_charlie.py's transcription of the
+over the light direction (tests/support/sheen_reference.py's transcription of the
 KHR_materials_sheen formulas, a tensor Gauss-Legendre rule checked against scipy
-there; the Ashikhmin visibility transcribed here), to 1e-3; the layouts the Khronos
+in tests/microfacet/test_charlie.py; the Ashikhmin visibility transcribed here), to 1e-3; the layouts the Khronos
 Sample Viewer reads (lut_charlie .b, lut_sheen_E .r); refusals."""
 
 from __future__ import annotations
@@ -11,8 +11,9 @@ import math
 
 import numpy as np
 import pytest
+from quadrature import graded_gauss_legendre
 from scipy import integrate
-from test_charlie import _gl, reference_sheen_albedo, spec_d
+from sheen_reference import reference_sheen_albedo, spec_d
 
 from pbrkit.albedo.sheen_tables import SHEEN_NODES, charlie_lut, sheen_albedo_texels, sheen_e_lut, sheen_lut
 
@@ -28,9 +29,9 @@ def _centre(k, n=N):
 def reference_ashikhmin_albedo(mu, r):
     """integral of D_spec V_A (n.l) dl, V_A = 1 / (4 (n.l + n.v - n.l n.v)) (Ashikhmin and
     Premoze 2007, as the Khronos IBL Sampler's V_Ashikhmin without its clamp), by the same
-    tensor rule over the light direction as test_charlie.reference_sheen_albedo."""
-    ct, wt = _gl(0.0, 1.0, 24, 24, grade=2.0)
-    ph, wp = _gl(0.0, np.pi, 24, 16)
+    tensor rule over the light direction as sheen_reference.reference_sheen_albedo."""
+    ct, wt = graded_gauss_legendre(0.0, 1.0, 24, 24, grade=2.0)
+    ph, wp = graded_gauss_legendre(0.0, np.pi, 24, 16)
     ct, ph = np.meshgrid(ct, ph, indexing="ij")
     w = np.outer(wt, wp)
     st = np.sqrt(1.0 - ct * ct)

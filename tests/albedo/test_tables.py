@@ -209,7 +209,7 @@ def test_bad_options(bad):
 
 def test_row_zero_integrates_the_stated_roughness():
     # Row 0 states r = 0.5 / N, so alpha = 0.25 / N^2 (far below the shading clamp 1e-3 for
-    # N = 64): check it against an independent quadrature (tests/quadrature.py) of the GGX
+    # N = 64): check it against an independent quadrature (tests/support/quadrature.py) of the GGX
     # lobe with height-correlated Smith at exactly that alpha, and check that the clamped
     # alpha would have failed (so the test can fail).
     from quadrature import directional_albedo

@@ -95,7 +95,7 @@ def test_a_device_as_list_file_is_refused_without_reading_it(tmp_path):
     link.symlink_to("/dev/zero")
     t0 = time.monotonic()
     done = subprocess.run([sys.executable, "-c", _DEVICE_SCRIPT, "/dev/zero", str(link)], capture_output=True,
-                          text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")})
+                          text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "src")})
     assert done.returncode == 0, done.stderr[-2000:]
     lines = done.stdout.splitlines()
     assert len(lines) == 2 and time.monotonic() - t0 < 30, done.stdout

@@ -2,9 +2,9 @@
 
 from pathlib import Path
 
-from conftest import needs_shared
+from skips import needs_shared
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared" / "CONVENTIONS.md"
 
 

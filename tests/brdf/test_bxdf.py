@@ -4,7 +4,7 @@ sampled light directions, with the failed samples (reflected below the
 horizon) as one more cell whose expected count is N (1 - integral of the pdf);
 the pdf's integral over the hemisphere against the fraction of successful
 samples; a white-furnace Monte Carlo estimate with the model's own sampler and
-value against an independent quadrature (tests/quadrature.py); and proof that
+value against an independent quadrature (tests/support/quadrature.py); and proof that
 the tests reject a wrong pdf.
 
 Directions are in the local frame (normal +z, tangent +x), as
@@ -118,7 +118,7 @@ def _white(model, roughness, **extra):
 def test_white_furnace_with_the_models_own_sampler(model, terms, roughness, anisotropy, mu):
     """E(mu) = integral f cos = mean of the sampler's weights f cos / pdf (a metal with
     white base: F = 1 for Schlick's f0 = 1), against the independent quadrature of
-    the same model's value (tests/quadrature.py nodes, which share no code with pbrkit)."""
+    the same model's value (tests/support/quadrature.py nodes, which share no code with pbrkit)."""
     material = _white(model, roughness, anisotropy=anisotropy)
     wo = view_direction(mu, 0.4)
     n = 100_000

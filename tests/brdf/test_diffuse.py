@@ -1,5 +1,5 @@
 """Tests of pbrkit.brdf.diffuse: Lambert and Burley (Disney) diffuse against closed
-forms and quadrature (``tests/quadrature.py``).
+forms and quadrature (``tests/support/quadrature.py``).
 
 Burley's albedo at normal view (v = n) has a closed form: there l.h =
 cos(theta_l / 2), so F_D90 = 0.5 + 2 r cos^2(theta_l / 2) = 0.5 + r (1 + mu_l)

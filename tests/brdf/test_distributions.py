@@ -3,7 +3,7 @@
 Every normal distribution function must satisfy the projected-area
 normalisation integral over the hemisphere of D(h) (n.h) dh = 1
 (Walter et al. 2007, eq. 4), computed here with the independent rules of
-``tests/quadrature.py``.  The issue asks for 1e-3; the quadrature is accurate
+``tests/support/quadrature.py``.  The issue asks for 1e-3; the quadrature is accurate
 to ~2e-7 (checked below on integrals known in closed form), so the tests use
 NORM_TOL = 1e-5, a hundred times tighter, to catch small formula errors.
 """

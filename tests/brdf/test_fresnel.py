@@ -38,7 +38,7 @@ def dielectric_reference(cos_i, eta):
 
 
 def conductor_reference(cos_i, eta, k):
-    """The conductor Fresnel in real arithmetic (tests/reference_brdf.py, Lagarde 2013)."""
+    """The conductor Fresnel in real arithmetic (tests/support/reference_brdf.py, Lagarde 2013)."""
     return fresnel_conductor(np.asarray(cos_i, dtype=float), eta, k)
 
 

@@ -10,7 +10,7 @@ Independent references:
   exactly for the Smith G1 = 1 / (1 + Lambda) of the matching D.  Dividing by
   n.v, it says that the distribution of visible normals
   D_v(h) = G1(v) max(0, v.h) D(h) / (n.v) (Heitz 2014, eq. 16) is normalised.
-  Integrated with ``tests/quadrature.py``, cut exactly at v.h = 0.
+  Integrated with ``tests/support/quadrature.py``, cut exactly at v.h = 0.
 * Smith's Lambda from its definition (Heitz 2014, sec. 5.3, after Smith 1967):
   Lambda(v) = (1 / mu) integral over q > mu of (q - mu) P2(q) dq with
   mu = cot theta_v and P2 the density of the microfacet slope projected on v's

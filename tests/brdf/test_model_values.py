@@ -8,7 +8,7 @@ random and below the horizon; lights near each element's specular peak, random,
 grazing, at normal incidence, retro-reflected and below the horizon -- with
 random per-element materials (r = 0 and r = 1 included, anisotropic elements
 for the models that have them, gold's complex IOR for the exact conductor),
-and compared with the models of ``tests/reference_brdf.py``, written from the
+and compared with the models of ``tests/support/reference_brdf.py``, written from the
 published sources and importing nothing from pbrkit.  So the check is against
 values computed independently, never against the code's own earlier output.
 
@@ -52,6 +52,7 @@ import zlib
 import numpy as np
 import pytest
 import reference_brdf as ref
+from model_values import N_DIR, T_DIR, assert_matches
 
 from pbrkit import Material
 from pbrkit.brdf import models
@@ -62,20 +63,6 @@ SEED = 20260517
 N = 320
 #: Samples per model of the sampling checks.
 N_SAMPLES = 48
-
-RTOL = 1e-10
-EPS = np.finfo(float).eps
-#: The condition term: 2 ulps of n.h x |d ln D / d n.h| <= 4 / alpha^2 x 2 (margin).
-CONDITION = 16.0 * EPS
-#: Below this, values compare absolutely (denormals carry no relative precision).
-ATOL = 1e-300
-#: The absolute error allowed an exact Fresnel factor F in [0, 1], times D V: where F
-#: itself vanishes (the exact dielectric of reflectance 0 has IOR 1, F = 0) its relative
-#: error is unbounded; pbrkit's complex-arithmetic F leaves ~1e-22 there.
-F_ABS = 8.0 * EPS
-
-N_DIR = np.array([0.0, 0.0, 1.0])
-T_DIR = np.array([1.0, 0.0, 0.0])
 
 
 def _unit(x):
@@ -167,30 +154,6 @@ def _alpha_min(values, model):
         coat = 0.1 + (0.001 - 0.1) * extra["clearcoat_gloss"]
         return np.where(extra["clearcoat"] > 0.0, np.minimum(width, coat), width)
     return np.maximum(alpha * (1.0 - np.abs(values["anisotropy"])), ref.ALPHA_MIN)
-
-
-def assert_matches(actual, expected, alpha_min, what, lobe=None, rtol=RTOL):
-    """|actual - expected| <= (rtol + CONDITION / alpha_min^2) |expected| + F_ABS lobe + ATOL
-    for every element and channel (module docstring), and every value finite; ``lobe``:
-    the specular lobe without its Fresnel factor, D V (N,), for an F that can vanish."""
-    actual = np.asarray(actual)
-    assert actual.shape == expected.shape, what
-    assert np.all(np.isfinite(actual)), f"{what}: non-finite values at {np.argwhere(~np.isfinite(actual))[:5]}"
-    assert np.all(np.isfinite(expected)), f"{what}: the transcription is not finite"
-    rtol = (rtol + CONDITION / np.asarray(alpha_min) ** 2)[..., None]
-    error = np.abs(actual - expected)
-    bound = rtol * np.abs(expected) + ATOL
-    if lobe is not None:
-        bound = bound + F_ABS * np.abs(np.asarray(lobe))[..., None]
-    bad = error > bound
-    if np.any(bad):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            relative = np.where(bad, error / np.abs(expected), 0.0)
-        rows = np.argsort(-relative.max(axis=-1))[:4]
-        lines = [f"  element {i}: pbrkit {actual[i]}, reference {expected[i]}, relative error "
-                 f"{relative[i].max():.3g} (tolerance {rtol[i, 0]:.3g})" for i in rows]
-        raise AssertionError(f"{what}: {int(bad.any(axis=-1).sum())} of {bad.shape[0]} elements differ\n"
-                             + "\n".join(lines))
 
 
 @pytest.fixture(scope="module")

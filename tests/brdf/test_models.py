@@ -2,7 +2,7 @@
 energy bounds, reciprocity, frame invariance, and argument checks.
 
 Albedos are integrals over the light directions of f(l, v) (n.l), computed with
-the independent rules of ``tests/quadrature.py`` (half-vector nodes cut exactly
+the independent rules of ``tests/support/quadrature.py`` (half-vector nodes cut exactly
 where the mirrored light direction meets the horizon).  The shading frame of
 the quadrature is n = +z, tangent +x, bitangent +y.
 
@@ -25,7 +25,7 @@ import itertools
 import numpy as np
 import pytest
 from quadrature import albedo_nodes, hemisphere_rule, view_direction
-from test_fresnel import dielectric_reference
+from reference_brdf import fresnel_dielectric
 
 from pbrkit import Material
 from pbrkit.brdf.models import (
@@ -433,7 +433,7 @@ def test_cook_torrance_fresnel_options_against_independent_forms():
     unit = cook_torrance(l, v, n, material, fresnel="none", diffuse="none")
     for fresnel in ("exact-dielectric", "exact-conductor"):
         ratio = cook_torrance(l, v, n, material, fresnel=fresnel, diffuse="none") / unit
-        np.testing.assert_allclose(ratio, np.repeat(dielectric_reference(voh, 1.5)[:, None], 3, axis=1),
+        np.testing.assert_allclose(ratio, np.repeat(fresnel_dielectric(voh, 1.5)[:, None], 3, axis=1),
                                    rtol=1e-9)
 
 

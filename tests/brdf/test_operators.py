@@ -1,8 +1,8 @@
 """The layering operators (pbrkit.brdf.operators) on lobes of pbrkit.brdf.lobes:
 for every operator, its value against an independent transcription of its
 definition (the glTF 2.0 Appendix B and KHR formulas, written here from the
-specifications with the microfacet terms of tests/reference_brdf.py), its
-directional albedo against the independent quadrature of tests/quadrature.py,
+specifications with the microfacet terms of tests/support/reference_brdf.py), its
+directional albedo against the independent quadrature of tests/support/quadrature.py,
 and the composed sampling routine against the composed pdf (chi-square, with
 the failed samples as a cell); and proof that a wrong lobe weight, or a pdf
 with wrong lobe probabilities, is caught."""
@@ -95,7 +95,7 @@ def _evaluate(fn, b, wo, wi, *extra):
 
 
 def _quadrature_albedo(values, b, mu, alpha=ALPHA):
-    """The independent quadrature of f cos over the hemisphere (tests/quadrature.py's
+    """The independent quadrature of f cos over the hemisphere (tests/support/quadrature.py's
     half-vector rule around the lobe), RGB."""
     wo = view_direction(mu, 0.3)
     l, w = albedo_nodes(wo, alpha)
@@ -103,7 +103,7 @@ def _quadrature_albedo(values, b, mu, alpha=ALPHA):
 
 
 def _reference_dv(l, v, alpha):
-    """D V of GGX with separable Smith masking, from tests/reference_brdf.py."""
+    """D V of GGX with separable Smith masking, from tests/support/reference_brdf.py."""
     h = l + v
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     nol, nov = l[:, 2], v[2]
@@ -291,7 +291,7 @@ def _zero(b, c):
 
 
 def _hemisphere_albedo(values, b, mu, n=256):
-    """The independent product rule of tests/quadrature.py over the whole hemisphere
+    """The independent product rule of tests/support/quadrature.py over the whole hemisphere
     (broad lobes whose value has kinks, such as EON's max(n.l, n.v))."""
     wo = view_direction(mu, 0.3)
     l, w = hemisphere_rule(n, n)

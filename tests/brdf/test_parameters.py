@@ -19,7 +19,7 @@ from pbrkit.brdf.shading.registry import LAYOUT, PARAMETERS, REGISTERED, paramet
 from pbrkit.explore import views
 from pbrkit.rendering.scene import scene_from_dict
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _inside(p):

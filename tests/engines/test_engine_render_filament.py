@@ -188,7 +188,7 @@ def spheres_glb(path):
         blob += c + b"\0" * (-len(c) % 4)
     cells = sphere_centres()
     gltf = {
-        "asset": {"version": "2.0", "generator": "pbrkit tests/test_engine_render_filament.py"},
+        "asset": {"version": "2.0", "generator": "pbrkit tests/engines/test_engine_render_filament.py"},
         "scene": 0,
         "scenes": [{"nodes": list(range(len(cells)))}],
         "nodes": [{"name": material_name(i, j), "mesh": k, "translation": c} for k, (i, j, c) in enumerate(cells)],

@@ -51,39 +51,30 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from engine_pages import needs_engines, run_page
-from test_engine_render_three import (
+from engine_compare import (
     CAMERA,
-    INTENSITY,
     H,
+    INTENSITY,
     W,
-    _cli,
-    _encode,
     agreement,
     bilinear,
+    encode_srgb8,
+    gamma22_to_srgb8,
+    run_cli,
     save_shots,
     sphere_hits,
     sphere_mask,
     spheres,
     write_scene,
 )
-
-from pbrkit.core.color import linear_to_srgb
+from engine_compare import bake_khronos as bake  # the name bench/engines.py calls on each engine's module
+from engine_pages import needs_engines, run_page
 
 # a CLI bake, two pbrkit renders and a Chromium page: about 30 s on 2 cores (cold Numba cache)
 pytestmark = [needs_engines(), pytest.mark.slow]
 
 RENDER_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--diffuse", "cube", "--energy-compensation"]
-BAKE_OPTIONS = ["--size", "128", "--min-size", "8", "--target", "khronos"]
 RINGS, SEGMENTS = 48, 96
-
-
-def bake(bake_dir):
-    """``pbrkit bake <bundled environment> -o bake_dir --size 128 --min-size 8 --target khronos``."""
-    from pbrkit.data import environment_path
-
-    _cli(["bake", environment_path(), "-o", bake_dir, *BAKE_OPTIONS, "-q"])
-    return Path(bake_dir)
 
 
 def write_gltf(folder, sheen_roughness=None):
@@ -152,7 +143,7 @@ def pbrkit_linear(bake_dir, scene_dir, options=RENDER_OPTIONS):
 
     scene = write_scene(scene_dir, bake_dir)
     out = Path(scene_dir) / "pbrkit.exr"
-    _cli(["render", scene, "-o", out, *options, "-q"])
+    run_cli(["render", scene, "-o", out, *options, "-q"])
     return read_exr(out)[..., :3].astype(np.float64)
 
 
@@ -162,7 +153,7 @@ ENGINE_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--engine", "khrono
 def pbrkit_image(bake_dir, scene_dir):
     """pbrkit's real-time render of the grid as the Sample Viewer evaluates the IBL
     (``--engine khronos``), 8-bit sRGB (H, W, 3)."""
-    return _encode(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
+    return encode_srgb8(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
 
 
 def viewer_canvas(bake_dir, sheen_roughness=None, nosheen=False):
@@ -179,11 +170,6 @@ def viewer_canvas(bake_dir, sheen_roughness=None, nosheen=False):
     assert result["sheen"] is not bool(nosheen)
     rgba = np.frombuffer(base64.b64decode(result["rgba8"]), np.uint8).reshape(H, W, 4)[::-1]
     return np.ascontiguousarray(rgba[..., :3])
-
-
-def gamma22_to_srgb8(canvas):
-    """The viewer's pow(c, 1 / 2.2) 8-bit output as sRGB 8-bit."""
-    return np.round(linear_to_srgb((canvas / 255.0) ** 2.2) * 255.0).astype(np.uint8)
 
 
 def engine_image(bake_dir, scene_dir):
@@ -249,10 +235,10 @@ def renders(tmp_path_factory):
     bake_dir = bake(root / "bake")
     scene_dir = root / "scene"
     scene_dir.mkdir()
-    pbrkit8_no_ec = _encode(pbrkit_linear(bake_dir, scene_dir, RENDER_OPTIONS[:-1]))
+    pbrkit8_no_ec = encode_srgb8(pbrkit_linear(bake_dir, scene_dir, RENDER_OPTIONS[:-1]))
     pbrkit_lin = pbrkit_linear(bake_dir, scene_dir)
-    pbrkit8 = _encode(pbrkit_lin)
-    as_engine8 = _encode(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
+    pbrkit8 = encode_srgb8(pbrkit_lin)
+    as_engine8 = encode_srgb8(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
     canvas = viewer_canvas(bake_dir)
     engine8 = gamma22_to_srgb8(canvas)
     save_shots(root, "khronos", engine8, as_engine8)
@@ -326,14 +312,15 @@ def test_the_difference_is_the_viewer_s_fresnel(renders):
     full = viewer_model(bake_dir, scene_dir)
     canvas = np.round(np.clip(full, 0.0, 1.0) ** (1.0 / 2.2) * 255.0)
     assert agreement(canvas, renders["canvas"], mask)["grey_mean"] <= 0.1
-    assert agreement(_encode(full), renders["pbrkit8"], mask)["grey_mean"] >= 1.0
+    assert agreement(encode_srgb8(full), renders["pbrkit8"], mask)["grey_mean"] >= 1.0
     sizes = {}
     for name, kwargs in {"fresnel": {"fresnel": "schlick"}, "multiple": {"multiple": "filament"},
                          "diffuse_weight": {"diffuse_weight": "fstar"}}.items():
-        sizes[name] = agreement(_encode(viewer_model(bake_dir, scene_dir, **kwargs)), _encode(full), mask)["grey_mean"]
+        sizes[name] = agreement(encode_srgb8(viewer_model(bake_dir, scene_dir, **kwargs)), encode_srgb8(full),
+                                mask)["grey_mean"]
     assert sizes["multiple"] > 0.6 and 0.15 < sizes["diffuse_weight"] < 0.5 and 0.03 < sizes["fresnel"] < 0.3, sizes
     swapped = viewer_model(bake_dir, scene_dir, fresnel="schlick", multiple="filament", diffuse_weight="fstar")
-    assert agreement(_encode(swapped), renders["pbrkit8"], mask)["grey_mean"] <= 0.15
+    assert agreement(encode_srgb8(swapped), renders["pbrkit8"], mask)["grey_mean"] <= 0.15
 
 
 def test_saved_images(renders):

@@ -51,71 +51,27 @@ from __future__ import annotations
 
 import base64
 import json
-import os
-import re
 from pathlib import Path
 
 import numpy as np
 import pytest
-from engine_pages import ENGINES, needs_engines, run_page
-
-from pbrkit.core.color import linear_to_srgb
+from engine_compare import (CAMERA, INTENSITY, H, W, agreement, bilinear, encode_srgb8, run_cli, save_shots,
+                            sphere_hits, sphere_mask, spheres, three_dfg_table, write_scene)
+from engine_pages import needs_engines, run_page
 
 # a CLI bake, two pbrkit renders and a Chromium page: about 30 s on 2 cores (cold Numba cache)
 pytestmark = [needs_engines(), pytest.mark.slow]
 
-W, H = 256, 128
-ROUGHNESS = (0.25, 0.5, 0.75, 1.0)
-COLOURS = {0.0: ([0.8, 0.35, 0.2], [0.3, 0.6, 0.35], [0.25, 0.35, 0.7], [0.7, 0.7, 0.7]),
-           1.0: ([0.95, 0.75, 0.4], [0.9, 0.9, 0.9], [0.95, 0.6, 0.5], [0.6, 0.8, 0.9])}
-CAMERA = {"position": [0.0, 0.0, 6.0], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1.0, 0.0], "fov": 22.0,
-          "width": W, "height": H}
-#: The environment's intensity in both renders (scene.environmentIntensity in three): the
-#: bundled sky reaches 3.4 on the smooth metals at 1, which would clip at 8 bits.
-INTENSITY = 0.25
 RENDER_OPTIONS = ["--mode", "realtime", "--tonemap", "none", "--diffuse", "cube", "--energy-compensation"]
 BAKE_OPTIONS = ["--size", "128", "--min-size", "8", "--target", "three"]
-
-
-def spheres():
-    """The grid: row 0 dielectric, row 1 metal, roughness left to right."""
-    return [{"center": [-1.5 + j, 0.5 - row, 0.0], "radius": 0.45, "base_color": COLOURS[metal][j],
-             "metallic": metal, "roughness": r}
-            for row, metal in enumerate((0.0, 1.0)) for j, r in enumerate(ROUGHNESS)]
-
-
-def write_scene(scene_dir, bake_dir):
-    """The pbrkit scene file of the grid, environment = the bake folder."""
-    grid = spheres()
-    scene = {"camera": CAMERA, "environment": {"bake": str(Path(bake_dir).resolve()), "intensity": INTENSITY},
-             "materials": {f"m{i}": {"model": "gltf", "base_color": s["base_color"], "metallic": s["metallic"],
-                                     "roughness": s["roughness"]} for i, s in enumerate(grid)},
-             "objects": [{"type": "sphere", "center": s["center"], "radius": s["radius"], "material": f"m{i}"}
-                         for i, s in enumerate(grid)]}
-    path = Path(scene_dir) / "scene.json"
-    path.write_text(json.dumps(scene, indent=1))
-    return path
-
-
-def _cli(args):
-    from typer.testing import CliRunner
-
-    from pbrkit.app.cli import app
-
-    result = CliRunner().invoke(app, [str(a) for a in args])
-    assert result.exit_code == 0, result.output
 
 
 def bake(bake_dir):
     """``pbrkit bake <bundled environment> -o bake_dir --size 128 --min-size 8 --target three``."""
     from pbrkit.data import environment_path
 
-    _cli(["bake", environment_path(), "-o", bake_dir, *BAKE_OPTIONS, "-q"])
+    run_cli(["bake", environment_path(), "-o", bake_dir, *BAKE_OPTIONS, "-q"])
     return Path(bake_dir)
-
-
-def _encode(linear):
-    return np.round(np.clip(linear_to_srgb(np.clip(linear, 0.0, 1.0)), 0.0, 1.0) * 255.0).astype(np.uint8)
 
 
 def pbrkit_linear(bake_dir, scene_dir, options=RENDER_OPTIONS):
@@ -124,7 +80,7 @@ def pbrkit_linear(bake_dir, scene_dir, options=RENDER_OPTIONS):
 
     scene = write_scene(scene_dir, bake_dir)
     out = Path(scene_dir) / "pbrkit.exr"
-    _cli(["render", scene, "-o", out, *options, "-q"])
+    run_cli(["render", scene, "-o", out, *options, "-q"])
     return read_exr(out)[..., :3].astype(np.float64)
 
 
@@ -135,7 +91,7 @@ def pbrkit_image(bake_dir, scene_dir):
     """pbrkit's real-time render of the grid as three.js evaluates the IBL (``--engine
     three``), 8-bit sRGB (H, W, 3) (the EXR encoded as the PNG writer does: clip, sRGB,
     round)."""
-    return _encode(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
+    return encode_srgb8(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
 
 
 def _run_page(bake_dir, float_too=False):
@@ -157,70 +113,7 @@ def engine_image(bake_dir, scene_dir):
     return _run_page(bake_dir)[0]
 
 
-def sphere_hits(scene_dir, camera=CAMERA, grid=None):
-    """Per pixel centre: the index of the sphere hit (-1: none), its unit normal, and the
-    view ray direction, from pbrkit's camera model of the scene file."""
-    from pbrkit.rendering.sources import resolve_scene
-
-    grid = spheres() if grid is None else grid
-    cam = resolve_scene(str(Path(scene_dir) / "scene.json")).camera
-    h, w = cam.height, cam.width
-    d = cam.ray_directions(*np.meshgrid(np.arange(h) + 0.5, np.arange(w) + 0.5, indexing="ij"))
-    origin = np.asarray(camera["position"], np.float64)
-    index = np.full((h, w), -1)
-    normal = np.zeros((h, w, 3))
-    nearest = np.full((h, w), np.inf)
-    for i, s in enumerate(grid):
-        oc = origin - np.asarray(s["center"])
-        b = d @ oc
-        disc = b * b - (oc @ oc - s["radius"] ** 2)
-        t = np.where(disc > 0, -b - np.sqrt(np.maximum(disc, 0.0)), np.inf)
-        closer = t < nearest
-        nearest[closer] = t[closer]
-        index[closer] = i
-        normal[closer] = ((origin + t[..., None] * d - s["center"]) / s["radius"])[closer]
-    return index, normal, d
-
-
-def sphere_mask(index):
-    """Sphere pixels whose 8 neighbours are on the same sphere (no silhouette pixels)."""
-    from scipy.ndimage import minimum_filter
-
-    return (index >= 0) & (minimum_filter(index, size=3) == index) & (-minimum_filter(-index, size=3) == index)
-
-
-def agreement(a, b, mask):
-    """Mean and 95th percentile of |a - b| in 8-bit levels, per channel and grey (mean of RGB)."""
-    diff = np.abs(a.astype(np.float64) - b.astype(np.float64))[mask]
-    grey = np.abs(a.astype(np.float64).mean(-1) - b.astype(np.float64).mean(-1))[mask]
-    return {"mean": diff.mean(0).round(3).tolist(), "p95": np.percentile(diff, 95, axis=0).tolist(),
-            "grey_mean": round(float(grey.mean()), 3), "grey_p95": float(np.percentile(grey, 95))}
-
-
 # ------------------------------------------------- three r187's IBL, re-implemented
-
-
-def three_dfg_table():
-    """three r187's built-in DFG table (``DFGLUTData.js``, 16 x 16 RG16F): [n.v][roughness] -> (A, B)."""
-    src = (ENGINES / "node_modules" / "three" / "src" / "renderers" / "shaders" / "DFGLUTData.js").read_text()
-    body = src[src.index("new Uint16Array( ["):src.index("] );")]
-    values = np.array([int(x, 16) for x in re.findall(r"0x[0-9a-fA-F]{4}", body)], np.uint16)
-    return values.view(np.float16).astype(np.float64).reshape(16, 16, 2)
-
-
-def bilinear(table, u, v):
-    """GL LINEAR + CLAMP_TO_EDGE lookup of table[v][u] at uv in [0, 1]."""
-    n_v, n_u = table.shape[:2]
-
-    def pair(x, n):
-        x = np.clip(x * n - 0.5, 0.0, n - 1.0)
-        i0 = np.floor(x).astype(int)
-        return i0, np.minimum(i0 + 1, n - 1), (x - i0)[..., None]
-
-    u0, u1, fu = pair(np.asarray(u, float), n_u)
-    v0, v1, fv = pair(np.asarray(v, float), n_v)
-    return ((table[v0, u0] * (1 - fu) + table[v0, u1] * fu) * (1 - fv)
-            + (table[v1, u0] * (1 - fu) + table[v1, u1] * fu) * fv)
 
 
 def three_model(bake_dir, scene_dir, mix=True, geometry_roughness=True, lut="three", multiple="three",
@@ -305,28 +198,16 @@ def three_model(bake_dir, scene_dir, mix=True, geometry_roughness=True, lut="thr
 # ------------------------------------------------------------------------ tests
 
 
-def save_shots(root, prefix, engine8, pbrkit8):
-    """Both PNGs into ``root`` and, when PBRKIT_ENGINE_SHOTS names a folder, into it."""
-    import imageio.v3 as iio
-
-    folders = [Path(root)] + ([Path(os.environ["PBRKIT_ENGINE_SHOTS"])] if os.environ.get("PBRKIT_ENGINE_SHOTS")
-                              else [])
-    for folder in folders:
-        folder.mkdir(parents=True, exist_ok=True)
-        iio.imwrite(folder / f"{prefix}_engine.png", engine8)
-        iio.imwrite(folder / f"{prefix}_pbrkit.png", pbrkit8)
-
-
 @pytest.fixture(scope="module")
 def renders(tmp_path_factory):
     root = tmp_path_factory.mktemp("three_render")
     bake_dir = bake(root / "bake")
     scene_dir = root / "scene"
     scene_dir.mkdir()
-    pbrkit8_no_ec = _encode(pbrkit_linear(bake_dir, scene_dir, RENDER_OPTIONS[:-1]))
+    pbrkit8_no_ec = encode_srgb8(pbrkit_linear(bake_dir, scene_dir, RENDER_OPTIONS[:-1]))
     pbrkit_lin = pbrkit_linear(bake_dir, scene_dir)
-    pbrkit8 = _encode(pbrkit_lin)
-    as_engine8 = _encode(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
+    pbrkit8 = encode_srgb8(pbrkit_lin)
+    as_engine8 = encode_srgb8(pbrkit_linear(bake_dir, scene_dir, ENGINE_OPTIONS))
     engine8, engine_lin, result = _run_page(bake_dir, float_too=True)
     save_shots(root, "three", engine8, as_engine8)
     index = sphere_hits(scene_dir)[0]
@@ -379,18 +260,19 @@ def test_the_difference_is_three_s_shader_terms(renders):
     it to pbrkit's image."""
     mask, bake_dir, scene_dir = renders["mask"], renders["bake"], renders["scene"]
     full = three_model(bake_dir, scene_dir)
-    assert agreement(_encode(full), renders["engine8"], mask)["grey_mean"] <= 0.2
-    assert agreement(_encode(full), renders["pbrkit8"], mask)["grey_mean"] >= 3.0
+    assert agreement(encode_srgb8(full), renders["engine8"], mask)["grey_mean"] <= 0.2
+    assert agreement(encode_srgb8(full), renders["pbrkit8"], mask)["grey_mean"] >= 3.0
     sizes = {}
     for name, kwargs in {"mix": {"mix": False}, "multiple": {"multiple": "filament"},
                          "geometry_roughness": {"geometry_roughness": False}, "levels": {"levels": "generic"},
                          "lut": {"lut": "pbrkit"}, "irradiance": {"irradiance": "cube"}}.items():
-        sizes[name] = agreement(_encode(three_model(bake_dir, scene_dir, **kwargs)), _encode(full), mask)["grey_mean"]
+        sizes[name] = agreement(encode_srgb8(three_model(bake_dir, scene_dir, **kwargs)), encode_srgb8(full),
+                                mask)["grey_mean"]
     assert sizes["mix"] > 1.0 and sizes["multiple"] > 1.2 and sizes["geometry_roughness"] > 0.5, sizes
     assert max(sizes["levels"], sizes["lut"], sizes["irradiance"]) < 0.5, sizes
     swapped = three_model(bake_dir, scene_dir, mix=False, geometry_roughness=False, lut="pbrkit",
                           multiple="filament", irradiance="cube", levels="generic")
-    assert agreement(_encode(swapped), renders["pbrkit8"], mask)["grey_mean"] <= 0.5
+    assert agreement(encode_srgb8(swapped), renders["pbrkit8"], mask)["grey_mean"] <= 0.5
 
 
 def test_saved_images(renders):

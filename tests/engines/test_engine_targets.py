@@ -3,7 +3,7 @@ Babylon.js, the chains prefiltered for them (checked against brute-force
 prefiltering), the mirrors that engines' cube lookups need (checked on
 directions and on SH projections), and the files each target writes (read back
 with pbrkit's readers and checked against the chains they come from).  The
-engines themselves load the files in tests/test_engine_*.py."""
+engines themselves load the files in tests/engines/test_engine_*.py."""
 
 from __future__ import annotations
 

@@ -173,8 +173,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from engine_pages import needs_engines, run_page
-from test_engine_khr_extensions import (
+from engine_assets import (
     ASSETS,
     INTENSITY,
     TANGENT_ASSETS,
@@ -189,7 +188,8 @@ from test_engine_khr_extensions import (
     per_sphere,
     write_asset_scene,
 )
-from test_engine_render_three import _cli, _encode, agreement, bilinear, sphere_mask, three_dfg_table
+from engine_compare import agreement, bilinear, encode_srgb8, run_cli, sphere_mask, three_dfg_table
+from engine_pages import needs_engines, run_page
 
 #: The assets compared here: the Sample Viewer's, but the transmission asset (three.js
 #: renders what lies behind a transmissive mesh from its own transmission render target of
@@ -211,7 +211,7 @@ def bake(bake_dir):
     three's chain (``three/specular.ktx2``) for the page and ``--engine three``."""
     from pbrkit.data import environment_path
 
-    _cli(["bake", environment_path(), "-o", bake_dir, *BAKE_OPTIONS, "-q"])
+    run_cli(["bake", environment_path(), "-o", bake_dir, *BAKE_OPTIONS, "-q"])
     return Path(bake_dir)
 
 
@@ -529,8 +529,9 @@ def renders(tmp_path_factory):
         index = asset_index(name)
         out[name] = {"engine8": engine[name][0], "materials": engine[name][1], "index": index,
                      "mask": sphere_mask(index),
-                     "khronos8": _encode(pbrkit_render(scenes[name], KHRONOS_OPTIONS, root / name / "khronos.exr")),
-                     "three8": _encode(pbrkit_render(scenes[name], THREE_OPTIONS, root / name / "three.exr"))}
+                     "khronos8": encode_srgb8(pbrkit_render(scenes[name], KHRONOS_OPTIONS,
+                                                           root / name / "khronos.exr")),
+                     "three8": encode_srgb8(pbrkit_render(scenes[name], THREE_OPTIONS, root / name / "three.exr"))}
     return out
 
 
@@ -664,7 +665,7 @@ def test_the_extensions_change_three_s_pixels(renders):
     tints the dark dielectric (B - R 7.4), the full film on gold -5.7 in blue against
     none; anisotropyStrength 1 against 0 at roughness 0.25 +9.1, anisotropyRotation pi/2
     against 0 +32.6; the clearcoatNormalMap's bumps in the coat's reflection
-    (:func:`test_engine_khr_extensions.bumpiness`: 0.46 0.67 1.19 at scale 0, 0.5, 1 on the
+    (:func:`engine_assets.bumpiness`: 0.46 0.67 1.19 at scale 0, 0.5, 1 on the
     mirror coat, 0.19 0.37 0.70 at coat roughness 0.3; under a normalMap 1.12 without it,
     1.83 with it)."""
     def sphere(name, i):
@@ -717,13 +718,13 @@ def test_the_difference_is_three_s_shader_terms(renders, name):
     r = renders[name]
     lookups = Lookups(renders["bake"])
     index, mask = r["index"], r["mask"]
-    model = _encode(three_model(name, lookups))
+    model = encode_srgb8(three_model(name, lookups))
     assert agreement(model, r["engine8"], mask)["grey_mean"] <= 0.5
     assert max(per_sphere(model, r["engine8"], index, mask)) <= 0.8
-    viewer = _encode(three_model(name, lookups, TERMS))
+    viewer = encode_srgb8(three_model(name, lookups, TERMS))
     assert agreement(viewer, r["khronos8"], mask)["grey_mean"] <= 0.35
     assert max(per_sphere(viewer, r["khronos8"], index, mask)) <= 1.2
     for term, (spheres, least) in ATTRIBUTION.get(name, {}).items():
-        kept = _encode(three_model(name, lookups, tuple(t for t in TERMS if t != term)))
+        kept = encode_srgb8(three_model(name, lookups, tuple(t for t in TERMS if t != term)))
         moved = per_sphere(kept, viewer, index, mask)
         assert min(moved[i] for i in spheres) >= least, (term, moved)

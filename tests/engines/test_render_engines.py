@@ -1,6 +1,6 @@
 """``pbrkit render --engine``: the real-time IBL as Filament, the Khronos Sample Viewer
 and three.js evaluate it.  Each engine's image of its own ``--target`` bake is
-compared with these modes inside the engine (tests/test_engine_render_*.py); the
+compared with these modes inside the engine (tests/engines/test_engine_render_*.py); the
 tests here need no engine: properties of the published models that the
 implementation must keep, and the pieces checked one by one."""
 

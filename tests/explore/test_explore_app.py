@@ -1,5 +1,5 @@
 """``pbrkit explore`` serves its app on the loopback address only; the page loads
-in headless Chromium (puppeteer-core, tests/explore_browser.mjs) with no console
+in headless Chromium (puppeteer-core, tests/support/explore_browser.mjs) with no console
 errors, and moving a slider changes the plotted data, which the server computes;
 Ctrl-C stops the server cleanly."""
 
@@ -22,6 +22,7 @@ import pytest
 from engine_pages import NODE, engines_missing
 
 HERE = Path(__file__).resolve().parent
+BROWSER = HERE.parent / "support" / "explore_browser.mjs"
 START_TIMEOUT = 300  # seconds: a cold Numba cache compiles the models, the bake and the renderer first
 
 
@@ -97,9 +98,9 @@ def test_served_on_the_loopback_address_only(server):
 @pytest.mark.skipif(engines_missing() is not None, reason=engines_missing() or "")
 def test_page_loads_without_errors_and_a_slider_changes_the_plot(server):
     proc, url, port = server
-    command = [NODE, str(HERE / "explore_browser.mjs"), url, "--timeout", "90", "--slider", "roughness",
+    command = [NODE, str(BROWSER), url, "--timeout", "90", "--slider", "roughness",
                "--value", "0.85", "--source", "incidence_a"]
-    from conftest import CHROMIUM
+    from skips import CHROMIUM
 
     run = subprocess.run(command, capture_output=True, text=True, timeout=240, env=dict(os.environ, CHROMIUM=CHROMIUM))
     lines = [line for line in run.stdout.splitlines() if line.startswith("{")]

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import needs_shared_data
 from scipy.special import sph_harm_y
+from skips import needs_shared_data
 
 from pbrkit.ibl.bake import Bake, bake, preview_strip
 from pbrkit.ibl.cubemap import cube_texel_directions, cube_texel_solid_angles
@@ -28,7 +28,7 @@ from pbrkit.io.images import read_image
 from pbrkit.io.ktx2 import read_ktx2
 from pbrkit.io.pfm import write_pfm
 
-DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "env"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data" / "env"
 ROOITOU = DATA / "rooitou_park_1k.hdr"
 
 

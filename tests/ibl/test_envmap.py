@@ -17,7 +17,7 @@ from pathlib import Path
 import numba
 import numpy as np
 import pytest
-from conftest import needs_shared_data
+from skips import needs_shared_data
 
 from pbrkit.core.color import linear_to_srgb, srgb_to_linear
 from pbrkit.core.errors import InputError
@@ -46,7 +46,7 @@ from pbrkit.io.image_checks import LDRInputWarning
 from pbrkit.io.images import write_image
 from pbrkit.io.png import write_png
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 ENV = DATA / "env"
 needs_data = needs_shared_data("env")
 A = np.array([0.5, -0.3, 0.2])  # gradient of the linear test field L = 1 + A.d

@@ -1,7 +1,7 @@
 """The Charlie-prefiltered (sheen) chain, pbrkit.ibl.sheen: the white furnace (a
 constant environment stays that constant at every level), an environment linear in
 the direction against the Charlie-weighted mean direction by scipy quadrature of the
-zonal kernel D(cos(theta / 2)) cos(theta) (tests/test_charlie.py's transcription of
+zonal kernel D(cos(theta / 2)) cos(theta) (tests/support/sheen_reference.py's transcription of
 the specification's D), a bright cap against Gauss-Legendre quadrature of the
 Charlie-weighted integral over it, the
 samples (all above the horizon, the roughness-0 ring), the sizes, determinism and
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 from scipy import integrate
-from test_charlie import spec_d
+from sheen_reference import spec_d
 
 from pbrkit.ibl.cubemap import cube_texel_directions
 from pbrkit.ibl.sheen import SHEEN_SAMPLES, charlie_sample_set, prefilter_charlie, sheen_chain_sizes

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import shared_data_reason
 from quadrature import hemisphere_rule
 from scipy.special import sph_harm_y
+from skips import shared_data_reason
 
 from pbrkit.core.vec import to_world
 from pbrkit.ibl import sh
@@ -153,7 +153,7 @@ def test_irradiance_equals_brute_force_cosine_convolution_for_band_limited_light
     rng = np.random.default_rng(4)
     coeffs = rng.normal(size=(9, 2))
     normals = _random_directions(20, 5)
-    # Hemisphere around each normal (tests/quadrature.py, independent of
+    # Hemisphere around each normal (tests/support/quadrature.py, independent of
     # pbrkit): L(w) cos theta is a polynomial of degree 3 in the direction.
     local, w = hemisphere_rule(8, 24)
     weights = w * local[:, 2]
@@ -199,7 +199,7 @@ def test_irradiance_truncation_error_real_map():
     OpenEXR = pytest.importorskip("OpenEXR")
     import pathlib
 
-    path = pathlib.Path(__file__).resolve().parents[2] / "shared/data/env/venice_sunset_1k.exr"
+    path = pathlib.Path(__file__).resolve().parents[3] / "shared/data/env/venice_sunset_1k.exr"
     if not path.exists():
         pytest.skip(shared_data_reason("env/venice_sunset_1k.exr"))
     with OpenEXR.File(str(path)) as f:

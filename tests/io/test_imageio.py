@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import needs_shared_data
+from skips import needs_shared_data
 
 from pbrkit.core.color import linear_to_srgb, srgb_to_linear
 from pbrkit.core.errors import InputError
@@ -25,7 +25,7 @@ from pbrkit.io.images import read_image, read_image_with_notes, write_image
 from pbrkit.io.pfm import read_pfm, write_pfm
 from pbrkit.io.png import write_png
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 ENV = DATA / "env"
 needs_data = needs_shared_data("env")
 

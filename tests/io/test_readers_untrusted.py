@@ -8,7 +8,7 @@ format's own signature, is refused without any of its text); refuses a header
 declaring an absurd size, or more than the file can hold, before allocating
 (the peak traced by :mod:`tracemalloc` stays small); and the command line
 refuses such files with one ``pbrkit: error:`` line and a non-zero exit.
-The property-based (fuzzing) half is tests/test_readers_fuzz.py.
+The property-based (fuzzing) half is tests/io/test_readers_fuzz.py.
 """
 
 from __future__ import annotations

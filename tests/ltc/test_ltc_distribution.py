@@ -3,9 +3,9 @@
 ``ltc_1`` storage of the published fit.
 
 References: quadrature over the sphere (the Gauss-Legendre cells of
-``tests/chi2.py``) for the normalisation, chi-square tests of the sampler
-(``tests/chi2.py``, as ``tests/test_sampling.py`` tests every warp), the brute-force
-polygon quadrature of ``tests/ltc_reference.py`` for polygon integrals, and
+``tests/support/chi2.py``) for the normalisation, chi-square tests of the sampler
+(``tests/support/chi2.py``, as ``tests/sampling/test_sampling.py`` tests every warp), the brute-force
+polygon quadrature of ``tests/support/ltc_reference.py`` for polygon integrals, and
 pbrkit's GGX NDF pdf D(h) (n.h), which is exactly the LTC of
 M = diag(alpha_x, alpha_y, 1).
 """

@@ -2,7 +2,7 @@
 max(0, z) / pi over spherical polygons (Arvo 1995; Heitz et al. 2016 eq. 11)
 with exact clipping to the upper hemisphere.
 
-References: brute-force quadrature over the polygon (``tests/ltc_reference.py``:
+References: brute-force quadrature over the polygon (``tests/support/ltc_reference.py``:
 a midpoint grid in the gnomonic projection with a winding-number
 point-in-polygon test, no edge formula and no clipping), and analytic form
 factors (a rectangle parallel to the surface, the whole hemisphere, the

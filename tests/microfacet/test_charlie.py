@@ -14,7 +14,9 @@ import chi2
 import numba
 import numpy as np
 import pytest
+from quadrature import graded_gauss_legendre
 from scipy import integrate
+from sheen_reference import reference_sheen_albedo, spec_d, spec_lambda, spec_visibility
 
 from pbrkit.microfacet.charlie import (d_charlie, g2_charlie, lambda_charlie, pdf_charlie_ndf, sample_charlie,
                                       v_ashikhmin, v_charlie)
@@ -22,42 +24,6 @@ from pbrkit.microfacet.charlie import (d_charlie, g2_charlie, lambda_charlie, pd
 SEED = 20261127
 #: sheenRoughness values and their alpha = sheenRoughness^2 (KHR_materials_sheen)
 ROUGHNESSES = (0.1, 0.3, 0.5, 0.7, 1.0)
-
-
-# ------------------------------------------------ the specification, transcribed
-
-
-def _mix(x, y, a):
-    return x * (1.0 - a) + y * a
-
-
-def spec_d(noh, sheen_roughness):
-    """KHR_materials_sheen "Sheen distribution", as its GLSL block writes it."""
-    alpha_g = sheen_roughness * sheen_roughness
-    inv_r = 1.0 / alpha_g
-    cos2h = noh * noh
-    sin2h = 1.0 - cos2h
-    return (2.0 + inv_r) * np.power(sin2h, inv_r * 0.5) / (2.0 * np.pi)
-
-
-def spec_l(x, alpha_g):
-    one_minus_alpha_sq = (1.0 - alpha_g) * (1.0 - alpha_g)
-    a = _mix(21.5473, 25.3245, one_minus_alpha_sq)
-    b = _mix(3.82987, 3.32435, one_minus_alpha_sq)
-    c = _mix(0.19823, 0.16801, one_minus_alpha_sq)
-    d = _mix(-1.97760, -1.27393, one_minus_alpha_sq)
-    e = _mix(-4.32054, -4.85967, one_minus_alpha_sq)
-    return a / (1.0 + b * np.power(x, c)) + d * x + e
-
-
-def spec_lambda(cos_theta, alpha_g):
-    return np.where(np.abs(cos_theta) < 0.5, np.exp(spec_l(cos_theta, alpha_g)),
-                    np.exp(2.0 * spec_l(0.5, alpha_g) - spec_l(1.0 - cos_theta, alpha_g)))
-
-
-def spec_visibility(nol, nov, sheen_roughness):
-    alpha_g = sheen_roughness * sheen_roughness
-    return 1.0 / ((1.0 + spec_lambda(nov, alpha_g) + spec_lambda(nol, alpha_g)) * (4.0 * nov * nol))
 
 
 # ------------------------------------------------------------------------ D
@@ -150,32 +116,6 @@ def sheen_bxdf(sheen_roughness, sheen_color=SHEEN_COLOR, diffuse=(1.0, 1.0, 1.0)
                 tuple(extra))
 
 
-def _gl(a, b, n, panels, grade=1.0):
-    """Composite Gauss-Legendre nodes on [a, b], panel edges graded towards a by t^grade."""
-    x, w = np.polynomial.legendre.leggauss(n)
-    edges = a + (b - a) * np.linspace(0.0, 1.0, panels + 1) ** grade
-    lo, hi = edges[:-1, None], edges[1:, None]
-    return (0.5 * (hi - lo) * (x + 1.0) + lo).ravel(), (0.5 * (hi - lo) * w).ravel()
-
-
-def reference_sheen_albedo(mu, r):
-    """E_sheen(mu, r) of the spec's white sheen BRDF (spec_d spec_visibility), by a tensor
-    Gauss-Legendre rule over the light direction (cos theta_l graded towards the horizon,
-    phi on [0, pi] mirrored); independent of the lobe's half-vector quadrature.
-    Checked once against scipy.integrate.dblquad (1e-7): 0.18785393 at (0.5, 0.5),
-    0.70639074 at (0.05, 0.3), 0.55278622 at (0.2, 0.8)."""
-    ct, wt = _gl(0.0, 1.0, 24, 24, grade=2.0)
-    ph, wp = _gl(0.0, np.pi, 24, 16)
-    ct, ph = np.meshgrid(ct, ph, indexing="ij")
-    w = np.outer(wt, wp)
-    st = np.sqrt(1.0 - ct * ct)
-    sv = math.sqrt(1.0 - mu * mu)
-    hx, hy, hz = st * np.cos(ph) + sv, st * np.sin(ph), ct + mu
-    noh = hz / np.sqrt(hx * hx + hy * hy + hz * hz)
-    f = spec_d(noh, r) * spec_visibility(ct, mu, r)
-    return 2.0 * float(np.sum(f * ct * w))
-
-
 def test_reference_albedo_against_scipy():
     for (mu, r), expected in (((0.5, 0.5), 0.18785393), ((0.05, 0.3), 0.70639074), ((0.2, 0.8), 0.55278622)):
         assert reference_sheen_albedo(mu, r) == pytest.approx(expected, rel=2e-6)
@@ -234,8 +174,8 @@ def test_sheen_lobe_value_and_albedo():
 def _composed_albedo(value, b, mu):
     """Directional albedo (RGB) of a composed value by the test's light-direction rule
     (a compiled loop over the nodes)."""
-    ct, wt = _gl(0.0, 1.0, 24, 24, grade=2.0)
-    ph, wp = _gl(0.0, np.pi, 24, 16)
+    ct, wt = graded_gauss_legendre(0.0, 1.0, 24, 24, grade=2.0)
+    ph, wp = graded_gauss_legendre(0.0, np.pi, 24, 16)
     return _albedo_loop(value)(b, math.sqrt(1.0 - mu * mu), mu, ct, wt, ph, wp)
 
 

@@ -8,10 +8,10 @@
   (with its own GGX D, Lambda and half vector), and the generalised reciprocity
   of both transport forms;
 * the sampler against its pdf over the whole sphere by chi-square (cells of
-  ``tests/chi2.py``, failed samples as one more cell), from outside and from
+  ``tests/support/chi2.py``, failed samples as one more cell), from outside and from
   inside, with total internal reflection; the pdf's integral over wi (those
   cells) against the probability of a successful sample integrated over the
-  microfacet normal instead (``tests/quadrature.py``), which checks the two
+  microfacet normal instead (``tests/support/quadrature.py``), which checks the two
   Jacobians;
 * the white furnace: the integral of f |cos theta_i| over the sphere (importance
   transport) at or below 1 and equal to the sampler's estimate;

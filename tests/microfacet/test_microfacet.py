@@ -3,8 +3,8 @@
 * Beckmann visible-normal sampling (isotropic and anisotropic, views from
   normal incidence to the horizon): chi-square goodness of fit of 10^6 seeded
   samples against the pdf G1(wo) max(0, wo.h) D(h) / wo.z (machinery in
-  ``tests/chi2.py``, as tests/test_sampling.py tests the GGX samplers), the pdf
-  integrated over h by the quadrature of ``tests/quadrature.py`` (it must be 1),
+  ``tests/support/chi2.py``, as tests/sampling/test_sampling.py tests the GGX samplers), the pdf
+  integrated over h by the quadrature of ``tests/support/quadrature.py`` (it must be 1),
   and the inversion of the visible-slope cdf checked by SciPy's adaptive
   quadrature of the slope density written out here.
 * Blinn-Phong NDF sampling: chi-square against D (n.h).

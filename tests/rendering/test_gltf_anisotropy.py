@@ -1,5 +1,5 @@
 """KHR_materials_anisotropy in the ``gltf`` model: the value against the independent
-transcription of the extension's README (tests/reference_brdf.py
+transcription of the extension's README (tests/support/reference_brdf.py
 ``gltf_anisotropy_brdf``: its D_GGX_anisotropic and V_GGX_anisotropic in the frame
 turned by anisotropyRotation) at many random inputs and frames (1e-9 relative),
 strength 0 bitwise the core model, the sampled weights and pdf against it, a
@@ -14,8 +14,8 @@ import chi2
 import numpy as np
 import pytest
 import reference_brdf as ref
+from model_values import assert_matches
 from quadrature import albedo_nodes, view_direction
-from test_model_values import assert_matches
 
 from pbrkit import Material
 from pbrkit.brdf import models
@@ -175,7 +175,7 @@ def test_the_frame_follows_the_tangent_handedness_and_rotation():
 
 
 def test_the_factors_and_tangents_are_read_from_gltf_files(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -199,8 +199,8 @@ def test_the_factors_and_tangents_are_read_from_gltf_files(tmp_path):
 
 
 def test_an_anisotropy_texture_is_read(tmp_path):
-    """(Applied per shading point: tests/test_gltf_extension_textures.py.)"""
-    from test_render_gltf import write_quad_glb
+    """(Applied per shading point: tests/rendering/test_gltf_extension_textures.py.)"""
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -224,7 +224,7 @@ def test_an_anisotropy_texture_is_read(tmp_path):
     ({"KHR_materials_anisotropy": 1}, "KHR_materials_anisotropy"),
 ])
 def test_bad_anisotropy_fields_are_refused_naming_the_field(tmp_path, ext, fragment):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.core.errors import InputError
     from pbrkit.rendering.gltf import load_gltf

@@ -2,7 +2,7 @@
 and "no normal mapping is applied to the clear coat layer, even if normal mapping is
 applied to the base material"; "Layering": fresnel_coat's ``normal`` "affects the top
 layer, but not the base"): the coated material with a tilted coat normal against the
-independent transcription of tests/reference_brdf.py (``gltf_khr_brdf`` with its
+independent transcription of tests/support/reference_brdf.py (``gltf_khr_brdf`` with its
 ``clearcoat_normal``) at random inputs (1e-9 relative), the coat's own sampler about
 its normal by chi-square against its pdf (and the composed sampler's), the white
 furnace, the frame change of a hit's world-space coat normal, and glTF files: the
@@ -17,11 +17,9 @@ import chi2
 import numpy as np
 import pytest
 import reference_brdf as ref
+from gltf_khr_cases import KEYS, TABLE, khr_case, khr_material
+from model_values import assert_matches
 from quadrature import albedo_nodes, view_direction
-from test_gltf_khr import KEYS, TABLE
-from test_gltf_khr import _case as _khr_case
-from test_gltf_khr import _material as _khr_material
-from test_model_values import assert_matches
 
 from pbrkit import Material
 from pbrkit.brdf import models
@@ -53,7 +51,7 @@ def _alpha_min(values):
 
 @pytest.fixture(scope="module")
 def case():
-    values, l, v = _khr_case(SEED)
+    values, l, v = khr_case(SEED)
     values["clearcoat"] = np.where(values["clearcoat"] > 0.0, values["clearcoat"], 0.8)
     return values, l, v, _tilted(_rng("coat"), N)
 
@@ -63,7 +61,7 @@ def test_the_coat_takes_its_own_normal_as_the_readme_says(case):
     clearcoat F(|V.Nc|)), clearcoat_brdf's D and V about Nc."""
     values, l, v, nc = case
     z = np.broadcast_to([0.0, 0.0, 1.0], l.shape)
-    actual = models.evaluate("gltf", l, v, z, _khr_material(values), coat_normal=nc)
+    actual = models.evaluate("gltf", l, v, z, khr_material(values), coat_normal=nc)
     expected = ref.gltf_khr_brdf(l, v, *(values[k] for k in KEYS), TABLE, clearcoat_normal=nc)
     assert_matches(actual, expected, _alpha_min(values), "gltf + a tilted clear coat normal", rtol=RTOL)
     # the tilt matters: about the shading normal the coated values differ
@@ -81,7 +79,7 @@ def test_a_world_frame_coat_normal_is_turned_into_the_shading_frame(case):
     t, b = _orthonormal(n, rng)
     frame = np.stack([t, b, n], axis=1)  # rows: the local axes in world space
     world = lambda x: np.einsum("nij,ni->nj", frame, x)  # noqa: E731
-    actual = models.evaluate("gltf", world(l), world(v), n, _khr_material(values), t=t, coat_normal=world(nc))
+    actual = models.evaluate("gltf", world(l), world(v), n, khr_material(values), t=t, coat_normal=world(nc))
     expected = ref.gltf_khr_brdf(l, v, *(values[k] for k in KEYS), TABLE, clearcoat_normal=nc)
     assert_matches(actual, expected, _alpha_min(values), "gltf + a world-space coat normal", rtol=1e-7)
 
@@ -94,7 +92,7 @@ def _orthonormal(n, rng):
 def test_the_coat_normal_along_the_shading_normal_is_the_plain_coat(case):
     values, l, v, _ = case
     z = np.broadcast_to([0.0, 0.0, 1.0], l.shape)
-    material = _khr_material(values)
+    material = khr_material(values)
     np.testing.assert_allclose(models.evaluate("gltf", l, v, z, material, coat_normal=z),
                                models.evaluate("gltf", l, v, z, material), rtol=1e-12, atol=1e-300)
 
@@ -175,13 +173,13 @@ TEXEL = (170, 90, 220)  # a tangent-space normal tilted towards +T, -B (8-bit RG
 
 def _hits(path):
     """(surface, per-hit parameter rows) of a 6 x 6 view of the quad of ``path``."""
-    from test_gltf_extension_textures import _scene
+    from gltf_scenes import quad_scene
 
     from pbrkit.rendering.geometry import Geometry
     from pbrkit.rendering.materials import material_tables, per_hit_tables
     from pbrkit.rendering.primary import _primary
 
-    scene = _scene(path, 6, 6)
+    scene = quad_scene(path, 6, 6, color=(1.0, 1.0, 1.0))
     geometry = Geometry(scene)
     surface = _primary(scene, geometry).surface
     codes, params = material_tables(geometry.materials)
@@ -207,7 +205,7 @@ def _texture():
 
 
 def test_the_coat_normal_texture_is_read_in_the_tangent_space(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.brdf.shading.registry import COLUMNS
 
@@ -220,7 +218,7 @@ def test_the_coat_normal_texture_is_read_in_the_tangent_space(tmp_path):
 
 
 def test_under_a_base_normal_map_the_coat_keeps_the_unmapped_normal(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.brdf.shading.registry import COLUMNS
 
@@ -235,7 +233,7 @@ def test_under_a_base_normal_map_the_coat_keeps_the_unmapped_normal(tmp_path):
 
 
 def test_a_coat_normal_texture_alone_gets_mikktspace_tangents(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -252,7 +250,7 @@ def test_a_coat_normal_texture_alone_gets_mikktspace_tangents(tmp_path):
     ({"index": 3}, "clearcoatNormalTexture"),
 ])
 def test_bad_coat_normal_textures_are_refused_naming_the_field(tmp_path, info, fragment):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.core.errors import InputError
     from pbrkit.rendering.gltf import load_gltf
@@ -269,8 +267,7 @@ def test_real_time_area_lights_take_the_coat_normal(tmp_path):
     environment; a tilted one moves the coat's highlight (the image changes)."""
     from dataclasses import replace
 
-    from test_gltf_extension_textures import _scene
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import quad_scene, write_quad_glb
 
     from pbrkit.rendering.area_lights import AreaLight
     from pbrkit.rendering.realtime import render_realtime
@@ -284,7 +281,7 @@ def test_real_time_area_lights_take_the_coat_normal(tmp_path):
             ext["KHR_materials_clearcoat"]["clearcoatNormalTexture"] = info
         texture = np.broadcast_to(np.array(texel, dtype=np.uint8), (2, 2, 3)).copy()
         path = write_quad_glb(tmp_path / f"{name}.glb", texture=texture, material_extras=ext)
-        scene = replace(_scene(path, 12, 12, color=(0.2, 0.2, 0.2)), area_lights=(light,))
+        scene = replace(quad_scene(path, 12, 12, color=(0.2, 0.2, 0.2)), area_lights=(light,))
         return render_realtime(scene, bake_size=16).image
 
     plain = render("plain", None, (128, 128, 255))

@@ -102,7 +102,7 @@ def test_real_time_looks_each_channel_up_along_its_own_refraction(engine):
 
 
 def test_the_factor_is_read_from_gltf_files(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.core.errors import InputError
     from pbrkit.rendering.gltf import load_gltf

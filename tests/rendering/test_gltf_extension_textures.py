@@ -13,25 +13,19 @@ import math
 
 import numpy as np
 import pytest
-from test_render_gltf import write_quad_glb
+from gltf_scenes import quad_scene, write_quad_glb
 
 from pbrkit.brdf.shading.registry import COLUMNS
 from pbrkit.io.gltf_materials import TEXTURE_USES
 from pbrkit.rendering.geometry import Geometry
 from pbrkit.rendering.materials import material_tables, per_hit_tables
 from pbrkit.rendering.primary import _primary
-from pbrkit.rendering.scene import Camera, EnvironmentSpec, GltfObject, Scene
 
 TEXEL = (51, 102, 153, 204)  # RGBA, 8-bit
 
 
 def _srgb_decode(c):
     return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
-def _scene(path, width=8, height=8, color=(1.0, 1.0, 1.0)):
-    cam = Camera(position=(0.0, 0.0, 5.0), look_at=(0.0, 0.0, -1.0), fov=20.0, width=width, height=height)
-    return Scene(camera=cam, environment=EnvironmentSpec(color=color), objects=(GltfObject(str(path)),))
 
 
 FACTORS = {"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.8, 0.7], "sheenRoughnessFactor": 0.6},
@@ -50,8 +44,8 @@ def test_each_texture_changes_its_parameter_as_its_readme_says(tmp_path):
         ext[name][key] = {"index": 0}
     texture = np.broadcast_to(np.array(TEXEL, dtype=np.uint8), (2, 2, 4))
     path = write_quad_glb(tmp_path / "t.glb", texture=texture, material_extras=ext)
-    geometry = Geometry(_scene(path))
-    prim = _primary(_scene(path), geometry)
+    geometry = Geometry(quad_scene(path, 8, 8, color=(1.0, 1.0, 1.0)))
+    prim = _primary(quad_scene(path, 8, 8, color=(1.0, 1.0, 1.0)), geometry)
     surface = prim.surface
     assert surface.extension_values is not None
     codes, params = material_tables(geometry.materials)
@@ -102,14 +96,14 @@ def test_a_clearcoat_texture_coats_its_half_of_the_quad(tmp_path):
     coated = _coat_quad(tmp_path, "c.glb", {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0}})
     bare = _coat_quad(tmp_path, "b.glb", {})
     env = (0.3, 0.5, 0.9)
-    rt = {k: render_realtime(_scene(p, color=env), bake_size=16).image for k, p in
+    rt = {k: render_realtime(quad_scene(p, 8, 8, color=env), bake_size=16).image for k, p in
           (("t", textured), ("c", coated), ("b", bare))}
     left, right = slice(1, 3), slice(5, 7)  # away from the texel edge at x = 0 and the quad's
     np.testing.assert_allclose(rt["t"][2:6, right], rt["c"][2:6, right], rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(rt["t"][2:6, left], rt["b"][2:6, left], rtol=1e-9, atol=1e-12)
     assert np.abs(rt["c"][2:6, right] - rt["b"][2:6, right]).max() > 1e-3  # the coat shows
-    gt = {k: render_reference(_scene(p, color=env), spp=64, seed=3) for k, p in (("t", textured), ("c", coated),
-                                                                                 ("b", bare))}
+    gt = {k: render_reference(quad_scene(p, 8, 8, color=env), spp=64, seed=3)
+          for k, p in (("t", textured), ("c", coated), ("b", bare))}
     for half, other in ((right, "c"), (left, "b")):
         d = gt["t"].image[2:6, half] - gt[other].image[2:6, half]
         s = np.hypot(gt["t"].stderr[2:6, half], gt[other].stderr[2:6, half])

@@ -1,6 +1,6 @@
 """KHR_materials_ior, KHR_materials_specular and KHR_materials_clearcoat (with the
 sheen) in the ``gltf`` model: the value against the independent transcription of
-tests/reference_brdf.py (``gltf_khr_brdf``, written from the extensions' READMEs,
+tests/support/reference_brdf.py (``gltf_khr_brdf``, written from the extensions' READMEs,
 the metal and dielectric mixed literally) at many random inputs (1e-9 relative),
 the sampled weights against it, the white furnace of the coated material by its
 own sampler against its quadrature, chi-square of the composed sampler with the
@@ -14,50 +14,15 @@ import zlib
 import numpy as np
 import pytest
 import reference_brdf as ref
+from gltf_khr_cases import KEYS, N, TABLE, khr_case, khr_material, unit
+from model_values import N_DIR, assert_matches
 from quadrature import albedo_nodes, view_direction
-from test_model_values import N_DIR, assert_matches
 
 from pbrkit import Material
 from pbrkit.brdf import models
-from pbrkit.brdf.lobes.sheen import SHEEN_TABLE_FILE
 
 SEED = 20261127
-N = 400
 RTOL = 1e-9
-TABLE = np.load(SHEEN_TABLE_FILE)
-KEYS = ("base", "metallic", "roughness", "sheen_color", "sheen_roughness", "clearcoat", "clearcoat_roughness",
-        "specular", "specular_color", "ior")
-
-
-def _unit(x):
-    return x / np.linalg.norm(x, axis=-1, keepdims=True)
-
-
-def _case(seed, n=N):
-    rng = np.random.default_rng(seed)
-    u = rng.uniform
-    values = dict(base=u(0.0, 1.0, (n, 3)), metallic=u(0.0, 1.0, n), roughness=u(0.05, 1.0, n),
-                  sheen_color=u(0.0, 1.0, (n, 3)) * (rng.random((n, 1)) < 0.5), sheen_roughness=u(0.0, 1.0, n),
-                  clearcoat=u(0.0, 1.0, n) * (rng.random(n) < 0.7), clearcoat_roughness=u(0.0, 1.0, n),
-                  specular=u(0.0, 1.0, n), specular_color=u(0.0, 3.0, (n, 3)), ior=u(1.0, 3.0, n))
-    values["metallic"][rng.random(n) < 0.2] = 0.0
-    values["specular"][rng.random(n) < 0.1] = 1.0
-    values["ior"][rng.random(n) < 0.05] = 0.0  # the specular-glossiness conversion's ior 0 (f0 = 1)
-    v = _unit(rng.normal(size=(n, 3)))
-    v[:, 2] = np.abs(v[:, 2])
-    v[rng.random(n) < 0.1] = N_DIR
-    v[rng.random(n) < 0.05, 2] *= -1.0
-    l = _unit(rng.normal(size=(n, 3)))
-    l[:, 2] = np.abs(l[:, 2])
-    l[rng.random(n) < 0.05, 2] *= -1.0
-    return values, l, v
-
-
-def _material(values):
-    return Material(base_color=values["base"], metallic=values["metallic"], roughness=values["roughness"],
-                    sheen_color=values["sheen_color"], sheen_roughness=values["sheen_roughness"],
-                    clearcoat=values["clearcoat"], clearcoat_roughness=values["clearcoat_roughness"],
-                    specular=values["specular"], specular_color=values["specular_color"], ior=values["ior"])
 
 
 def _reference(values, l, v):
@@ -71,12 +36,12 @@ def _alpha_min(values):
 
 @pytest.fixture(scope="module")
 def case():
-    return _case(SEED)
+    return khr_case(SEED)
 
 
 def test_gltf_with_the_extensions_matches_the_transcription(case):
     values, l, v = case
-    actual = models.gltf(l, v, N_DIR, _material(values))
+    actual = models.gltf(l, v, N_DIR, khr_material(values))
     expected = _reference(values, l, v)
     assert_matches(actual, expected, _alpha_min(values), "gltf + KHR_materials_*", rtol=RTOL)
     # the extensions are there: the value differs from the core model's
@@ -96,7 +61,7 @@ def test_each_extension_alone_matches_the_transcription(case, name, extension):
                   specular_color=np.ones((N, 3)), ior=np.full(N, 1.5))
     for key, x in extension.items():
         values[key] = np.broadcast_to(np.asarray(x, dtype=float), values[key].shape).copy()
-    actual = models.gltf(l, v, N_DIR, _material(values))
+    actual = models.gltf(l, v, N_DIR, khr_material(values))
     assert_matches(actual, _reference(values, l, v), _alpha_min(values), f"gltf + {name}", rtol=RTOL)
 
 
@@ -104,7 +69,7 @@ def test_sampled_weights_match_the_transcription(case):
     values, _, v_all = case
     keep = np.flatnonzero(v_all[:, 2] > 0.0)[:80]
     sub = {k: x[keep] for k, x in values.items()}
-    material = _material(sub)
+    material = khr_material(sub)
     wo = v_all[keep]
     u = np.random.default_rng([SEED, zlib.crc32(b"khr-sample")]).uniform(0.0, 1.0, (keep.size, 3))
     wi, pdf, weight = models.sample("gltf", material, wo, u)
@@ -124,7 +89,7 @@ def _u(tag, n):
 def test_white_furnace_of_the_coated_material(metallic, mu):
     """A white glTF material under a white sheen and a full clear coat (both lobes of
     roughness 0.3): the albedo by its own sampler (mean of f cos / pdf) equals the
-    independent quadrature of its value (tests/quadrature.py nodes, no pbrkit code)
+    independent quadrature of its value (tests/support/quadrature.py nodes, no pbrkit code)
     within 5 standard errors, and mix(material, coat, t) keeps it at most the larger
     of the uncoated material's and 1."""
     material = Material(base_color=np.ones(3), metallic=metallic, roughness=0.3, sheen_color=np.ones(3),
@@ -152,7 +117,7 @@ def test_white_furnace_of_the_coated_material(metallic, mu):
 
 
 def test_the_extensions_are_read_from_gltf_files(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -180,8 +145,8 @@ def test_the_extensions_are_read_from_gltf_files(tmp_path):
 
 
 def test_every_clearcoat_texture_is_applied_without_a_note(tmp_path):
-    """(clearcoatNormalTexture per hit: tests/test_gltf_clearcoat_normal.py.)"""
-    from test_render_gltf import write_quad_glb
+    """(clearcoatNormalTexture per hit: tests/rendering/test_gltf_clearcoat_normal.py.)"""
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -218,7 +183,7 @@ def test_every_clearcoat_texture_is_applied_without_a_note(tmp_path):
     ({"KHR_materials_sheen": {"sheenRoughnessFactor": -0.1}}, "KHR_materials_sheen.sheenRoughnessFactor"),
 ])
 def test_bad_extension_fields_are_refused_naming_the_field(tmp_path, ext, fragment):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.core.errors import InputError
     from pbrkit.rendering.gltf import load_gltf
@@ -232,7 +197,7 @@ def test_bad_extension_fields_are_refused_naming_the_field(tmp_path, ext, fragme
 def test_an_unlit_material_is_its_base_colour_as_emission(tmp_path):
     """KHR_materials_unlit: the base colour as emission over a surface that reflects
     nothing (a zero BRDF: no light changes it)."""
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -242,7 +207,7 @@ def test_an_unlit_material_is_its_base_colour_as_emission(tmp_path):
     spec = asset.materials[0].spec
     assert spec.base_color == (0.0, 0.0, 0.0) and spec.specular == 0.0 and spec.metallic == 0.0
     assert max(spec.emissive) > 0.0
-    l = _unit(np.array([[0.3, 0.2, 0.9], [0.0, 0.0, 1.0]]))
+    l = unit(np.array([[0.3, 0.2, 0.9], [0.0, 0.0, 1.0]]))
     assert np.all(models.gltf(l, l[::-1], N_DIR, spec.material()) == 0.0)
 
 
@@ -251,7 +216,7 @@ def test_an_unlit_material_is_its_base_colour_as_emission(tmp_path):
 
 def _separable_albedo(mu, r, f0, f90):
     """integral of D V_separable F_Schlick(f0, f90) cos over the hemisphere at n.v = mu
-    (alpha = r^2), by tests/quadrature.py's nodes (the split sum's table, computed here
+    (alpha = r^2), by tests/support/quadrature.py's nodes (the split sum's table, computed here
     independently)."""
     alpha, v, l, w, h = ref._lobe_nodes(mu, r, None)
     nol = l[:, 2]
@@ -267,7 +232,7 @@ def test_realtime_clear_coat_and_specular_under_a_constant_environment():
     E_coat the white coat lobe's albedo; a black dielectric with KHR_materials_specular's
     specular 0.5 reflects the split sum with F0 = 0.02 and F90 = 0.5 (each albedo from
     an independent quadrature)."""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.rendering.realtime import render_realtime
     from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
@@ -302,7 +267,7 @@ def test_the_khronos_engine_evaluates_the_extensions_as_the_sample_viewer():
     environment a clear coat mixes towards the coat's radiance 1 by clearcoat
     F_Schlick(F0 of the material's ior, n.v); a black dielectric with specular 0
     reflects nothing."""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.rendering.realtime import render_realtime
     from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
@@ -336,7 +301,7 @@ def test_ior_zero_is_allowed_beside_its_range():
     least 1: Material and scene files take 0 and refuse 0.5 with one line naming ior."""
     from pbrkit.rendering.scene import scene_from_dict
 
-    l = _unit(np.array([[0.2, 0.1, 0.9]]))
+    l = unit(np.array([[0.2, 0.1, 0.9]]))
     white = Material(base_color=np.zeros(3), roughness=0.3, ior=0.0)
     f = models.gltf(l, l, N_DIR, white)  # F0 = 1: the dielectric reflects like a white metal
     metal = models.gltf(l, l, N_DIR, Material(base_color=np.ones(3), metallic=1.0, roughness=0.3))
@@ -392,7 +357,7 @@ def test_realtime_iridescence_under_a_constant_environment():
     (iridescence 1) reflects the film's Fresnel at n.v times the white split-sum albedo
     DFG2 (the Sample Viewer's Fresnel at n.v on pbrkit's split sum), so its colour
     follows f_iridescence (checked against an Airy summation in test_thin_film.py)."""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.rendering.realtime import render_realtime
     from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec
@@ -428,7 +393,7 @@ def test_the_clear_coat_darkens_the_emission_beneath_it(mode):
     f0 0.04 (the coat's IOR 1.5) in the ground truth's three engines and pbrkit's real
     time, the material's IOR (2: f0 1/9) under engine khronos, as the Sample Viewer's
     clearcoatF0 is."""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.rendering.realtime import render_realtime
     from pbrkit.rendering.reference import render_reference
@@ -490,7 +455,7 @@ def test_the_khronos_engine_mixes_the_thin_film_as_the_sample_viewer():
     mix(metal, F_film(base), k), and the dielectric towards rgb_mix(base, 1, F_film(F0)),
     (1 - max3 F) base + F, by iridescenceFactor k; no film at thickness 0.  (The
     constant map's prefiltered radiance is 1 to within 3e-8.)"""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.rendering.realtime import render_realtime
     from pbrkit.rendering.scene import EnvironmentSpec, MaterialSpec

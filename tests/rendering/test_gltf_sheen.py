@@ -1,5 +1,5 @@
 """KHR_materials_sheen in the ``gltf`` model: its value against the independent
-transcription of tests/reference_brdf.py (``gltf_sheen_brdf``: the Charlie D,
+transcription of tests/support/reference_brdf.py (``gltf_sheen_brdf``: the Charlie D,
 the specification's Lambda and V, and the albedo scaling 1 - max3(sheenColor)
 E(VdotN) written from the extension's README) at many random inputs (1e-9
 relative), the sampled weights against it, the transcription's own quadrature
@@ -15,7 +15,7 @@ import numba
 import numpy as np
 import pytest
 import reference_brdf as ref
-from test_model_values import N_DIR, assert_matches
+from model_values import N_DIR, assert_matches
 
 from pbrkit import Material
 from pbrkit.brdf import models
@@ -27,7 +27,7 @@ from pbrkit.brdf.shading import gltf as gltf_model
 SEED = 20261128
 N = 400
 #: The tolerance of the value checks (relative, plus the GGX condition term of
-#: tests/test_model_values.py for sharp specular lobes).
+#: tests/brdf/test_model_values.py for sharp specular lobes).
 RTOL = 1e-9
 #: The table the model reads, as data (np.load; no pbrkit function computes it here).
 TABLE = np.load(SHEEN_TABLE_FILE)
@@ -204,7 +204,7 @@ GRID = [(1, 0), (1, 3), (2, 8), (4, 1), (5, 16), (8, 0), (8, 32), (12, 5), (16, 
 
 
 def test_the_table_is_the_transcriptions_albedo():
-    """E_sheen of the baked table against tests/reference_brdf.py's own quadrature
+    """E_sheen of the baked table against tests/support/reference_brdf.py's own quadrature
     (ref.charlie_albedo): 2e-4 relative, 1e-3 at n.v = 1e-4 (column 0, where E is steep)."""
     n_r, n_mu = TABLE.shape
     for i, j in GRID:
@@ -238,7 +238,7 @@ def test_the_transcription_with_its_own_table_agrees(case):
 
 
 def test_khr_materials_sheen_is_read_from_gltf_files(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -256,8 +256,8 @@ def test_khr_materials_sheen_is_read_from_gltf_files(tmp_path):
 
 
 def test_a_sheen_texture_is_read(tmp_path):
-    """(Applied per shading point, sRGB-decoded: tests/test_gltf_extension_textures.py.)"""
-    from test_render_gltf import write_quad_glb
+    """(Applied per shading point, sRGB-decoded: tests/rendering/test_gltf_extension_textures.py.)"""
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -280,7 +280,7 @@ def test_a_sheen_texture_is_read(tmp_path):
     ([1, 2], "KHR_materials_sheen"),
 ])
 def test_bad_sheen_values_are_refused_naming_the_field(tmp_path, sheen, fragment):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.core.errors import InputError
     from pbrkit.rendering.gltf import load_gltf
@@ -314,7 +314,7 @@ def test_realtime_ibl_has_the_sheen_over_the_scaled_base():
     (KHR_materials_sheen's albedo scaling of the base's split sum plus the Sample
     Viewer's sheenColor E times the prefiltered radiance); a black sheen is the
     core model's render bitwise."""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.brdf.lobes.sheen import sheen_albedo_lookup
     from pbrkit.rendering.realtime import render_realtime

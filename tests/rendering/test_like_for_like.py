@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from quadrature import hemisphere_rule
 from reference_brdf import d_ggx, fresnel_schlick
-from test_render import pixel_geometry, sphere_scene
+from render_scenes import pixel_geometry, sphere_scene
 from typer.testing import CliRunner
 
 from pbrkit import Material

@@ -10,6 +10,7 @@ import math
 import numba
 import numpy as np
 import pytest
+from render_scenes import pixel_geometry, sphere_scene
 from scipy import stats
 
 from pbrkit.brdf.models import (
@@ -47,27 +48,6 @@ from pbrkit.rendering.textures import SurfaceMaterial
 from pbrkit.sampling.random import _path_key, _uniform
 
 # ------------------------------------------------------------------ helpers
-
-
-def sphere_scene(material, environment, size=16, fov=35.0, distance=4.0, lights=(), supersample=1):
-    cam = Camera(position=(0.0, 0.0, distance), look_at=(0.0, 0.0, 0.0), fov=fov, width=size, height=size,
-                 supersample=supersample)
-    materials = {"default": MaterialSpec(), "m": material}
-    return Scene(camera=cam, environment=environment, materials=materials,
-                 objects=(Sphere(center=(0.0, 0.0, 0.0), radius=1.0, material="m"),), lights=tuple(lights))
-
-
-def pixel_geometry(scene):
-    """Independent per-pixel hit data of a unit sphere at the origin: (mask, p = n, v)."""
-    cam = scene.camera
-    d = cam.ray_directions()[:, :, 0]
-    o = np.asarray(cam.position)
-    b = d @ o
-    disc = b * b - (o @ o - 1.0)
-    mask = disc > 0
-    t = -b - np.sqrt(np.maximum(disc, 0.0))
-    p = o + t[..., None] * d
-    return mask, p, -d
 
 
 def random_unit(rng, n, hemisphere=True):
@@ -623,7 +603,7 @@ def test_disney_with_clear_coat_sheen_and_anisotropy_renders_in_both_modes():
     """Under a constant white environment each pixel of the ground truth is the
     directional albedo of the full Disney BRDF (diffuse, subsurface, sheen,
     anisotropic specular, clear coat) at that pixel's view, integrated by the
-    independent rule of tests/quadrature.py; the real-time image approximates it
+    independent rule of tests/support/quadrature.py; the real-time image approximates it
     (split sum, (1 - F*) diffuse weight, tabulated sheen, clear coat as a GGX lobe)."""
     from quadrature import albedo_nodes
 

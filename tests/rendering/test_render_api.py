@@ -116,7 +116,7 @@ def test_a_gltf_file_renders_framed_on_its_own(tmp_path):
     z = -1, so the camera looks at (0, 0, -1) from sqrt(2) / sin(0.9 x 17.5 degrees) away)."""
     import math
 
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.sources import resolve_scene
 

@@ -342,7 +342,7 @@ def test_fused_and_wavefront_engines_agree_with_media():
 
 
 def test_transmission_and_volume_are_read_from_gltf_files(tmp_path):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.rendering.gltf import load_gltf
 
@@ -371,7 +371,7 @@ def test_transmission_and_volume_are_read_from_gltf_files(tmp_path):
     ({"KHR_materials_volume": "x"}, "KHR_materials_volume"),
 ])
 def test_bad_transmission_fields_are_refused_naming_the_field(tmp_path, ext, fragment):
-    from test_render_gltf import write_quad_glb
+    from gltf_scenes import write_quad_glb
 
     from pbrkit.core.errors import InputError
     from pbrkit.rendering.gltf import load_gltf
@@ -449,7 +449,7 @@ def test_realtime_transmission_under_a_constant_environment():
     0; a volume scales that part by attenuationColor^(thickness / attenuationDistance).
     Under engine khronos the transmitted part is (1 - (F0 A + B)) baseColor x the light
     (getIBLVolumeRefraction), F0 A + B the split-sum albedo of the viewer's lut_ggx."""
-    from test_render import pixel_geometry, sphere_scene
+    from render_scenes import pixel_geometry, sphere_scene
 
     from pbrkit.rendering.realtime import render_realtime
 

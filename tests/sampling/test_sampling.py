@@ -2,7 +2,7 @@
 microfacet warps of the GGX, Beckmann and GTR1 units of pbrkit.microfacet).
 
 Samplers are checked with chi-square goodness-of-fit tests (the Mitsuba /
-pbrt-v4 method, machinery in ``tests/chi2.py``): 10^6 seeded samples per case,
+pbrt-v4 method, machinery in ``tests/support/chi2.py``): 10^6 seeded samples per case,
 a (theta, phi) histogram with cells at quantiles of the pdf's marginals,
 expected counts by Gauss-Legendre integration of the pdf over every cell (the
 integral of the pdf over the sphere must be 1), pooling below 5 expected, and

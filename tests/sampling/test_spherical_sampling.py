@@ -7,7 +7,7 @@
   "below" each sample (the sub-rectangle [x0, xu] for Urena et al., the
   sub-triangle A B C' for Arvo, the fraction along the last arc) equals u, to
   near rounding, also for tiny, distant and grazing shapes.
-* Chi-square goodness of fit (``tests/chi2.py``, the Mitsuba / pbrt-v4 method)
+* Chi-square goodness of fit (``tests/support/chi2.py``, the Mitsuba / pbrt-v4 method)
   of every sampler against the pdf it claims: 1 / Omega inside the shape's
   outline and 0 outside (membership by ray-shape intersection here, in NumPy),
   d^2 / (A |cos|) for the disk, with a Sidak-corrected family-wise level.

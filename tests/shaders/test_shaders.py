@@ -15,19 +15,20 @@ import re
 import subprocess
 import sys
 import tomllib
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pytest
 from engine_pages import needs_engines, run_page
+from shader_cases import (CUBE_LEVELS, CUBE_SIZE, WIDTH, N, Case, assert_cases_match, f32, random_alphas,
+                          random_cosines, random_directions, random_units, vec4s)
 
 from pbrkit import shaders
 from pbrkit.brdf import diffuse, distributions, fresnel, masking, models
 from pbrkit.brdf.bxdf import isotropic_cosines
 from pbrkit.brdf.material import Material
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 # ------------------------------------------------------------------ files
@@ -138,174 +139,111 @@ def test_comments_cite_what_the_python_docstrings_cite():
 
 # ------------------------------------------------------------------ numbers in WebGL2
 
-WIDTH = 64
-N = 512
-
-
-@dataclass
-class Case:
-    """A GLSL expression (a vec4 of the inputs a, b, ..., l) over N rows of inputs and
-    the pbrkit values it must equal: |gl - expected| <= rtol |expected| + atol."""
-
-    name: str
-    covers: tuple
-    expr: str
-    inputs: list  # up to 12 arrays (N, 4) float32
-    expected: np.ndarray  # (N, C) float64
-    rtol: float = 1e-4
-    atol: float = 0.0
-    extra: dict = field(default_factory=dict)
-
-
-def _f32(x):
-    return np.asarray(x, dtype=np.float32).astype(np.float64)
-
-
-def _vec4s(*columns):
-    """(N, 4) float32 from up to 4 columns (N,) or (N, k)."""
-    cols = [np.asarray(c, dtype=np.float64).reshape(N, -1) for c in columns]
-    out = np.concatenate(cols, axis=1) if cols else np.zeros((N, 0))
-    return np.pad(out, ((0, 0), (0, 4 - out.shape[1]))).astype(np.float32)
-
-
-def _unit(rng, n=N):
-    d = rng.normal(size=(n, 3))
-    return _f32(d / np.linalg.norm(d, axis=1, keepdims=True))
-
-
-def _cosines(rng, lo=-0.1):
-    """Cosines in [lo, 1]: uniform, plus many close to 1 and to 0 (float32 values)."""
-    u = rng.uniform(lo, 1.0, N)
-    u[: N // 4] = 1.0 - 10.0 ** rng.uniform(-6, 0, N // 4)
-    u[N // 4: N // 3] = 10.0 ** rng.uniform(-6, -1, N // 3 - N // 4)
-    u[:4] = (1.0, 0.0, -0.5, 1e-7)
-    return _f32(u)
-
-
-def _alphas(rng, lo=1e-3):
-    return _f32(np.exp(rng.uniform(np.log(lo), 0.0, N)))
-
 
 def _scalar_cases(rng):
     cases = []
     add = cases.append
-    r = _f32(rng.uniform(0.0, 1.0, N))
+    r = f32(rng.uniform(0.0, 1.0, N))
     r[:3] = (0.0, 1.0, 0.01)
-    add(Case("alpha", ("pbrkit_alphaFromRoughness",), "pbrkit_alphaFromRoughness(a.x)", [_vec4s(r)],
+    add(Case("alpha", ("pbrkit_alphaFromRoughness",), "pbrkit_alphaFromRoughness(a.x)", [vec4s(r)],
              distributions.alpha_from_roughness(r)[:, None]))
 
-    noh, alpha = _cosines(rng, -0.2), _alphas(rng)
-    add(Case("D_GGX", ("D_GGX",), "D_GGX(a.x, a.y)", [_vec4s(noh, alpha)], distributions.d_ggx(noh, alpha)[:, None]))
-    noh, alpha = _cosines(rng), _alphas(rng, 0.05)
-    add(Case("D_Beckmann", ("D_Beckmann",), "D_Beckmann(a.x, a.y)", [_vec4s(noh, alpha)],
+    noh, alpha = random_cosines(rng, -0.2), random_alphas(rng)
+    add(Case("D_GGX", ("D_GGX",), "D_GGX(a.x, a.y)", [vec4s(noh, alpha)], distributions.d_ggx(noh, alpha)[:, None]))
+    noh, alpha = random_cosines(rng), random_alphas(rng, 0.05)
+    add(Case("D_Beckmann", ("D_Beckmann",), "D_Beckmann(a.x, a.y)", [vec4s(noh, alpha)],
              distributions.d_beckmann(noh, alpha)[:, None], atol=1e-30))
-    noh = _cosines(rng)
+    noh = random_cosines(rng)
     alpha = np.concatenate([np.exp(rng.uniform(np.log(1e-3), np.log(0.1), N // 2)), rng.uniform(0.5, 1.0, N // 2)])
     alpha[-4:] = (1.0, 0.999, 0.96, 0.94)
-    alpha = _f32(alpha)
-    add(Case("D_GTR1", ("D_GTR1",), "D_GTR1(a.x, a.y)", [_vec4s(noh, alpha)], distributions.d_gtr1(noh, alpha)[:, None]))
-    noh, alpha = _cosines(rng), _f32(rng.uniform(0.1, 1.0, N))
-    exponent = _f32(distributions.phong_exponent_from_beckmann_alpha(alpha))
+    alpha = f32(alpha)
+    add(Case("D_GTR1", ("D_GTR1",), "D_GTR1(a.x, a.y)", [vec4s(noh, alpha)], distributions.d_gtr1(noh, alpha)[:, None]))
+    noh, alpha = random_cosines(rng), f32(rng.uniform(0.1, 1.0, N))
+    exponent = f32(distributions.phong_exponent_from_beckmann_alpha(alpha))
     add(Case("phong_exponent", ("pbrkit_phongExponentFromBeckmannAlpha",), "pbrkit_phongExponentFromBeckmannAlpha(a.x)",
-             [_vec4s(alpha)], distributions.phong_exponent_from_beckmann_alpha(alpha)[:, None], atol=1e-5))
+             [vec4s(alpha)], distributions.phong_exponent_from_beckmann_alpha(alpha)[:, None], atol=1e-5))
     scale = distributions.d_blinn_phong(1.0, exponent)
-    add(Case("D_BlinnPhong", ("D_BlinnPhong",), "D_BlinnPhong(a.x, a.y)", [_vec4s(noh, exponent)],
+    add(Case("D_BlinnPhong", ("D_BlinnPhong",), "D_BlinnPhong(a.x, a.y)", [vec4s(noh, exponent)],
              distributions.d_blinn_phong(noh, exponent)[:, None], atol=1e-6 * float(scale.max())))
 
-    nox, alpha = _cosines(rng), _alphas(rng)
-    add(Case("Lambda_GGX", ("Lambda_GGX",), "Lambda_GGX(a.x, a.y)", [_vec4s(nox, alpha)],
+    nox, alpha = random_cosines(rng), random_alphas(rng)
+    add(Case("Lambda_GGX", ("Lambda_GGX",), "Lambda_GGX(a.x, a.y)", [vec4s(nox, alpha)],
              masking.lambda_ggx(nox, alpha)[:, None]))
-    lam = _f32(np.exp(rng.uniform(np.log(1e-6), np.log(50.0), (N, 2))))
+    lam = f32(np.exp(rng.uniform(np.log(1e-6), np.log(50.0), (N, 2))))
     add(Case("G2", ("G2_Separable", "G2_HeightCorrelated"), "vec2(G2_Separable(a.x, a.y), G2_HeightCorrelated(a.x, a.y))",
-             [_vec4s(lam)], np.stack([masking.g2_separable(lam[:, 0], lam[:, 1]),
+             [vec4s(lam)], np.stack([masking.g2_separable(lam[:, 0], lam[:, 1]),
                                       masking.g2_height_correlated(lam[:, 0], lam[:, 1])], axis=1)))
-    g2, nol, nov = _f32(rng.uniform(0, 1, N)), _cosines(rng, -0.2), _cosines(rng, -0.2)[::-1]
-    add(Case("visibility", ("pbrkit_visibility",), "pbrkit_visibility(a.x, a.y, a.z)", [_vec4s(g2, nol, nov)],
+    g2, nol, nov = f32(rng.uniform(0, 1, N)), random_cosines(rng, -0.2), random_cosines(rng, -0.2)[::-1]
+    add(Case("visibility", ("pbrkit_visibility",), "pbrkit_visibility(a.x, a.y, a.z)", [vec4s(g2, nol, nov)],
              masking.visibility(g2, nol, nov)[:, None]))
 
-    nol, nov, alpha = _cosines(rng), _cosines(rng)[rng.permutation(N)], _alphas(rng)
+    nol, nov, alpha = random_cosines(rng), random_cosines(rng)[rng.permutation(N)], random_alphas(rng)
     separable = masking.visibility(masking.g2_separable(masking.lambda_ggx(nol, alpha), masking.lambda_ggx(nov, alpha)),
                                    nol, nov)
     add(Case("V_Smith", ("V_SmithGGXCorrelated", "V_SmithGGX"),
-             "vec2(V_SmithGGXCorrelated(a.x, a.y, a.z), V_SmithGGX(a.x, a.y, a.z))", [_vec4s(nol, nov, alpha)],
+             "vec2(V_SmithGGXCorrelated(a.x, a.y, a.z), V_SmithGGX(a.x, a.y, a.z))", [vec4s(nol, nov, alpha)],
              np.stack([masking.v_smith_ggx_height_correlated(nol, nov, alpha), separable], axis=1)))
-    k = _f32(rng.uniform(0.0, 0.5, N))
+    k = f32(rng.uniform(0.0, 0.5, N))
     k[:2] = (0.0, 0.5)
     add(Case("SchlickGGX", ("G1_SchlickGGX", "V_SchlickGGX"),
-             "vec2(G1_SchlickGGX(a.x, a.z), V_SchlickGGX(a.x, a.y, a.z))", [_vec4s(nol, nov, k)],
+             "vec2(G1_SchlickGGX(a.x, a.z), V_SchlickGGX(a.x, a.y, a.z))", [vec4s(nol, nov, k)],
              np.stack([masking.g1_schlick_ggx(nol, k),
                        masking.visibility(masking.g2_schlick_ggx(nol, nov, k), nol, nov)], axis=1)))
     add(Case("k", ("pbrkit_kUE4Direct", "pbrkit_kUE4IBL"), "vec2(pbrkit_kUE4Direct(a.x), pbrkit_kUE4IBL(a.x))",
-             [_vec4s(r)], np.stack([masking.k_ue4_direct(r), masking.k_ue4_ibl(r)], axis=1), atol=1e-7))
-    voh = _cosines(rng, -0.2)
+             [vec4s(r)], np.stack([masking.k_ue4_direct(r), masking.k_ue4_ibl(r)], axis=1), atol=1e-7))
+    voh = random_cosines(rng, -0.2)
     add(Case("V_Kelemen_Neubelt", ("V_Kelemen", "V_Neubelt"), "vec2(V_Kelemen(a.x), V_Neubelt(a.y, a.z))",
-             [_vec4s(voh, nol, nov)], np.stack([masking.v_kelemen(voh), masking.v_neubelt(nol, nov)], axis=1)))
+             [vec4s(voh, nol, nov)], np.stack([masking.v_kelemen(voh), masking.v_neubelt(nol, nov)], axis=1)))
 
-    cos = _f32(rng.uniform(-0.1, 1.1, N))
-    f0, f90 = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 1, N))
+    cos = f32(rng.uniform(-0.1, 1.1, N))
+    f0, f90 = f32(rng.uniform(0, 1, (N, 3))), f32(rng.uniform(0, 1, N))
     add(Case("F_Schlick", ("F_Schlick",), "vec4(F_Schlick(a.x, b.xyz, a.y), F_Schlick(a.x, b.w, a.y))",
-             [_vec4s(cos, f90), _vec4s(f0, f0[:, 0])],
+             [vec4s(cos, f90), vec4s(f0, f0[:, 0])],
              np.concatenate([fresnel.f_schlick(cos[:, None], f0, f90[:, None]),
                              fresnel.f_schlick(cos, f0[:, 0], f90)[:, None]], axis=1), atol=1e-7))
     add(Case("F_SphericalGaussian", ("F_SphericalGaussian",),
-             "vec4(F_SphericalGaussian(a.x, b.xyz), F_SphericalGaussian(a.x, b.w))", [_vec4s(cos), _vec4s(f0, f0[:, 0])],
+             "vec4(F_SphericalGaussian(a.x, b.xyz), F_SphericalGaussian(a.x, b.w))", [vec4s(cos), vec4s(f0, f0[:, 0])],
              np.concatenate([fresnel.f_schlick_ue4_sg(cos[:, None], f0),
                              fresnel.f_schlick_ue4_sg(cos, f0[:, 0])[:, None]], axis=1), atol=1e-7))
     add(Case("F_SchlickRoughness", ("F_SchlickRoughness",), "vec4(F_SchlickRoughness(a.x, b.xyz, a.y), 0.0)",
-             [_vec4s(cos, r), _vec4s(f0)], fresnel.f_schlick_roughness(cos[:, None], f0, r[:, None]), atol=1e-7))
-    eta = _f32(rng.uniform(0.5, 3.0, N))
+             [vec4s(cos, r), vec4s(f0)], fresnel.f_schlick_roughness(cos[:, None], f0, r[:, None]), atol=1e-7))
+    eta = f32(rng.uniform(0.5, 3.0, N))
     eta[:8] = (1.0, 1.5, 1.5, 0.66, 0.66, 1.33, 2.5, 0.9)
-    cos = _f32(rng.uniform(0.0, 1.0, N))
+    cos = f32(rng.uniform(0.0, 1.0, N))
     cos[:8] = (1.0, 1.0, 0.0, 1.0, 0.2, 0.5, 0.0, 0.1)
     # keep away from the critical angle, where F is not a well-conditioned function of float32 inputs
     sin2t = (1.0 - cos * cos) / (eta * eta)
     cos = np.where(np.abs(sin2t - 1.0) < 1e-2, 1.0, cos)
-    add(Case("F_Dielectric", ("F_Dielectric",), "F_Dielectric(a.x, a.y)", [_vec4s(cos, eta)],
+    add(Case("F_Dielectric", ("F_Dielectric",), "F_Dielectric(a.x, a.y)", [vec4s(cos, eta)],
              np.asarray(fresnel.f_dielectric(cos, eta), dtype=float)[:, None], atol=1e-7))
-    ior, refl, metal = _f32(rng.uniform(1.0, 3.0, N)), _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 1, N))
-    base, dielectric_f0 = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 0.1, N))
+    ior, refl, metal = f32(rng.uniform(1.0, 3.0, N)), f32(rng.uniform(0, 1, N)), f32(rng.uniform(0, 1, N))
+    base, dielectric_f0 = f32(rng.uniform(0, 1, (N, 3))), f32(rng.uniform(0, 0.1, N))
     add(Case("f0", ("pbrkit_f0FromIOR", "pbrkit_f0FromReflectance", "pbrkit_f90Filament"),
              "vec3(pbrkit_f0FromIOR(a.x), pbrkit_f0FromReflectance(a.y), pbrkit_f90Filament(b.xyz))",
-             [_vec4s(ior, refl), _vec4s(f0 * 0.05)],
+             [vec4s(ior, refl), vec4s(f0 * 0.05)],
              np.stack([fresnel.f0_from_ior(ior), fresnel.f0_from_reflectance(refl),
                        fresnel.f90_filament((f0 * 0.05).sum(axis=1))], axis=1), atol=1e-7))
     add(Case("f0_metallic", ("pbrkit_f0Metallic",), "vec4(pbrkit_f0Metallic(b.xyz, a.x, a.y), 0.0)",
-             [_vec4s(metal, dielectric_f0), _vec4s(base)],
+             [vec4s(metal, dielectric_f0), vec4s(base)],
              fresnel.f0_metallic(base, metal[:, None], dielectric_f0[:, None]), atol=1e-7))
 
-    nol, nov, loh = _cosines(rng, -0.2), _cosines(rng)[rng.permutation(N)], _f32(rng.uniform(0, 1, N))
+    nol, nov, loh = random_cosines(rng, -0.2), random_cosines(rng)[rng.permutation(N)], f32(rng.uniform(0, 1, N))
     add(Case("diffuse", ("Fd_Lambert", "Fd_Burley"), "vec2(Fd_Lambert(a.x), Fd_Burley(a.x, a.y, a.z, a.w))",
-             [_vec4s(nol, nov, loh, r)], np.stack([diffuse.lambert(nol), diffuse.burley(nol, nov, loh, r)], axis=1)))
+             [vec4s(nol, nov, loh, r)], np.stack([diffuse.lambert(nol), diffuse.burley(nol, nov, loh, r)], axis=1)))
     return cases
 
 
-def _directions(rng):
-    """(l, v, n) float32 unit vectors: random pairs (some below the horizon) and
-    near-mirror pairs (l = reflect(v) plus a little noise)."""
-    n = _unit(rng)
-    v = _unit(rng)
-    v = np.where(np.sum(v * n, axis=1, keepdims=True) < -0.3, -v, v)  # mostly above, a few below
-    l = _unit(rng)
-    mirror = 2.0 * np.sum(v * n, axis=1, keepdims=True) * n - v
-    mirror += 0.05 * rng.normal(size=mirror.shape)
-    mirror /= np.linalg.norm(mirror, axis=1, keepdims=True)
-    l[N // 2:] = _f32(mirror[N // 2:])
-    l[0], v[0], n[0] = (0.0, 1.0, 0.0), (0.0, 1.0, 0.0), (0.0, 1.0, 0.0)  # normal incidence
-    l[1], v[1] = -v[1], v[1]  # l = -v: h = n
-    return _f32(l), _f32(v), _f32(n)
-
-
 def _model_cases(rng):
-    l, v, n = _directions(rng)
-    base = _f32(rng.uniform(0, 1, (N, 3)))
-    metal = _f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
+    l, v, n = random_directions(rng)
+    base = f32(rng.uniform(0, 1, (N, 3)))
+    metal = f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
     # near-mirror rows keep r >= 0.3: at smaller r the peak of D changes by more than 1e-4 across the
     # float32 rounding of h = normalize(l + v) (D'/D ~ 4 / alpha^2 at the peak)
-    rough = _f32(np.where(np.arange(N) < N // 2, rng.uniform(0.03, 1.0, N), rng.uniform(0.3, 1.0, N)))
-    refl = _f32(rng.uniform(0, 1, N))
+    rough = f32(np.where(np.arange(N) < N // 2, rng.uniform(0.03, 1.0, N), rng.uniform(0.3, 1.0, N)))
+    refl = f32(rng.uniform(0, 1, N))
     material = Material(base_color=base, metallic=metal, roughness=rough, reflectance=refl)
     gltf_material = Material(base_color=base, metallic=metal, roughness=rough)
-    inputs = [_vec4s(l, metal), _vec4s(v, rough), _vec4s(n, refl), _vec4s(base)]
+    inputs = [vec4s(l, metal), vec4s(v, rough), vec4s(n, refl), vec4s(base)]
     cases = []
     cos = np.array([isotropic_cosines(*n[i], *v[i], *l[i])[:4] for i in range(N)])
     cases.append(Case("cosines", ("pbrkit_cosines",),
@@ -325,10 +263,6 @@ def _model_cases(rng):
     return cases
 
 
-CUBE_SIZE = 16
-CUBE_LEVELS = 4
-
-
 def _ibl_cases(rng, dfg, splitsum):
     from pbrkit.albedo.tables import env_brdf_approx, sample_table
     from pbrkit.ibl.cubemap import cube_texel_directions, direction_to_cube, sample_cube
@@ -338,46 +272,46 @@ def _ibl_cases(rng, dfg, splitsum):
     cases = []
     add = cases.append
     levels = rng.integers(2, 11, N).astype(float)
-    r = _f32(rng.uniform(-0.2, 1.2, N))
-    lod = _f32(rng.uniform(0, 1, N) * (levels - 1))
+    r = f32(rng.uniform(-0.2, 1.2, N))
+    lod = f32(rng.uniform(0, 1, N) * (levels - 1))
     add(Case("lod", ("pbrkit_lodFromRoughness", "pbrkit_roughnessFromLod"),
-             "vec2(pbrkit_lodFromRoughness(a.x, a.z), pbrkit_roughnessFromLod(a.y, a.z))", [_vec4s(r, lod, levels)],
+             "vec2(pbrkit_lodFromRoughness(a.x, a.z), pbrkit_roughnessFromLod(a.y, a.z))", [vec4s(r, lod, levels)],
              np.stack([[level_of_roughness(r[i], int(levels[i])) for i in range(N)],
                        [roughness_of_level(lod[i], int(levels[i])) for i in range(N)]], axis=1), atol=1e-6))
 
-    nov, rough = _f32(rng.uniform(-0.1, 1.1, N)), _f32(rng.uniform(-0.1, 1.1, N))
+    nov, rough = f32(rng.uniform(-0.1, 1.1, N)), f32(rng.uniform(-0.1, 1.1, N))
     table = dfg.astype(np.float64)
     looked_up = sample_table(table, nov, rough)
     add(Case("fetchDFG", ("pbrkit_fetchDFG",), "vec4(pbrkit_fetchDFG(u_lut, a.x, a.y), 0.0, 0.0)",
-             [_vec4s(nov, rough)], looked_up, rtol=1e-5, atol=1e-6))
+             [vec4s(nov, rough)], looked_up, rtol=1e-5, atol=1e-6))
     # the GPU's own bilinear filter: weights of limited precision (8 fractional bits is common),
     # so up to 1/256 of the largest difference between neighbouring texels
     step = max(np.abs(np.diff(table, axis=0)).max(), np.abs(np.diff(table, axis=1)).max())
     add(Case("sampleDFG", ("pbrkit_sampleDFG",), "vec4(pbrkit_sampleDFG(u_lut, a.x, a.y), 0.0, 0.0)",
-             [_vec4s(nov, rough)], looked_up, rtol=0.0, atol=step / 256.0))
+             [vec4s(nov, rough)], looked_up, rtol=0.0, atol=step / 256.0))
 
     # The albedo formulas, checked against the other table kind: DFG1 + F0 (DFG2 - DFG1) of the
     # dfg table must equal F0 A + B of the splitsum table with the same visibility (texel values).
     j, i = rng.integers(0, dfg.shape[0], N), rng.integers(0, dfg.shape[1], N)
-    f0 = _f32(rng.uniform(0, 1, (N, 3)))
-    d12, ab = _f32(dfg[j, i]), _f32(splitsum[j, i])
+    f0 = f32(rng.uniform(0, 1, (N, 3)))
+    d12, ab = f32(dfg[j, i]), f32(splitsum[j, i])
     add(Case("albedoDFG", ("pbrkit_specularAlbedoDFG",), "vec4(pbrkit_specularAlbedoDFG(a.xy, b.xyz), 0.0)",
-             [_vec4s(d12), _vec4s(f0)], f0 * ab[:, :1] + ab[:, 1:], rtol=1e-4, atol=2e-6))
+             [vec4s(d12), vec4s(f0)], f0 * ab[:, :1] + ab[:, 1:], rtol=1e-4, atol=2e-6))
     add(Case("albedoSplitSum", ("pbrkit_specularAlbedoSplitSum",),
-             "vec4(pbrkit_specularAlbedoSplitSum(a.xy, b.xyz), 0.0)", [_vec4s(ab), _vec4s(f0)],
+             "vec4(pbrkit_specularAlbedoSplitSum(a.xy, b.xyz), 0.0)", [vec4s(ab), vec4s(f0)],
              d12[:, :1] + f0 * (d12[:, 1:] - d12[:, :1]), rtol=1e-4, atol=2e-6))
-    prefiltered = _f32(rng.uniform(0, 4, (N, 3)))
+    prefiltered = f32(rng.uniform(0, 4, (N, 3)))
     add(Case("specularIBL", ("pbrkit_specularIBL",), "vec4(pbrkit_specularIBL(c.xyz, a.xy, b.xyz), 0.0)",
-             [_vec4s(d12), _vec4s(f0), _vec4s(prefiltered)], prefiltered * (f0 * ab[:, :1] + ab[:, 1:]),
+             [vec4s(d12), vec4s(f0), vec4s(prefiltered)], prefiltered * (f0 * ab[:, :1] + ab[:, 1:]),
              rtol=1e-4, atol=1e-5))
-    nov, rough = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 1, N))
-    add(Case("EnvBRDFApprox", ("EnvBRDFApprox",), "vec4(EnvBRDFApprox(a.x, a.y), 0.0, 0.0)", [_vec4s(nov, rough)],
+    nov, rough = f32(rng.uniform(0, 1, N)), f32(rng.uniform(0, 1, N))
+    add(Case("EnvBRDFApprox", ("EnvBRDFApprox",), "vec4(EnvBRDFApprox(a.x, a.y), 0.0, 0.0)", [vec4s(nov, rough)],
              np.stack(env_brdf_approx(nov, rough), axis=1), atol=1e-6))
 
     # Prefiltered specular: a small cube with every level random, sampled at the texel centres of
     # level 0 (r = 0) and in the faces' interiors (|sc|, |tc| <= 0.5: clear of the seams at every
     # level) at random roughness, against pbrkit's trilinear cube sampler.
-    pyramid = [_f32(rng.uniform(0, 1, (6, CUBE_SIZE >> m, CUBE_SIZE >> m, 4))) for m in range(CUBE_LEVELS)]
+    pyramid = [f32(rng.uniform(0, 1, (6, CUBE_SIZE >> m, CUBE_SIZE >> m, 4))) for m in range(CUBE_LEVELS)]
     centres = cube_texel_directions(CUBE_SIZE).reshape(-1, 3)
     take = rng.choice(centres.shape[0], N // 2, replace=False)
     face = rng.integers(0, 6, N // 2)
@@ -385,27 +319,27 @@ def _ibl_cases(rng, dfg, splitsum):
 
     sc, tc = rng.uniform(-0.5, 0.5, N // 2), rng.uniform(-0.5, 0.5, N // 2)
     inner = np.array([face_direction(f, s, t) for f, s, t in zip(face, sc, tc)], dtype=float)
-    dirs = _f32(np.concatenate([centres[take], inner / np.linalg.norm(inner, axis=1, keepdims=True)]))
-    rough = _f32(np.concatenate([np.zeros(N // 2), rng.uniform(0, 1, N // 2)]))
+    dirs = f32(np.concatenate([centres[take], inner / np.linalg.norm(inner, axis=1, keepdims=True)]))
+    rough = f32(np.concatenate([np.zeros(N // 2), rng.uniform(0, 1, N // 2)]))
     lods = level_of_roughness(rough, CUBE_LEVELS)
     expected = sample_cube([p.astype(np.float64) for p in pyramid], dirs, lods)[:, :3]
     assert np.array_equal(direction_to_cube(dirs[: N // 2])[0], take // (CUBE_SIZE * CUBE_SIZE))
     level_step = max(np.abs(pyramid[m] - pyramid[m].mean()).max() for m in range(CUBE_LEVELS)) * 2.0
     add(Case("sampleSpecular", ("pbrkit_sampleSpecular",),
-             f"vec4(pbrkit_sampleSpecular(u_cube, a.xyz, a.w, {CUBE_LEVELS}.0), 0.0)", [_vec4s(dirs, rough)],
+             f"vec4(pbrkit_sampleSpecular(u_cube, a.xyz, a.w, {CUBE_LEVELS}.0), 0.0)", [vec4s(dirs, rough)],
              expected, rtol=0.0, atol=level_step / 256.0,
              extra={"cube": {"size": CUBE_SIZE, "levels": [[face.reshape(-1).tolist() for face in level]
                                                           for level in pyramid]}}))
 
-    sh = _f32(rng.normal(size=(9, 3)))
+    sh = f32(rng.normal(size=(9, 3)))
     sh[0] += 2.0
-    normals = _unit(rng)
+    normals = random_units(rng)
     normals[:6] = np.concatenate([np.eye(3), -np.eye(3)])
     irradiance = irradiance_from_sh(sh, normals)
-    base = _f32(rng.uniform(0, 1, (N, 3)))
+    base = f32(rng.uniform(0, 1, (N, 3)))
     add(Case("irradianceSH", ("pbrkit_irradianceSH", "pbrkit_diffuseIBL"),
              "vec4(pbrkit_irradianceSH(u_sh, a.xyz), pbrkit_diffuseIBL(b.xyz, pbrkit_irradianceSH(u_sh, a.xyz)).g)",
-             [_vec4s(normals), _vec4s(base)],
+             [vec4s(normals), vec4s(base)],
              np.concatenate([irradiance, (base[:, 1] * irradiance[:, 1] / np.pi)[:, None]], axis=1),
              rtol=1e-4, atol=1e-5 * np.abs(irradiance).max(), extra={"sh": sh.reshape(-1).tolist()}))
     return cases
@@ -418,8 +352,8 @@ def _ltc_cases(rng):
     from pbrkit.ltc.score import ltc_exact_rect, random_rect_lights
 
     lights = random_rect_lights(N, 77)
-    corners = _f32(lights.corners)
-    texel = _f32(np.stack([rng.uniform(0.2, 1.2, N), rng.uniform(-0.3, 0.1, N), rng.uniform(0.0, 0.8, N),
+    corners = f32(lights.corners)
+    texel = f32(np.stack([rng.uniform(0.2, 1.2, N), rng.uniform(-0.3, 0.1, N), rng.uniform(0.0, 0.8, N),
                            rng.uniform(0.05, 1.2, N)], axis=1))
     corners[: N // 8] = corners[: N // 8, ::-1]  # reversed winding: seen from behind, 0
     expected = np.array([ltc_exact_rect(np.tile(texel[i], (2, 2, 1)), np.tile([1.0, 1.0, 0.0, 0.0], (2, 2, 1)),
@@ -427,7 +361,7 @@ def _ltc_cases(rng):
     cases = [Case("ltcRect", ("pbrkit_ltcEdgeIntegral", "pbrkit_ltcHorizonCrossing", "pbrkit_ltcFormFactorQuad",
                               "pbrkit_ltcRect"),
                   "vec4(pbrkit_ltcRect(vec4(a.w, b.w, c.w, d.w), a.xyz, b.xyz, c.xyz, d.xyz), 0.0, 0.0, 0.0)",
-                  [_vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6)]
+                  [vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6)]
     from pbrkit.ltc.score import ltc_fresnel_rect
 
     tfc, split, f0 = np.array([0.9, -0.1, 0.2, 0.7]), np.array([0.8, 0.3]), 0.04
@@ -437,12 +371,12 @@ def _ltc_cases(rng):
     cases.append(Case("ltcRectFresnel", ("pbrkit_ltcRectFresnel",),
                       "vec4(pbrkit_ltcRectFresnel(vec4(a.w, b.w, c.w, d.w), vec4(0.9, -0.1, 0.2, 0.7), "
                       "vec2(0.8, 0.3), 0.04, a.xyz, b.xyz, c.xyz, d.xyz), 0.0, 0.0, 0.0)",
-                      [_vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6))
-    nov, rough = _f32(rng.uniform(-0.1, 1.1, N)), _f32(rng.uniform(-0.1, 1.1, N))
-    size = _f32(rng.choice([8.0, 32.0, 64.0], N))
+                      [vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6))
+    nov, rough = f32(rng.uniform(-0.1, 1.1, N)), f32(rng.uniform(-0.1, 1.1, N))
+    size = f32(rng.choice([8.0, 32.0, 64.0], N))
     uv = np.stack([np.clip(rough, 0, 1), np.sqrt(1 - np.clip(nov, 0, 1))], axis=1)  # CONVENTIONS, Area lights
     cases.append(Case("ltcUv", ("pbrkit_ltcUv",), "vec4(pbrkit_ltcUv(a.x, a.y, a.z), 0.0, 0.0)",
-                      [_vec4s(nov, rough, size)], uv * (size[:, None] - 1) / size[:, None] + 0.5 / size[:, None],
+                      [vec4s(nov, rough, size)], uv * (size[:, None] - 1) / size[:, None] + 0.5 / size[:, None],
                       rtol=1e-6, atol=1e-7))
     return cases
 
@@ -464,87 +398,87 @@ def _npr_cases(rng, dfg):
     cases = []
     add = cases.append
     def soft_or_hard():  # 30% hard steps (softness 0)
-        return _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.0, 0.3, N)))
+        return f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.0, 0.3, N)))
 
-    x, edge, soft = _f32(rng.uniform(-0.2, 1.2, N)), _f32(rng.uniform(0.0, 1.0, N)), soft_or_hard()
+    x, edge, soft = f32(rng.uniform(-0.2, 1.2, N)), f32(rng.uniform(0.0, 1.0, N)), soft_or_hard()
     x[: N // 8] = edge[: N // 8]  # on the edge: the hard step gives 1
-    x[N // 8: N // 4] = _f32(edge[N // 8: N // 4] + rng.uniform(-1.0, 1.0, N // 8) * soft[N // 8: N // 4])
+    x[N // 8: N // 4] = f32(edge[N // 8: N // 4] + rng.uniform(-1.0, 1.0, N // 8) * soft[N // 8: N // 4])
     add(Case("smoothStepBand", ("pbrkit_smoothStepBand",), "pbrkit_smoothStepBand(a.x, a.y, a.z)",
-             [_vec4s(x, edge, soft)],
+             [vec4s(x, edge, soft)],
              np.array([toon.smooth_step_band(x[i], edge[i], soft[i]) for i in range(N)])[:, None], atol=1e-6))
 
     count = rng.integers(0, 9, N)
     count[:9] = np.arange(9)
-    thresholds = _f32(rng.uniform(0.0, 1.0, (N, 8)))  # entries past the count are ignored
+    thresholds = f32(rng.uniform(0.0, 1.0, (N, 8)))  # entries past the count are ignored
     for i in range(N):
         thresholds[i, : count[i]] = np.sort(thresholds[i, : count[i]])
     thresholds[9:40, :3], count[9:40] = toon.default_thresholds(4), 3  # pbrkit's default bands
-    x, soft = _f32(rng.uniform(-0.2, 1.2, N)), soft_or_hard()
+    x, soft = f32(rng.uniform(-0.2, 1.2, N)), soft_or_hard()
     x[40:72] = thresholds[40:72, 0] * (count[40:72] > 0)
     add(Case("toonTone", ("pbrkit_toonTone",),
              "pbrkit_toonTone(a.x, float[8](b.x, b.y, b.z, b.w, c.x, c.y, c.z, c.w), int(a.y), a.z)",
-             [_vec4s(x, count, soft), _vec4s(thresholds[:, :4]), _vec4s(thresholds[:, 4:])],
+             [vec4s(x, count, soft), vec4s(thresholds[:, :4]), vec4s(thresholds[:, 4:])],
              np.array([toon.toon_tone(x[i], thresholds[i, : count[i]], soft[i]) for i in range(N)])[:, None],
              atol=1e-6))
 
-    shadow, tone = _f32(rng.uniform(0.0, 1.0, (N, 3))), _f32(rng.uniform(0.0, 1.0, N))
-    add(Case("toonShade", ("pbrkit_toonShade",), "pbrkit_toonShade(b.xyz, a.x)", [_vec4s(tone), _vec4s(shadow)],
+    shadow, tone = f32(rng.uniform(0.0, 1.0, (N, 3))), f32(rng.uniform(0.0, 1.0, N))
+    add(Case("toonShade", ("pbrkit_toonShade",), "pbrkit_toonShade(b.xyz, a.x)", [vec4s(tone), vec4s(shadow)],
              _shade(SimpleNamespace(ramp_colors=None, shadow_color=shadow), tone), atol=1e-7))
 
     # the ramp: the middle row of the (DFG1, DFG2) table the page uploads as u_lut (RG32F: blue reads 0)
     ramp = np.concatenate([dfg[RAMP_ROW].astype(np.float64), np.zeros((dfg.shape[1], 1))], axis=1)
-    tone = _f32(rng.uniform(-0.1, 1.1, N))
+    tone = f32(rng.uniform(-0.1, 1.1, N))
     tone[:dfg.shape[1]] = (np.arange(dfg.shape[1]) + 0.5) / dfg.shape[1]  # texel centres
     tone[dfg.shape[1]: dfg.shape[1] + 4] = (0.0, 1.0, 0.5 / dfg.shape[1], 1.0 - 0.5 / dfg.shape[1])
-    tone = _f32(tone)
+    tone = f32(tone)
     looked_up = _shade(SimpleNamespace(ramp_colors=ramp), tone)
     assert np.array_equal(looked_up, toon.ramp_lookup(ramp, tone))
-    add(Case("fetchRamp", ("pbrkit_fetchRamp",), "pbrkit_fetchRamp(u_lut, a.x)", [_vec4s(tone)], looked_up,
+    add(Case("fetchRamp", ("pbrkit_fetchRamp",), "pbrkit_fetchRamp(u_lut, a.x)", [vec4s(tone)], looked_up,
              rtol=1e-5, atol=1e-6))
     step = np.abs(np.diff(ramp, axis=0)).max()  # the GPU's filter weights: see sampleDFG
-    add(Case("sampleRamp", ("pbrkit_sampleRamp",), "pbrkit_sampleRamp(u_lut, a.x)", [_vec4s(tone)], looked_up,
+    add(Case("sampleRamp", ("pbrkit_sampleRamp",), "pbrkit_sampleRamp(u_lut, a.x)", [vec4s(tone)], looked_up,
              rtol=0.0, atol=step / 256.0))
 
-    alpha, noh = _alphas(rng, 0.02), _cosines(rng)
-    d, d_peak = _f32(distributions.d_ggx(noh, alpha)), _f32(distributions.d_ggx(1.0, alpha))
+    alpha, noh = random_alphas(rng, 0.02), random_cosines(rng)
+    d, d_peak = f32(distributions.d_ggx(noh, alpha)), f32(distributions.d_ggx(1.0, alpha))
     d_peak[:8] = 0.0  # no peak: no highlight
-    threshold, soft = _f32(rng.uniform(0.1, 0.9, N)), soft_or_hard()
+    threshold, soft = f32(rng.uniform(0.1, 0.9, N)), soft_or_hard()
     add(Case("highlightTone", ("pbrkit_highlightTone",), "pbrkit_highlightTone(a.x, a.y, a.z, a.w)",
-             [_vec4s(d, d_peak, threshold, soft)],
+             [vec4s(d, d_peak, threshold, soft)],
              np.array([toon.highlight_tone(d[i], d_peak[i], threshold[i], soft[i]) for i in range(N)])[:, None],
              atol=1e-6))
 
-    lo, width, x = _f32(rng.uniform(-1.0, 1.0, N)), rng.uniform(0.05, 1.0, N), _f32(rng.uniform(-1.5, 1.5, N))
-    hi = _f32(lo + np.where(rng.uniform(size=N) < 0.5, width, -width))  # b < a too
-    nol, shift, toony = _f32(rng.uniform(-1.0, 1.0, N)), _f32(rng.uniform(-0.5, 0.5, N)), _f32(rng.uniform(0, 0.9, N))
+    lo, width, x = f32(rng.uniform(-1.0, 1.0, N)), rng.uniform(0.05, 1.0, N), f32(rng.uniform(-1.5, 1.5, N))
+    hi = f32(lo + np.where(rng.uniform(size=N) < 0.5, width, -width))  # b < a too
+    nol, shift, toony = f32(rng.uniform(-1.0, 1.0, N)), f32(rng.uniform(-0.5, 0.5, N)), f32(rng.uniform(0, 0.9, N))
     add(Case("mtoon", ("pbrkit_linearstep", "pbrkit_mtoonShading"),
              "vec2(pbrkit_linearstep(a.x, a.y, a.z), pbrkit_mtoonShading(b.x, b.y, b.z))",
-             [_vec4s(lo, hi, x), _vec4s(nol, shift, toony)],
+             [vec4s(lo, hi, x), vec4s(nol, shift, toony)],
              np.stack([toon.linearstep(lo, hi, x), toon.mtoon_shading(nol, shift, toony)], axis=1), atol=1e-6))
-    nov, power, lift = _cosines(rng), _f32(rng.uniform(1.0, 8.0, N)), _f32(rng.uniform(-0.3, 0.5, N))
+    nov, power, lift = random_cosines(rng), f32(rng.uniform(1.0, 8.0, N)), f32(rng.uniform(-0.3, 0.5, N))
     power[:16] = (0.0, 1e-6, 0.5, 5.0) * 4  # the epsilon, and MToon's default 5
     lift[:4] = 0.0
     add(Case("parametricRim", ("pbrkit_parametricRim",), "pbrkit_parametricRim(a.x, a.y, a.z)",
-             [_vec4s(nov, power, lift)], toon.parametric_rim(nov, power, lift)[:, None], atol=2e-6))
-    gi, up, down = (_f32(rng.uniform(0.0, 4.0, (N, 3))) for _ in range(3))
-    factor = _f32(rng.uniform(0.0, 1.0, N))
+             [vec4s(nov, power, lift)], toon.parametric_rim(nov, power, lift)[:, None], atol=2e-6))
+    gi, up, down = (f32(rng.uniform(0.0, 4.0, (N, 3))) for _ in range(3))
+    factor = f32(rng.uniform(0.0, 1.0, N))
     factor[:2] = (0.0, 1.0)
     add(Case("giEqualized", ("pbrkit_giEqualized",), "pbrkit_giEqualized(a.xyz, b.xyz, c.xyz, a.w)",
-             [_vec4s(gi, factor), _vec4s(up), _vec4s(down)], toon.gi_equalized(gi, up, down, factor[:, None]),
+             [vec4s(gi, factor), vec4s(up), vec4s(down)], toon.gi_equalized(gi, up, down, factor[:, None]),
              atol=1e-6))
 
     # Hatching: small TAMs of 2, 3, 6 and 8 tones.  Tone k is sampled at the pixel as hatch() samples it
     # (bilinear, REPEAT, trilinear at the level): hatch at the tone (k + 1) / T, which selects it alone;
     # the shader blends those samples for the pixel's tone and must give hatch at that tone.
     tone, tones, level = np.zeros(N), np.zeros(N), np.zeros(N)
-    samples, expected = _f32(rng.uniform(0.0, 1.0, (N, 8))), np.zeros(N)  # entries past T are ignored
+    samples, expected = f32(rng.uniform(0.0, 1.0, (N, 8))), np.zeros(N)  # entries past T are ignored
     groups = np.array_split(np.arange(N), 4)
     for rows, count in zip(groups, (2, 3, 6, 8)):
         tam = hatching.tonal_art_map(tones=count, size=TAM_SIZE, levels=TAM_LEVELS, seed=count)
-        t = _f32(rng.uniform(-0.1, 1.1, rows.size))
-        t[: count + 1] = _f32(np.arange(count + 1) / count)  # the images themselves
-        uv = _f32(rng.uniform(-1.0, 2.0, (rows.size, 2)))
-        lam = _f32(rng.uniform(-0.5, TAM_LEVELS - 0.5, rows.size))
+        t = f32(rng.uniform(-0.1, 1.1, rows.size))
+        t[: count + 1] = f32(np.arange(count + 1) / count)  # the images themselves
+        uv = f32(rng.uniform(-1.0, 2.0, (rows.size, 2)))
+        lam = f32(rng.uniform(-0.5, TAM_LEVELS - 0.5, rows.size))
         for k in range(count):
             samples[rows, k] = hatching.hatch((k + 1) / count, uv, tam, level=lam)
         tone[rows], tones[rows], level[rows] = t, count, lam
@@ -554,11 +488,11 @@ def _npr_cases(rng, dfg):
         assert np.array_equal(hatching.hatch(t, uv, tam, footprint=footprint),
                               hatching.hatch(t, uv, tam, level=np.clip(np.log2(footprint), 0.0, TAM_LEVELS - 1)))
     add(Case("hatchBlend", ("pbrkit_hatchBlend",), "pbrkit_hatchBlend(a.x, int(a.y), b, c)",
-             [_vec4s(tone, tones), _vec4s(samples[:, :4]), _vec4s(samples[:, 4:])], expected[:, None], atol=1e-6))
-    footprint = _f32(2.0 ** rng.uniform(-3.0, 8.0, N))
+             [vec4s(tone, tones), vec4s(samples[:, :4]), vec4s(samples[:, 4:])], expected[:, None], atol=1e-6))
+    footprint = f32(2.0 ** rng.uniform(-3.0, 8.0, N))
     footprint[:3] = (1.0, 2.0, 0.5)
-    levels = _f32(rng.integers(1, 10, N))
-    add(Case("hatchLevel", ("pbrkit_hatchLevel",), "pbrkit_hatchLevel(a.x, a.y)", [_vec4s(footprint, levels)],
+    levels = f32(rng.integers(1, 10, N))
+    add(Case("hatchLevel", ("pbrkit_hatchLevel",), "pbrkit_hatchLevel(a.x, a.y)", [vec4s(footprint, levels)],
              np.clip(np.log2(footprint), 0.0, levels - 1.0)[:, None], atol=1e-6))
     return cases
 
@@ -585,44 +519,15 @@ def webgl_results(tmp_path_factory):
     return cases, report["result"]
 
 
-def _measured(case, values):
-    got = np.array([np.nan if x is None else x for x in values], dtype=float).reshape(N, 4)[:, :case.expected.shape[1]]
-    return got, np.abs(got - case.expected)
-
-
 @needs_engines()
 def test_every_function_is_tested_in_webgl2(webgl_results):
     cases, result = webgl_results
     covered = {name for c in cases for name in c.covers}
-    # pbrkit_khr.glsl's and pbrkit_khr_material.glsl's functions are tested in tests/test_shaders_khr.py and
-    # tests/test_shaders_khr_material.py (with the E_sheen table as u_lut)
+    # pbrkit_khr.glsl's and pbrkit_khr_material.glsl's functions are tested in tests/shaders/test_shaders_khr.py and
+    # tests/shaders/test_shaders_khr_material.py (with the E_sheen table as u_lut)
     assert covered == {f["name"] for f in shaders.functions()
                        if f["file"] not in ("pbrkit_khr.glsl", "pbrkit_khr_material.glsl")}
     assert set(result["results"]) == {c.name for c in cases}
-
-
-def assert_cases_match(cases, result, width=22):
-    """Each case's GLSL values (``result["results"]``) within its bound rtol |expected| +
-    atol of pbrkit's (NaN fails); prints each case's largest differences and asserts with
-    the first failing row of every case that fails."""
-    failures = []
-    lines = [f"renderer: {result['renderer']}, {result['seconds']:.1f} s"]
-    for case in cases:
-        got, diff = _measured(case, result["results"][case.name])
-        scale = np.abs(case.expected)
-        bound = case.rtol * scale + case.atol
-        bad = ~(diff <= bound)  # NaN fails
-        sized = scale > max(case.atol, 1e-30)  # relative differences where the value is above atol
-        rel = diff[sized] / scale[sized]
-        lines.append(f"{case.name:{width}s} max |diff| {np.nanmax(diff):.3g}  "
-                     f"max rel {np.nanmax(rel, initial=0.0):.3g} (rtol {case.rtol:g}, atol {case.atol:.3g})")
-        if np.any(bad):
-            k = np.argwhere(bad)[0]
-            failures.append(f"{case.name}: {int(bad.sum())} values off, e.g. row {k[0]}: inputs "
-                            f"{[x[k[0]].tolist() for x in case.inputs]} -> GL {got[tuple(k)]!r}, pbrkit "
-                            f"{case.expected[tuple(k)]!r}")
-    print("\n".join(lines))
-    assert not failures, "\n".join(failures)
 
 
 @needs_engines()

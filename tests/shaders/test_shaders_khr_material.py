@@ -8,7 +8,7 @@ viewer's thin-film mix: :mod:`pbrkit.rendering.transmission_ibl`), KHR_materials
 channel's IOR and lookup) and KHR_materials_anisotropy (its frame, D, V, specular lobe, BRDF
 and bent-normal IBL direction), against pbrkit's Python in WebGL2
 (headless Chromium, SwiftShader), as
-tests/test_shaders.py and tests/test_shaders_khr.py check the other files: each function
+tests/shaders/test_shaders.py and tests/shaders/test_shaders_khr.py check the other files: each function
 over a grid of float32 inputs, compared with :mod:`pbrkit.brdf.shading.gltf` (its
 extended ``setup``, ``_specular_mix_weight``, ``ibl_*``), :mod:`pbrkit.brdf.lobes.clearcoat`,
 :func:`pbrkit.brdf.operators.fresnel_coat`, :func:`pbrkit.brdf.models.gltf` (the whole
@@ -19,9 +19,9 @@ material at random (l, v, n, material)), the real-time renderer's own IBL kernel
 the dispersion's against :mod:`pbrkit.brdf.transmission` and
 :func:`pbrkit.rendering.transmission_ibl.transmission_lookups`; the coat's normal against
 :func:`pbrkit.rendering.textures.tangent_space_normal`.  The cases of the functions that take
-a tangent frame (anisotropy, the coat's normal) are in tests/shader_frame_cases.py.
+a tangent frame (anisotropy, the coat's normal) are in tests/support/shader_frame_cases.py.
 
-The page's 2-D table (``u_lut``) is the E_sheen table, as in tests/test_shaders_khr.py:
+The page's 2-D table (``u_lut``) is the E_sheen table, as in tests/shaders/test_shaders_khr.py:
 the BRDF and the IBL's scaling read E through ``pbrkit_fetchSheenAlbedo``.  Tolerances:
 1e-4 relative (+ an absolute floor where a value crosses or approaches 0); the dispersion's
 IORs, directions and roughness absolute (a few float32 ulps).
@@ -35,9 +35,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from engine_pages import needs_engines, run_page
+from shader_cases import WIDTH, N, Case, assert_cases_match, f32, random_cosines, random_units, sheen_bxdf, vec4s
 from shader_frame_cases import anisotropy_cases, clearcoat_normal_cases
-from test_shaders import WIDTH, N, Case, _cosines, _f32, _unit, _vec4s, assert_cases_match
-from test_shaders_khr import _sheen_bxdf
 
 from pbrkit import shaders
 from pbrkit.brdf import models
@@ -65,17 +64,17 @@ def _materials(rng, mirror_rows=None):
     """N random extended materials (float32): some rows at the extensions' defaults, some
     without sheen or coat, ior 0 and 1 on a few, specular colours above 1 (F0 clamped at 1)."""
     m = SimpleNamespace()
-    m.base = _f32(rng.uniform(0, 1, (N, 3)))
-    m.metallic = _f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
+    m.base = f32(rng.uniform(0, 1, (N, 3)))
+    m.metallic = f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
     lo = np.full(N, 0.03) if mirror_rows is None else np.where(mirror_rows, 0.3, 0.03)
-    m.roughness = _f32(rng.uniform(lo, 1.0))
-    m.sheen_color = _f32(np.where(rng.uniform(size=(N, 1)) < 0.3, 0.0, rng.uniform(0, 1, (N, 3))))
-    m.sheen_roughness = _f32(np.where(rng.uniform(size=N) < 0.1, 0.0, rng.uniform(0.1, 1.0, N)))
-    m.clearcoat = _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0, 1, N)))
-    m.clearcoat_roughness = _f32(rng.uniform(lo, 1.0))
-    m.specular = _f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(0, 1, N)))
-    m.specular_color = _f32(np.where(rng.uniform(size=(N, 1)) < 0.2, 1.0, rng.uniform(0, 3, (N, 3))))
-    m.ior = _f32(np.where(rng.uniform(size=N) < 0.2, 1.5, rng.uniform(1.0, 3.0, N)))
+    m.roughness = f32(rng.uniform(lo, 1.0))
+    m.sheen_color = f32(np.where(rng.uniform(size=(N, 1)) < 0.3, 0.0, rng.uniform(0, 1, (N, 3))))
+    m.sheen_roughness = f32(np.where(rng.uniform(size=N) < 0.1, 0.0, rng.uniform(0.1, 1.0, N)))
+    m.clearcoat = f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0, 1, N)))
+    m.clearcoat_roughness = f32(rng.uniform(lo, 1.0))
+    m.specular = f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(0, 1, N)))
+    m.specular_color = f32(np.where(rng.uniform(size=(N, 1)) < 0.2, 1.0, rng.uniform(0, 3, (N, 3))))
+    m.ior = f32(np.where(rng.uniform(size=N) < 0.2, 1.5, rng.uniform(1.0, 3.0, N)))
     m.ior[2:6] = (0.0, 1.0, 0.0, 1.0)
     # the core material on the first rows (every extension at its default)
     m.sheen_color[6:12], m.clearcoat[6:12], m.specular[6:12], m.specular_color[6:12], m.ior[6:12] = 0, 0, 1, 1, 1.5
@@ -84,13 +83,13 @@ def _materials(rng, mirror_rows=None):
 
 def _material_inputs(m):
     """Inputs d, e, f, g of MATERIAL."""
-    return [_vec4s(m.base, m.metallic), _vec4s(m.sheen_color, m.sheen_roughness),
-            _vec4s(m.clearcoat, m.clearcoat_roughness, m.specular, m.ior), _vec4s(m.specular_color, m.roughness)]
+    return [vec4s(m.base, m.metallic), vec4s(m.sheen_color, m.sheen_roughness),
+            vec4s(m.clearcoat, m.clearcoat_roughness, m.specular, m.ior), vec4s(m.specular_color, m.roughness)]
 
 
 def _inputs(m, a=None, b=None, c=None, h=None, i=None):
     """The page's inputs: the case's a, b, c, h (and i) around the material's d, e, f, g."""
-    none = _vec4s()
+    none = vec4s()
     return ([none if x is None else x for x in (a, b, c)] + _material_inputs(m) + [none if h is None else h]
             + ([] if i is None else [i]))
 
@@ -141,43 +140,43 @@ def _setup_cases(rng, m, bx):
     add(Case("f0f90", ("pbrkit_f0MetallicKHR", "pbrkit_f90MetallicKHR"),
              "vec4(pbrkit_f0MetallicKHR(d.xyz, d.w, pbrkit_dielectricF0(f.w, g.xyz, f.z)), "
              "pbrkit_f90MetallicKHR(f.z, d.w))", _inputs(m), np.array([[*b.f0, b.f90] for b in bx]), atol=1e-7))
-    voh = _cosines(rng, 0.0)
+    voh = random_cosines(rng, 0.0)
     expected = np.array([gltf._specular_mix_weight(b, _c(voh=voh[q])) for q, b in enumerate(bx)])
     add(Case("specularMixWeight", ("pbrkit_specularMixWeight",),
-             "pbrkit_specularMixWeight(a.x, pbrkit_dielectricF0(f.w, g.xyz, f.z), f.z)", _inputs(m, _vec4s(voh)),
+             "pbrkit_specularMixWeight(a.x, pbrkit_dielectricF0(f.w, g.xyz, f.z), f.z)", _inputs(m, vec4s(voh)),
              expected[:, None], atol=5e-7))  # 1 - F approaches 0 at grazing v.h: a few float32 ulps of 1
 
-    # the coat lobe: as D_GGX and V_SmithGGX in tests/test_shaders.py, n.h close to 1 only at r >= 0.3
-    noh, nol, nov = _cosines(rng), _cosines(rng, -0.2)[rng.permutation(N)], _cosines(rng, -0.2)[rng.permutation(N)]
-    cr = _f32(np.where(noh > 0.999, rng.uniform(0.3, 1.0, N), rng.uniform(0.0, 1.0, N)))
+    # the coat lobe: as D_GGX and V_SmithGGX in tests/shaders/test_shaders.py, n.h close to 1 only at r >= 0.3
+    noh, nol, nov = random_cosines(rng), random_cosines(rng, -0.2)[rng.permutation(N)], random_cosines(rng, -0.2)[rng.permutation(N)]
+    cr = f32(np.where(noh > 0.999, rng.uniform(0.3, 1.0, N), rng.uniform(0.0, 1.0, N)))
     cr[:3] = (0.0, 1.0, 0.03)
     expected = []
     for q in range(N):
         extra = [0.0] * EXTRA_SLOTS  # (the coat normal's slots 0: the shading normal)
         extra[CLEARCOAT_SLOT], extra[CLEARCOAT_ALPHA_SLOT] = 1.0, float(alpha_from_roughness(cr[q]))
-        b = _sheen_bxdf((0.0, 0.0, 0.0), 0.0)._replace(extra=tuple(extra))
+        b = sheen_bxdf((0.0, 0.0, 0.0), 0.0)._replace(extra=tuple(extra))
         expected.append(CLEARCOAT.value(b, _c(nol[q], nov[q], noh[q]), (1.0, 1.0, 1.0), 1.0)[0])
     add(Case("clearcoatBRDF", ("pbrkit_clearcoatBRDF",), "pbrkit_clearcoatBRDF(a.x, a.y, a.z, a.w)",
-             [_vec4s(noh, nol, nov, cr)], np.array(expected)[:, None], atol=1e-30))
+             [vec4s(noh, nol, nov, cr)], np.array(expected)[:, None], atol=1e-30))
 
     # the layering operator itself, with stand-in lobes: the base colour beneath, F0 above
     layered = fresnel_coat(gltf.GLTF_IOR, clearcoat_weight, Lobe("base", _base_value, None, None, None, None),
                            Lobe("layer", _layer_value, None, None, None, None))
-    nov = _cosines(rng, 0.0)
+    nov = random_cosines(rng, 0.0)
     expected = np.array([layered.value(b, _c(nov=nov[q]), (1.0, 1.0, 1.0), 1.0) for q, b in enumerate(bx)])
     add(Case("fresnelCoat", ("pbrkit_clearcoatWeight", "pbrkit_fresnelCoat"),
              "vec4(pbrkit_fresnelCoat(d.xyz, pbrkit_f0MetallicKHR(d.xyz, d.w, pbrkit_dielectricF0(f.w, g.xyz, f.z)), "
-             "pbrkit_clearcoatWeight(f.x, a.x)), 0.0)", _inputs(m, _vec4s(nov)), expected, atol=1e-7))
+             "pbrkit_clearcoatWeight(f.x, a.x)), 0.0)", _inputs(m, vec4s(nov)), expected, atol=1e-7))
     return cases
 
 
 def _brdf_case(rng):
     """The whole material: BRDF_glTFExtended against pbrkit.brdf.models.gltf with every extension,
-    at tests/test_shaders.py's directions (half of them near the mirror direction)."""
-    from test_shaders import _directions
+    at shader_cases.random_directions' directions (half of them near the mirror direction)."""
+    from shader_cases import random_directions
 
-    l, v, n = _directions(rng)
-    mirror = np.arange(N) >= N // 2  # _directions' near-mirror rows: r >= 0.3 (as BRDF_glTF's case)
+    l, v, n = random_directions(rng)
+    mirror = np.arange(N) >= N // 2  # random_directions' near-mirror rows: r >= 0.3 (as BRDF_glTF's case)
     m = _materials(rng, mirror)
     material = Material(base_color=m.base, metallic=m.metallic, roughness=m.roughness, sheen_color=m.sheen_color,
                         sheen_roughness=m.sheen_roughness, clearcoat=m.clearcoat,
@@ -186,7 +185,7 @@ def _brdf_case(rng):
     return Case("BRDF_glTFExtended", ("BRDF_glTFExtended",),
                 f"vec4(BRDF_glTFExtended(a.xyz, b.xyz, c.xyz, {MATERIAL}, "
                 "pbrkit_fetchSheenAlbedo(u_lut, dot(c.xyz, b.xyz), e.w)), 0.0)",
-                _inputs(m, _vec4s(l), _vec4s(v), _vec4s(n)), models.gltf(l, v, n, material), rtol=1e-4, atol=1e-6)
+                _inputs(m, vec4s(l), vec4s(v), vec4s(n)), models.gltf(l, v, n, material), rtol=1e-4, atol=1e-6)
 
 
 def _coat_normal_brdf_case(rng):
@@ -196,21 +195,21 @@ def _coat_normal_brdf_case(rng):
     |n_c.v|) and near the coat's mirror direction h = normalize(l + v) on a quarter.  Where n.h or n_c.h
     exceeds 0.99 the base's or the coat's roughness is at least 0.3 (as the near-mirror rows of BRDF_glTF's
     case: D's peak is too steep for float32's h at smaller r)."""
-    from test_shaders import _directions
+    from shader_cases import random_directions
 
-    l, v, n = _directions(rng)
+    l, v, n = random_directions(rng)
     h = l + v
     length = np.linalg.norm(h, axis=1, keepdims=True)
     h = h / np.maximum(length, 1e-300)
-    nc = n + _unit(rng) * rng.uniform(0.0, 0.9, (N, 1))  # tilted by up to asin(0.9), 64 degrees
+    nc = n + random_units(rng) * rng.uniform(0.0, 0.9, (N, 1))  # tilted by up to asin(0.9), 64 degrees
     near = (rng.uniform(size=N) < 0.25) & (length[:, 0] > 1e-3)
     nc[near] = h[near] + 0.05 * rng.normal(size=(int(near.sum()), 3))
-    nc = _f32(nc / np.linalg.norm(nc, axis=1, keepdims=True))
+    nc = f32(nc / np.linalg.norm(nc, axis=1, keepdims=True))
     nc[:8] = n[:8]
     m = _materials(rng)
     noh, ncoh = np.sum(n * h, axis=1), np.sum(nc * h, axis=1)
-    m.roughness = np.where(noh > 0.99, _f32(rng.uniform(0.3, 1.0, N)), m.roughness)
-    m.clearcoat_roughness = np.where(ncoh > 0.99, _f32(rng.uniform(0.3, 1.0, N)), m.clearcoat_roughness)
+    m.roughness = np.where(noh > 0.99, f32(rng.uniform(0.3, 1.0, N)), m.roughness)
+    m.clearcoat_roughness = np.where(ncoh > 0.99, f32(rng.uniform(0.3, 1.0, N)), m.clearcoat_roughness)
     material = Material(base_color=m.base, metallic=m.metallic, roughness=m.roughness, sheen_color=m.sheen_color,
                         sheen_roughness=m.sheen_roughness, clearcoat=m.clearcoat,
                         clearcoat_roughness=m.clearcoat_roughness, specular=m.specular,
@@ -225,7 +224,7 @@ def _coat_normal_brdf_case(rng):
     return Case("BRDF_glTFExtendedCoatNormal", ("BRDF_glTFExtendedCoatNormal",),
                 f"vec4(BRDF_glTFExtendedCoatNormal(a.xyz, b.xyz, c.xyz, h.xyz, {MATERIAL}, "
                 "pbrkit_fetchSheenAlbedo(u_lut, dot(c.xyz, b.xyz), e.w)), 0.0)",
-                _inputs(m, _vec4s(l), _vec4s(v), _vec4s(n), _vec4s(nc)), expected, rtol=1e-4, atol=1e-6)
+                _inputs(m, vec4s(l), vec4s(v), vec4s(n), vec4s(nc)), expected, rtol=1e-4, atol=1e-6)
 
 
 def reference_albedo_f90(dfg, f0, f90):
@@ -241,15 +240,15 @@ def _ibl_cases(rng, m, bx, dfg_table):
     apart from n.v); E_sheen from the table at (n.v, sheenRoughness)."""
     cases = []
     add = cases.append
-    nov = _f32(np.maximum(_cosines(rng, 0.0), 1e-4))  # the renderer's floor
-    coat_nov = _f32(np.maximum(_cosines(rng, 0.0)[rng.permutation(N)], 1e-4))
+    nov = f32(np.maximum(random_cosines(rng, 0.0), 1e-4))  # the renderer's floor
+    coat_nov = f32(np.maximum(random_cosines(rng, 0.0)[rng.permutation(N)], 1e-4))
     coat_nov[:4] = nov[:4]  # and the coat about the shading normal
     j, i = rng.integers(0, dfg_table.shape[0], (2, N)), rng.integers(0, dfg_table.shape[1], (2, N))
-    dfg, coat_dfg = _f32(dfg_table[j[0], i[0]]), _f32(dfg_table[j[1], i[1]])
-    pref, irr = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
-    coat_pref, sheen_pref = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
-    inputs = _inputs(m, _vec4s(nov, dfg, coat_dfg[:, 1]), _vec4s(pref, sheen_pref[:, 0]),
-                     _vec4s(irr, sheen_pref[:, 1]), _vec4s(coat_pref, sheen_pref[:, 2]), _vec4s(coat_nov))
+    dfg, coat_dfg = f32(dfg_table[j[0], i[0]]), f32(dfg_table[j[1], i[1]])
+    pref, irr = f32(rng.uniform(0, 4, (N, 3))), f32(rng.uniform(0, 4, (N, 3)))
+    coat_pref, sheen_pref = f32(rng.uniform(0, 4, (N, 3))), f32(rng.uniform(0, 4, (N, 3)))
+    inputs = _inputs(m, vec4s(nov, dfg, coat_dfg[:, 1]), vec4s(pref, sheen_pref[:, 0]),
+                     vec4s(irr, sheen_pref[:, 1]), vec4s(coat_pref, sheen_pref[:, 2]), vec4s(coat_nov))
     e_sheen = "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)"
     sheen = "vec3(b.w, c.w, h.w)"
 
@@ -267,7 +266,7 @@ def _ibl_cases(rng, m, bx, dfg_table):
     scale = np.array([gltf.ibl_extensions_base_scale(b, float(nov[q]), float(coat_nov[q])) for q, b in enumerate(bx)])
     add(Case("extensionsIBLBaseScale", ("pbrkit_extensionsIBLBaseScale",),
              f"pbrkit_extensionsIBLBaseScale(i.x, f.x, e.xyz, {e_sheen})", inputs, scale[:, None],
-             atol=2e-6))  # 1 - cE crosses 0 (as sheenAlbedoScaling in tests/test_shaders_khr.py)
+             atol=2e-6))  # 1 - cE crosses 0 (as sheenAlbedoScaling in tests/shaders/test_shaders_khr.py)
     table = np.zeros((2, 2))
     extras = np.array([gltf.ibl_extensions_extras(b, float(nov[q]), float(coat_nov[q]), float(coat_dfg[q, 0]),
                                                   float(coat_dfg[q, 1]), table, tuple(irr[q]), tuple(coat_pref[q]),
@@ -307,9 +306,9 @@ def _renderer_cases(rng, m, dfg_table):
         specular=float(m.specular[q]), specular_color=tuple(m.specular_color[q]), ior=float(m.ior[q])))
         for q in range(N)]
     mi, mf = material_tables(specs)
-    n, v = _unit(rng), _unit(rng)
+    n, v = random_units(rng), random_units(rng)
     v = np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v)
-    nc = n + _unit(rng) * rng.uniform(0.0, 1.0, (N, 1))
+    nc = n + random_units(rng) * rng.uniform(0.0, 1.0, (N, 1))
     nc /= np.linalg.norm(nc, axis=1, keepdims=True)
     own = rng.uniform(size=N) < 0.8
     mf[own, COLUMNS.coat_normal:COLUMNS.coat_normal + 3] = nc[own]
@@ -321,8 +320,8 @@ def _renderer_cases(rng, m, dfg_table):
     realtime._reflection_kernel(mi, mf, mat, n, v, m.roughness, m.metallic, base, no_tangent, refl, coat_r,
                                 sheen_r)
     tables = np.ascontiguousarray(np.asarray(dfg_table, dtype=np.float64)[None, ..., :2])
-    pref, irr = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
-    coat_pref, sheen_pref = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
+    pref, irr = f32(rng.uniform(0, 4, (N, 3))), f32(rng.uniform(0, 4, (N, 3)))
+    coat_pref, sheen_pref = f32(rng.uniform(0, 4, (N, 3))), f32(rng.uniform(0, 4, (N, 3)))
     out, ec = np.empty((N, 3)), np.empty((N, 3))
     realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
                          np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, np.zeros(N), np.zeros((1, 3)),
@@ -335,8 +334,8 @@ def _renderer_cases(rng, m, dfg_table):
                     for q in range(N)])
     coat2 = np.array([table_bilinear(tables, 0, coat_nov[q], coat_r[q], 1) if coat_r[q] >= 0.0 else 0.0
                       for q in range(N)])
-    inputs = _inputs(m, _vec4s(nov, dfg, coat2), _vec4s(pref, sheen_pref[:, 0]), _vec4s(irr, sheen_pref[:, 1]),
-                     _vec4s(coat_pref, sheen_pref[:, 2]), _vec4s(coat_nov))
+    inputs = _inputs(m, vec4s(nov, dfg, coat2), vec4s(pref, sheen_pref[:, 0]), vec4s(irr, sheen_pref[:, 1]),
+                     vec4s(coat_pref, sheen_pref[:, 2]), vec4s(coat_nov))
     cases = [Case("glTFExtendedIBL_renderer", ("pbrkit_glTFExtendedIBL",),
                   f"vec4(pbrkit_glTFExtendedIBL(a.x, i.x, {MATERIAL}, a.yz, b.xyz, c.xyz, vec2(0.0, a.w), h.xyz, "
                   "pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w), vec3(b.w, c.w, h.w)), 0.0)", inputs, out.copy(),
@@ -344,12 +343,12 @@ def _renderer_cases(rng, m, dfg_table):
 
     # the same kernel as the Sample Viewer (engine "khronos"): Karis' (A, B) = (DFG2 - DFG1, DFG1), the
     # Charlie LUT's value per pixel; the core materials' rows take its core path (_engine_ibl)
-    charlie = _f32(rng.uniform(0.0, 0.5, N))
+    charlie = f32(rng.uniform(0.0, 0.5, N))
     realtime._ibl_kernel(mi, mf, mat, np.zeros(N, dtype=np.int64), tables, n, v, m.roughness, m.metallic, base,
                          np.ones(N), pref, irr, coat_pref, coat_r, sheen_pref, charlie, np.zeros((1, 3)),
                          np.zeros((1, 2)), False, realtime.sheen_albedo_table(), realtime.fresnel_mix_albedo_table(), False, False,
                          realtime.ENGINES.index("khronos"), out, ec)
-    inputs = _inputs(m, _vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7], inputs[8])
+    inputs = _inputs(m, vec4s(nov, dfg[:, 1] - dfg[:, 0], dfg[:, 0], charlie), *inputs[1:3], inputs[7], inputs[8])
     cases.append(Case("sampleViewerExtensionsIBL_renderer", ("pbrkit_sampleViewerExtensionsIBL",),
                       f"vec4(pbrkit_sampleViewerExtensionsIBL(a.x, i.x, {MATERIAL}, a.yz, b.xyz, c.xyz, h.xyz, "
                       "vec3(b.w, c.w, h.w), a.w, pbrkit_fetchSheenAlbedo(u_lut, a.x, e.w)), 0.0)", inputs, out.copy(),
@@ -363,15 +362,15 @@ def _sample_viewer_cases(rng, m):
     (b.w, c.w, h.w), i.x = n_c.v (drawn apart from n.v)."""
     cases = []
     add = cases.append
-    nov = _f32(np.maximum(_cosines(rng, 0.0), 1e-4))
-    ab = _f32(rng.uniform(0.0, 0.5, (N, 2)))  # A + B <= 1: E_ms >= 0
-    charlie = _f32(rng.uniform(0.0, 0.5, N))
-    coat_nov = _f32(np.maximum(_cosines(rng, 0.0)[rng.permutation(N)], 1e-4))
+    nov = f32(np.maximum(random_cosines(rng, 0.0), 1e-4))
+    ab = f32(rng.uniform(0.0, 0.5, (N, 2)))  # A + B <= 1: E_ms >= 0
+    charlie = f32(rng.uniform(0.0, 0.5, N))
+    coat_nov = f32(np.maximum(random_cosines(rng, 0.0)[rng.permutation(N)], 1e-4))
     coat_nov[:4] = nov[:4]
-    rad, irr = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
-    coat_rad, sheen_rad = _f32(rng.uniform(0, 4, (N, 3))), _f32(rng.uniform(0, 4, (N, 3)))
-    inputs = _inputs(m, _vec4s(nov, ab, charlie), _vec4s(rad, sheen_rad[:, 0]), _vec4s(irr, sheen_rad[:, 1]),
-                     _vec4s(coat_rad, sheen_rad[:, 2]), _vec4s(coat_nov))
+    rad, irr = f32(rng.uniform(0, 4, (N, 3))), f32(rng.uniform(0, 4, (N, 3)))
+    coat_rad, sheen_rad = f32(rng.uniform(0, 4, (N, 3))), f32(rng.uniform(0, 4, (N, 3)))
+    inputs = _inputs(m, vec4s(nov, ab, charlie), vec4s(rad, sheen_rad[:, 0]), vec4s(irr, sheen_rad[:, 1]),
+                     vec4s(coat_rad, sheen_rad[:, 2]), vec4s(coat_nov))
     a, b = ab[:, 0], ab[:, 1]
     f0 = np.minimum(f0_from_ior(m.ior)[:, None] * m.specular_color, 1.0)
     rows = [(float(nov[q]), float(m.roughness[q]), float(a[q]), float(b[q])) for q in range(N)]  # scalar helpers
@@ -405,32 +404,32 @@ def _transmission_cases(rng):
     from pbrkit.rendering.transmission_ibl import ior_roughness, transmission_direction
 
     cases = []
-    r, ior = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(1.0, 3.0, N))
+    r, ior = f32(rng.uniform(0, 1, N)), f32(rng.uniform(1.0, 3.0, N))
     ior[:8] = 1.0
     cases.append(Case("iorRoughness", ("pbrkit_iorRoughness",), "vec4(pbrkit_iorRoughness(a.x, a.y), 0.0, 0.0, 0.0)",
-                      [_vec4s(r, ior)], ior_roughness(r.astype(float), ior.astype(float))[:, None], atol=1e-7))
-    n = _f32(_unit(rng))
-    v = _unit(rng)
-    v = _f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
-    thickness = _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.01, 2.0, N)))
+                      [vec4s(r, ior)], ior_roughness(r.astype(float), ior.astype(float))[:, None], atol=1e-7))
+    n = f32(random_units(rng))
+    v = random_units(rng)
+    v = f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
+    thickness = f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.01, 2.0, N)))
     direction = transmission_direction(n.astype(float), v.astype(float), ior.astype(float), thickness)
     cases.append(Case("transmissionDirection", ("pbrkit_transmissionDirection",),
                       "vec4(pbrkit_transmissionDirection(a.xyz, b.xyz, c.x, c.y), 0.0)",
-                      [_vec4s(n), _vec4s(v), _vec4s(ior, thickness)], direction, atol=1e-5))
-    colour = _f32(rng.uniform(0.05, 1.0, (N, 3)))
+                      [vec4s(n), vec4s(v), vec4s(ior, thickness)], direction, atol=1e-5))
+    colour = f32(rng.uniform(0.05, 1.0, (N, 3)))
     colour[:4] = 1.0
-    distance = _f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.1, 3.0, N)))
+    distance = f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.1, 3.0, N)))
     params = np.zeros((N, LAYOUT.size))
     params[:, COLUMNS.attenuation_color:COLUMNS.attenuation_color + 3] = colour
     params[:, COLUMNS.attenuation_distance] = distance
     attenuation = np.array([absorption(params, q, float(thickness[q])) for q in range(N)])
     cases.append(Case("volumeAttenuation", ("pbrkit_volumeAttenuation",),
-                      "vec4(pbrkit_volumeAttenuation(a.x, b.xyz, a.y), 0.0)", [_vec4s(thickness, distance),
-                                                                                _vec4s(colour)],
+                      "vec4(pbrkit_volumeAttenuation(a.x, b.xyz, a.y), 0.0)", [vec4s(thickness, distance),
+                                                                                vec4s(colour)],
                       attenuation, atol=1e-7))
-    base, metallic = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 1, N))
-    transmission, weight = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 1, N))
-    light = _f32(rng.uniform(0, 4, (N, 3)))
+    base, metallic = f32(rng.uniform(0, 1, (N, 3))), f32(rng.uniform(0, 1, N))
+    transmission, weight = f32(rng.uniform(0, 1, N)), f32(rng.uniform(0, 1, N))
+    light = f32(rng.uniform(0, 4, (N, 3)))
     p = np.zeros((N, LAYOUT.size))
     p[:, COLUMNS.transmission] = transmission
     p[:, COLUMNS.specular] = 1.0
@@ -440,21 +439,21 @@ def _transmission_cases(rng):
                                                     *map(float, base[q]))) for q in range(N)])
     cases.append(Case("transmissionIBL", ("pbrkit_transmissionIBL",),
                       "vec4(pbrkit_transmissionIBL(a.xyz, a.w, b.x, b.y, c.xyz), 0.0)",
-                      [_vec4s(base, metallic), _vec4s(transmission, weight), _vec4s(light)],
+                      [vec4s(base, metallic), vec4s(transmission, weight), vec4s(light)],
                       tw[:, None] * base * weight[:, None] * light, atol=1e-7))
-    diffuse, f0 = _f32(rng.uniform(0, 2, (N, 3))), _f32(rng.uniform(0, 1, (N, 3)))
-    ab = _f32(np.stack([rng.uniform(0, 0.9, N), rng.uniform(0, 0.1, N)], axis=1))
+    diffuse, f0 = f32(rng.uniform(0, 2, (N, 3))), f32(rng.uniform(0, 1, (N, 3)))
+    ab = f32(np.stack([rng.uniform(0, 0.9, N), rng.uniform(0, 0.1, N)], axis=1))
     expected = np.array([[khronos_ibl.sample_viewer_transmission(float(diffuse[q, k]), float(transmission[q]),
                                                                  float(f0[q, k]), float(ab[q, 0]), float(ab[q, 1]),
                                                                  float(light[q, k]), float(base[q, k]))
                           for k in range(3)] for q in range(N)])
     cases.append(Case("sampleViewerTransmission", ("pbrkit_sampleViewerTransmission",),
                       "vec4(pbrkit_sampleViewerTransmission(a.xyz, a.w, b.xyz, c.xy, h.xyz, d.xyz), 0.0)",
-                      [_vec4s(diffuse, transmission), _vec4s(f0), _vec4s(ab), _vec4s(base), _vec4s(), _vec4s(),
-                       _vec4s(), _vec4s(light)], expected, atol=1e-6))
-    nov, k = _f32(rng.uniform(0.05, 1.0, N)), _f32(rng.uniform(0, 1, N))
-    film_d, film_m = _f32(rng.uniform(0, 1, (N, 3))), _f32(rng.uniform(0, 1, (N, 3)))
-    radiance = _f32(rng.uniform(0, 4, (N, 3)))
+                      [vec4s(diffuse, transmission), vec4s(f0), vec4s(ab), vec4s(base), vec4s(), vec4s(),
+                       vec4s(), vec4s(light)], expected, atol=1e-6))
+    nov, k = f32(rng.uniform(0.05, 1.0, N)), f32(rng.uniform(0, 1, N))
+    film_d, film_m = f32(rng.uniform(0, 1, (N, 3))), f32(rng.uniform(0, 1, (N, 3)))
+    radiance = f32(rng.uniform(0, 4, (N, 3)))
     expected = np.array([[khronos_ibl.sample_viewer_film(
         float(nov[q]), float(r[q]), float(diffuse[q, c]), float(base[q, c]), float(metallic[q]), float(f0[q, c]),
         float(weight[q]), float(ab[q, 0]), float(ab[q, 1]), float(radiance[q, c]), float(k[q]), float(film_d[q, c]),
@@ -462,8 +461,8 @@ def _transmission_cases(rng):
     cases.append(Case("sampleViewerFilm", ("pbrkit_sampleViewerFilm",),
                       "vec4(pbrkit_sampleViewerFilm(a.x, a.y, b.xyz, c.xyz, a.z, d.xyz, a.w, e.xy, f.xyz, b.w, g.xyz, "
                       "h.xyz), 0.0)",
-                      [_vec4s(nov, r, metallic, weight), _vec4s(diffuse, k), _vec4s(base), _vec4s(f0), _vec4s(ab),
-                       _vec4s(radiance), _vec4s(film_d), _vec4s(film_m)], expected, atol=1e-6))
+                      [vec4s(nov, r, metallic, weight), vec4s(diffuse, k), vec4s(base), vec4s(f0), vec4s(ab),
+                       vec4s(radiance), vec4s(film_d), vec4s(film_m)], expected, atol=1e-6))
     return cases
 
 
@@ -480,14 +479,14 @@ def _dispersion_cases(rng):
     from pbrkit.rendering.transmission_ibl import transmission_lookups
 
     cases = []
-    ior = _f32(rng.uniform(1.0, 2.5, N))
-    dispersion = _f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.0, 3.0, N)))
+    ior = f32(rng.uniform(1.0, 2.5, N))
+    dispersion = f32(np.where(rng.uniform(size=N) < 0.2, 0.0, rng.uniform(0.0, 3.0, N)))
     ior[:6], dispersion[:6] = (1.0, 1.0, 1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 3.0, 0.0, 0.5, 3.0)
-    dispersion[6:12] = _f32(rng.uniform(67.0, 150.0, 6))  # red below 1 unclamped (20 / 0.30106 = 66.4)
+    dispersion[6:12] = f32(rng.uniform(67.0, 150.0, 6))  # red below 1 unclamped (20 / 0.30106 = 66.4)
     ior[12:16], dispersion[12:16] = 2.5, (0.0, 1.0, 3.0, 0.1)
     iors = dispersion_iors(ior, dispersion)
     assert np.all(iors[6:12, 0] == 1.0) and np.all(iors[12:, 0] > 1.0)
-    inputs = [_vec4s(ior, dispersion)]
+    inputs = [vec4s(ior, dispersion)]
     # (rtol: float32's 523655 / lambda^2 - 1.5168 cancels to -1.6e-4 at the d line, its error of ~1e-7 magnified
     # by (ior - 1) dispersion / 20, up to 11 on the rows far above 3)
     cases.append(Case("dispersionIors", ("pbrkit_dispersionIors",), "vec4(pbrkit_dispersionIors(a.x, a.y), 0.0)",
@@ -497,17 +496,17 @@ def _dispersion_cases(rng):
                       sample_viewer_dispersion_iors(ior, dispersion), rtol=0.0, atol=1e-6))
 
     # the lookups: thin walls (thickness 0) on some rows, v above n, a channel per row
-    n = _unit(rng)
-    v = _unit(rng)
-    v = _f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
-    thickness = _f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.01, 2.0, N)))
-    r = _f32(rng.uniform(0.0, 1.0, N))
+    n = random_units(rng)
+    v = random_units(rng)
+    v = f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
+    thickness = f32(np.where(rng.uniform(size=N) < 0.3, 0.0, rng.uniform(0.01, 2.0, N)))
+    r = f32(rng.uniform(0.0, 1.0, N))
     r[16:20] = (0.0, 1.0, 0.0, 1.0)
     channel = np.arange(N) % 3
     specs = [SimpleNamespace(spec=MaterialSpec(name=f"m{q}", transmission=1.0, thickness=float(thickness[q]),
                                    ior=float(ior[q]), dispersion=float(dispersion[q]))) for q in range(N)]
     codes, params = material_tables(specs)
-    surface = Surface(_f32(rng.normal(size=(N, 3))), n, n, np.arange(N), np.ones((N, 3)), np.zeros(N), r,
+    surface = Surface(f32(rng.normal(size=(N, 3))), n, n, np.arange(N), np.ones((N, 3)), np.zeros(N), r,
                       np.ones(N), np.zeros((N, 3)))
     for engine, name, glsl_iors in (("pbrkit", "dispersionLookup", "pbrkit_dispersionIors"),
                                     ("khronos", "dispersionLookup_khronos", "pbrkit_sampleViewerDispersionIors")):
@@ -523,7 +522,7 @@ def _dispersion_cases(rng):
         direction = np.stack([asked[1 + c][0] for c in range(3)])[channel, rows]
         roughness = np.stack([asked[1 + c][1] for c in range(3)])[channel, rows]
         expr = f"pbrkit_dispersionLookup(a.xyz, b.xyz, a.w, {glsl_iors}(c.x, c.y), c.z, int(c.w))"
-        inputs = [_vec4s(n, r), _vec4s(v), _vec4s(ior, dispersion, thickness, channel)]
+        inputs = [vec4s(n, r), vec4s(v), vec4s(ior, dispersion, thickness, channel)]
         covers = ("pbrkit_dispersionLookup", glsl_iors)
         if engine == "pbrkit":  # the Sample Viewer's direction is the camera's ray to the exit point: not this one
             cases.append(Case(name, covers, f"vec4({expr}.xyz, 0.0)", inputs, direction, rtol=0.0, atol=2e-6))

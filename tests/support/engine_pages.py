@@ -13,9 +13,9 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import CHROMIUM
+from skips import CHROMIUM
 
-ENGINES = Path(__file__).resolve().parent / "engines"
+ENGINES = Path(__file__).resolve().parents[1] / "engines"
 NODE = shutil.which("node")
 
 

@@ -1,7 +1,7 @@
 // Drive the page of `pbrkit explore` in headless Chromium (Debian's `chromium`) with
 // puppeteer-core, and print one JSON line with what happened.
 //
-//   node tests/explore_browser.mjs URL [--timeout S] [--slider TITLE] [--value X] [--source NAME]
+//   node tests/support/explore_browser.mjs URL [--timeout S] [--slider TITLE] [--value X] [--source NAME]
 //
 // Loads URL, waits until BokehJS has rendered the document (the root views exist and the
 // data source NAME, default `incidence_a`, holds data), reads that source's `y` column,
@@ -16,7 +16,7 @@ import { fileURLToPath } from "node:url";
 import { createRequire } from "node:module";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
-const require = createRequire(path.join(here, "engines", "package.json"));
+const require = createRequire(path.join(here, "..", "engines", "package.json"));
 const puppeteer = (await import(require.resolve("puppeteer-core"))).default;
 
 const args = process.argv.slice(2);

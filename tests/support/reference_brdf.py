@@ -1,7 +1,7 @@
 """Reference microfacet terms for the tests, written from the papers.
 
 Nothing here imports ``pbrkit``: the formulas below are transcribed from the
-cited sources, and the integrals use the rules of ``tests/quadrature.py``
+cited sources, and the integrals use the rules of ``tests/support/quadrature.py``
 (which do not import pbrkit either), so albedos computed here are an
 independent check of the package's terms, tables and reports.
 
@@ -23,7 +23,7 @@ Charlie sheen and albedo scaling): vectorised NumPy functions of
 light and view directions l, v (N, 3) in the local frame (normal +z, tangent +x,
 bitangent +y) and per-element material values, returning the BRDF value f
 (N, 3) -- not f cos -- and 0 unless n.l > 0 and n.v > 0.
-``tests/test_model_values.py`` checks pbrkit's NumPy API against them.
+``tests/brdf/test_model_values.py`` checks pbrkit's NumPy API against them.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The WebGL2 cases of ``pbrkit_khr_material.glsl``'s functions that take a tangent frame
-(tests/test_shaders_khr_material.py runs them with the rest of the file's): KHR_materials_anisotropy
+(tests/shaders/test_shaders_khr_material.py runs them with the rest of the file's): KHR_materials_anisotropy
 (its frame, D, V, specular lobe, BRDF and bent-normal IBL direction) and the normal of
 KHR_materials_clearcoat's clearcoatNormalTexture (``pbrkit_clearcoatNormal``), each against
 pbrkit's Python at random float32 inputs.
@@ -10,7 +10,7 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 import numpy as np
-from test_shaders import N, Case, _alphas, _cosines, _f32, _unit, _vec4s
+from shader_cases import N, Case, f32, random_alphas, random_cosines, random_units, vec4s
 
 from pbrkit.brdf import models
 from pbrkit.brdf.fresnel import f0_from_ior
@@ -31,7 +31,7 @@ def _tangents(rng, n):
         t[bad] = rng.normal(size=(int(bad.sum()), 3))
     w = np.where(rng.uniform(size=N) < 0.5, -1.0, 1.0)
     w[4:8] = (0.0, -0.5, 0.0, -0.5)
-    return _f32(np.concatenate([t, w[:, None]], axis=1))
+    return f32(np.concatenate([t, w[:, None]], axis=1))
 
 
 def _rotations(rng):
@@ -39,7 +39,7 @@ def _rotations(rng):
     rotation = rng.uniform(-4.0, 4.0, N)
     rotation[:16] = (0.0, 0.0, 0.0, 0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi, 0.0, np.pi / 2, np.pi, 3.0,
                      2 * np.pi, -2 * np.pi, 1.0, -1.0)
-    return _f32(rotation)
+    return f32(rotation)
 
 
 def _direction(rotation):
@@ -72,10 +72,10 @@ def anisotropy_cases(rng):
     orthogonal to n, of either handedness, turned), alpha_t against the model's setup, D and V against
     pbrkit's anisotropic GGX and the model's V (pbrkit.brdf.shading.gltf._v_khr), the specular lobe and the
     whole BRDF against pbrkit.brdf.models.evaluate("gltf", ..., t=tangent) (checked first against the
-    README's transcription in tests/reference_brdf.py), and the bent-normal lookup direction against
+    README's transcription in tests/support/reference_brdf.py), and the bent-normal lookup direction against
     pbrkit.rendering.ibl_lookups.khr_anisotropic_reflection."""
     import reference_brdf as ref
-    from test_shaders import _directions
+    from shader_cases import random_directions
 
     from pbrkit.brdf import distributions
     from pbrkit.brdf.bxdf import Cosines as FrameCosines
@@ -84,16 +84,16 @@ def anisotropy_cases(rng):
 
     cases = []
     add = cases.append
-    n = _unit(rng)
+    n = random_units(rng)
     tangent, rotation = _tangents(rng, n), _rotations(rng)
     t, b = _frames(n, tangent, rotation)
-    inputs = [_vec4s(n), tangent, _vec4s(_direction(rotation))]
+    inputs = [vec4s(n), tangent, vec4s(_direction(rotation))]
     add(Case("anisotropicFrame_t", ("pbrkit_anisotropicFrame",), "pbrkit_anisotropicFrame(a.xyz, b, c.xy)[0]",
              inputs, t, rtol=0.0, atol=1e-6))
     add(Case("anisotropicFrame_b", ("pbrkit_anisotropicFrame",), "pbrkit_anisotropicFrame(a.xyz, b, c.xy)[1]",
              inputs, b, rtol=0.0, atol=1e-6))
 
-    r, strength = _f32(rng.uniform(0.0, 1.0, N)), _f32(rng.uniform(0.0, 1.0, N))
+    r, strength = f32(rng.uniform(0.0, 1.0, N)), f32(rng.uniform(0.0, 1.0, N))
     r[:4], strength[:6] = (0.0, 1.0, 0.0, 0.5), (0.0, 1.0, 1.0, 0.0, 1.0, 0.0)
     params = np.zeros((N, LAYOUT.size))
     params[:, COLUMNS.anisotropy_strength] = strength
@@ -101,22 +101,22 @@ def anisotropy_cases(rng):
     alpha_t = np.array([gltf.setup(codes, 0, params, q, COLUMNS, float(r[q]), 0.0, 0.0, 0.0, 0.0).alpha_x
                         for q in range(N)])
     add(Case("anisotropicAlphaT", ("pbrkit_anisotropicAlphaT",),
-             "pbrkit_anisotropicAlphaT(pbrkit_alphaFromRoughness(a.x), a.y)", [_vec4s(r, strength)],
+             "pbrkit_anisotropicAlphaT(pbrkit_alphaFromRoughness(a.x), a.y)", [vec4s(r, strength)],
              alpha_t[:, None], atol=1e-7))
 
-    # D and V at directions in the frame: n.x from tests/test_shaders.py's cosines (many near 1 and 0), the
+    # D and V at directions in the frame: n.x from random_cosines (many near 1 and 0), the
     # azimuth uniform; alpha_b from 1e-3 to 1, alpha_t = mix(alpha_b, 1, s^2)
     def local(lo):
-        c = _cosines(rng, lo)[rng.permutation(N)]
+        c = random_cosines(rng, lo)[rng.permutation(N)]
         phi = rng.uniform(0.0, 2.0 * np.pi, N)
         s = np.sqrt(np.maximum(1.0 - c * c, 0.0))
-        return c, _f32(s * np.cos(phi)), _f32(s * np.sin(phi))
+        return c, f32(s * np.cos(phi)), f32(s * np.sin(phi))
 
-    alpha_b = _alphas(rng)
-    alpha_t = _f32(alpha_b + (1.0 - alpha_b) * rng.uniform(0.0, 1.0, N) ** 2)
+    alpha_b = random_alphas(rng)
+    alpha_t = f32(alpha_b + (1.0 - alpha_b) * rng.uniform(0.0, 1.0, N) ** 2)
     noh, toh, boh = local(-0.2)
     add(Case("dGGXAnisotropic", ("pbrkit_dGGXAnisotropic",), "pbrkit_dGGXAnisotropic(a.x, a.y, a.z, b.x, b.y)",
-             [_vec4s(noh, toh, boh), _vec4s(alpha_t, alpha_b)],
+             [vec4s(noh, toh, boh), vec4s(alpha_t, alpha_b)],
              distributions.d_ggx_anisotropic(noh, toh, boh, alpha_t, alpha_b)[:, None]))
     (nol, tol, bol), (nov, tov, bov) = local(-0.2), local(-0.2)
     bxdf = gltf.setup(codes, 0, params, 1, COLUMNS, 0.5, 0.0, 0.0, 0.0, 0.0)  # an anisotropic BxDF (strength 1)
@@ -125,23 +125,23 @@ def anisotropy_cases(rng):
                                         FrameCosines(*map(float, (nol[q], nov[q], 0.0, 0.0, tol[q], bol[q], tov[q],
                                                                   bov[q], 0.0, 0.0)))) for q in range(N)])
     add(Case("vGGXAnisotropic", ("pbrkit_vGGXAnisotropic",), "pbrkit_vGGXAnisotropic(a.x, a.y, a.z, b.x, b.y, b.z, "
-             "c.x, c.y)", [_vec4s(nol, tol, bol), _vec4s(nov, tov, bov), _vec4s(alpha_t, alpha_b)],
+             "c.x, c.y)", [vec4s(nol, tol, bol), vec4s(nov, tov, bov), vec4s(alpha_t, alpha_b)],
              expected[:, None], atol=1e-30))
 
-    # the specular lobe and the whole material at tests/test_shaders.py's directions (the near-mirror half at
+    # the specular lobe and the whole material at random_directions' directions (the near-mirror half at
     # r >= 0.3, as BRDF_glTF's case)
-    l, v, n = _directions(rng)
+    l, v, n = random_directions(rng)
     mirror = np.arange(N) >= N // 2
     tangent, rotation = _tangents(rng, n), _rotations(rng)
-    rough = _f32(rng.uniform(np.where(mirror, 0.3, 0.03), 1.0))
-    strength = _f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(0.01, 1.0, N)))
+    rough = f32(rng.uniform(np.where(mirror, 0.3, 0.03), 1.0))
+    strength = f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(0.01, 1.0, N)))
     # the lobe: metals (f0 = base colour, f90 1) and, on odd rows, black dielectrics with KHR_materials_specular
     # (f0 = min(f0(ior) specularColor, 1) specular, f90 = specular): no diffuse either way
     odd = np.arange(N) % 2 == 1
-    f0 = _f32(rng.uniform(0, 1, (N, 3)))
-    specular, specular_color = _f32(rng.uniform(0, 1, N)), _f32(rng.uniform(0, 2, (N, 3)))
-    ior = _f32(rng.uniform(1.0, 3.0, N))
-    dielectric_f0 = _f32(np.minimum(f0_from_ior(ior)[:, None] * specular_color, 1.0) * specular[:, None])
+    f0 = f32(rng.uniform(0, 1, (N, 3)))
+    specular, specular_color = f32(rng.uniform(0, 1, N)), f32(rng.uniform(0, 2, (N, 3)))
+    ior = f32(rng.uniform(1.0, 3.0, N))
+    dielectric_f0 = f32(np.minimum(f0_from_ior(ior)[:, None] * specular_color, 1.0) * specular[:, None])
     f0 = np.where(odd[:, None], dielectric_f0, f0)
     f90 = np.where(odd, specular, 1.0)
     material = _anisotropy_material(np.where(odd[:, None], 0.0, f0), np.where(odd, 0.0, 1.0), rough, strength,
@@ -158,13 +158,13 @@ def anisotropy_cases(rng):
     assert np.allclose(expected[metal], readme, rtol=1e-6, atol=1e-9)
     add(Case("anisotropicSpecular", ("pbrkit_anisotropicSpecular",),
              "pbrkit_anisotropicSpecular(a.xyz, b.xyz, pbrkit_anisotropicFrame(c.xyz, d, f.xy), e.xyz, e.w, b.w, c.w)",
-             [_vec4s(l), _vec4s(v, rough), _vec4s(n, strength), tangent, _vec4s(f0, f90), _vec4s(_direction(rotation))],
+             [vec4s(l), vec4s(v, rough), vec4s(n, strength), tangent, vec4s(f0, f90), vec4s(_direction(rotation))],
              expected,
              rtol=1e-4, atol=1e-6))
 
-    base = _f32(rng.uniform(0, 1, (N, 3)))
-    metallic = _f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
-    strength = _f32(np.where(rng.uniform(size=N) < 0.15, 0.0, strength))  # 0: the core model (BRDF_glTF)
+    base = f32(rng.uniform(0, 1, (N, 3)))
+    metallic = f32(np.where(rng.uniform(size=N) < 0.3, rng.integers(0, 2, N), rng.uniform(0, 1, N)))
+    strength = f32(np.where(rng.uniform(size=N) < 0.15, 0.0, strength))  # 0: the core model (BRDF_glTF)
     material = _anisotropy_material(base, metallic, rough, strength, rotation, tangent)
     expected = models.evaluate("gltf", l, v, n, material, t=tangent[:, :3])
     on = strength > 0.0
@@ -175,24 +175,24 @@ def anisotropy_cases(rng):
     assert np.allclose(expected[on], readme, rtol=1e-6, atol=1e-9)
     add(Case("BRDF_glTFAnisotropic", ("BRDF_glTFAnisotropic",),
              "BRDF_glTFAnisotropic(a.xyz, b.xyz, c.xyz, d, e.xyz, e.w, b.w, c.w, f.xy)",
-             [_vec4s(l), _vec4s(v, rough), _vec4s(n, strength), tangent, _vec4s(base, metallic),
-              _vec4s(_direction(rotation))],
+             [vec4s(l), vec4s(v, rough), vec4s(n, strength), tangent, vec4s(base, metallic),
+              vec4s(_direction(rotation))],
              expected, rtol=1e-4, atol=1e-6))
 
     # the lookup direction: v above n, anisotropicB of a turned frame, strength and r in [0, 1] with their ends
-    n = _unit(rng)
-    v = _unit(rng)
-    v = _f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
+    n = random_units(rng)
+    v = random_units(rng)
+    v = f32(np.where(np.sum(n * v, axis=1, keepdims=True) < 0.0, -v, v))
     tangent, rotation = _tangents(rng, n), _rotations(rng)
     _, b = _frames(n, tangent, rotation)
-    b = _f32(b)
-    strength, r = _f32(rng.uniform(0.0, 1.0, N)), _f32(rng.uniform(0.0, 1.0, N))
+    b = f32(b)
+    strength, r = f32(rng.uniform(0.0, 1.0, N)), f32(rng.uniform(0.0, 1.0, N))
     strength[:8], r[:8] = (0.0, 1.0, 1.0, 0.0, 1.0, 0.5, 1.0, 0.0), (0.0, 0.0, 1.0, 1.0, 0.5, 0.0, 0.0, 0.5)
     expected = np.array([khr_anisotropic_reflection(*n[q], *v[q], tuple(b[q]), float(strength[q]),
                                                     float(r[q])) for q in range(N)])
     add(Case("anisotropicReflection", ("pbrkit_anisotropicReflection",),
              "pbrkit_anisotropicReflection(a.xyz, b.xyz, c.xyz, a.w, b.w)",
-             [_vec4s(n, strength), _vec4s(v, r), _vec4s(b)], expected, rtol=0.0, atol=2e-6))
+             [vec4s(n, strength), vec4s(v, r), vec4s(b)], expected, rtol=0.0, atol=2e-6))
     return cases
 
 
@@ -204,11 +204,11 @@ def clearcoat_normal_cases(rng):
     (0 and 1 on a few rows)."""
     from pbrkit.rendering.textures import tangent_space_normal
 
-    n = _unit(rng)
+    n = random_units(rng)
     tangent = _tangents(rng, n)
     tangent[:, 3] = np.where(tangent[:, 3] < 0.0, -1.0, 1.0)  # glTF's handedness
-    texel = _f32(rng.uniform(0.0, 1.0, (N, 3)))
-    scale = _f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(-1.0, 3.0, N)))
+    texel = f32(rng.uniform(0.0, 1.0, (N, 3)))
+    scale = f32(np.where(rng.uniform(size=N) < 0.2, 1.0, rng.uniform(-1.0, 3.0, N)))
     texel[:6] = ((0.5, 0.5, 1.0), (0.5, 0.5, 0.5), (1.0, 0.5, 0.5), (0.5, 0.0, 0.5), (0.5, 0.5, 1.0), (0.2, 0.9, 0.7))
     scale[:6] = (1.0, 1.0, 1.0, 2.0, 0.0, 0.0)
 
@@ -222,7 +222,7 @@ def clearcoat_normal_cases(rng):
         short = rows[mapped_length(rows) < 0.2]
         if not short.size:
             break
-        texel[short] = _f32(rng.uniform(0.0, 1.0, (short.size, 3)))
+        texel[short] = f32(rng.uniform(0.0, 1.0, (short.size, 3)))
     expected = tangent_space_normal(texel, scale[:, None], n, tangent, np.ones(N, dtype=bool))
     assert np.array_equal(expected[1], n[1]) and np.allclose(expected[0], n[0], atol=1e-12)
     t = tangent[:, :3] - np.sum(tangent[:, :3] * n, axis=1, keepdims=True) * n
@@ -231,5 +231,5 @@ def clearcoat_normal_cases(rng):
     assert np.mean(np.sum(expected * n, axis=1) < 0.9) > 0.5  # mostly well away from n
     return [Case("clearcoatNormal", ("pbrkit_clearcoatNormal",),
                  "vec4(pbrkit_clearcoatNormal(a.xyz, b.xyz, c.xyz, d.xyz, a.w), 0.0)",
-                 [_vec4s(_f32(t), scale), _vec4s(_f32(b)), _vec4s(n), _vec4s(texel)], expected, rtol=0.0,
+                 [vec4s(f32(t), scale), vec4s(f32(b)), vec4s(n), vec4s(texel)], expected, rtol=0.0,
                  atol=2e-6)]
