@@ -161,3 +161,79 @@ def test_microfacet_method_table():
     with pytest.raises(ValueError, match="choose one of ggx, beckmann, blinn-phong, gtr1"):
         microfacet.unit("phong")
     assert pbrkit.microfacet is microfacet  # the lazy name of the API tour
+
+
+# ---------------------------------------------------------------- the tests' own layout
+
+#: tests/: one folder per subpackage of pbrkit, plus these (the command line, demo and
+#: docs; the in-engine tests beside their npm files; the shared helpers).
+TESTS = Path(__file__).resolve().parents[1]
+TEST_FOLDERS_BESIDES = {"app", "engines", "support"}
+#: Folders that are not tests (npm's, Python's caches) and are never searched.
+NOT_TESTS = {"node_modules", "__pycache__"}
+
+
+def _test_tree_files(pattern):
+    return [p for p in TESTS.rglob(pattern) if not NOT_TESTS & set(p.relative_to(TESTS).parts)]
+
+
+def _top_level_imports(path):
+    """The first component of every module that ``path`` imports (any level, any form;
+    ``importlib.import_module`` with a literal name too)."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            names.update(alias.name.split(".")[0] for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module.split(".")[0])
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "import_module"
+              and node.args and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
+            names.add(node.args[0].value.split(".")[0])
+    return names
+
+
+def test_the_tests_mirror_the_package():
+    """Every folder of tests/ names a subpackage of pbrkit (or app, engines, support);
+    every test module lies in one of them (none at the top), its basename unique (pytest
+    imports them by basename: no __init__.py in tests/), and none in support."""
+    subpackages = {p.parent.name for p in PACKAGE.glob("*/__init__.py")}
+    folders = {p.name for p in TESTS.iterdir() if p.is_dir() and p.name not in NOT_TESTS and not p.name.startswith(".")}
+    assert folders - subpackages - TEST_FOLDERS_BESIDES == set()
+    modules = _test_tree_files("test_*.py")
+    assert modules, TESTS
+    assert [p.name for p in modules if p.parent == TESTS] == []
+    assert [p.name for p in modules if p.relative_to(TESTS).parts[0] == "support"] == []
+    names = [p.name for p in modules]
+    assert sorted({n for n in names if names.count(n) > 1}) == []
+    assert [str(p.relative_to(TESTS)) for p in _test_tree_files("__init__.py")] == []
+
+
+def test_no_test_module_imports_another():
+    """Shared helpers live in tests/support: no file of tests/ imports a test module
+    (``test_*``) or conftest.py (its hooks only; the skip reasons are support/skips.py)."""
+    offenders = {}
+    for path in _test_tree_files("*.py"):
+        bad = sorted(n for n in _top_level_imports(path) if n.startswith("test_") or n == "conftest")
+        if bad:
+            offenders[str(path.relative_to(TESTS))] = bad
+    assert offenders == {}
+
+
+def test_the_check_sees_every_form_of_test_import(tmp_path):
+    path = tmp_path / "module.py"
+    path.write_text("import test_a\nfrom test_b import x\nimport os.path\nfrom . import y\n"
+                    "def f():\n    from test_c.sub import z\n    importlib.import_module('test_d')\n")
+    assert _top_level_imports(path) == {"test_a", "test_b", "os", "test_c", "test_d"}
+
+
+def test_support_holds_no_tests():
+    """tests/support's modules define helpers only: no test function or class (pytest
+    would not collect them there, so a test put there would silently never run)."""
+    found = []
+    for path in (TESTS / "support").glob("*.py"):
+        for node in ast.parse(path.read_text()).body:
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name.startswith("test"):
+                found.append(f"{path.name}: {node.name}")
+            elif isinstance(node, ast.ClassDef) and node.name.startswith("Test"):
+                found.append(f"{path.name}: {node.name}")
+    assert found == []
