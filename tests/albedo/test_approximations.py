@@ -1,7 +1,7 @@
 """The approximations report: each map measures the error it names.
 
 The maps of :func:`pbrkit.albedo.approximations.approximation_errors` and the
-figures README.md prints for them are checked against albedo differences
+figures the user guide prints for them (docs/guide/tables.md) are checked against albedo differences
 recomputed here without pbrkit: the GGX, Smith, Schlick-GGX, Fresnel, Karis and
 URP formulas of ``tests/support/reference_brdf.py`` (written from the papers),
 integrated with the rules of ``tests/support/quadrature.py``, on the report's grid
@@ -21,13 +21,13 @@ from pbrkit.albedo.approximations import COMPARISONS, approximation_errors
 from pbrkit.app.cli import app
 from pbrkit.brdf.fresnel import CONDUCTORS
 
-README = Path(__file__).resolve().parents[2] / "README.md"
+GUIDE = Path(__file__).resolve().parents[2] / "docs" / "guide" / "tables.md"
 
 # How far pbrkit's maps may be from the reference, per comparison (absolute albedo).
 # The reference rule is within 1.4e-6 of much denser rules, 1.7e-4 for URP (see
 # reference_brdf.RULE).  pbrkit's side: Karis' maps subtract the split-sum table,
-# converged to < 1e-4 (README, bench/lut.py: max error 7.2e-5); the other maps are
-# differences of two furnace quadratures, each converged to 1e-4 (README, `pbrkit
+# converged to < 1e-4 (docs/benchmarks.md, bench/lut.py: max error 7.2e-5); the other maps are
+# differences of two furnace quadratures, each converged to 1e-4 (docs/guide/tables.md, `pbrkit
 # furnace`); URP's kinked term uses more nodes there and gets the same 1e-4 budget
 # on top of the reference's 1.7e-4.  Measured: <= 6.6e-5 (Karis), <= 1.4e-6 (the
 # Fresnel and masking maps), <= 1.6e-4 (URP).
@@ -37,9 +37,9 @@ MAP_TOLERANCE.update({"urp-vs-ggx-f1": 5e-4, "urp-vs-ggx-f004": 5e-4})
 REFERENCE_ACCURACY = {name: 1e-5 for name in MAP_TOLERANCE}
 REFERENCE_ACCURACY.update({"urp-vs-ggx-f1": 2e-4, "urp-vs-ggx-f004": 2e-5})
 
-# README table rows (matched by a phrase of the first column) -> the report's
+# The guide table's rows (matched by a phrase of the first column) -> the report's
 # comparisons, in the order of the " / "-separated figures.
-README_ROWS = {
+TABLE_ROWS = {
     "EnvBRDFApprox": ("karis-env-brdf-a", "karis-env-brdf-b"),
     "SG Fresnel": ("ue4-sg-vs-schlick",),
     "pow4 vs pow5": ("pow4-vs-pow5",),
@@ -47,12 +47,12 @@ README_ROWS = {
     "Schlick-GGX": ("schlick-ggx-ibl-vs-smith", "schlick-ggx-ue4-vs-smith"),
     "URP mobile": ("urp-vs-ggx-f1", "urp-vs-ggx-f004"),
 }
-COMPARISONS_IN_TABLE = tuple(name for names in README_ROWS.values() for name in names)
+COMPARISONS_IN_TABLE = tuple(name for names in TABLE_ROWS.values() for name in names)
 
 
-def readme_table():
-    """(grid size, {comparison: (max text, mean text)}) from README's `pbrkit approximations` table."""
-    section = README.read_text().split("### `pbrkit approximations", 1)[1].split("\n## ", 1)[0]
+def guide_table():
+    """(grid size, {comparison: (max text, mean text)}) from the guide's `pbrkit approximations` table."""
+    section = GUIDE.read_text().split("## The approximations report", 1)[1].split("\n## ", 1)[0]
     section = section.split("\n### ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("|")]
     header = [c.strip() for c in rows[0].strip("|").split("|")]
@@ -61,9 +61,9 @@ def readme_table():
     figures = {}
     for line in rows[2:]:
         label, max_text, mean_text = (c.strip() for c in line.strip("|").split("|"))
-        keys = [k for k in README_ROWS if k in label]
-        assert len(keys) == 1, f"README row {label!r} matches {keys} (update README_ROWS)"
-        names = README_ROWS[keys[0]]
+        keys = [k for k in TABLE_ROWS if k in label]
+        assert len(keys) == 1, f"table row {label!r} matches {keys} (update TABLE_ROWS)"
+        names = TABLE_ROWS[keys[0]]
         maxima, means = max_text.split(" / "), mean_text.split(" / ")
         assert len(maxima) == len(means) == len(names), label
         for name, mx, mn in zip(names, maxima, means):
@@ -75,7 +75,7 @@ def readme_table():
 def assert_printed(value, text, accuracy, what):
     """``text`` is ``value`` rounded to the decimals printed, up to the reference's accuracy."""
     half_unit = 0.5 * 10.0 ** -len(text.partition(".")[2])
-    assert abs(value - float(text)) <= half_unit + accuracy, f"{what}: README {text}, independent {value:.6f}"
+    assert abs(value - float(text)) <= half_unit + accuracy, f"{what}: guide {text}, independent {value:.6f}"
 
 
 @pytest.fixture(scope="module")
@@ -84,8 +84,8 @@ def errors():
 
 
 @pytest.fixture(scope="module")
-def readme_grid_reference():
-    n, _ = readme_table()
+def guide_grid_reference():
+    n, _ = guide_table()
     return n, albedo_maps(n, RULE)
 
 
@@ -115,7 +115,7 @@ def test_reference_gold_is_the_reports_gold():
 
 
 def test_error_maps_match_independent_quadrature(errors):
-    """Every map of the README table on the 8 x 8 texel grid, cell by cell."""
+    """Every map of the guide's table on the 8 x 8 texel grid, cell by cell."""
     reference = albedo_maps(8, RULE)
     assert set(reference) == set(COMPARISONS_IN_TABLE)
     for name, ref in reference.items():
@@ -125,18 +125,18 @@ def test_error_maps_match_independent_quadrature(errors):
     assert min(np.abs(ref).max() for ref in reference.values()) > 1e-3
 
 
-def test_readme_table_covers_the_report():
-    n, figures = readme_table()
+def test_guide_table_covers_the_report():
+    n, figures = guide_table()
     assert n == 32
     assert set(figures) == set(COMPARISONS_IN_TABLE)
     assert set(COMPARISONS_IN_TABLE) == {c.name for c in COMPARISONS} - {"compensated-vs-single"}
 
 
 @pytest.mark.slow
-def test_readme_figures_match_independent_quadrature(readme_grid_reference):
-    """README's max / mean absolute errors are the independent ones, to the printed digits."""
-    _, reference = readme_grid_reference
-    _, figures = readme_table()
+def test_guide_figures_match_independent_quadrature(guide_grid_reference):
+    """The guide's max / mean absolute errors are the independent ones, to the printed digits."""
+    _, reference = guide_grid_reference
+    _, figures = guide_table()
     for name, (max_text, mean_text) in figures.items():
         e = np.abs(reference[name])
         assert_printed(e.max(), max_text, REFERENCE_ACCURACY[name], f"{name} max")
@@ -144,10 +144,10 @@ def test_readme_figures_match_independent_quadrature(readme_grid_reference):
 
 
 @pytest.mark.slow
-def test_report_maps_match_independent_quadrature_on_the_readme_grid(readme_grid_reference):
-    """The report's own maps on the README's grid (32 x 32, whose smoothest row sits at
+def test_report_maps_match_independent_quadrature_on_the_guide_grid(guide_grid_reference):
+    """The report's own maps on the guide's grid (32 x 32, whose smoothest row sits at
     the alpha = 1e-3 clamp), cell by cell."""
-    n, reference = readme_grid_reference
+    n, reference = guide_grid_reference
     errors = approximation_errors(n)
     for name, ref in reference.items():
         worst = np.abs(errors[name] - ref).max()

@@ -1,17 +1,15 @@
-"""The documentation shipped with the package agrees with the project's contract."""
+"""The documentation shipped with the package agrees with the project's contract
+and with the code: the README's two commands, the API tour of the user guide, the
+input rules' limits.  Every code block of the README, docs/index.md and
+docs/guide/*.md is run by tests/app/test_docs_blocks.py."""
 
 from pathlib import Path
 
+from doc_pages import GUIDE, api_tour
 from skips import needs_shared
 
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared" / "CONVENTIONS.md"
-
-
-def api_tour():
-    """The ```python block under "## API tour" in README.md."""
-    text = (ROOT / "README.md").read_text()
-    return text.split("## API tour", 1)[1].split("```python", 1)[1].split("```", 1)[0]
 
 
 @needs_shared("CONVENTIONS.md", "the project's contract")
@@ -38,8 +36,8 @@ def test_readme_starts_with_the_two_commands():
     assert 'python -m pip install -q -e ".[test]"' in ci and "python -m pytest -q" in ci
 
 
-def test_readme_api_tour_imports_and_the_top_level_names():
-    """Every import line of the README's API tour runs; the top level holds the tour's
+def test_api_tour_imports_and_the_top_level_names():
+    """Every import line of the guide's API tour runs; the top level holds the tour's
     names and the subpackages, and nothing else (no import machinery, no hook)."""
     import importlib
     import sys
@@ -61,13 +59,13 @@ def test_readme_api_tour_imports_and_the_top_level_names():
     assert not any(type(f).__module__.startswith("pbrkit") for f in sys.meta_path)
 
 
-def test_readme_api_tour_runs_as_written(tmp_path, monkeypatch):
+def test_api_tour_runs_as_written(tmp_path, monkeypatch):
     """The whole API tour runs, as a user would paste it, in an empty folder: every
     file it reads ships with pbrkit (the bundled environment), and it writes the
     files the paragraph after it names."""
     monkeypatch.chdir(tmp_path)
-    namespace = {"__name__": "__readme__"}
-    exec(compile(api_tour(), "README.md (API tour)", "exec"), namespace)
+    namespace = {"__name__": "__docs__"}
+    exec(compile(api_tour(), "docs/guide/python.md (API tour)", "exec"), namespace)
     assert (tmp_path / "bake" / "manifest.json").is_file()
     assert (tmp_path / "spheres.png").is_file() and (tmp_path / "spheres.stderr.exr").is_file()
     assert (tmp_path / "plastic.binary").is_file()
@@ -107,8 +105,8 @@ def test_package_data_is_declared():
     assert (ROOT / "src" / "pbrkit" / "data" / "__init__.py").is_file()
 
 
-def test_readme_input_rules_state_the_limits_the_code_enforces():
-    """The README's "Input rules" section states the limits of pbrkit.core.inputs and
+def test_input_rules_state_the_limits_the_code_enforces():
+    """The guide's input rules (docs/guide/input-rules.md, "Untrusted input") state the limits of pbrkit.core.inputs and
     the glTF reader, and the options it names exist on the commands."""
     from typer.main import get_command
 
@@ -116,7 +114,7 @@ def test_readme_input_rules_state_the_limits_the_code_enforces():
     from pbrkit.core.inputs import MAX_TEXT_BYTES, size_text
     from pbrkit.io.gltf_document import MAX_GLTF_BYTES
 
-    text = " ".join((ROOT / "README.md").read_text().split("## Input rules", 1)[1].split("\n## ", 1)[0].split())
+    text = " ".join((GUIDE / "input-rules.md").read_text().split("## Untrusted input", 1)[1].split("\n## ", 1)[0].split())
     assert MAX_GLTF_BYTES % (1 << 30) == 0
     assert f"at most {size_text(MAX_TEXT_BYTES)}, glTF files {MAX_GLTF_BYTES >> 30} GiB" in text
     render = get_command(app).commands["render"]

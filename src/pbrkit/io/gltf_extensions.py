@@ -45,9 +45,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.checks import is_finite_number
-from .gltf_document import _BYTE, _COMPONENT_NAMES, _FLOAT, _SHORT, _UBYTE, _UINT, _USHORT, _json_kind, _shown
+from .gltf_fields import (_BYTE, _COMPONENT_NAMES, _FLOAT, _SHORT, _UBYTE, _UINT, _USHORT, _integer, _json_kind,
+                          _object, _shown)
 
 __all__ = [
+    "check_texture_info",
     "TEXTURE_TRANSFORM",
     "MESH_QUANTIZATION",
     "TextureTransform",
@@ -184,3 +186,16 @@ def format_text(kind, pairs, with_flag=True):
     """'VEC3 FLOAT or VEC3 SHORT (normalized) ...' for messages."""
     return " or ".join(f"{kind} {_COMPONENT_NAMES[c]}" + (" (normalized)" if n and with_flag else "")
                        for c, n in pairs)
+
+
+def check_texture_info(info, where, index):
+    """A textureInfo (glTF 2.0 sec. 5.29: ``index`` into textures, ``texCoord``) and its
+    ``KHR_texture_transform`` (:func:`check_texture_transform`)."""
+    _object(info, where)
+    index.required(info, "index", where, "textures")
+    if info.get("texCoord") is not None:
+        _integer(info["texCoord"], f"{where}.texCoord")
+    if info.get("extensions") is not None:
+        ext = _object(info["extensions"], f"{where}.extensions").get(TEXTURE_TRANSFORM)
+        if ext is not None:
+            check_texture_transform(ext, f"{where}.extensions.{TEXTURE_TRANSFORM}")

@@ -41,7 +41,8 @@ from __future__ import annotations
 
 import math
 
-from .gltf_document import _check_texture_info, _number, _numbers, _object
+from .gltf_extensions import check_texture_info
+from .gltf_fields import _number, _numbers, _object
 
 __all__ = ["FACTORS", "TEXTURES", "TEXTURE_USES", "UNLIT", "MATERIAL_EXTENSIONS", "check_material_extensions",
            "material_extension_values", "unlit_material"]
@@ -133,7 +134,7 @@ def check_material_extensions(ext, where, index):
             raise ValueError(f"{w}.attenuationDistance must be above 0; got 0")
         for key in textures:
             if obj.get(key) is not None:
-                _check_texture_info(obj[key], f"{w}.{key}", index)
+                check_texture_info(obj[key], f"{w}.{key}", index)
         if name == "KHR_materials_clearcoat" and isinstance(obj.get("clearcoatNormalTexture"), dict) and \
                 obj["clearcoatNormalTexture"].get("scale") is not None:  # a normalTextureInfo
             _number(obj["clearcoatNormalTexture"]["scale"], f"{w}.clearcoatNormalTexture.scale")

@@ -77,13 +77,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..core.inputs import Confinement, check_allocation, describe, size_text
-from ..io.gltf_document import (
-    _COMPONENT,
-    _COMPONENT_NAMES,
-    _NCOMP,
-    read_gltf_document,
-    validate_gltf_document,
-)
+from ..io.gltf_document import read_gltf_document, validate_gltf_document
 from ..io.gltf_extensions import (
     MESH_QUANTIZATION,
     TEXTURE_TRANSFORM,
@@ -92,6 +86,7 @@ from ..io.gltf_extensions import (
     format_text,
     texture_transform,
 )
+from ..io.gltf_fields import _COMPONENT, _COMPONENT_NAMES, _NCOMP
 from ..io.gltf_materials import MATERIAL_EXTENSIONS, TEXTURE_USES, UNLIT, material_extension_values, unlit_material
 from ..io.gltf_resources import MAX_IMAGE_BYTES, buffer_file_bytes, decode_image, uri_bytes
 from .lights import Light
