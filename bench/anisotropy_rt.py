@@ -15,7 +15,7 @@ that ignores the extension shows) against the anisotropic ground truth.
 
 Prints a Markdown table.  The five spheres here are the set filtered importance
 sampling's sample count was tuned on; ``--held-apart`` measures it on data it was not
-tuned on: the anisotropy asset of tests/test_engine_khr_extensions.py (16 spheres of
+tuned on: the anisotropy asset of tests/engines/test_engine_khr_extensions.py (16 spheres of
 other roughness, strength and rotation, its mesh tangents, the Khronos target's bake
 at intensity 0.25) through ``pbrkit render``, with and without
 ``--energy-compensation`` (whose multiple scattering is not filtered importance
@@ -57,14 +57,15 @@ def held_apart(spp):
     import tempfile
     from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-    import test_engine_khr_extensions as assets
-    from test_engine_render_three import _encode
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "support"))
+    import engine_assets as assets
+    from engine_compare import bake_khronos, sphere_mask
+    from engine_compare import encode_srgb8 as _encode
 
     name = "anisotropy"
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
-        bake_dir = assets.bake(root / "bake")
+        bake_dir = bake_khronos(root / "bake")
         scene_file = assets.write_asset_scene(name, root, bake_dir)
         t = time.perf_counter()
         truth = _encode(assets.pbrkit_render(scene_file, ["--mode", "reference", "--spp", str(spp), "--no-occlusion",
@@ -77,11 +78,11 @@ def held_apart(spp):
                       scene_file, ["--engine", "pbrkit", *assets.PBRKIT_OPTIONS], root / "ec.exr")),
                   "khronos": _encode(assets.pbrkit_render(scene_file, assets.ENGINE_OPTIONS, root / "khronos.exr"))}
     index = assets.asset_index(name)
-    mask = assets.sphere_mask(index)
+    mask = sphere_mask(index)
     spheres = assets.asset_spheres(name)
     columns = 4
     ref = truth.astype(np.float64).mean(-1)
-    print(f"held apart: tests/test_engine_khr_extensions.py's {name} asset, ground truth {spp} spp, direct "
+    print(f"held apart: tests/engines/test_engine_khr_extensions.py's {name} asset, ground truth {spp} spp, direct "
           f"({t_truth:.1f} s); 8-bit sRGB levels, mean |grey| (signed mean: real time minus ground truth)\n")
     print("| row of the asset | " + " | ".join(images) + " |")
     print("|---|" + "---|" * len(images))

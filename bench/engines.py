@@ -3,7 +3,7 @@ render of the same scene as that engine evaluates the IBL (issue 10).
 
     python bench/engines.py -o DIR [--engines filament,khronos,babylon,three]
 
-For each engine this runs the render test's own steps (tests/test_engine_render_<engine>.py:
+For each engine this runs the render test's own steps (tests/engines/test_engine_render_<engine>.py:
 ``pbrkit bake --target <engine>`` of the bundled environment, the engine's page in
 headless Chromium through tests/engines/harness.mjs, ``pbrkit render --engine
 <engine>``) and writes ``DIR/<engine>_engine.png``, ``DIR/<engine>_pbrkit.png``,
@@ -47,7 +47,7 @@ def main():
     parser.add_argument("-o", "--out", type=Path, required=True)
     parser.add_argument("--engines", default=",".join(ENGINES))
     args = parser.parse_args()
-    sys.path.insert(0, str(ROOT / "tests"))
+    sys.path[:0] = [str(ROOT / "tests" / "engines"), str(ROOT / "tests" / "support")]
     from engine_pages import engines_missing
 
     from pbrkit.io.png import write_png

@@ -1,4 +1,4 @@
-"""The glTF material extensions' test assets (tests/test_engine_khr_extensions.py:
+"""The glTF material extensions' test assets (tests/engines/test_engine_khr_extensions.py:
 ClearCoatTest- (its clearcoat normal row too), SpecularTest-, IorTest-, SheenTest-,
 IridescenceTest-, AnisotropyStrengthTest- and TransmissionTest-like sphere grids written
 by pbrkit.io.gltf_writer)
@@ -83,14 +83,15 @@ def label(material):
 def measure(spp, log=print, only=None):
     """One row per asset (dict; the assets named in ``only``, else all), rendering
     everything in a temporary folder."""
-    sys.path.insert(0, str(ROOT / "tests"))
+    sys.path.insert(0, str(ROOT / "tests" / "support"))
     from engine_pages import engines_missing
 
     reason = engines_missing()
     if reason:
         sys.exit(f"bench/khr_extensions.py: {reason}")
-    import test_engine_khr_extensions as assets
-    from test_engine_render_three import _encode
+    import engine_assets as assets
+    from engine_compare import bake_khronos, sphere_mask
+    from engine_compare import encode_srgb8 as _encode
 
     from pbrkit.io.exr import read_exr
 
@@ -98,7 +99,7 @@ def measure(spp, log=print, only=None):
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         t0 = time.perf_counter()
-        bake_dir = assets.bake(root / "bake")
+        bake_dir = bake_khronos(root / "bake")
         log(f"bake: {time.perf_counter() - t0:.1f} s (Charlie chain baked: {assets.charlie_baked(bake_dir)})")
         unknown = set(only or ()) - set(assets.ASSETS)
         if unknown:
@@ -111,7 +112,7 @@ def measure(spp, log=print, only=None):
             folder.mkdir()
             scene = assets.write_asset_scene(name, folder, bake_dir)
             index = assets.asset_index(name)
-            mask = assets.sphere_mask(index)
+            mask = sphere_mask(index)
             viewer = assets.viewer_image(name, bake_dir)
             khronos = _encode(assets.pbrkit_render(scene, assets.ENGINE_OPTIONS, folder / "khronos.exr"))
             own = _encode(assets.pbrkit_render(scene, ["--engine", "pbrkit", *assets.PBRKIT_OPTIONS],
@@ -157,7 +158,7 @@ def constant_environment(name, spp, folder, assets, encode):
     scene = folder / "scene.json"
     scene.write_text(json.dumps({"camera": assets.asset_camera(name), "environment": {"color": [0.5, 0.5, 0.5]},
                                  "objects": [{"type": "gltf", "file": glb.name}]}))
-    mask = assets.sphere_mask(assets.asset_index(name))
+    mask = sphere_mask(assets.asset_index(name))
     reference = encode(assets.pbrkit_render(scene, ["--mode", "reference", "--spp", str(spp), "--no-occlusion",
                                                     "--tonemap", "none"], folder / "reference.exr"))
     out = {}
@@ -176,7 +177,7 @@ def markdown(rows, spp, charlie, constant):
         "# glTF material extensions: the Khronos Sample Viewer, pbrkit's real time and the ground truth",
         "",
         "Written by `PYTHONPATH=src python bench/khr_extensions.py` (issue 25). The assets are",
-        "`tests/test_engine_khr_extensions.py`'s (sphere grids written by `pbrkit.io.gltf_writer`,",
+        "`tests/engines/test_engine_khr_extensions.py`'s (sphere grids written by `pbrkit.io.gltf_writer`,",
         "the bundled environment baked with `--target khronos --size 128 --min-size 8`, intensity",
         "0.25). Each cell is the mean / 95th percentile of |grey| in 8-bit sRGB levels over the",
         "spheres' pixels away from silhouettes.",
@@ -321,7 +322,7 @@ def merge(old, new, names):
     """``new`` (Markdown of the assets ``names`` alone) merged into ``old``: in both tables
     those assets' rows replaced where ``old`` has them, else added in the order of the
     assets; the rest of the text is ``new``'s (the notes follow the code)."""
-    import test_engine_khr_extensions as assets
+    import engine_assets as assets
 
     order = list(assets.ASSETS)
     out = new.splitlines()

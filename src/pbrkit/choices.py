@@ -3,7 +3,7 @@ validates against these tuples and the command line offers them, so ``pbrkit --h
 lists them without importing NumPy, Numba or the renderers (this module imports
 nothing).  Where a library module keeps a table keyed by the names (the visibility
 codes of :mod:`pbrkit.albedo.tables`, the texel formats of :mod:`pbrkit.ibl.bake`) its
-keys are these names, in this order (tests/test_bad_inputs.py checks)."""
+keys are these names, in this order (tests/app/test_bad_inputs.py checks)."""
 
 __all__ = ["MODES", "TONEMAPS", "DIFFUSE_MODES", "RENDER_ENGINES", "LTC_CLIPPINGS", "LUT_KINDS", "VISIBILITIES",
            "KTX2_FORMATS", "BAKE_FORMATS", "BAKE_METHODS", "BAKE_TARGETS", "SH_WINDOWS", "LAYOUTS", "COMPENSATIONS",

@@ -163,7 +163,7 @@ def albedo_monte_carlo(brdf, mu, roughness, n_samples=4096, seed=0):
     number of samples per stratum (a stratified estimator: sum of width x mean;
     variance sum of width^2 s^2 / n per stratum), so the rare directions are
     sampled in every run and the standard error is honest: >= 97 % of cells
-    agree with the quadrature within 3 standard errors (tests/test_furnace.py).
+    agree with the quadrature within 3 standard errors (tests/albedo/test_furnace.py).
     Each roughness column draws from ``numpy.random.default_rng(seed)`` in turn.
     """
     from ..microfacet.ggx import pdf_ggx_vndf, sample_ggx_vndf

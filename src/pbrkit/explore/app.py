@@ -20,7 +20,7 @@ Each plot's data source is named (``incidence_a``, ``lobe_a``, ``theta_h_a``,
 ``theta_d_a``, ``image_a``, ``albedo_a``, ``sphere_point_a``, ``sphere_env_a``,
 ``terms_d_a``, ``terms_g_a``, ``terms_f_a``, their ``_b`` twins and
 ``difference``, ``difference_image``, ``sphere_difference``) so that a page
-(tests/explore_browser.mjs) can read what is drawn.
+(tests/support/explore_browser.mjs) can read what is drawn.
 """
 
 from __future__ import annotations

@@ -430,7 +430,7 @@ def directional_albedo(brdf, count=32, compensation="filament"):
     within 8e-5 of a 6 x 6 times denser rule for every model and roughness, URP's
     kink 3e-4, Disney's clear coat (a GTR1 lobe narrower than the nodes' lobe)
     5e-3 at clearcoat 1; a Lambertian lobe within 2.1e-5 of its analytic albedo,
-    tests/test_explore_views.py).
+    tests/explore/test_explore_views.py).
 
     For a :class:`ModelBRDF` also the white furnace of its specular lobe (F = 1,
     :meth:`ModelBRDF.white`: what single scattering keeps, Kulla & Conty 2017) and

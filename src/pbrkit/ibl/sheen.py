@@ -75,14 +75,14 @@ __all__ = [
 
 #: Charlie samples per texel of every level but the first (the Sample Viewer's
 #: ``sheenSamplCount`` is 64, of which it keeps only those above the horizon).  Against
-#: a 12-degree cap of light (tests/test_ibl_sheen.py) the largest error of a level was
+#: a 12-degree cap of light (tests/ibl/test_ibl_sheen.py) the largest error of a level was
 #: 43-55 % of its peak with 64 samples, 13-20 % with 256, 3-7 % with 1024; the mean
 #: 5 %, 1.2-1.9 %, 0.4-0.6 %.  The first level (the horizon ring) takes :data:`RING_SAMPLES`.
 SHEEN_SAMPLES = 256
 #: Lod bias of the sheen chain's lookups: 0, the IBL Sampler's default (``lodBias``), where
 #: the GGX chain's filtered importance sampling takes Krivanek and Colbert's 1: the Charlie
 #: kernel is wide, and bias 1 blurs it further (the mean n.l of a level, 0.27 at sheen
-#: roughness 1/3, came out 0.22 with bias 1 and 0.245 with 0; tests/test_ibl_sheen.py).
+#: roughness 1/3, came out 0.22 with bias 1 and 0.245 with 0; tests/ibl/test_ibl_sheen.py).
 SHEEN_LOD_BIAS = 0.0
 #: Directions on the horizon circle for the roughness-0 level (its limit).
 RING_SAMPLES = 32

@@ -44,7 +44,7 @@ Row order: Babylon uploads each PNG with a y flip before rendering it into
 its cube face, so the PNG's **top row is the face's last row** (t = 1);
 pbrkit's faces (row 0 = t = 0, CONVENTIONS.md "Cube maps") are therefore
 stored upside down.  This was confirmed inside Babylon.js (the face texels
-read back from a loaded file, ``tests/test_engine_babylon.py``).
+read back from a loaded file, ``tests/engines/test_engine_babylon.py``).
 
 The PNGs are written deterministically: 8-bit RGBA, no ancillary chunks
 (no gamma or colour chunks, so browsers apply no colour conversion, and no

@@ -34,7 +34,7 @@ Formats (:data:`GL_FORMATS`) are the two Filament's IBL loader takes:
   mapping) recognises only 0x8C3A in glType, which is what cmgen
   (``tools/cmgen/src/cmgen.cpp``) writes, with glTypeSize 1; with 0x8C3B,
   Filament 1.53.4's ``createIblFromKtx1`` fails a ``Texture::setImage``
-  precondition and aborts (tests/test_engine_filament.py).  pbrkit writes
+  precondition and aborts (tests/engines/test_engine_filament.py).  pbrkit writes
   what Filament reads; on reading it accepts both glTypes (0x8C3B files are
   valid KTX 1.1, e.g. from other tools), glTypeSize 1 or 4, and the
   glFormat / glBaseInternalFormat 0x8C3A of older cmgen files.

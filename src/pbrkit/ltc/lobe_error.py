@@ -55,7 +55,7 @@ mixture's pdf (the balance heuristic of multiple importance sampling, Veach
   defensive part that bounds the ratio everywhere.
 
 Checked against a composite Gauss-Legendre rule over the sphere
-(``tests/test_ltc_lobe_error.py``): within 0.1% for fitted cells of alpha
+(``tests/ltc/test_ltc_lobe_error.py``): within 0.1% for fitted cells of alpha
 0.016 to 0.51 and for the clamped cosine.
 
 The lobe is pbrkit's own: ``cook_torrance`` with ``distribution`` and

@@ -6,7 +6,7 @@ Blinn-Phong has no closed-form Smith Lambda of its own; Walter et al. 2007
 (sec. 5.2, eq. 30) pair it with the Beckmann distribution whose alpha
 matches the exponent e, alpha = sqrt(2 / (e + 2)), and use that distribution's
 Lambda (:func:`lambda_blinn_phong`).  That is an approximation of the Smith
-masking of the Blinn-Phong D itself (close for large e; tests/test_masking.py
+masking of the Blinn-Phong D itself (close for large e; tests/brdf/test_masking.py
 measures how far the weak white furnace is from 1).
 
 Arguments: ``noh = n.h``, ``nov = n.v`` and the exponent e, *not* perceptual

@@ -64,8 +64,8 @@ GLSL ES 3.00 (WebGL2) and GLSL 3.30+: the user adds the version line.  Each
 function is preceded by a comment whose ``source:``, ``roughness:`` and
 ``pbrkit:`` lines give its citation, its roughness remap and the pbrkit
 function it transcribes; :func:`functions` reads them back, and the
-``manifest.json`` written beside the files lists them.  tests/test_shaders.py,
-tests/test_shaders_khr.py and tests/test_shaders_khr_material.py compile every
+``manifest.json`` written beside the files lists them.  tests/shaders/test_shaders.py,
+tests/shaders/test_shaders_khr.py and tests/shaders/test_shaders_khr_material.py compile every
 function in WebGL2 and compare it with pbrkit's own.
 """
 

@@ -1,5 +1,5 @@
 // Load pbrkit's KTX1 files with Filament's own public loaders and read back what
-// Filament samples from them (tests/test_engine_filament.py).
+// Filament samples from them (tests/engines/test_engine_filament.py).
 //
 // /data/probe.json (written by the test) names the files and what to read:
 //   {"ibl": "ibl.ktx", "sky": "sky.ktx", "skySize": N,

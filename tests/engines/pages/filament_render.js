@@ -1,5 +1,5 @@
 // Filament renders a sphere grid lit by pbrkit's `--target filament` bake
-// (tests/test_engine_render_filament.py), for comparison with
+// (tests/engines/test_engine_render_filament.py), for comparison with
 // `pbrkit render --mode realtime` of the same scene.
 //
 // /data/render.json (written by the test):

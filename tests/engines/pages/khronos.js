@@ -1,5 +1,5 @@
 // pbrkit-khronos.js inside the Khronos glTF Sample Viewer 1.1.0
-// (tests/test_engine_khronos.py): load pbrkit's khronos folder into a real
+// (tests/engines/test_engine_khronos.py): load pbrkit's khronos folder into a real
 // GltfView / GltfState with the shipped module, read the WebGL textures the state's
 // environment holds back from the GPU, and render a sphere glTF (written by the test)
 // with the viewer's own renderer.  Query: module (URL of the module, default

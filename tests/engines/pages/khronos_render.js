@@ -1,4 +1,4 @@
-// A sphere grid (a glTF written by tests/test_engine_render_khronos.py) rendered by the
+// A sphere grid (a glTF written by tests/engines/test_engine_render_khronos.py) rendered by the
 // Khronos glTF Sample Viewer 1.1.0 with a pbrkit bake loaded by the module pbrkit ships
 // (loadPbrkitEnvironment), environmentRotation 0 (pbrkit's frame), tone map "None"
 // (the viewer then writes pow(c, 1 / 2.2), clamped), no punctual lights, no background (but with background=1);

@@ -1,5 +1,5 @@
 // Evaluate pbrkit's generated GLSL (pbrkit shaders -o DATA/shaders) in WebGL2 and
-// report the numbers (tests/test_shaders.py compares them with pbrkit's Python).
+// report the numbers (tests/shaders/test_shaders.py compares them with pbrkit's Python).
 //
 // /data/cases.json: {files: [...], width: W, cases: [{name, expr, count, inputs:
 // [in0, in1, ...]}], lut: {width, height, data}, cube: {size, levels: [faces...]},

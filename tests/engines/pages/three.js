@@ -1,4 +1,4 @@
-// pbrkit-three.js inside three.js (tests/test_engine_three.py): load a pbrkit cube
+// pbrkit-three.js inside three.js (tests/engines/test_engine_three.py): load a pbrkit cube
 // KTX2 with the shipped module, read every texel back from three's WebGL texture, and
 // render with three's own materials to see which texel three samples for a direction
 // and which level for a roughness.  Query: module (URL of the module, default

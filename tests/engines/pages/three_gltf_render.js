@@ -1,4 +1,4 @@
-// glTF files (tests/test_engine_three_khr_extensions.py: the KHR_materials_* sphere grids)
+// glTF files (tests/engines/test_engine_three_khr_extensions.py: the KHR_materials_* sphere grids)
 // rendered by three.js r187 as three_render.js renders its sphere grid: scene.environment =
 // loadPbrkitCubeKTX2(...) (the module pbrkit ships), scene.environmentIntensity, no lights,
 // no tone mapping, sRGB output to the canvas, read back as 8-bit RGBA, a PerspectiveCamera

@@ -1,4 +1,4 @@
-// A sphere grid rendered by three.js r187 with a pbrkit bake (tests/test_engine_render_three.py):
+// A sphere grid rendered by three.js r187 with a pbrkit bake (tests/engines/test_engine_render_three.py):
 // scene.environment = loadPbrkitCubeKTX2(...) (the module pbrkit ships), MeshStandardMaterial
 // spheres, no lights, no tone mapping, sRGB output to the canvas, read back as 8-bit RGBA.
 // Query: cube (KTX2 under /data), scene (JSON: {camera: {position, look_at, up, fov, width,

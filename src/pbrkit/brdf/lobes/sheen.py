@@ -114,7 +114,7 @@ def sheen_albedo(mu, sheen_roughness):
     from the integrand (G2 (v.h) / (2 pi mu cos theta_h) du dphi); theta_h split
     at the horizon limits of :mod:`pbrkit.core.quadrature` (theta_a linear in
     sin theta_h, then the cosine substitution up to theta_b), phi up to the
-    horizon bound, mirrored.  Converged to about 1e-4 (tests/test_charlie.py
+    horizon bound, mirrored.  Converged to about 1e-4 (tests/microfacet/test_charlie.py
     checks it against scipy).  alpha = sheenRoughness^2; mu floored at 1e-4.
     Compiled when called from Python."""
     return sheen_albedo_quadrature(mu, sheen_roughness)
@@ -134,7 +134,7 @@ def sheen_albedo_table(size=SHEEN_TABLE_SIZE):
 
 
 #: The baked table (:func:`sheen_albedo_table`, stored as ``pbrkit/data/sheen_albedo.npy``
-#: so that importing the lobe compiles nothing; tests/test_charlie.py recomputes it).
+#: so that importing the lobe compiles nothing; tests/microfacet/test_charlie.py recomputes it).
 SHEEN_TABLE_FILE = Path(__file__).resolve().parents[2] / "data" / "sheen_albedo.npy"
 _TABLE = np.load(SHEEN_TABLE_FILE)
 
