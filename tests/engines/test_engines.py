@@ -17,7 +17,7 @@ from pbrkit import engines
 from pbrkit.choices import BAKE_TARGETS, RENDER_ENGINES
 from pbrkit.engines import ENGINES, chains_for, engine, parse_targets
 
-REPOSITORY = Path(__file__).resolve().parents[1]
+REPOSITORY = Path(__file__).resolve().parents[2]
 PACKAGE_JSON = REPOSITORY / "tests" / "engines" / "package.json"
 LOCK = REPOSITORY / "tests" / "engines" / "package-lock.json"
 NOTES = REPOSITORY / "docs" / "engine-targets.md"
