@@ -1,6 +1,6 @@
-"""``python -m pbrkit``: the ``pbrkit`` command (:mod:`pbrkit.app.cli`)."""
+"""``python -m pbrkit``: the ``pbrkit`` command (:mod:`pbrkit.cli`)."""
 
-from .app.cli import app
+from .cli import app
 
 if __name__ == "__main__":  # pragma: no cover
     app(prog_name="pbrkit")

@@ -18,7 +18,7 @@ from reference_brdf import GOLD_ETA_K, RULE, albedo_maps
 from typer.testing import CliRunner
 
 from pbrkit.albedo.approximations import COMPARISONS, approximation_errors
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.brdf.fresnel import CONDUCTORS
 
 GUIDE = Path(__file__).resolve().parents[2] / "docs" / "guide" / "tables.md"

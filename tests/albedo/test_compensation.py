@@ -27,7 +27,7 @@ from pbrkit.albedo.tables import (
     specular_integrals,
     texel_centres,
 )
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.brdf.fresnel import CONDUCTORS, f_conductor
 
 # pbrkit's GGX albedo integrals (the DFG tables and specular_integrals) are converged

@@ -14,7 +14,7 @@ from pbrkit.albedo.furnace import (
     view_direction,
 )
 from pbrkit.albedo.tables import texel_centres
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 
 LOBES = furnace_lobes()
 

@@ -31,8 +31,8 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app import cli
-from pbrkit.app.cli import app
+from pbrkit.cli import console
+from pbrkit.cli import app
 from pbrkit.core import atomic
 from pbrkit.core.atomic import atomic_directory, atomic_group, atomic_path
 from pbrkit.core.errors import InputError, OutputError
@@ -640,13 +640,18 @@ def test_choices_are_defined_once():
     from pbrkit.albedo.tables import VISIBILITIES
     from pbrkit.ibl.bake import SPECULAR_FORMATS
 
+    from pbrkit.cli import ltc as ltc_cli
+    from pbrkit.cli import options
+    from pbrkit.cli import render as render_cli
+    from pbrkit.cli import shaders as shaders_cli
+
     module = importlib.import_module
-    assert module("pbrkit.rendering.run").MODES is choices.MODES is cli.MODES
-    assert module("pbrkit.core.color").TONEMAPS is choices.TONEMAPS is cli.TONEMAPS
-    assert module("pbrkit.rendering.realtime").ENGINES is choices.RENDER_ENGINES is cli.RENDER_ENGINES
-    assert module("pbrkit.ltc.fit").CLIPPINGS is choices.LTC_CLIPPINGS is cli.LTC_CLIPPINGS
-    assert module("pbrkit.ibl.bake").METHODS is choices.BAKE_METHODS is cli.BAKE_METHODS
-    assert module("pbrkit.shaders").TARGETS is choices.SHADER_TARGETS is cli.SHADER_TARGETS
+    assert module("pbrkit.rendering.run").MODES is choices.MODES is render_cli.MODES
+    assert module("pbrkit.core.color").TONEMAPS is choices.TONEMAPS is render_cli.TONEMAPS
+    assert module("pbrkit.rendering.realtime").ENGINES is choices.RENDER_ENGINES is render_cli.RENDER_ENGINES
+    assert module("pbrkit.ltc.fit").CLIPPINGS is choices.LTC_CLIPPINGS is ltc_cli.LTC_CLIPPINGS
+    assert module("pbrkit.ibl.bake").METHODS is choices.BAKE_METHODS is options.BAKE_METHODS
+    assert module("pbrkit.shaders").TARGETS is choices.SHADER_TARGETS is shaders_cli.SHADER_TARGETS
     assert tuple(VISIBILITIES) == choices.VISIBILITIES and tuple(SPECULAR_FORMATS) == choices.BAKE_FORMATS
     assert tuple(furnace_lobes()) == choices.LOBES
 
@@ -654,7 +659,7 @@ def test_choices_are_defined_once():
 def test_help_imports_neither_numba_nor_the_renderer():
     code = textwrap.dedent("""
         import sys
-        from pbrkit.app.cli import app
+        from pbrkit.cli import app
         for args in (["--help"], ["render", "--help"], ["bake", "--help"], ["--version"]):
             try:
                 app(args, prog_name="pbrkit")
@@ -700,7 +705,7 @@ def test_progress_lines_when_piped_and_silence_with_quiet(tmp_path, env):
 
 
 def test_a_slow_first_stage_shows_its_line(monkeypatch, tmp_path):
-    monkeypatch.setattr(cli._Stages, "FIRST_LINE_DELAY", 0.0)
+    monkeypatch.setattr(console._Stages, "FIRST_LINE_DELAY", 0.0)
     import time
 
     import pbrkit.albedo.lut as lut
@@ -728,7 +733,7 @@ _SLOW_BAKE = textwrap.dedent("""
         time.sleep(0.03)
         return real(*args, **kwargs)
     exr.write_exr = slow
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     app(sys.argv[1:], prog_name="pbrkit")
 """)
 

@@ -23,7 +23,7 @@ import pytest
 from gltf_files import glb_bytes
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.rendering.budget import (
     BYTES_PER_RAY,
     FIXED_BYTES,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.io.hdr import hdr_bytes
 from pbrkit.io.pfm import pfm_bytes, write_pfm
 
@@ -151,7 +151,7 @@ def test_existing_output_directory(env, tmp_path):
 def test_bake_with_two_maps_points_to_batch_bake(tmp_path):
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     from pbrkit.data import environment_path
 
     env = str(environment_path())
@@ -166,7 +166,7 @@ def test_a_bake_finer_than_its_map_warns_once(tmp_path):
     it, one warning line saying so (the bake is still written); --size 128 does not."""
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     from pbrkit.data import environment_path
 
     options = ["--min-size", "64", "--irradiance-size", "8", "--lut-size", "16"]
@@ -207,7 +207,7 @@ def test_bake_with_a_target_lists_its_files_and_how_to_load_them(tmp_path):
 
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     from pbrkit.data import environment_path
 
     out = tmp_path / "b"

@@ -26,7 +26,7 @@ import pytest
 from typer.testing import CliRunner
 
 from pbrkit.app.batch import expand_inputs, output_names
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.data import environment_path
 
 SMALL = ["--size", "16", "--min-size", "4", "--irradiance-size", "4", "--lut-size", "4"]
@@ -180,7 +180,7 @@ def test_bad_options_are_refused_before_any_cluster_starts(inputs, tmp_path, arg
 
 
 def test_help_lists_the_choices_and_imports_neither_dask_nor_numba():
-    code = ("import sys\nfrom pbrkit.app.cli import app\n"
+    code = ("import sys\nfrom pbrkit.cli import app\n"
             "for args in (['batch', '--help'], ['batch', 'bake', '--help'], ['batch', 'render', '--help']):\n"
             "    try:\n        app(args, prog_name='pbrkit')\n    except SystemExit as exc:\n"
             "        assert exc.code in (0, None)\n"

@@ -34,7 +34,7 @@ from typer.testing import CliRunner
 
 from pbrkit.app.batch import LIST_FORMAT, expand_inputs, list_file_entries
 from pbrkit.app.batch_tasks import _gltf_references, _scene_references
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.app.scheduler import (
     SchedulerUnreachable,
     check_scheduler_address,

@@ -36,7 +36,7 @@ class _Links(HTMLParser):
 def demo_dir(tmp_path_factory):
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     out = tmp_path_factory.mktemp("demo") / "site"
     # the demo's CLI with small sizes (the defaults take ~20 s on 2 cores)
@@ -200,7 +200,7 @@ def test_demo_replaces_a_previous_demo_as_a_whole(demo_dir):
     as a whole (a stale file of the old one is gone; nothing is left beside it)."""
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     stale = demo_dir / "preview" / "specular_m9.png"
     stale.write_bytes(b"stale")

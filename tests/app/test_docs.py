@@ -111,7 +111,7 @@ def test_input_rules_state_the_limits_the_code_enforces():
     the glTF reader, and the options it names exist on the commands."""
     from typer.main import get_command
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     from pbrkit.core.inputs import MAX_TEXT_BYTES, size_text
     from pbrkit.io.gltf_document import MAX_GLTF_BYTES
 

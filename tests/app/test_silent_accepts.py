@@ -33,7 +33,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.core.errors import InputError
 from pbrkit.npr.style import mtoon_style, resolve_style, style_from_dict
 from pbrkit.rendering.area_lights import AreaLight, area_light_arrays

@@ -101,7 +101,7 @@ def test_second_lut_command_reads_the_cache_without_numba(private_cache, tmp_pat
     memoised table: same bytes, and Numba is never imported (the start-up goal)."""
     env = dict(os.environ, PBRKIT_CACHE_DIR=str(private_cache))
     probe = ("import sys, runpy; sys.argv = ['pbrkit'] + sys.argv[1:]; "
-             "from pbrkit.app.cli import app\n"
+             "from pbrkit.cli import app\n"
              "try:\n    app()\nexcept SystemExit as e:\n    code = e.code\n"
              "print('NUMBA' if 'numba' in sys.modules else 'NO-NUMBA'); sys.exit(code)")
     outs = []

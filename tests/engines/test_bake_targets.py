@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.core.errors import InputError
 from pbrkit.engines import ENGINES, LOAD_BASE
 from pbrkit.ibl.bake import bake

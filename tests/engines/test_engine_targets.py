@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.ibl.bake import bake
 from pbrkit.ibl.cubemap import cube_texel_directions, mirror_cube
 from pbrkit.ibl.equirect import equirect_directions

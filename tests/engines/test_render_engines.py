@@ -98,7 +98,7 @@ def test_unknown_engine_is_refused(tmp_path):
 def test_engine_mode_on_a_bake_without_its_target_is_refused_cleanly(tmp_path):
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     from pbrkit.io.pfm import write_pfm
 
     write_pfm(tmp_path / "sky.pfm", np.full((16, 32, 3), 0.5, np.float32))

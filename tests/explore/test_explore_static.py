@@ -17,8 +17,8 @@ import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
-from pbrkit.app import explore_cli
-from pbrkit.app.cli import app
+from pbrkit.cli import explore as explore_cli
+from pbrkit.cli import app
 from pbrkit.explore.static import VIEW_NAMES
 
 
@@ -169,7 +169,7 @@ def test_the_choices_are_the_librarys():
 
 
 def test_help_is_light_and_has_no_python_types():
-    code = ("import sys\nfrom pbrkit.app.cli import app\n"
+    code = ("import sys\nfrom pbrkit.cli import app\n"
             "for args in (['--help'], ['explore', '--help']):\n"
             "    try:\n        app(args, prog_name='pbrkit')\n    except SystemExit as exc:\n"
             "        assert exc.code in (0, None)\n"

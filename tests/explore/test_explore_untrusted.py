@@ -36,7 +36,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.explore import server as S
 
 START_TIMEOUT = 300  # seconds: a cold Numba cache compiles the models first
@@ -268,7 +268,7 @@ def test_material_and_fit_errors_name_the_flag(tmp_path, args, fragments):
 
 
 def test_the_second_brdf_errors_name_compare():
-    from pbrkit.app.explore_cli import _flagged
+    from pbrkit.cli.explore import _flagged
 
     error = _flagged(ValueError("material 'explore': sheen needs model 'disney'"), "ue4", compare=True)
     assert str(error) == "--compare ue4: sheen needs model 'disney'"

@@ -27,7 +27,7 @@ from typer.testing import CliRunner
 
 import pbrkit.core.inputs as inputs
 import pbrkit.io.gltf_resources as resources
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.core.errors import InputError
 from pbrkit.io.gltf_resources import BYTES_PER_TEXEL, image_header
 from pbrkit.rendering.gltf import BYTES_PER_TRIANGLE, BYTES_PER_VERTEX, GltfAsset, _GltfReader, load_gltf

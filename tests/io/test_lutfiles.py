@@ -8,7 +8,7 @@ import pytest
 from typer.testing import CliRunner
 
 from pbrkit.albedo.lut import lookup_table
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.io.ktx2 import read_ktx2
 from pbrkit.io.lut_files import QuantisationWarning, parse_header, write_lut
 

@@ -24,7 +24,7 @@ import pytest
 from typer.testing import CliRunner
 
 import pbrkit.core.inputs
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.core.errors import InputError
 from pbrkit.io.babylon_env import ENV_MAGIC, read_babylon_env
 from pbrkit.io.bake_files import load_bake

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.ltc.fit import (
     DISTRIBUTIONS,
     MASKINGS,

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.brdf.material import Material
 from pbrkit.brdf.models import cook_torrance
 from pbrkit.ltc.distribution import inverse_from_texel, ltc_evaluate

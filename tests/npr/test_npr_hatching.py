@@ -261,7 +261,7 @@ _SMALL = tonal_art_map(tones=2, size=16)
 def test_cli_writes_the_tonal_art_map_deterministically(tmp_path):
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     runner = CliRunner()
     for name in ("a", "b"):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.npr.render import render_styled
 from pbrkit.npr.style import Style, style_from_dict
 from pbrkit.npr.toon import default_thresholds, linearstep, toon_tone

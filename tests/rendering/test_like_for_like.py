@@ -13,7 +13,7 @@ from render_scenes import pixel_geometry, sphere_scene
 from typer.testing import CliRunner
 
 from pbrkit import Material
-from pbrkit.app.cli import app
+from pbrkit.cli import app
 from pbrkit.brdf import models
 from pbrkit.brdf.fresnel import f_schlick_roughness
 from pbrkit.rendering.compare import compare_images, relative_error_pixels

@@ -534,7 +534,7 @@ def test_tone_mappers():
 def _cli(args):
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     return CliRunner().invoke(app, args)
 

@@ -159,7 +159,7 @@ def test_the_render_command_names_the_flag_typed_before_any_work(tmp_path, monke
     from typer.testing import CliRunner
 
     import pbrkit.rendering.sources as sources
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     monkeypatch.setattr(sources, "resolve_scene", lambda *a, **k: pytest.fail("the scene was loaded"))
     r = CliRunner().invoke(app, ["render", "spheres", "-o", str(tmp_path / "x.png"), *args])

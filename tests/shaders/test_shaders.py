@@ -98,10 +98,10 @@ def test_cli_shaders(tmp_path):
 
 
 def test_cli_choices_and_lazy_help():
-    from pbrkit.app import cli
+    from pbrkit.cli import shaders as cli
 
     assert cli.SHADER_TARGETS == shaders.TARGETS
-    code = ("import sys\nfrom pbrkit.app.cli import app\ntry:\n    app(['shaders', '--help'], prog_name='pbrkit')\n"
+    code = ("import sys\nfrom pbrkit.cli import app\ntry:\n    app(['shaders', '--help'], prog_name='pbrkit')\n"
             "except SystemExit as exc:\n    assert exc.code in (0, None)\n"
             "print([m for m in ('numpy', 'numba', 'pbrkit.shaders') if m in sys.modules], file=sys.stderr)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)

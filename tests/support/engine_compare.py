@@ -56,7 +56,7 @@ def run_cli(args):
     """``pbrkit ARGS`` in process (Typer's runner); asserts it succeeds."""
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     result = CliRunner().invoke(app, [str(a) for a in args])
     assert result.exit_code == 0, result.output

@@ -76,7 +76,7 @@ def bake_target(root, target):
     import numpy as np
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
     from pbrkit.io.pfm import write_pfm
 
     h = 16

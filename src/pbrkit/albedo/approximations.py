@@ -6,7 +6,7 @@ or read from the converged tables), so each error is in the units a user sees:
 the fraction of incident light reflected.  ``pbrkit approximations -o DIR``
 writes ``approximations.png`` (heat maps with max / mean absolute error) and
 ``approximations.json``, together (all of them or none,
-:func:`pbrkit.app.report.write_files`).
+:func:`pbrkit.core.atomic.write_files`).
 """
 
 from __future__ import annotations
@@ -132,7 +132,7 @@ def approximations_report(out_dir, n=32):
     """Write ``approximations.png`` and ``approximations.json`` together (the
     figure is rendered in memory first; a failure leaves neither); return the
     summary."""
-    from ..app.report import write_files
+    from ..core.atomic import write_files
     from .tables import texel_centres
 
     errors = approximation_errors(n)
@@ -161,7 +161,7 @@ def approximations_report(out_dir, n=32):
 
 def _plot(errors, summary):
     """The heat maps as PNG bytes."""
-    from ..app.figures import figure_png, new_figure
+    from ..io.figures import figure_png, new_figure
 
     cols = 4
     rows = (len(COMPARISONS) + cols - 1) // cols

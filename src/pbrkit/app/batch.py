@@ -76,7 +76,6 @@ import json
 import os
 import re
 import shutil
-import sys
 import time
 from collections import Counter
 from pathlib import Path
@@ -118,7 +117,6 @@ __all__ = [
     "run_batch",
     "gallery_html",
     "remove_stale_temporaries",
-    "BatchProgress",
 ]
 
 KINDS = ("bake", "render")
@@ -379,87 +377,20 @@ def render_jobs_options(mode="realtime", spp=64, bounces=0, tonemap="aces", expo
             "allow_roots": roots}
 
 
-# ================================================================== progress
+# ===================================================================== batch
 
 
-class BatchProgress:
-    """Progress of a batch on stderr: a Rich bar over the inputs (count, failures,
-    elapsed time and ETA) on a terminal, one line per finished input otherwise
-    (``pbrkit batch bake: sky done in 1.23 s (3/8, 0 failed, ETA 0:00:12)``),
-    nothing with ``quiet``.  :meth:`note` prints a line (the cluster, the
-    dashboard address) above the bar."""
-
-    def __init__(self, command, total, quiet):
-        from .cli import _isatty
-
-        self.command = command
-        self.total = int(total)
-        self.mode = "off" if quiet else ("bar" if _isatty(sys.stderr) else "lines")
-        self.done = self.failed = 0
-        self._bar = self._task = None
-        self._t0 = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        if self._bar is not None:
-            self._bar.stop()
-        return False
+class _Silent:
+    """The progress of a batch run without one: nothing is shown."""
 
     def note(self, text):
-        if self.mode == "off":
-            return
-        from rich.markup import escape
-
-        from .cli import _console
-
-        (self._bar.console if self._bar is not None else _console()).print(
-            f"pbrkit {self.command}: {escape(str(text))}", highlight=False, soft_wrap=True)
+        pass
 
     def start(self):
-        """The tasks are submitted: the clock of the ETA starts."""
-        self._t0 = time.perf_counter()
-        if self.mode == "bar":
-            from rich.progress import (
-                BarColumn,
-                MofNCompleteColumn,
-                Progress,
-                TextColumn,
-                TimeElapsedColumn,
-                TimeRemainingColumn,
-            )
-
-            from .cli import _console
-
-            self._bar = Progress(TextColumn(f"pbrkit {self.command}"), BarColumn(), MofNCompleteColumn(),
-                                 TextColumn("{task.fields[failed]} failed"), TimeElapsedColumn(),
-                                 TextColumn("ETA"), TimeRemainingColumn(), console=_console(), transient=True)
-            self._bar.start()
-            self._task = self._bar.add_task("", total=self.total, failed=0)
-
-    def _eta(self):
-        finished = self.done
-        if not finished or self._t0 is None:
-            return "?"
-        seconds = (time.perf_counter() - self._t0) / finished * (self.total - finished)
-        return time.strftime("%H:%M:%S", time.gmtime(round(seconds)))
+        pass
 
     def finished(self, outcome):
-        self.done += 1
-        self.failed += outcome["status"] == "failed"
-        if self._bar is not None:
-            self._bar.update(self._task, completed=self.done, failed=self.failed)
-        elif self.mode == "lines":
-            what = {"done": f"done in {outcome.get('seconds', 0.0):.2f} s", "skipped": "skipped (up to date)",
-                    "failed": f"failed: {outcome.get('error')}"}[outcome["status"]]
-            from .cli import _one_line
-
-            print(_one_line(f"pbrkit {self.command}: {outcome['name']} {what} ({self.done}/{self.total}, "
-                            f"{self.failed} failed, ETA {self._eta()})"), file=sys.stderr, flush=True)
-
-
-# ===================================================================== batch
+        pass
 
 
 def remove_stale_temporaries(out, names):
@@ -507,7 +438,7 @@ def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, 
     ``kind`` ``"bake"`` or ``"render"``; ``inputs`` from :func:`expand_inputs`;
     ``options`` from :func:`bake_jobs_options` / :func:`render_jobs_options`;
     ``targets`` the bake's engine targets.  ``progress`` a
-    :class:`BatchProgress` (or None).  ``scheduler``: a ``--scheduler`` address,
+    :class:`pbrkit.cli.console.BatchProgress` (or None: silent).  ``scheduler``: a ``--scheduler`` address,
     which has ``scheduler_timeout`` seconds to answer
     (:func:`pbrkit.app.scheduler.connect_scheduler`).  Returns the summary (what batch.json
     holds): per input, in input order, its outcome (:func:`run_task`)."""
@@ -523,7 +454,7 @@ def run_batch(kind, inputs, out, options, targets=("generic",), *, force=False, 
     local = scheduler is None
     jobs = _make_jobs(kind, inputs, names, out, options, targets, force,
                       (1 if threads is None else int(threads)) if local else None)
-    progress = progress or BatchProgress(f"batch {kind}", len(jobs), quiet=True)
+    progress = progress or _Silent()
     outcomes = [None] * len(jobs)
     summary = None
     info = {}

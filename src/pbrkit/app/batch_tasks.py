@@ -326,8 +326,7 @@ def run_task(job):
     ``bytes`` (of the folder), ``warnings``, ``notes`` and ``worker``.  Never
     raises for a bad input: a batch's inputs fail alone.  Runs on a Dask
     worker (or in this process)."""
-    from ..core.errors import one_line
-    from .cli import _is_library_error
+    from ..core.errors import is_library_error, one_line
 
     t0 = time.perf_counter()
     if job.get("numba_threads"):  # a LocalCluster's worker (forked workers keep this process's pool size)
@@ -344,7 +343,7 @@ def run_task(job):
         except (ValueError, OSError) as exc:
             outcome = _outcome("failed", error=one_line(exc))
         except Exception as exc:  # a bug, or a library's error: this input fails, the batch goes on
-            if _is_library_error(exc):
+            if is_library_error(exc):
                 outcome = _outcome("failed", error=one_line(exc))
             else:
                 outcome = _outcome("failed", error=f"internal error: {type(exc).__name__}: {one_line(exc)}",

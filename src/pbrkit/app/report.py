@@ -2,7 +2,7 @@
 
 Each report computes everything first, renders its figures to PNG bytes in
 memory, and only then writes its files, all in one
-:func:`pbrkit.core.atomic.atomic_group` (:func:`write_files`): a failure
+:func:`pbrkit.core.atomic.atomic_group` (:func:`pbrkit.core.atomic.write_files`): a failure
 part-way (a full disk, Ctrl-C, SIGTERM) leaves none of them, and files of an
 earlier run are left as they were.  :func:`furnace_files` and
 :func:`compensation_files` return the files without writing them, so that a
@@ -15,7 +15,6 @@ import csv
 import io
 import json
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -27,28 +26,11 @@ from ..albedo.furnace import (
 )
 from ..albedo.tables import texel_centres
 from ..core import checks
-from ..core.atomic import atomic_group
-from ..core.errors import OutputError
-from .figures import colors, new_figure, save_figure
+from ..core.atomic import write_files
+from ..io.figures import colors, new_figure, save_figure
 
-__all__ = ["furnace_report", "furnace_files", "compensation_report", "compensation_files", "write_files",
+__all__ = ["furnace_report", "furnace_files", "compensation_report", "compensation_files",
            "plot_albedo", "albedo_families", "curve_roughness"]
-
-
-def write_files(out_dir, files):
-    """Write ``files`` ({name: bytes}, names relative to ``out_dir``) together:
-    all of them or none (:func:`pbrkit.core.atomic.atomic_group`; the folder is
-    created if needed and removed again on failure).  Returns the paths written."""
-    out_dir = Path(out_dir)
-    paths = [out_dir / name for name in files]
-    with atomic_group(paths) as temps:
-        for path, tmp, data in zip(paths, temps, files.values()):
-            try:
-                with open(tmp, "wb") as f:
-                    f.write(data)
-            except OSError as exc:  # a failed write() names no file: name the one asked for
-                raise OutputError.from_os_error(exc, path) from None
-    return paths
 
 
 def _npy_bytes(array):

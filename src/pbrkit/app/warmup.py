@@ -160,7 +160,8 @@ def run_worker(folder, env_path):
     from ..rendering.geometry import Geometry
     from ..rendering.reference import render_reference
     from ..rendering.scene import EnvironmentSpec, builtin_scene
-    from .demo import DEMO_LEVELS, FURNACE_LOBES, _area_light_comparison, _gltf_extensions_comparison, _npr_gallery
+    from .demo_sections import (DEMO_LEVELS, FURNACE_LOBES, area_light_comparison, gltf_extensions_comparison,
+                                npr_gallery)
     from .report import furnace_report
 
     folder = Path(folder)
@@ -182,18 +183,18 @@ def run_worker(folder, env_path):
 
     def styles():
         baked = demo_bake()
-        _npr_gallery(work, scene, env, baked, size)
+        npr_gallery(work, scene, env, baked, size)
 
     def gltf():
         baked = demo_bake()
-        _gltf_extensions_comparison(work, scene.environment, env, baked, 2 * size, 2, 0)
+        gltf_extensions_comparison(work, scene.environment, env, baked, 2 * size, 2, 0)
 
     def furnace():
         lobes = [name for name in FURNACE_LOBES if name in furnace_lobes()]
         furnace_report(work / "furnace", n_mu=2, roughness=np.linspace(0.0, 1.0, 2), samples=8, seed=0, lobes=lobes)
 
     runs = {"reference": lambda: render_reference(scene, spp=2, seed=0, geometry=geometry, env=env, occlusion=False),
-            "area": lambda: _area_light_comparison(work, size, 2, 0), "npr": styles, "gltf": gltf,
+            "area": lambda: area_light_comparison(work, size, 2, 0), "npr": styles, "gltf": gltf,
             "furnace": furnace}
     for step in STEPS:
         if _demo_gone(folder):

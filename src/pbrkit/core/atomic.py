@@ -27,7 +27,7 @@ from pathlib import Path
 from .errors import InputError, OutputError
 
 __all__ = ["atomic_path", "atomic_group", "atomic_directory", "check_output_directory", "current_umask",
-           "write_bytes", "write_text"]
+           "write_bytes", "write_text", "write_files"]
 
 
 # ------------------------------------------------------------------ helpers
@@ -347,3 +347,19 @@ def write_bytes(path, data: bytes):
 def write_text(path, text: str):
     """Atomically write ``text`` (UTF-8) to ``path``."""
     write_bytes(path, text.encode("utf-8"))
+
+
+def write_files(out_dir, files):
+    """Write ``files`` ({name: bytes}, names relative to ``out_dir``) together:
+    all of them or none (:func:`pbrkit.core.atomic.atomic_group`; the folder is
+    created if needed and removed again on failure).  Returns the paths written."""
+    out_dir = Path(out_dir)
+    paths = [out_dir / name for name in files]
+    with atomic_group(paths) as temps:
+        for path, tmp, data in zip(paths, temps, files.values()):
+            try:
+                with open(tmp, "wb") as f:
+                    f.write(data)
+            except OSError as exc:  # a failed write() names no file: name the one asked for
+                raise OutputError.from_os_error(exc, path) from None
+    return paths

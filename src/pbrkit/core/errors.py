@@ -14,12 +14,19 @@ from __future__ import annotations
 
 import errno as _errno
 
-__all__ = ["InputError", "OutputError", "Terminated", "one_line"]
+__all__ = ["InputError", "OutputError", "Terminated", "one_line", "is_library_error"]
 
 
 def one_line(text):
     """``text`` with every run of whitespace (line breaks included) folded into one space."""
     return " ".join(str(text).split())
+
+
+def is_library_error(exc):
+    """Whether ``exc`` is an exception of an image library (OpenEXR's) that means bad
+    input or a failed write, not a bug: the command line and the batch tasks report
+    it as one line, like a :class:`ValueError` or :class:`OSError`."""
+    return type(exc).__module__.split(".")[0] in ("OpenEXR",)
 
 
 class InputError(ValueError):

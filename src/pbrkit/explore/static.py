@@ -35,7 +35,7 @@ def figure_bytes(fig):
     software version, fixed hash salt); the figure is closed."""
     import matplotlib
 
-    from ..app.figures import figure_png
+    from ..io.figures import figure_png
 
     with matplotlib.rc_context({"svg.hashsalt": _SVG_SALT, "svg.fonttype": "path"}):
         buffer = io.BytesIO()
@@ -55,7 +55,7 @@ def _pairs(a, b):
 
 
 def _incidence(a, b, theta_v):
-    from ..app.figures import pyplot
+    from ..io.figures import pyplot
 
     plt = pyplot()
     fig = plt.figure(figsize=(5.5, 4.0))
@@ -76,7 +76,7 @@ def _incidence(a, b, theta_v):
 
 
 def _lobe(a, b, theta_v):
-    from ..app.figures import pyplot
+    from ..io.figures import pyplot
 
     plt = pyplot()
     fig = plt.figure(figsize=(5.5, 4.5))
@@ -100,7 +100,7 @@ def _lobe(a, b, theta_v):
 
 
 def _slices(a, b, which, fixed, phi_d):
-    from ..app.figures import new_figure
+    from ..io.figures import new_figure
 
     fig, ax = new_figure(figsize=(5.5, 4.0))
     for brdf, colour in _pairs(a, b):
@@ -119,7 +119,7 @@ def _slices(a, b, which, fixed, phi_d):
 
 
 def _images(a, b, phi_d):
-    from ..app.figures import new_figure
+    from ..io.figures import new_figure
 
     pairs = _pairs(a, b)
     fig, axes = new_figure(1, len(pairs), figsize=(4.2 * len(pairs), 3.8), squeeze=False)
@@ -135,7 +135,7 @@ def _images(a, b, phi_d):
 
 
 def _albedo(a, b, compensation):
-    from ..app.figures import new_figure
+    from ..io.figures import new_figure
 
     fig, ax = new_figure(figsize=(5.5, 4.0))
     for k, (brdf, colour) in enumerate(_pairs(a, b)):
@@ -155,7 +155,7 @@ def _albedo(a, b, compensation):
 
 
 def _spheres(a, b, kind, light_theta, light_phi, exposure):
-    from ..app.figures import new_figure
+    from ..io.figures import new_figure
 
     pairs = _pairs(a, b)
     fig, axes = new_figure(1, len(pairs), figsize=(3.6 * len(pairs), 3.8), squeeze=False)
@@ -174,7 +174,7 @@ def _spheres(a, b, kind, light_theta, light_phi, exposure):
 
 
 def _terms(a, b, theta_v):
-    from ..app.figures import new_figure
+    from ..io.figures import new_figure
 
     fig, axes = new_figure(1, 3, figsize=(13.0, 3.8))
     for brdf, colour in _pairs(a, b):
@@ -200,7 +200,7 @@ def _terms(a, b, theta_v):
 
 
 def _compare(a, b, theta_v, phi_d, light_theta):
-    from ..app.figures import new_figure
+    from ..io.figures import new_figure
     from ..core.color import luminance
 
     c = V.compare(a, b, theta_v, phi_d, light_theta)

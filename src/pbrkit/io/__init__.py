@@ -4,5 +4,6 @@ packing (:mod:`~pbrkit.io.float_packing`), the KTX2 and DDS containers
 (:mod:`~pbrkit.io.ktx2`, :mod:`~pbrkit.io.dds`, :mod:`~pbrkit.io.containers`),
 lookup-table files (:mod:`~pbrkit.io.lut_files`), bake files
 (:mod:`~pbrkit.io.bake_files`, the chains' KTX2 files :mod:`~pbrkit.io.bake_chains`; the
-engines' files are written by :mod:`pbrkit.engines`) and environment loading
-(:mod:`~pbrkit.io.environment`)."""
+engines' files are written by :mod:`pbrkit.engines`), environment loading
+(:mod:`~pbrkit.io.environment`) and deterministic Matplotlib figures
+(:mod:`~pbrkit.io.figures`)."""

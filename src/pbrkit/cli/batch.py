@@ -1,8 +1,10 @@
-"""The ``pbrkit batch bake|render`` commands, registered on the ``pbrkit`` app by ``cli``.
+"""The ``pbrkit batch bake|render`` commands (the group :data:`batch_app`, added to
+the ``pbrkit`` app by :mod:`pbrkit.cli`).
 
-This module imports only Typer and :mod:`pbrkit.app.cli` (``pbrkit --help``
-stays light); the work is in :mod:`pbrkit.app.batch`, imported by the
-commands' bodies, which also import Dask.
+This module imports only Typer and the command line's own modules (``pbrkit
+--help`` stays light); the work is in :mod:`pbrkit.app.batch`, imported by the
+commands' bodies, which also import Dask: without the ``batch`` extra a command
+says which ``pip install`` to run (:func:`pbrkit.cli.console.need_extra`).
 """
 
 from __future__ import annotations
@@ -14,19 +16,15 @@ from typing import Optional
 import typer
 
 from ..choices import DIFFUSE_MODES, LAYOUTS, MODES, RENDER_ENGINES, TONEMAPS
-from .cli import (
-    BAKE_OPTIONS,
-    EXPOSURE_LIMIT,
-    OUT_DIR,
-    _check_exposure,
-    _choice,
-    _Command,
-    _flag,
-    _Group,
-    _quiet_option,
-    _seed_option,
-    user_errors,
-)
+from .console import BatchProgress, need_extra, user_errors
+from .options import (BAKE_OPTIONS, EXPOSURE_LIMIT, OUT_DIR, _check_exposure, _choice, _Command, _flag, _Group,
+                      _quiet_option, _seed_option)
+
+#: ``pbrkit --help``'s line for the group.
+SHORT_HELP = "Bake or render many inputs on a Dask cluster (LocalCluster or --scheduler)."
+#: The examples ``pbrkit batch bake --help`` and ``pbrkit batch render --help`` show.
+EXAMPLE_BAKE = "pbrkit batch bake skies/ -o baked --size 128 --workers 2"
+EXAMPLE_RENDER = "pbrkit batch render scenes/*.toml -o renders --mode compare"
 
 IMAGE_FORMATS = ("png", "exr")
 
@@ -35,6 +33,7 @@ batch_app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
+    epilog=EXAMPLE_BAKE,
     help="Bake or render many inputs on a Dask cluster: a LocalCluster on this machine, or the workers of a "
          "distributed scheduler (--scheduler tcp://HOST:PORT).  One folder per input in OUT (OUT/<stem>/), "
          "skipped when it is up to date, OUT/index.html (a gallery) and OUT/batch.json (the summary).",
@@ -95,7 +94,7 @@ def _cluster_checks(scheduler, workers, threads, dashboard=True, scheduler_timeo
     address (:func:`pbrkit.app.scheduler.check_scheduler_address`) and its timeout,
     or the LocalCluster's.  Returns (scheduler address, timeout in seconds)."""
     from ..core import checks
-    from .scheduler import DEFAULT_SCHEDULER_TIMEOUT, check_scheduler_address, check_scheduler_timeout
+    from ..app.scheduler import DEFAULT_SCHEDULER_TIMEOUT, check_scheduler_address, check_scheduler_timeout
 
     if scheduler is None:
         if scheduler_timeout is not None:
@@ -136,7 +135,8 @@ def _finish(summary, out, quiet):
 # ----------------------------------------------------------------- commands
 
 
-@batch_app.command("bake", cls=_Command, short_help="Bake many environments, one folder each, on Dask.")
+@batch_app.command("bake", cls=_Command, short_help="Bake many environments, one folder each, on Dask.",
+                   epilog=EXAMPLE_BAKE)
 @user_errors
 def batch_bake(
     inputs: Optional[list[str]] = typer.Argument(
@@ -170,13 +170,8 @@ def batch_bake(
     LocalCluster or --scheduler's workers.  An input whose folder's manifest records the same input SHA-256,
     options and targets is skipped (--force redoes it); a bad input fails alone, and the batch then exits
     with status 1 naming it.  Writes OUT/index.html (every preview, time, size, status) and OUT/batch.json."""
-    from .batch import (
-        BatchProgress,
-        bake_jobs_options,
-        check_bake_options,
-        expand_inputs,
-        run_batch,
-    )
+    need_extra("pbrkit batch", "batch")
+    from ..app.batch import bake_jobs_options, check_bake_options, expand_inputs, run_batch
 
     options = bake_jobs_options(size, min_size, irradiance_size, lut_size, fmt, method, sh_window, layout,
                                 fix_nonfinite)
@@ -190,7 +185,8 @@ def batch_bake(
     _finish(summary, out, quiet)
 
 
-@batch_app.command("render", cls=_Command, short_help="Render many scenes, one folder each, on Dask.")
+@batch_app.command("render", cls=_Command, short_help="Render many scenes, one folder each, on Dask.",
+                   epilog=EXAMPLE_RENDER)
 @user_errors
 def batch_render(
     scenes: Optional[list[str]] = typer.Argument(
@@ -247,7 +243,8 @@ def batch_render(
     batch.json records the same scene, referenced files (SHA-256), options and pbrkit version is skipped
     (--force redoes it); a bad scene fails alone, and the batch then exits with status 1 naming it.
     Writes OUT/index.html and OUT/batch.json."""
-    from .batch import BatchProgress, expand_inputs, render_jobs_options, run_batch
+    need_extra("pbrkit batch", "batch")
+    from ..app.batch import expand_inputs, render_jobs_options, run_batch
 
     options = render_jobs_options(mode, spp, bounces, tonemap_name, exposure, width, height,
                                   None if env is None else str(env), seed, diffuse, energy_compensation, engine,
@@ -258,9 +255,3 @@ def batch_render(
         summary = run_batch("render", found, out, options, force=force, scheduler=scheduler, workers=workers,
                             threads=threads, dashboard=dashboard, progress=progress, scheduler_timeout=timeout)
     _finish(summary, out, quiet)
-
-
-def register(app):
-    """Add ``pbrkit batch`` (``bake``, ``render``) to ``app``."""
-    app.add_typer(batch_app, name="batch",
-                  short_help="Bake or render many inputs on a Dask cluster (LocalCluster or --scheduler).")
