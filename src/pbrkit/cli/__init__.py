@@ -31,7 +31,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
-    epilog="Example: " + render.EXAMPLE,
+    epilog="Example:\n\n" + render.EXAMPLE,
 )
 
 

@@ -33,7 +33,7 @@ batch_app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     context_settings={"help_option_names": ["-h", "--help"]},
-    epilog=EXAMPLE_BAKE,
+    epilog="Example:\n\n" + EXAMPLE_BAKE,
     help="Bake or render many inputs on a Dask cluster: a LocalCluster on this machine, or the workers of a "
          "distributed scheduler (--scheduler tcp://HOST:PORT).  One folder per input in OUT (OUT/<stem>/), "
          "skipped when it is up to date, OUT/index.html (a gallery) and OUT/batch.json (the summary).",
