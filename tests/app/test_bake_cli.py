@@ -187,7 +187,7 @@ def test_a_bake_of_an_rgba_map_warns_once_that_alpha_is_ignored(tmp_path):
     import OpenEXR
     from typer.testing import CliRunner
 
-    from pbrkit.app.cli import app
+    from pbrkit.cli import app
 
     rgb = np.random.default_rng(2).random((32, 64, 3)).astype(np.float32) + 0.05
     channels = {c: np.ascontiguousarray(rgb[..., i]) for i, c in enumerate("RGB")}
