@@ -336,10 +336,7 @@ def test_support_holds_no_tests():
 #: Cycles that need function-level imports, in library parts outside the command line and
 #: the application, to be fixed there (each a sorted tuple of the modules of one strongly
 #: connected component; the test fails once one is gone, so the list stays true).
-KNOWN_CYCLES = {
-    # the glTF reader's document <-> extensions <-> materials (pbrkit.io), not the command line's
-    ("pbrkit.io.gltf_document", "pbrkit.io.gltf_extensions", "pbrkit.io.gltf_materials"),
-}
+KNOWN_CYCLES = set()
 #: The optional extras' top-level modules (pyproject's explore and batch extras).
 EXTRA_MODULES = {"panel", "bokeh", "dask", "distributed"}
 

@@ -199,7 +199,7 @@ def test_pyproject_extras_hold_what_the_commands_check():
 
     from pbrkit.cli.console import EXTRAS
 
-    project = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())["project"]
+    project = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())["project"]
 
     def names(requirements):
         return {re.split(r"[\[<>=!~ ;]", r, maxsplit=1)[0].lower() for r in requirements}
