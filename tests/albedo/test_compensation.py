@@ -142,7 +142,7 @@ def test_coloured_metals_keep_their_saturation():
 
 
 def test_cli_compensation(tmp_path):
-    result = CliRunner().invoke(app, ["furnace", "-o", str(tmp_path), "--mu", "4", "--roughness", "2",
+    result = CliRunner().invoke(app, ["furnace", "-o", str(tmp_path), "--mu-count", "4", "--roughness-count", "2",
                                       "--samples", "16", "--lobe", "ggx/height-correlated",
                                       "--compensation", "filament", "--quiet"])
     assert result.exit_code == 0, result.output

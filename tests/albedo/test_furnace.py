@@ -145,7 +145,7 @@ def test_white_furnace_single_scattering_loses_energy():
 
 def test_cli_furnace_writes_every_output(tmp_path):
     out = tmp_path / "f"
-    args = ["furnace", "-o", str(out), "--mu", "6", "--roughness", "3", "--samples", "64",
+    args = ["furnace", "-o", str(out), "--mu-count", "6", "--roughness-count", "3", "--samples", "64",
             "--lobe", "ggx/height-correlated", "--lobe", "ue4", "--quiet"]
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
@@ -162,7 +162,7 @@ def test_cli_furnace_writes_every_output(tmp_path):
     assert first == {p.name: p.read_bytes() for p in out.iterdir()}  # deterministic bytes
 
 
-@pytest.mark.parametrize("args", [["--mu", "1"], ["--samples", "0"], ["--roughness", "1"], ["--lobe", "nope"]])
+@pytest.mark.parametrize("args", [["--mu-count", "1"], ["--samples", "0"], ["--roughness-count", "1"], ["--lobe", "nope"]])
 def test_cli_furnace_rejects_bad_options(tmp_path, args):
     out = tmp_path / "f"
     result = CliRunner().invoke(app, ["furnace", "-o", str(out), "--quiet", *args])

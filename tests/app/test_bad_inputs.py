@@ -350,7 +350,7 @@ def test_nonfinite_messages_name_the_flag_and_render_takes_it(tmp_path):
 
 # ============================================================ reports: committed together
 
-FURNACE_SMALL = ["--mu", "4", "--roughness", "3", "--samples", "16", "--lobe", "ggx/height-correlated"]
+FURNACE_SMALL = ["--mu-count", "4", "--roughness-count", "3", "--samples", "16", "--lobe", "ggx/height-correlated"]
 DEMO_SMALL = ["--size", "32", "--spp", "2", "--bake-size", "32"]
 
 

@@ -218,4 +218,29 @@ def test_bake_with_a_target_lists_its_files_and_how_to_load_them(tmp_path):
     listed = [line for line in r.stdout.splitlines() if line.startswith("three: ")]
     assert listed == ["three: " + ", ".join(f"{out}/{f}" for f in entry["files"].values())]
     assert all((out / f).is_file() for f in entry["files"].values())
-    assert f"  load: {entry['load']}" in r.stdout.splitlines()
+    assert f"  load (paths relative to {out}/): {entry['load']}" in r.stdout.splitlines()
+    assert entry["load_base"] and "'./three/pbrkit-three.js'" in entry["load"]
+
+
+def test_bake_only_target_writes_the_engine_s_folder_and_the_manifest(tmp_path):
+    """--only-target: the engine's folder and manifest.json, none of pbrkit's own files;
+    without an engine, or with --target generic, refused before any work (no folder)."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from pbrkit.cli import app
+    from pbrkit.data import environment_path
+
+    small = ["--size", "32", "--min-size", "8", "--irradiance-size", "8", "--lut-size", "16", "-q"]
+    out = tmp_path / "b"
+    r = CliRunner().invoke(app, ["bake", str(environment_path()), "-o", str(out), *small, "--target", "three",
+                                 "--only-target"])
+    assert r.exit_code == 0, r.output
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "three"]
+    entry = json.loads((out / "manifest.json").read_text())["targets"]["three"]
+    assert sorted(str(p.relative_to(out)) for p in (out / "three").iterdir()) == sorted(entry["files"].values())
+    for bad, said in ((["--only-target"], "--only-target needs an engine"),
+                      (["--only-target", "--target", "generic"], "--target generic writes pbrkit's own files")):
+        r = CliRunner().invoke(app, ["bake", str(environment_path()), "-o", str(tmp_path / "x"), *small, *bad])
+        assert r.exit_code == 1 and said in " ".join(r.output.split()) and not (tmp_path / "x").exists()

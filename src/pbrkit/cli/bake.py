@@ -24,7 +24,8 @@ EXAMPLE = "pbrkit bake sky.hdr -o sky --size 256 --target three"
 
 def _print_targets(out):
     """Each engine target's files and how to load them, from the manifest ``out`` holds
-    (its ``targets``: :mod:`pbrkit.io.engine_targets`)."""
+    (its ``targets``: :mod:`pbrkit.engines`; the load line's paths are relative to
+    its ``load_base``, the bake folder)."""
     import json
 
     targets = json.loads((Path(out) / "manifest.json").read_text()).get("targets") or {}
@@ -32,7 +33,7 @@ def _print_targets(out):
         files = [f"{out}/{f}" for f in _flat_files(entry.get("files", {}))]
         print(f"{name}: {', '.join(files)}")
         if entry.get("load"):
-            print(f"  load: {entry['load']}")
+            print(f"  load (paths relative to {out}/): {entry['load']}")
 
 
 def _flat_files(files):
@@ -85,6 +86,9 @@ def bake(
         help="Also write the files of an engine, baked for its conventions, in OUT/<target>/ (repeatable, or a "
              "comma-separated list; generic, pbrkit's own files at the top of OUT, is always written; the "
              "manifest says how to load each)."),
+    only_target: bool = _flag(False, ("--only-target",),
+                              "Write only the --target engines' folders and manifest.json, not pbrkit's own "
+                              "files (needs an engine; the bake then loads in those engines only)."),
     quiet: bool = _quiet_option(),
 ):
     """Bake an HDR environment for split-sum IBL: prefiltered specular chain, irradiance
@@ -93,7 +97,7 @@ def bake(
     from ..ibl.bake import bake as bake_environment
     from ..io.bake_files import chains_for, parse_targets, write_bake, write_steps
 
-    targets = parse_targets(target)
+    targets = parse_targets(target, only_targets=only_target)
 
     if len(env) not in (1, 6):
         raise ValueError(f"give one environment file or six face files, got {len(env)} (to bake several "
@@ -114,7 +118,7 @@ def bake(
                                   irradiance_size=irradiance_size, lut_size=lut_size, specular_format=fmt,
                                   method=method, sh_window=sh_window, fix_nonfinite=fix_nonfinite,
                                   layout=layout, chains=chains_for(targets), started=bake_stage)
-        write_bake(result, out, force=force, started=write_stage, targets=targets)
+        write_bake(result, out, force=force, started=write_stage, targets=targets, only_targets=only_target)
     _warn_upsampling(result, size)
     if not quiet:
         levels = ", ".join(f"{r:g}" for r in result.roughness)

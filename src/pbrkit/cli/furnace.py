@@ -24,8 +24,8 @@ EXAMPLE = "pbrkit furnace -o furnace --lobe ggx/height-correlated --samples 64"
 def furnace(
     out: Path = typer.Option(..., "-o", "--out", metavar="DIR", parser=OUT_DIR,
                              help="Output folder (must be absent or empty unless --force)."),
-    mu_count: int = typer.Option(32, "--mu", metavar="N", help="Number of mu = n.v values (texel centres)."),
-    roughness_count: int = typer.Option(11, "--roughness", metavar="N", help="Number of roughness values in [0, 1]."),
+    mu_count: int = typer.Option(32, "--mu-count", metavar="N", help="Number of mu = n.v values (texel centres)."),
+    roughness_count: int = typer.Option(11, "--roughness-count", metavar="N", help="Number of roughness values in [0, 1]."),
     samples: int = typer.Option(256, "--samples", metavar="N", help="Monte Carlo samples per (mu, roughness) cell."),
     seed: int = _seed_option("Seed of the Monte Carlo generator (lobe k uses seed + k)."),
     lobe: Optional[list[str]] = typer.Option(
@@ -50,8 +50,8 @@ def furnace(
     from ..app.report import compensation_files, furnace_files, write_files
 
     check_output_directory(out, force)
-    checks.integer(roughness_count, "--roughness", 2, 1024)
-    checks.integer(mu_count, "--mu", 2, 4096)
+    checks.integer(roughness_count, "--roughness-count", 2, 1024)
+    checks.integer(mu_count, "--mu-count", 2, 4096)
     checks.integer(samples, "--samples", 2, 1 << 20)
     names = list(lobe or LOBES)
     with _Stages("furnace", quiet, len(names) + 1 + (compensation is not None)) as stages:
