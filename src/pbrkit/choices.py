@@ -6,8 +6,8 @@ codes of :mod:`pbrkit.albedo.tables`, the texel formats of :mod:`pbrkit.ibl.bake
 keys are these names, in this order (tests/app/test_bad_inputs.py checks)."""
 
 __all__ = ["MODES", "TONEMAPS", "DIFFUSE_MODES", "RENDER_ENGINES", "LTC_CLIPPINGS", "LUT_KINDS", "VISIBILITIES",
-           "KTX2_FORMATS", "BAKE_FORMATS", "BAKE_METHODS", "BAKE_TARGETS", "SH_WINDOWS", "LAYOUTS", "COMPENSATIONS",
-           "LOBES", "SHADER_TARGETS"]
+           "LTC_FIT_F0", "KTX2_FORMATS", "BAKE_FORMATS", "BAKE_METHODS", "BAKE_TARGETS", "SH_WINDOWS", "LAYOUTS",
+           "COMPENSATIONS", "LOBES", "SHADER_TARGETS"]
 
 #: ``pbrkit render --mode`` (:func:`pbrkit.render`).
 MODES = ("realtime", "reference", "compare")
@@ -20,6 +20,10 @@ DIFFUSE_MODES = ("sh", "cube")
 RENDER_ENGINES = ("pbrkit", "filament", "khronos", "three", "babylon")
 #: The LTC fit's horizon clipping (:mod:`pbrkit.ltc.fit`).
 LTC_CLIPPINGS = ("sphere", "exact")
+#: ``pbrkit ltc --fit-f0``'s default, the normal reflectances the drop-in table's fit
+#: weighs (:data:`pbrkit.ltc.fit.FIT_F0` is this tuple; chosen by measurement,
+#: ``bench/ltc.md``).
+LTC_FIT_F0 = (1.0, 0.04)
 #: ``pbrkit lut`` tables (:func:`pbrkit.albedo.lut.lookup_table`).
 LUT_KINDS = ("splitsum", "dfg")
 #: The tables' Smith visibility terms (:data:`pbrkit.albedo.tables.VISIBILITIES`).

@@ -19,7 +19,7 @@ from pbrkit.brdf.models import cook_torrance
 from pbrkit.ltc.distribution import inverse_from_texel, ltc_evaluate
 from pbrkit.ltc.fit import cell_view
 from pbrkit.ltc.lobe_error import lobe_error, lobe_error_map, lobe_error_summary
-from pbrkit.ltc.score import directional_albedo
+from pbrkit.ltc.reference import directional_albedo
 from pbrkit.rendering.area_lights import bundled_ltc_table
 
 

@@ -328,7 +328,8 @@ def test_bundled_ltc_table_has_the_stated_accuracy_against_quadrature():
     clipping) scored with that clipping against the converged GGX quadrature on part
     of the README's test set: the README states median 3.5 %, mean 10.8 % on 400
     lights; the published table's are 11.2 % and 26.6 % with its own evaluation."""
-    from pbrkit.ltc.score import random_rect_lights, score_table
+    from pbrkit.ltc.lights import random_rect_lights
+    from pbrkit.ltc.statistics import score_table
     from pbrkit.rendering.area_lights import bundled_ltc_table
 
     ltc1, ltc2 = bundled_ltc_table()
@@ -345,7 +346,9 @@ def test_fresnel_aware_ltc_serves_dielectrics():
     fitted for f Fc, brings a dielectric's (f0 = 0.04) LTC error near the metal's
     (README: median 3.2 %, mean 8.4 % against 16.0 % and 45.9 % with the F = 1 shape
     alone, on 400 lights), and leaves F = 1 as it was."""
-    from pbrkit.ltc.score import lobe_rect_reference, random_rect_lights, score_table
+    from pbrkit.ltc.lights import random_rect_lights
+    from pbrkit.ltc.reference import lobe_rect_reference
+    from pbrkit.ltc.statistics import score_table
     from pbrkit.rendering.area_lights import bundled_fresnel_table, bundled_ltc_table
 
     ltc1, ltc2 = bundled_ltc_table()

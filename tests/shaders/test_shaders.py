@@ -347,9 +347,10 @@ def _ibl_cases(rng, dfg, splitsum):
 
 def _ltc_cases(rng):
     """pbrkit's own LTC evaluation (exact horizon clipping) of rectangles, some
-    crossing the horizon, some seen from behind, against :func:`pbrkit.ltc.score.
+    crossing the horizon, some seen from behind, against :func:`pbrkit.ltc.shader.
     ltc_exact_rect` with a constant table (its lookup then returns the texel)."""
-    from pbrkit.ltc.score import ltc_exact_rect, random_rect_lights
+    from pbrkit.ltc.lights import random_rect_lights
+    from pbrkit.ltc.shader import ltc_exact_rect
 
     lights = random_rect_lights(N, 77)
     corners = f32(lights.corners)
@@ -362,7 +363,7 @@ def _ltc_cases(rng):
                               "pbrkit_ltcRect"),
                   "vec4(pbrkit_ltcRect(vec4(a.w, b.w, c.w, d.w), a.xyz, b.xyz, c.xyz, d.xyz), 0.0, 0.0, 0.0)",
                   [vec4s(corners[:, k], texel[:, k]) for k in range(4)], expected, rtol=2e-4, atol=2e-6)]
-    from pbrkit.ltc.score import ltc_fresnel_rect
+    from pbrkit.ltc.shader import ltc_fresnel_rect
 
     tfc, split, f0 = np.array([0.9, -0.1, 0.2, 0.7]), np.array([0.8, 0.3]), 0.04
     table2 = np.tile([split[0], split[1], 0.0, 0.0], (2, 2, 1))

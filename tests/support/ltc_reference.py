@@ -21,7 +21,7 @@ terms, f = D G2 / (4 n.l n.v) with D, Lambda and G2 passed in (pbrkit.brdf's
 term functions: ``d_beckmann``, ``lambda_beckmann``, ``g2_separable``, ...),
 over a rectangle by a composite tensor Gauss-Legendre rule in the rectangle's
 own parameters with the area-to-solid-angle Jacobian |cos theta'| / d^2: no
-clipping, no adaptivity, nothing in common with :mod:`pbrkit.ltc.score`'s
+clipping, no adaptivity, nothing in common with :mod:`pbrkit.ltc.reference`'s
 cubature (fan, triangles, error estimate) or its lobe (``specular_lobe``).
 """
 
@@ -30,7 +30,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["polygon_quadrature", "tangent_basis", "upper_hemisphere_form_factor", "rect_lobe_quadrature"]
+__all__ = ["polygon_quadrature", "tangent_basis", "upper_hemisphere_form_factor", "rect_lobe_quadrature",
+           "facing_rect"]
 
 
 @numba.njit(cache=True)
@@ -145,3 +146,14 @@ def rect_lobe_quadrature(nov, alpha, corners, d, lam, g2, panels=64, order=8):
         fc = (1.0 - hv @ v) ** 5
         out += (g.sum(), (g * fc).sum())
     return out
+
+
+def facing_rect(centre, half_width, half_height):
+    """A rectangle (4, 3) facing the origin (three.js's winding,
+    :func:`pbrkit.ltc.lights.rect_corners`; flipped if needed)."""
+    from pbrkit.ltc.lights import rect_corners
+
+    c = rect_corners(centre, half_width, half_height)
+    if np.dot(np.cross(c[1] - c[0], c[3] - c[0]), -c[0]) < 0.0:
+        c = rect_corners(centre, -np.asarray(half_width, dtype=float), half_height)
+    return c

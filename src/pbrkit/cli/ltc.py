@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from ..choices import LTC_CLIPPINGS
+from ..choices import LTC_CLIPPINGS, LTC_FIT_F0
 from .console import _Stages, user_errors
 from .options import OUT_DIR, _choice, _flag, _quiet_option, _seed_option
 
@@ -29,15 +29,16 @@ def ltc(
                              help="Cells per side (64: the published layout engines load)."),
     polygons: int = typer.Option(64, "--polygons", metavar="K", help="Rectangular lights each cell is fitted on."),
     seed: int = _seed_option("Seed of the lights each cell is fitted on."),
-    fit_f0: str = typer.Option("1", "--fit-f0", metavar="F0[,F0...]",
-                               help="Normal reflectances the fit weighs (Schlick F): 1 = the lobe without Fresnel "
-                                    "(as the published table); 1,0.04 also a dielectric's, better for dielectrics "
-                                    "and worse at F = 1."),
+    fit_f0: Optional[str] = typer.Option(
+        None, "--fit-f0", metavar="F0[,F0...]",
+        help=f"Normal reflectances the fit weighs (Schlick F; default {','.join(f'{f:g}' for f in LTC_FIT_F0)}: a "
+             "metal's and a dielectric's, the best drop-in for the mix, bench/ltc.md; 1 with --fresnel): 1 alone "
+             "is the lobe without Fresnel (as the published table), better for metals, worse for dielectrics."),
     clipping: str = _choice("sphere", "--clipping", LTC_CLIPPINGS, "clipping",
                             "Horizon clipping the table is fitted for: sphere (the shaders' approximation, what "
                             "engines run: the drop-in table) or exact (pbrkit's own evaluation, "
-                            "pbrkit.ltc.score.ltc_exact_rect; same layout)."),
-    distribution: str = _choice("ggx", "--distribution", ("ggx", "beckmann"),  # pbrkit.ltc.score.LTC_DISTRIBUTIONS
+                            "pbrkit.ltc.shader.ltc_exact_rect; same layout)."),
+    distribution: str = _choice("ggx", "--distribution", ("ggx", "beckmann"),  # pbrkit.ltc.reference.LTC_DISTRIBUTIONS
                                 "distribution",
                                 "Microfacet distribution of the lobe the tables are fitted for: ggx or beckmann "
                                 "(cook_torrance's; alpha = r^2 for both)."),
@@ -50,14 +51,15 @@ def ltc(
     fresnel: bool = _flag(False, ("--fresnel",),
                           "With --clipping exact: also fit the f Fc lobe's matrices (fresnel_ltc_1.*) for pbrkit's "
                           "Fresnel-aware LTC, f0 norm LTC_1 + (1 - f0) fresnel LTC_Fc "
-                          "(pbrkit.ltc.score.ltc_fresnel_rect), far better for dielectrics; the table pbrkit "
+                          "(pbrkit.ltc.shader.ltc_fresnel_rect), far better for dielectrics; the table pbrkit "
                           "renders with is --clipping exact --fresnel."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "
                          "on the same test set, with per-cell error maps."),
     published: Optional[Path] = typer.Option(
         None, "--published", metavar="FILE",
-        help="three.js's RectAreaLightTexturesLib.js (default: the pinned npm three of tests/engines, if present)."),
+        help="three.js's RectAreaLightTexturesLib.js or three's package folder (default: ./node_modules/three, "
+             "where npm install three puts it, if present)."),
     force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
     quiet: bool = _quiet_option(),
 ):
@@ -69,9 +71,9 @@ def ltc(
 
     from ..core import checks
     from ..core.atomic import atomic_directory, check_output_directory
-    from ..ltc.fit import fit_table
+    from ..ltc.fit import default_fit_f0, fit_table
     from ..ltc.report import score_fit, write_fit
-    from ..ltc.score import lobe_codes
+    from ..ltc.reference import lobe_codes
 
     # flags that contradict each other or would change nothing: refused before any work
     if published is not None and not report:
@@ -84,18 +86,20 @@ def ltc(
     size = checks.integer(size, "--size", 2, 256)
     polygons = checks.integer(polygons, "--polygons", 4, 4096)
     try:
-        f0s = tuple(float(x) for x in fit_f0.split(","))
+        f0s = None if fit_f0 is None else tuple(float(x) for x in fit_f0.split(","))
     except ValueError:
         raise ValueError(f"--fit-f0: a comma-separated list of numbers in [0, 1], got {fit_f0[:60]!r}") from None
-    if not all(0.0 <= f <= 1.0 for f in f0s):  # NaN fails too
+    if f0s is not None and not all(0.0 <= f <= 1.0 for f in f0s):  # NaN fails too
         raise ValueError(f"--fit-f0: normal reflectances must be in [0, 1], got {fit_f0[:60]!r}")
+    if f0s is None:
+        f0s = default_fit_f0(fresnel)
     check_output_directory(out, force)
     table = None
     if report:
-        from ..ltc.score import published_table
+        from ..ltc.published import published_table
 
-        try:
-            table = published_table(published)
+        try:  # the default place is the command line's choice, not the library's: npm's, in the working directory
+            table = published_table(published if published is not None else Path("node_modules"))
         except FileNotFoundError as exc:
             if published is not None:
                 raise ValueError(f"{published}: not three.js's LTC tables ({exc})") from None
@@ -111,7 +115,7 @@ def ltc(
         fit = fit_table(size, polygons, seed, progress=column, fit_f0=f0s, clipping=clipping,
                         distribution=distribution, masking=masking)
         second = None
-        if fresnel:  # the f Fc lobe's matrices: pbrkit.ltc.score.ltc_fresnel_rect
+        if fresnel:  # the f Fc lobe's matrices: pbrkit.ltc.shader.ltc_fresnel_rect
             stages.start(f"fit the f Fc lobe, roughness column 1/{size}", size + 1)
 
             def fc_column(done, total):

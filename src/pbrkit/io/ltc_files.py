@@ -30,7 +30,7 @@ three.js's ``RectAreaLightUniformsLib`` does (float and half-float
 fitted for, the rest is the same for every table), all together or none
 (:func:`pbrkit.core.atomic.atomic_group`).  :func:`read_ltc_npy` reads a table back.
 
-pbrkit's Fresnel-aware LTC (:func:`pbrkit.ltc.score.ltc_fresnel_rect`) adds a
+pbrkit's Fresnel-aware LTC (:func:`pbrkit.ltc.shader.ltc_fresnel_rect`) adds a
 third table in ``ltc_1``'s layout, ``fresnel_ltc_1``: the matrices of the f Fc
 lobe (Fc = (1 - v.h)^5), written in the same formats (:func:`write_fresnel_table`).
 """

@@ -5,7 +5,7 @@ fit each cell's matrix by Nelder-Mead on the L3 distance between the lobe and th
 LTC, estimated from 32 x 32 samples, with the albedo from the same samples.  A
 renderer does not use the lobe's shape, though: it integrates the LTC over a
 polygon with the shader's shortcuts (the edge terms' rational fit and the
-horizon clipping by the sphere approximation, :func:`pbrkit.ltc.score.
+horizon clipping by the sphere approximation, :func:`pbrkit.ltc.shader.
 ltc_shader_form_factor`) and multiplies by the stored norm.  pbrkit fits that
 directly (:func:`fit_cell`):
 
@@ -18,20 +18,20 @@ directly (:func:`fit_cell`):
   and 0.8 rad; drawn from the same seed in every cell, so that the lights, and
   the fitted entries, vary smoothly from cell to cell (bilinear lookups
   interpolate them), and the fit is deterministic;
-- their converged integrals of the lobe (F = 1; :func:`pbrkit.ltc.score.lobe_rect_integrals`):
+- their converged integrals of the lobe (F = 1; :func:`pbrkit.ltc.reference.lobe_rect_integrals`):
   GGX with height-correlated Smith by default, or ``distribution`` (GGX,
   Beckmann) and ``masking`` (the Smith-family terms of ``cook_torrance``,
-  :data:`pbrkit.ltc.score.MASKINGS_FOR`; ``pbrkit ltc --distribution
+  :data:`pbrkit.ltc.reference.MASKINGS_FOR`; ``pbrkit ltc --distribution
   --masking``), and the same lobe's converged albedo E
-  (:func:`pbrkit.ltc.score.lobe_split_integrals`: :func:`pbrkit.albedo.tables.specular_integrals`
+  (:func:`pbrkit.ltc.reference.lobe_split_integrals`: :func:`pbrkit.albedo.tables.specular_integrals`
   where it has the lobe, else :func:`pbrkit.albedo.furnace.albedo_quadrature`);
 - the objective sum_k ((E FF_k - I_k) / (I_k + eps E))^2, the shader's form factor
   FF_k under the candidate matrix against the reference I_k: relative errors
   where a light matters, errors relative to eps of the albedo where it does not
-  (eps = :data:`EPSILON`), with F = 1 by default or summed over several normal
-  reflectances (:data:`FIT_F0`, ``fit_f0``: the shader scales one shape by the
-  Fresnel split, so a shape fitted for dielectrics too serves them better and
-  F = 1 worse);
+  (eps = :data:`EPSILON`), summed over the normal reflectances ``fit_f0``
+  (by default :data:`FIT_F0`, a metal's and a dielectric's: the shader scales one
+  shape by the Fresnel split, so a shape fitted for F = 1 alone serves
+  dielectrics poorly; :func:`default_fit_f0`);
 - Nelder-Mead (SciPy) over the four stored entries of M^-1 / m11 themselves
   (x, y, z, w of ``ltc_1``), from the neighbouring cell's solution: cells are
   fitted from rough to smooth and, for each roughness, from normal incidence
@@ -39,7 +39,7 @@ directly (:func:`fit_cell`):
   only w is fitted (x = 1, y = z = 0).
 
 ``ltc_2`` holds (norm, fresnel, 0, sphere) = (A + B, B) of the converged split
-integrals (:func:`pbrkit.ltc.score.lobe_split_integrals`; Schlick's F: f0 norm
+integrals (:func:`pbrkit.ltc.reference.lobe_split_integrals`; Schlick's F: f0 norm
 + (1 - f0) fresnel) and the sphere table (:func:`sphere_form_factor_table`).
 Roughness: column a holds perceptual roughness r = a / (N - 1) with alpha = r^2
 for GGX and Beckmann alike (:func:`pbrkit.microfacet.roughness.alpha_from_roughness`,
@@ -58,29 +58,25 @@ import time
 
 import numpy as np
 
-from ..choices import LTC_CLIPPINGS
+from ..choices import LTC_CLIPPINGS, LTC_FIT_F0
 from ..core.jit import kernel
-from .score import (
-    LTC_DISTRIBUTIONS,
-    LTC_MASKINGS,
-    exact_rect_form_factor,
-    lobe_codes,
-    shader_rect_form_factor,
-)
+from .reference import LTC_DISTRIBUTIONS, LTC_MASKINGS, lobe_codes
+from .shader import exact_rect_form_factor, shader_rect_form_factor
 
 #: How the LTC's integral is clipped at the horizon (``pbrkit ltc --clipping``):
 #: ``sphere``, the shaders' approximation from the vector form factor (the
 #: published layout's evaluation, what engines run), or ``exact``, the polygon
 #: clipped against the true horizon (pbrkit's own evaluation,
-#: :func:`pbrkit.ltc.score.ltc_exact_rect`).
+#: :func:`pbrkit.ltc.shader.ltc_exact_rect`).
 CLIPPINGS = LTC_CLIPPINGS  # pbrkit.choices
 
-__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "CLIPPINGS", "DISTRIBUTIONS", "MASKINGS", "MAX_THETA", "cell_view",
+__all__ = ["EPSILON", "CROSSING_SHARE", "FIT_F0", "FRESNEL_SPLIT_F0", "default_fit_f0", "CLIPPINGS", "DISTRIBUTIONS",
+           "MASKINGS", "MAX_THETA", "cell_view",
            "fit_lights", "cell_data", "albedos", "references", "fit_cell", "fit_table", "sphere_form_factor_table",
            "LTCFit", "cell_errors"]
 
-#: ``pbrkit ltc --distribution`` / ``--masking`` (:data:`pbrkit.ltc.score.LTC_DISTRIBUTIONS`,
-#: :data:`pbrkit.ltc.score.LTC_MASKINGS`; which pairs: :data:`pbrkit.ltc.score.MASKINGS_FOR`).
+#: ``pbrkit ltc --distribution`` / ``--masking`` (:data:`pbrkit.ltc.reference.LTC_DISTRIBUTIONS`,
+#: :data:`pbrkit.ltc.reference.LTC_MASKINGS`; which pairs: :data:`pbrkit.ltc.reference.MASKINGS_FOR`).
 DISTRIBUTIONS = LTC_DISTRIBUTIONS
 MASKINGS = LTC_MASKINGS
 
@@ -88,14 +84,29 @@ MASKINGS = LTC_MASKINGS
 EPSILON = 0.01
 #: Share of each cell's lights that straddle the horizon (the test set's: 15%).
 CROSSING_SHARE = 0.15
-#: The normal reflectances the objective weighs by default: F = 1 (the lobe's shape
-#: without Fresnel, which the published table fits too).  (1.0, 0.04) adds a
-#: dielectric's Schlick-weighted lobe, which leans further to grazing: the shader
-#: scales one shape by the Fresnel split, and that shape then serves dielectrics
-#: better and F = 1 worse (``bench/ltc.py``; ``pbrkit ltc --fit-f0``).
-FIT_F0 = (1.0,)
+#: The normal reflectances the objective weighs by default (``pbrkit ltc --fit-f0``;
+#: :data:`pbrkit.choices.LTC_FIT_F0`, this very tuple): a metal's F = 1 (the lobe's
+#: shape without Fresnel, which the published table fits) and a dielectric's
+#: Schlick-weighted lobe, f0 = 0.04, which leans further to grazing.  The shader
+#: scales one shape by the Fresnel split, so a shape fitted for F = 1 alone serves
+#: dielectrics poorly; the pair was chosen on the tuning set of metals and
+#: dielectrics (:data:`pbrkit.ltc.lights.TUNING_SET`) among 1, 0.04, 0.5, 1,0.04
+#: and 1,0.5,0.04, and is reported on :data:`pbrkit.ltc.lights.REPORT_SET`
+#: (``bench/ltc.md``).
+FIT_F0 = LTC_FIT_F0
+#: The first matrix of pbrkit's Fresnel-aware pair (``pbrkit ltc --fresnel``,
+#: :func:`pbrkit.ltc.shader.ltc_fresnel_rect`) is the F = 1 lobe's by construction
+#: (Schlick's F splits f F into f0 f + (1 - f0) f Fc; the second matrix is f Fc's).
+FRESNEL_SPLIT_F0 = (1.0,)
 #: The grazing row's view angle (radians): cos theta_v = 0 would put v in the horizon.
 MAX_THETA = math.radians(89.95)
+
+
+def default_fit_f0(fresnel=False):
+    """The normal reflectances ``pbrkit ltc`` fits for without ``--fit-f0``:
+    :data:`FIT_F0` for a table of one matrix per cell (the drop-in), and with
+    ``fresnel`` (the Fresnel-aware pair) :data:`FRESNEL_SPLIT_F0`."""
+    return FRESNEL_SPLIT_F0 if fresnel else FIT_F0
 
 
 def cell_view(t, a, n):
@@ -107,11 +118,11 @@ def cell_view(t, a, n):
 
 def fit_lights(nov, roughness, count, seed):
     """The rectangular lights a cell is fitted on (module doc), as
-    :class:`pbrkit.ltc.score.RectLights`."""
+    :class:`pbrkit.ltc.lights.RectLights`."""
     from ..microfacet.ggx import warp_ggx_vndf
     from ..microfacet.roughness import alpha_from_roughness
     from ..sampling.warps import reflect_xyz
-    from .score import rect_lights_towards
+    from .lights import rect_lights_towards
 
     rng = np.random.default_rng(seed)
     k = int(count)
@@ -154,8 +165,8 @@ def fit_lights(nov, roughness, count, seed):
 def _objective_kernel(x, y, z, w, corners, reference, albedo, epsilon, exact):
     """sum_k ((E FF_k - I_k) / (I_k + eps E))^2 with FF_k the LTC's integral over
     light k under the texel (x, y, z, w) as the shader evaluates it
-    (:func:`pbrkit.ltc.score.shader_rect_form_factor`) or, with ``exact``, clipped
-    at the true horizon (:func:`pbrkit.ltc.score.exact_rect_form_factor`)."""
+    (:func:`pbrkit.ltc.shader.shader_rect_form_factor`) or, with ``exact``, clipped
+    at the true horizon (:func:`pbrkit.ltc.shader.exact_rect_form_factor`)."""
     total = 0.0
     for k in range(corners.shape[0]):
         if exact:
@@ -192,9 +203,9 @@ def cell_data(nov, roughness, polygons=32, seed=0, distribution="ggx", masking="
 
 def albedos(nov, roughness, distribution="ggx", masking="height-correlated"):
     """``ltc_2``'s (norm, fresnel) = (A + B, B) of the lobe's converged split
-    integrals (:func:`pbrkit.ltc.score.lobe_split_integrals`) per cell: ``nov``,
+    integrals (:func:`pbrkit.ltc.reference.lobe_split_integrals`) per cell: ``nov``,
     ``roughness`` (C,) -> (C, 2)."""
-    from .score import lobe_split_integrals
+    from .reference import lobe_split_integrals
 
     ab = lobe_split_integrals(np.asarray(nov, dtype=float), np.asarray(roughness, dtype=float), distribution,
                               masking)
@@ -202,10 +213,10 @@ def albedos(nov, roughness, distribution="ggx", masking="height-correlated"):
 
 
 def references(nov, roughness, corners, distribution="ggx", masking="height-correlated"):
-    """Converged integrals of lights for the lobe (:func:`pbrkit.ltc.score.lobe_rect_integrals`
+    """Converged integrals of lights for the lobe (:func:`pbrkit.ltc.reference.lobe_rect_integrals`
     at 1e-5), (norm, fresnel) parts: ``nov``, ``roughness`` (C,), ``corners``
     (C, K, 4, 3) -> (C, K, 2)."""
-    from .score import lobe_rect_integrals
+    from .reference import lobe_rect_integrals
 
     c, k = corners.shape[:2]
     mu = np.repeat(np.asarray(nov, dtype=float), k)
@@ -282,7 +293,7 @@ def fit_table(n=64, polygons=64, seed=0, progress=None, fit_f0=FIT_F0, clipping=
               masking="height-correlated"):
     """Fit an N x N table (module doc) for the lobe of ``distribution`` and
     ``masking`` (:data:`DISTRIBUTIONS`, :data:`MASKINGS`; the pairs of
-    :data:`pbrkit.ltc.score.MASKINGS_FOR`, else a one-line ValueError) and the
+    :data:`pbrkit.ltc.reference.MASKINGS_FOR`, else a one-line ValueError) and the
     normal reflectances ``fit_f0``.  ``progress(done, total)`` after each
     roughness column.  Deterministic: the same arguments give the same table."""
     lobe_codes(distribution, masking)

@@ -61,7 +61,7 @@ Checked against a composite Gauss-Legendre rule over the sphere
 The lobe is pbrkit's own: ``cook_torrance`` with ``distribution`` and
 ``masking``, Fresnel and diffuse "none", white and metallic
 (:func:`pbrkit.brdf.models.cook_torrance`, the composition the renderer and
-:func:`pbrkit.ltc.score.lobe_codes` use), in the local frame of
+:func:`pbrkit.ltc.reference.lobe_codes` use), in the local frame of
 :mod:`pbrkit.ltc.distribution`: n = +z, v = (sin theta_v, 0, cos theta_v) on the
 +x side.  The lobe is symmetric under y -> -y, so a left-handed frame
 (three.js's) gives the same values.
@@ -136,14 +136,14 @@ def lobe_error(ltc1, nov, roughness, distribution="ggx", masking="height-correla
     (the same in every cell; the result is deterministic).  ``albedo`` (C,):
     the lobe's directional albedo E with F = 1 (e.g. a fitted table's
     ``ltc_2`` norm); by default the converged one
-    (:func:`pbrkit.ltc.score.directional_albedo`)."""
+    (:func:`pbrkit.ltc.reference.directional_albedo`)."""
     from ..brdf.material import Material
     from ..brdf.models import cook_torrance
     from ..microfacet.ggx import pdf_ggx_vndf, warp_ggx_vndf
     from ..microfacet.roughness import alpha_from_roughness
     from ..sampling.warps import pdf_light_from_half, reflect_xyz, warp_uniform_sphere
     from .distribution import inverse_from_texel, ltc_evaluate, ltc_sample
-    from .score import directional_albedo, lobe_codes
+    from .reference import directional_albedo, lobe_codes
 
     lobe_codes(distribution, masking)
     texels = np.asarray(ltc1, dtype=np.float64).reshape(-1, 4)

@@ -1,7 +1,7 @@
 """The files of ``pbrkit ltc``: a fitted table in the published layout, its
 per-cell fit error, and with ``--report`` the scores of pbrkit's table and of the
 published one (Heitz et al. 2016, as three.js ships it) on the same test set with
-the same shader evaluation (:mod:`pbrkit.ltc.score`), and two kinds of per-cell
+the same shader evaluation (:mod:`pbrkit.ltc.statistics`), and two kinds of per-cell
 error maps side by side: the polygon-integral error on the fit's lights
 (:func:`pbrkit.ltc.fit.cell_errors`) and the lobe error, how far each cell's LTC
 is from the BRDF lobe it approximates, by Monte Carlo
@@ -17,7 +17,7 @@ import numpy as np
 __all__ = ["FORMAT", "TEST_LIGHTS", "score_fit", "write_fit"]
 
 FORMAT = "pbrkit LTC fit"
-#: Lights of the report's test set (:func:`pbrkit.ltc.score.random_rect_lights`, seed 0).
+#: Lights of the report's test set (:func:`pbrkit.ltc.lights.random_rect_lights`, seed 0).
 TEST_LIGHTS = 400
 
 
@@ -30,7 +30,7 @@ def _lobe(fit):
 
 
 def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
-    """Scores (:func:`pbrkit.ltc.score.score_table`, F = 1 and f0 = 0.04) of the fit
+    """Scores (:func:`pbrkit.ltc.statistics.score_table`, F = 1 and f0 = 0.04) of the fit
     and, given ``published`` = (ltc1, ltc2), of that table on the same lights,
     both against the converged integrals of the lobe the fit is for
     (``fit.distribution``, ``fit.masking``; the published table is GGX's, so for
@@ -38,7 +38,7 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     published table's per-cell error on the fit's own lights
     (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match).  With ``fresnel``
     (the fit of the f Fc lobe, ``pbrkit ltc --fresnel``) pbrkit's Fresnel-aware
-    evaluation (:func:`pbrkit.ltc.score.ltc_fresnel_rect`) is scored too, as
+    evaluation (:func:`pbrkit.ltc.shader.ltc_fresnel_rect`) is scored too, as
     ``pbrkit, Fresnel-aware``.
 
     ``lobe_error_maps``: the per-cell lobe error (N, N) of pbrkit's table and,
@@ -50,7 +50,9 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     were computed."""
     from .fit import cell_errors
     from .lobe_error import SAMPLES, lobe_error_map, lobe_error_summary
-    from .score import lobe_rect_integrals, random_rect_lights, score_table
+    from .lights import random_rect_lights
+    from .reference import lobe_rect_integrals
+    from .statistics import score_table
 
     distribution, masking = _lobe(fit)
     test = random_rect_lights(lights, seed)
@@ -85,7 +87,7 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
                          "VNDF sampling, the LTC and the uniform sphere (pbrkit.ltc.lobe_error.lobe_error_map)",
             "samples": SAMPLES, "seed": 0}
     lobe.update({name: lobe_error_summary(m) for name, m in lobe_maps.items()})
-    return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.score.random_rect_lights"},
+    return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.lights.random_rect_lights"},
             "brdf": {"distribution": distribution, "masking": masking},
             "scores": scores, "lobe_error": lobe, "cell_error_maps": maps, "lobe_error_maps": lobe_maps}
 
@@ -164,18 +166,20 @@ def write_fit(folder, fit, report=None, fresnel=None):
         write_ltc_tables,
     )
     from .fit import EPSILON, MAX_THETA
-    from .score import lobe_name
+    from .reference import lobe_name
 
     folder = Path(folder)
     n = fit.ltc1.shape[0]
     distribution, masking = _lobe(fit)
     f0s = [float(f) for f in getattr(fit, "fit_f0", (1.0,))]
     clipping = getattr(fit, "clipping", "sphere")
+    weights = "F = 1" if f0s == [1.0] else "Schlick F of f0 = " + ", ".join(f"{f:g}" for f in f0s)
     command = (f"pbrkit ltc --size {n} --polygons {fit.polygons} --seed {fit.seed} --fit-f0 "
                f"{','.join(f'{f:g}' for f in f0s)} --clipping {clipping} --distribution {distribution} "
                f"--masking {masking}")
     write_ltc_tables(folder, fit.ltc1, fit.ltc2, note=f"fitted by pbrkit ({command})",
-                     brdf=f"{lobe_name(distribution, masking)} (cook_torrance, F = 1; Schlick F by ltc_2)")
+                     brdf=f"{lobe_name(distribution, masking)} (cook_torrance; matrices fitted at {weights}; "
+                          "Schlick F by ltc_2)")
     np.save(folder / "fit_error.npy", fit.error.astype(np.float32), allow_pickle=False)
     info = {
         "format": FORMAT,
@@ -184,7 +188,7 @@ def write_fit(folder, fit, report=None, fresnel=None):
         "brdf": {"distribution": distribution, "masking": masking,
                  "roughness": "alpha = r^2 (pbrkit.brdf.distributions.alpha_from_roughness: at least 1e-3), for "
                               "GGX and Beckmann alike",
-                 "lobe": f"{lobe_name(distribution, masking)}, F = 1 for the matrices; Schlick F through ltc_2 "
+                 "lobe": f"{lobe_name(distribution, masking)}, matrices fitted at {weights}; Schlick F through ltc_2 "
                          "(norm, fresnel)"},
         "layout": {"ltc_1": "(m00, m20, m02, m22) / m11 of M^-1, row t, column a",
                    "ltc_2": "(norm = A + B, fresnel = B, 0, sphere form factor)",
@@ -200,7 +204,7 @@ def write_fit(folder, fit, report=None, fresnel=None):
         write_fresnel_table(folder, fresnel.ltc1)
         info["fresnel"] = {
             "lobe": "f Fc, Fc = (1 - v.h)^5 (the Schlick F's second lobe: f F = f0 f + (1 - f0) f Fc), fitted as "
-                    "--fit-f0 0 with the exact clipping; evaluated by pbrkit.ltc.score.ltc_fresnel_rect",
+                    "--fit-f0 0 with the exact clipping; evaluated by pbrkit.ltc.shader.ltc_fresnel_rect",
             "fit_error": {"median": round(float(np.median(fresnel.error)), 6),
                           "p95": round(float(np.percentile(fresnel.error, 95)), 6),
                           "max": round(float(np.max(fresnel.error)), 6)}}

@@ -652,7 +652,7 @@ _CIRCLE = np.stack([np.cos(2.0 * np.pi * np.arange(DISK_POLYGON_SIDES) / DISK_PO
 
 @lru_cache(maxsize=1)
 def bundled_fresnel_table():
-    """The ``ltc_1`` matrices of pbrkit's Fresnel-aware LTC (:func:`pbrkit.ltc.score.
+    """The ``ltc_1`` matrices of pbrkit's Fresnel-aware LTC (:func:`pbrkit.ltc.shader.
     ltc_fresnel_rect`): fitted for the f Fc lobe, Fc = (1 - v.h)^5, with the exact
     horizon clipping (``pbrkit ltc --clipping exact --fit-f0 0``), bundled with the
     package: float64 (64, 64, 4), indexed [t, a, channel]."""
@@ -663,7 +663,7 @@ def bundled_fresnel_table():
 @lru_cache(maxsize=1)
 def bundled_ltc_table():
     """pbrkit's LTC table fitted for the exact horizon clipping (``pbrkit ltc
-    --clipping exact``; the published layout, :func:`pbrkit.ltc.score.
+    --clipping exact``; the published layout, :func:`pbrkit.ltc.shader.
     ltc_table_from_published_layout`), bundled with the package: (ltc_1, ltc_2),
     float64 (64, 64, 4) each, indexed [t, a, channel]."""
     folder = resources.files("pbrkit.data") / "ltc"
@@ -676,7 +676,7 @@ def bundled_ltc_table():
 @dual_use
 def _table_value(table, roughness, nov, c):
     """Channel c of an (N, N, 4) LTC table at uv = (r, sqrt(1 - n.v)) on texel centres,
-    bilinear, clamp to edge (three.js ``LTC_Uv``; :func:`pbrkit.ltc.score._bilinear_published`)."""
+    bilinear, clamp to edge (three.js ``LTC_Uv``; :func:`pbrkit.ltc.shader._bilinear_published`)."""
     n = table.shape[0]
     x0, x1, ax = texel_pair(min(max(roughness, 0.0), 1.0) * (n - 1), n, CLAMP_TO_EDGE)
     y0, y1, ay = texel_pair(math.sqrt(1.0 - min(max(nov, 0.0), 1.0)) * (n - 1), n, CLAMP_TO_EDGE)

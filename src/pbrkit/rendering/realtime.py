@@ -413,7 +413,7 @@ def _area_specular_kernel(start, stop, mi, mf, mat, n, rough, metal, base, spec,
     :func:`_ibl_kernel` to multiply by the split-sum albedo: with Schlick's F = f0 +
     (1 - f0) Fc, the lights' LTC integrals of the f lobe (``spec``) and of the f Fc
     lobe (``fresnel``) weighted by f0 norm and (1 - f0) fresnel (``split``, the LTC
-    table's), divided by their sum (:func:`pbrkit.ltc.score.ltc_fresnel_rect`; f0
+    table's), divided by their sum (:func:`pbrkit.ltc.shader.ltc_fresnel_rect`; f0
     per channel from :func:`pbrkit.brdf.dispatch.split_sum_f0`); a constant F (``fresnel = "none"``)
     keeps the f lobe."""
     for i in range(start, stop):

@@ -72,7 +72,7 @@ float pbrkit_ltcFormFactorQuad(vec3 q0, vec3 q1, vec3 q2, vec3 q3) {
 // (M^-1 = [[t.x, 0, t.z], [0, 1, 0], [t.y, 0, t.w]]), one-sided, before the ltc_2 norm.
 // source: Heitz et al. 2016, sec. 3-5; pbrkit ltc --clipping exact (exact horizon clipping)
 // roughness: none (the texel is looked up at perceptual roughness, alpha = r^2: pbrkit_ltcUv)
-// pbrkit: pbrkit.ltc.score.ltc_exact_rect
+// pbrkit: pbrkit.ltc.shader.ltc_exact_rect
 float pbrkit_ltcRect(vec4 t, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
     if (dot(cross(p1 - p0, p3 - p0), -p0) < 0.0) return 0.0;  // behind the light
     mat3 minv = mat3(vec3(t.x, 0.0, t.y), vec3(0.0, 1.0, 0.0), vec3(t.z, 0.0, t.w));
@@ -86,7 +86,7 @@ float pbrkit_ltcRect(vec4 t, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
 // split = (norm, fresnel) of ltc_2 (pbrkit ltc --clipping exact --fresnel).
 // source: Heitz et al. 2016, sec. 3-5, with Schlick's F split into two lobes (pbrkit)
 // roughness: none (the texels are looked up at perceptual roughness, alpha = r^2: pbrkit_ltcUv)
-// pbrkit: pbrkit.ltc.score.ltc_fresnel_rect
+// pbrkit: pbrkit.ltc.shader.ltc_fresnel_rect
 float pbrkit_ltcRectFresnel(vec4 t1, vec4 tfc, vec2 split, float f0, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
     return f0 * split.x * pbrkit_ltcRect(t1, p0, p1, p2, p3)
         + (1.0 - f0) * split.y * pbrkit_ltcRect(tfc, p0, p1, p2, p3);
@@ -96,7 +96,7 @@ float pbrkit_ltcRectFresnel(vec4 t1, vec4 tfc, vec2 split, float f0, vec3 p0, ve
 // of the published layout (u = r, v = sqrt(1 - n.v), at texel centres).
 // source: Heitz et al. 2016 (ltc_code, LUT_SCALE / LUT_BIAS); three.js LTC_Uv
 // roughness: perceptual r, alpha = r^2
-// pbrkit: pbrkit.ltc.score.ltc_exact_rect
+// pbrkit: pbrkit.ltc.shader.ltc_exact_rect
 vec2 pbrkit_ltcUv(float nov, float roughness, float n) {
     vec2 uv = vec2(clamp(roughness, 0.0, 1.0), sqrt(1.0 - clamp(nov, 0.0, 1.0)));
     return uv * (n - 1.0) / n + 0.5 / n;
