@@ -30,7 +30,10 @@ def _lobe(fit):
 
 
 def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
-    """Scores (:func:`pbrkit.ltc.statistics.score_table`, F = 1 and f0 = 0.04) of the fit
+    """Scores (:func:`pbrkit.ltc.statistics.score_table`, F = 1 and f0 = 0.04 on
+    ``lights`` of the test set, and the mixes of metals and dielectrics of the
+    tuning and report sets, :func:`pbrkit.ltc.statistics.score_set`, labelled
+    ``tuning mix`` / ``report mix``) of the fit
     and, given ``published`` = (ltc1, ltc2), of that table on the same lights,
     both against the converged integrals of the lobe the fit is for
     (``fit.distribution``, ``fit.masking``; the published table is GGX's, so for
@@ -52,9 +55,12 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     from .lobe_error import SAMPLES, lobe_error_map, lobe_error_summary
     from .lights import random_rect_lights
     from .reference import lobe_rect_integrals
-    from .statistics import score_table
+    from .lights import REPORT_SET, TUNING_SET
+    from .statistics import score_set, score_table, set_integrals
 
     distribution, masking = _lobe(fit)
+    mixes = {"tuning mix": set_integrals(TUNING_SET, distribution, masking),
+             "report mix": set_integrals(REPORT_SET, distribution, masking)}
     test = random_rect_lights(lights, seed)
     pair = lobe_rect_integrals(test.nov, test.roughness, test.corners, distribution, masking)
     tables = {"pbrkit": (fit.ltc1, fit.ltc2, None)}
@@ -65,13 +71,17 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     scores = {}
     for name, (t1, t2, fresnel1) in tables.items():
         scores[name] = {}
+        own = name.startswith("pbrkit") and getattr(fit, "clipping", "sphere") == "exact"
+        evaluation = "exact" if own else "shader"
         for label, f0 in (("F=1", 1.0), ("f0=0.04", 0.04)):
             ref = f0 * pair[:, 0] + (1.0 - f0) * pair[:, 1]
-            own = name.startswith("pbrkit") and getattr(fit, "clipping", "sphere") == "exact"
-            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref,
-                                                     evaluation="exact" if own else "shader",
+            scores[name][label] = _round(score_table(t1, t2, test, f0=f0, reference=ref, evaluation=evaluation,
                                                      distribution=distribution, masking=masking,
                                                      fresnel_ltc1=fresnel1).summary)
+        for label, integrals in mixes.items():
+            summary = score_set(t1, t2, integrals, evaluation, fresnel1, distribution, masking).summary
+            by_f0 = {f"{f:g}": _round(s) for f, s in summary.pop("by_f0").items()}
+            scores[name][label] = {**_round(summary), "by_f0": by_f0}
     maps = {"pbrkit": fit.error}
     if fresnel is not None:
         maps["pbrkit f Fc lobe"] = fresnel.error
@@ -87,7 +97,10 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
                          "VNDF sampling, the LTC and the uniform sphere (pbrkit.ltc.lobe_error.lobe_error_map)",
             "samples": SAMPLES, "seed": 0}
     lobe.update({name: lobe_error_summary(m) for name, m in lobe_maps.items()})
-    return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.lights.random_rect_lights"},
+    sets = {label: {"lights": spec["count"], "seed": spec["seed"], "f0": list(spec["f0"])}
+            for label, spec in (("tuning mix", TUNING_SET), ("report mix", REPORT_SET))}
+    return {"test_set": {"lights": int(lights), "seed": int(seed), "generator": "pbrkit.ltc.lights.random_rect_lights",
+                         "mixes": sets},
             "brdf": {"distribution": distribution, "masking": masking},
             "scores": scores, "lobe_error": lobe, "cell_error_maps": maps, "lobe_error_maps": lobe_maps}
 
@@ -219,7 +232,10 @@ def write_fit(folder, fit, report=None, fresnel=None):
                  f"Test set: {report['test_set']['lights']} rectangular lights (seed {report['test_set']['seed']}), "
                  "scored with three.js's shader evaluation against converged integrals of the lobe the table is "
                  f"fitted for: {lobe_name(distribution, masking)}.", "",
-                 "| table | F | median | mean | p95 | abs. error / albedo |", "|---|---|---|---|---|---|"]
+                 "Mixes: the tuning set (pbrkit.ltc.lights.TUNING_SET, f0 = 0.04 and 1, what pbrkit ltc's "
+                 "default was chosen on) and the report set (REPORT_SET, f0 = 0.04, 0.5 and 1, other seed and "
+                 "ranges), each light with its own f0.", "",
+                 "| table | lights | median | mean | p95 | abs. error / albedo |", "|---|---|---|---|---|---|"]
         for name, by_f in report["scores"].items():
             for label, s in by_f.items():
                 lines.append(f"| {name} | {label} | {100 * s['relative_median']:.1f}% | "
