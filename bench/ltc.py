@@ -20,7 +20,7 @@ mean / 95th percentile, and the mean absolute error over the directional albedo:
   shader's; exact: pbrkit's, Fresnel-aware with fresnel_ltc_1.npy);
 - each ``--fit F0LIST``: a table fitted here (:func:`pbrkit.ltc.fit.fit_table`,
   ``--size`` / ``--polygons``, the sphere clipping, ``--fit-f0 F0LIST``), timed;
-- pbrkit's bundled tables (``pbrkit ltc --clipping exact --fresnel``, what
+- pbrkit's bundled tables (``pbrkit ltc --clipping exact --fresnel-aware``, what
   ``pbrkit render`` shades area lights with; default lobe only).
 
 The references are the converged integrals of the lobe (GGX with

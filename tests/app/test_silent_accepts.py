@@ -360,12 +360,12 @@ def test_ltc_published_without_report_is_refused_before_any_work(tmp_path):
 
 
 def test_ltc_flag_contradictions_come_before_reading_the_published_table(tmp_path):
-    """--fresnel without --clipping exact is refused before the (absent) published file
-    is looked at: the message names --fresnel, not the file."""
+    """--fresnel-aware without --clipping exact is refused before the (absent) published file
+    is looked at: the message names --fresnel-aware, not the file."""
     out = tmp_path / "tables"
     absent = tmp_path / "absent.js"
-    result = invoke("ltc", "-o", out, "--size", "4", "--report", "--published", absent, "--fresnel")
-    message = assert_refused(result, "--fresnel", "--clipping exact", out=out)
+    result = invoke("ltc", "-o", out, "--size", "4", "--report", "--published", absent, "--fresnel-aware")
+    message = assert_refused(result, "--fresnel-aware", "--clipping exact", out=out)
     assert str(absent) not in message
 
 

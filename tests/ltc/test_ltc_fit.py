@@ -216,11 +216,11 @@ def test_lobe_options_are_listed_and_bad_ones_refused(tmp_path):
 
 
 def test_fresnel_aware_fit_writes_its_second_table_deterministically(tmp_path):
-    """``--clipping exact --fresnel`` adds the f Fc lobe's matrices (fresnel_ltc_1.*, the
+    """``--clipping exact --fresnel-aware`` adds the f Fc lobe's matrices (fresnel_ltc_1.*, the
     layout of ltc_1) and records them in fit.json; twice, the same bytes; without the
     exact clipping it is refused before any work."""
     runner = CliRunner()
-    args = ["--size", "4", "--polygons", "6", "--clipping", "exact", "--fresnel", "-q"]
+    args = ["--size", "4", "--polygons", "6", "--clipping", "exact", "--fresnel-aware", "-q"]
     for name in ("a", "b"):
         result = runner.invoke(app, ["ltc", "-o", str(tmp_path / name), *args])
         assert result.exit_code == 0, result.output
@@ -232,7 +232,7 @@ def test_fresnel_aware_fit_writes_its_second_table_deterministically(tmp_path):
     fc = np.load(a / "fresnel_ltc_1.npy")
     assert fc.shape == (4, 4, 4) and np.all(np.isfinite(fc))
     assert not np.allclose(fc, np.load(a / "ltc_1.npy"))  # a different lobe, a different shape
-    result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "c"), "--size", "4", "--fresnel"])
+    result = runner.invoke(app, ["ltc", "-o", str(tmp_path / "c"), "--size", "4", "--fresnel-aware"])
     assert result.exit_code != 0 and "--clipping exact" in result.output
     assert not (tmp_path / "c").exists()
 
@@ -240,14 +240,14 @@ def test_fresnel_aware_fit_writes_its_second_table_deterministically(tmp_path):
 def test_the_default_fit_is_the_librarys_one_constant(fitted, tmp_path):
     """``pbrkit ltc`` without ``--fit-f0`` fits for :data:`pbrkit.ltc.fit.FIT_F0`,
     the very tuple :data:`pbrkit.choices.LTC_FIT_F0` the command line offers (no
-    copy), and records it; with ``--fresnel`` the first matrix is the F = 1 lobe's."""
+    copy), and records it; with ``--fresnel-aware`` the first matrix is the F = 1 lobe's."""
     from pbrkit import choices
     from pbrkit.ltc.fit import default_fit_f0
 
     assert choices.LTC_FIT_F0 is FIT_F0 and default_fit_f0() is FIT_F0
     assert json.loads((fitted / "a" / "fit.json").read_text())["options"]["fit_f0"] == list(FIT_F0)
     result = CliRunner().invoke(app, ["ltc", "-o", str(tmp_path / "f"), "--size", "3", "--polygons", "4",
-                                      "--clipping", "exact", "--fresnel", "-q"])
+                                      "--clipping", "exact", "--fresnel-aware", "-q"])
     assert result.exit_code == 0, result.output
     assert json.loads((tmp_path / "f" / "fit.json").read_text())["options"]["fit_f0"] == list(FRESNEL_SPLIT_F0)
 

@@ -32,7 +32,7 @@ def ltc(
     fit_f0: Optional[str] = typer.Option(
         None, "--fit-f0", metavar="F0[,F0...]",
         help=f"Normal reflectances the fit weighs (Schlick F; default {','.join(f'{f:g}' for f in LTC_FIT_F0)}: a "
-             "metal's and a dielectric's, the best drop-in for the mix, bench/ltc.md; 1 with --fresnel): 1 alone "
+             "metal's and a dielectric's, the best drop-in for the mix, bench/ltc.md; 1 with --fresnel-aware): 1 alone "
              "is the lobe without Fresnel (as the published table), better for metals, worse for dielectrics."),
     clipping: str = _choice("sphere", "--clipping", LTC_CLIPPINGS, "clipping",
                             "Horizon clipping the table is fitted for: sphere (the shaders' approximation, what "
@@ -48,11 +48,11 @@ def ltc(
                            "Smith masking-shadowing G2 of the lobe: height-correlated or separable (exact Smith, "
                            "the distribution's own Lambda), or with ggx only schlick-ggx (k = alpha / 2) or "
                            "schlick-ggx-ue4 (k = (r + 1)^2 / 8)."),
-    fresnel: bool = _flag(False, ("--fresnel",),
+    fresnel: bool = _flag(False, ("--fresnel-aware",),
                           "With --clipping exact: also fit the f Fc lobe's matrices (fresnel_ltc_1.*) for pbrkit's "
                           "Fresnel-aware LTC, f0 norm LTC_1 + (1 - f0) fresnel LTC_Fc "
                           "(pbrkit.ltc.shader.ltc_fresnel_rect), far better for dielectrics; the table pbrkit "
-                          "renders with is --clipping exact --fresnel."),
+                          "renders with is --clipping exact --fresnel-aware."),
     report: bool = _flag(False, ("--report",),
                          "Also score pbrkit's table and the published one (read from npm three, or --published) "
                          "on the same test set, with per-cell error maps."),
@@ -80,7 +80,7 @@ def ltc(
         raise ValueError("--published: the published table is read only to score against with --report; "
                          "add --report, or drop --published")
     if fresnel and clipping != "exact":
-        raise ValueError("--fresnel: the Fresnel-aware LTC is evaluated with the exact horizon clipping; "
+        raise ValueError("--fresnel-aware: the Fresnel-aware LTC is evaluated with the exact horizon clipping; "
                          "add --clipping exact")
     lobe_codes(distribution, masking)  # a pair the fit has no lobe for: one line naming the choices
     size = checks.integer(size, "--size", 2, 256)

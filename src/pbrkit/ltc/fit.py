@@ -94,7 +94,7 @@ CROSSING_SHARE = 0.15
 #: and 1,0.5,0.04, and is reported on :data:`pbrkit.ltc.lights.REPORT_SET`
 #: (``bench/ltc.md``).
 FIT_F0 = LTC_FIT_F0
-#: The first matrix of pbrkit's Fresnel-aware pair (``pbrkit ltc --fresnel``,
+#: The first matrix of pbrkit's Fresnel-aware pair (``pbrkit ltc --fresnel-aware``,
 #: :func:`pbrkit.ltc.shader.ltc_fresnel_rect`) is the F = 1 lobe's by construction
 #: (Schlick's F splits f F into f0 f + (1 - f0) f Fc; the second matrix is f Fc's).
 FRESNEL_SPLIT_F0 = (1.0,)

@@ -40,7 +40,7 @@ def score_fit(fit, published=None, lights=TEST_LIGHTS, seed=0, fresnel=None):
     another lobe its score says what using it instead would cost); and the
     published table's per-cell error on the fit's own lights
     (:func:`pbrkit.ltc.fit.cell_errors`, when the sizes match).  With ``fresnel``
-    (the fit of the f Fc lobe, ``pbrkit ltc --fresnel``) pbrkit's Fresnel-aware
+    (the fit of the f Fc lobe, ``pbrkit ltc --fresnel-aware``) pbrkit's Fresnel-aware
     evaluation (:func:`pbrkit.ltc.shader.ltc_fresnel_rect`) is scored too, as
     ``pbrkit, Fresnel-aware``.
 

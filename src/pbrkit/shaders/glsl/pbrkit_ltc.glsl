@@ -83,7 +83,7 @@ float pbrkit_ltcRect(vec4 t, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
 // pbrkit_ltcRectFresnel: pbrkit's Fresnel-aware LTC of a unit-radiance rectangle with
 // Schlick's F: f0 norm LTC_1 + (1 - f0) fresnel LTC_Fc, the f lobe under the ltc_1
 // texel t1 and the f Fc lobe (Fc = (1 - v.h)^5) under the fresnel_ltc_1 texel tfc,
-// split = (norm, fresnel) of ltc_2 (pbrkit ltc --clipping exact --fresnel).
+// split = (norm, fresnel) of ltc_2 (pbrkit ltc --clipping exact --fresnel-aware).
 // source: Heitz et al. 2016, sec. 3-5, with Schlick's F split into two lobes (pbrkit)
 // roughness: none (the texels are looked up at perceptual roughness, alpha = r^2: pbrkit_ltcUv)
 // pbrkit: pbrkit.ltc.shader.ltc_fresnel_rect
