@@ -14,7 +14,7 @@ module registers them, in :data:`COMMANDS`' order and help panels.  Shared:
 ``--help`` lists the choices of every option with a fixed set of values
 (``[realtime|reference|compare]``) and answers without importing NumPy or
 Numba: the commands import what they need in their bodies.  The library never
-imports this package (tests/test_package_layout.py).
+imports this package (tests/app/test_package_layout.py).
 """
 
 from __future__ import annotations

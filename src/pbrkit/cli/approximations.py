@@ -15,7 +15,7 @@ from .options import OUT_DIR, _flag, _quiet_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Error heat maps of real-time approximations as directional-albedo differences."
-#: The example ``pbrkit approximations --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit approximations --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit approximations -o approximations --size 32"
 
 

@@ -18,7 +18,7 @@ from .options import BAKE_OPTIONS, OUT_DIR, _choice, _flag, _quiet_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Bake an HDR environment for split-sum IBL into a folder."
-#: The example ``pbrkit bake --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit bake --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit bake sky.hdr -o sky --size 256 --target three"
 
 

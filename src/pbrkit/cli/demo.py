@@ -15,7 +15,7 @@ from .options import OUT_DIR, _quiet_option, _seed_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Bake, render, compare and plot the bundled scene into OUT/index.html."
-#: The example ``pbrkit demo --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit demo --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit demo -o demo"
 
 

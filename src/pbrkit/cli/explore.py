@@ -5,7 +5,7 @@ This module imports only Typer and the command line's own modules (``pbrkit
 in the command's body.  Serving the app needs the ``explore`` extra (Panel,
 Bokeh): without it the command says which ``pip install`` to run; ``--static``
 needs only the base install.  The choices are written here for the same reason;
-tests/test_explore_static.py checks them against the library's lists.
+tests/explore/test_explore_static.py checks them against the library's lists.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from .options import OUT_DIR, _check_exposure, _choice, _flag, _quiet_option
 
 #: ``pbrkit --help``'s line for the command.
 SHORT_HELP = "Interactive BRDF explorer in the browser (--static: its views as PNG/SVG)."
-#: The example ``pbrkit explore --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit explore --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit explore --model disney --roughness 0.3 --compare gltf"
 
 # pbrkit.brdf.models.MODELS, DISTRIBUTIONS, MASKINGS, FRESNELS, DIFFUSES; pbrkit.brdf.fresnel.CONDUCTORS;

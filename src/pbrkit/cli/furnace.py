@@ -16,7 +16,7 @@ from .options import OUT_DIR, _choice, _choice_check, _flag, _quiet_option, _see
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = None
-#: The example ``pbrkit furnace --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit furnace --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit furnace -o furnace --lobe ggx/height-correlated --samples 64"
 
 

@@ -14,7 +14,7 @@ from .options import OUT_DIR, _flag, _quiet_option, _seed_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Write a tonal art map for hatching (Praun et al. 2001) as images."
-#: The example ``pbrkit hatching --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit hatching --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit hatching -o tam --tones 6 --size 256"
 
 

@@ -17,7 +17,7 @@ from .options import OUT_DIR, _choice, _flag, _quiet_option, _seed_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Fit LTC tables for polygonal area lights, in the layout engines load."
-#: The example ``pbrkit ltc --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit ltc --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit ltc -o ltc --size 32 --report"
 
 

@@ -16,7 +16,7 @@ from .options import OUT_FILE, _choice, _flag, _quiet_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = None
-#: The example ``pbrkit lut --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit lut --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit lut -o dfg.ktx2 --kind dfg --size 128"
 
 

@@ -17,7 +17,7 @@ from .options import EXPOSURE_LIMIT, OUT_FILE, _check_exposure, _choice, _flag, 
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Render a scene in real time, as Monte Carlo ground truth, or both (compare)."
-#: The example ``pbrkit render --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit render --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit render spheres -o spheres.png --mode compare --spp 16"
 
 

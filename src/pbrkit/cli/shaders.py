@@ -16,7 +16,7 @@ from .options import OUT_DIR, _choice, _flag, _quiet_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Write shader functions that match pbrkit's models and bakes."
-#: The example ``pbrkit shaders --help`` shows (tests/test_cli_help.py parses it).
+#: The example ``pbrkit shaders --help`` shows (tests/cli/test_cli_help.py parses it).
 EXAMPLE = "pbrkit shaders -o shaders --target glsl"
 
 

@@ -15,7 +15,7 @@ Layers: the engines build on :mod:`pbrkit.ibl` (level curves, cube and SH forms;
 bake prefilters the engines' chains at their curves, so the curves' formulas stay in
 :mod:`pbrkit.ibl.prefilter`), the file formats of :mod:`pbrkit.io` and the Sample
 Viewer's kernels (:mod:`pbrkit.rendering.khronos_ibl`); the bake files and the
-real-time renderer build on the engines (tests/test_package_layout.py checks).
+real-time renderer build on the engines (tests/app/test_package_layout.py checks).
 
 A target's files go to ``OUT/<name>/`` beside the generic files (or alone,
 ``only_targets``); its manifest entry says how to load them, every path relative

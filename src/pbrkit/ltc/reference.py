@@ -463,7 +463,7 @@ def lobe_rect_integrals(nov, roughness, corners, distribution="ggx", masking="he
     children is returned): at the default tol = 1e-6 the result agrees with a
     run at tol = 1e-9 to 1e-6 (tested; typically 1e-8), with Monte Carlo within its
     standard error for GGX and with a composite Gauss-Legendre rule over the
-    rectangle for Beckmann and separable Smith (``tests/test_ltc_reference.py``), so
+    rectangle for Beckmann and separable Smith (``tests/ltc/test_ltc_reference.py``), so
     the reference is converged to 1e-4 relative with a wide margin.
 
     Returns (..., 2); with ``return_error`` also the summed error estimate

@@ -3,7 +3,7 @@
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+ (desktop OpenGL): add your own version
 // line ("#version 300 es" or "#version 330 core") before this file.  Every
 // function is a transcription of the pbrkit function named in its "pbrkit:"
-// line and is tested against it numerically in WebGL2 (tests/test_shaders.py).
+// line and is tested against it numerically in WebGL2 (tests/shaders/test_shaders.py).
 //
 // Conventions (pbrkit docs/CONVENTIONS.md): n the normal, v toward the eye,
 // l toward the light, h = normalize(l + v), all unit vectors; NoV = n.v,

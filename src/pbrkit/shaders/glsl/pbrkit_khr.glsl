@@ -5,7 +5,7 @@
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+ (desktop OpenGL): add your own version
 // line before this file.  Needs pbrkit_brdf.glsl before it (F_Schlick,
 // V_Neubelt, pbrkit_f0FromIOR, PBRKIT_PI).  Every function is tested against the
-// pbrkit function named in its "pbrkit:" line in WebGL2 (tests/test_shaders_khr.py).
+// pbrkit function named in its "pbrkit:" line in WebGL2 (tests/shaders/test_shaders_khr.py).
 //
 // Sheen roughness: every Charlie term takes alpha = sheenRoughness^2 (the
 // specification's alpha_g), floored at 1e-12 (pbrkit_charlieAlpha), never the

@@ -12,7 +12,7 @@
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+: add your own version line, then pbrkit_brdf.glsl and
 // pbrkit_khr.glsl (whose F_Schlick, D_GGX, V_SmithGGX, sheen lobe and albedo scaling these call)
 // before this file.  Every function transcribes the pbrkit function named in its "pbrkit:" line
-// and is tested against it in WebGL2 (tests/test_shaders_khr_material.py).
+// and is tested against it in WebGL2 (tests/shaders/test_shaders_khr_material.py).
 //
 // Roughness: the base and the coat take perceptual roughness r, alpha = max(r^2, 1e-3)
 // (pbrkit_alphaFromRoughness); the sheen's roughness is the Charlie one (pbrkit_charlieAlpha); the

@@ -5,7 +5,7 @@
 // GLSL ES 3.00 (WebGL2) and GLSL 3.30+ (desktop OpenGL): add your own version
 // line before this file.  Independent of the other pbrkit files.  Every function
 // is tested against the pbrkit function named in its "pbrkit:" line in WebGL2
-// (tests/test_shaders.py).  No roughness remap is involved in any of them.
+// (tests/shaders/test_shaders.py).  No roughness remap is involved in any of them.
 //
 // Inputs an engine supplies:
 // - toon thresholds: up to 8, ascending, in a float[8] (a "uniform float
