@@ -152,10 +152,12 @@ def test_python_block_runs(block, tmp_path, monkeypatch):
     namespace = {"__name__": "__docs__"}
     exec(compile(block.text, block.name, "exec"), namespace)
     if block.page.name == "README.md":  # what its comments say
-        r, b = namespace["r"], namespace["b"]
-        assert r.mode == "compare" and r.image.shape == r.reference.shape == (64, 64, 3)
-        assert r.error.shape == (64, 64) and r.to_srgb().shape == (64, 192, 3)
-        assert 0.0 < r.stats["errors"]["flip"] < 1.0 and r._repr_png_()[:4] == b"\x89PNG"
+        r, c, b = namespace["r"], namespace["c"], namespace["b"]
+        assert r.mode == "realtime" and r.image.shape == (256, 256, 3) and r.reference is None
+        assert r.to_srgb().shape == (256, 256, 3) and r._repr_png_()[:4] == b"\x89PNG"
+        assert c.mode == "compare" and c.image.shape == c.reference.shape == (64, 64, 3)
+        assert c.error.shape == (64, 64) and c.to_srgb().shape == (64, 192, 3)
+        assert 0.0 < c.stats["errors"]["flip"] < 1.0 and c._repr_png_()[:4] == b"\x89PNG"
         assert (tmp_path / "spheres.png").is_file() and (tmp_path / "spheres.stderr.exr").is_file()
         assert list(b.roughness) == pytest.approx([0, 1 / 3, 2 / 3, 1])
     if "write_tam" in block.text:
