@@ -14,7 +14,7 @@ import typer
 
 from ..choices import LAYOUTS
 from .console import _Stages, user_errors
-from .options import BAKE_OPTIONS, OUT_DIR, _choice, _flag, _quiet_option
+from .options import BAKE_OPTIONS, OUT_DIR, TARGET_METAVAR, _choice, _flag, _quiet_option
 
 #: ``pbrkit --help``'s line for the command (None: the docstring's first line).
 SHORT_HELP = "Bake an HDR environment for split-sum IBL into a folder."
@@ -82,7 +82,7 @@ def bake(
     fix_nonfinite: bool = BAKE_OPTIONS["fix_nonfinite"](),
     force: bool = _flag(False, ("--force",), "Replace a non-empty output folder."),
     target: Optional[list[str]] = typer.Option(
-        None, "--target", metavar="[generic|filament|khronos|babylon|three|all]",
+        None, "--target", metavar=TARGET_METAVAR,
         help="Also write the files of an engine, baked for its conventions, in OUT/<target>/ (repeatable, or a "
              "comma-separated list; generic, pbrkit's own files at the top of OUT, is always written; the "
              "manifest says how to load each)."),

@@ -17,8 +17,8 @@ import typer
 
 from ..choices import DIFFUSE_MODES, LAYOUTS, MODES, RENDER_ENGINES, TONEMAPS
 from .console import BatchProgress, need_extra, user_errors
-from .options import (BAKE_OPTIONS, EXPOSURE_LIMIT, OUT_DIR, _check_exposure, _choice, _Command, _flag, _Group,
-                      _quiet_option, _seed_option)
+from .options import (BAKE_OPTIONS, EXPOSURE_LIMIT, OUT_DIR, TARGET_METAVAR, _check_exposure, _choice, _Command,
+                      _flag, _Group, _quiet_option, _seed_option)
 
 #: ``pbrkit --help``'s line for the group.
 SHORT_HELP = "Bake or render many inputs on a Dask cluster (LocalCluster or --scheduler)."
@@ -155,7 +155,7 @@ def batch_bake(
                                     "Force the layout of every input (default: by aspect ratio)."),
     fix_nonfinite: bool = BAKE_OPTIONS["fix_nonfinite"](),
     target: Optional[list[str]] = typer.Option(
-        None, "--target", metavar="[generic|filament|khronos|babylon|three|all]",
+        None, "--target", metavar=TARGET_METAVAR,
         help="Also write the files of an engine in OUT/<name>/<target>/, as pbrkit bake --target (repeatable, "
              "or a comma-separated list)."),
     force: bool = _force_option(),

@@ -20,7 +20,7 @@ try:  # typer >= 0.2x vendors its own click
 except ImportError:  # pragma: no cover - a typer built on click itself
     import click as _click
 
-from ..choices import BAKE_FORMATS, BAKE_METHODS, SH_WINDOWS
+from ..choices import BAKE_FORMATS, BAKE_METHODS, BAKE_TARGETS, SH_WINDOWS
 from .console import _say
 
 SEED_MAX = 2 ** 64 - 1  # the renderer's counter-based generator takes a uint64; NumPy's default_rng any int >= 0
@@ -187,6 +187,10 @@ def _output_path(kind):
 #: The ``parser`` of the ``-o/--out`` options naming a folder, and a file (:func:`_output_path`).
 OUT_DIR, OUT_FILE = _output_path("DIR"), _output_path("FILE")
 
+
+#: ``--target``'s metavar in ``pbrkit bake`` and ``pbrkit batch bake``: the targets
+#: (:data:`pbrkit.choices.BAKE_TARGETS`) and ``all``.
+TARGET_METAVAR = "[" + "|".join((*BAKE_TARGETS, "all")) + "]"
 
 #: The options ``pbrkit bake`` and ``pbrkit batch bake`` share: factories giving each
 #: command its own Typer option.
